@@ -1,0 +1,78 @@
+// The mission: what the operator asks for (mission file version 1, see docs/mission-format.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uavcover/geometry.hpp"
+
+namespace uavcover {
+
+enum class Mode { Strict, Coverage };
+
+/// Camera block. Either (hfov_deg, overlap) -> paper eq. 14, or the QGroundControl
+/// convention (sensor_width_mm, focal_length_mm, image_width_px, side_overlap).
+struct Camera {
+  double altitude_m = 0.0;
+  std::optional<double> hfov_deg;
+  std::optional<double> overlap;
+  std::optional<double> sensor_width_mm;
+  std::optional<double> focal_length_mm;
+  std::optional<double> image_width_px;
+  std::optional<double> side_overlap;
+};
+
+/// Defaults for optional per-UAV fields (documented in docs/mission-format.md).
+struct UavDefaults {
+  static constexpr double speed_mps = 5.0;
+  static constexpr double max_accel_mps2 = 2.0;
+  static constexpr double endurance_min = 25.0;
+  static constexpr double turn_c1 = 3.0;   // eq. 15 turn-delay constant c1 (s)
+  static constexpr double turn_c2 = 1.0;   // eq. 15 turn-delay constant c2 (m/s)
+};
+
+struct Uav {
+  std::string id;
+  std::optional<LonLat> start;     ///< given by the user; empty -> seeded random start
+  LonLat start_resolved{};         ///< the start actually used (given or drawn)
+  double share = 0.0;              ///< normalised, sums to 1 over all UAVs
+  double speed_mps = UavDefaults::speed_mps;
+  double max_accel_mps2 = UavDefaults::max_accel_mps2;
+  double endurance_min = UavDefaults::endurance_min;
+  double turn_c1 = UavDefaults::turn_c1;
+  double turn_c2 = UavDefaults::turn_c2;
+};
+
+/// A parsed, validated, normalised mission. Produced by parse_mission().
+struct Mission {
+  std::string name;
+  std::vector<GeoPolygon> area;          ///< normalised: closed rings, outer CCW, holes CW
+  std::vector<GeoPolygon> no_fly_zones;  ///< normalised likewise (holes of `area` are moved here)
+  std::optional<Camera> camera;
+  double spacing_m = 0.0;                ///< scanning density ds (given or from the camera)
+  std::optional<double> gsd_m;           ///< ground sample distance (QGC camera convention)
+  std::optional<double> footprint_m;     ///< camera footprint width on the ground
+  double altitude_m = 40.0;              ///< mission altitude
+  std::string altitude_source = "default";  ///< "camera", "altitude_m" or "default"
+  std::vector<Uav> uavs;
+  Mode mode = Mode::Strict;
+  std::string planner = "darp";
+  std::uint64_t seed = 0;
+  std::string source_format = "uavcover-v1";  ///< or "mcpp-optimized-darp"
+};
+
+struct ParseOptions {
+  /// Upper bound on grid cells (sub-cells of size ds) the free-area bounding box may need.
+  std::size_t max_cells = 4'000'000;
+};
+
+/// Parses and validates a mission file (uavcover v1 or mCPP-optimized-DARP input, detected
+/// automatically). Throws InputError naming the field and the problem.
+Mission parse_mission(std::string_view json_text, const ParseOptions& options = {});
+
+/// Serialises the normalised mission back to uavcover v1 JSON text.
+std::string mission_to_json(const Mission& mission, int indent = 1);
+
+}  // namespace uavcover

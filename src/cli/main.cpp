@@ -1,0 +1,69 @@
+// uavcover command line: a thin shell over the library facade (include/uavcover/uavcover.hpp).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli/command.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::cli {
+
+GlobalFlags& global_flags() {
+  static GlobalFlags flags;
+  return flags;
+}
+
+std::vector<std::pair<int, CommandFactory>>& CommandRegistry::all() {
+  static std::vector<std::pair<int, CommandFactory>> registry;
+  return registry;
+}
+
+std::string read_file(const std::string& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(field, "cannot read file '" + path + "'");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(field, "cannot read file '" + path + "'");
+  return ss.str();
+}
+
+}  // namespace uavcover::cli
+
+int main(int argc, char** argv) {
+  using namespace uavcover;
+  CLI::App app{
+      "uavcover: multi-UAV coverage mission planner.\n"
+      "Divides an area among drones (DARP), gives each a turn-minimised coverage path (STC),\n"
+      "evaluates coverage, time and cost, and exports flight-ready files.\n"
+      "Exit codes: 0 ok, 1 internal error, 2 bad input or usage."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "uavcover 0.1.0");
+  app.add_flag("-q,--quiet", cli::global_flags().quiet, "No progress bar or summary");
+  auto& registry = cli::CommandRegistry::all();
+  std::stable_sort(registry.begin(), registry.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [order, factory] : registry) factory(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  } catch (const InputError& e) {
+    std::cerr << "uavcover: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "uavcover: internal error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "uavcover: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

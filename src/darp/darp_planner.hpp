@@ -1,0 +1,48 @@
+// The DARP stage (paper Apostolidis et al. 2022 §2; thesis Mondinelli 2025 §3.1):
+// grid placement optimisation -> DARP division -> STC paths with fewest turns.
+// Everything here works in the local ENU frame (metres).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "uavcover/geometry.hpp"
+#include "uavcover/mission.hpp"
+#include "uavcover/plan.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover::darp {
+
+struct Input {
+  MultiPolygon free;          ///< area minus no-fly zones (corrected)
+  MultiPolygon no_fly;        ///< union of no-fly zones, including holes of the area
+  std::vector<Point> starts;  ///< one per UAV (may lie outside the area)
+  std::vector<double> shares; ///< one per UAV, sum 1
+  double ds = 0.0;            ///< scanning density; mega-cells are 2*ds
+  Mode mode = Mode::Strict;
+  std::uint64_t seed = 0;
+};
+
+struct UavResult {
+  /// Closed coverage loops (last == first) of turning waypoints, in flight order; one per
+  /// connected region the UAV flies. Each loop starts at its region's cell nearest the entry.
+  std::vector<std::vector<Point>> loops;
+  int cells = 0;               ///< mega-cells assigned
+  double share_actual = 0.0;   ///< cells / all free cells
+};
+
+struct Output {
+  Placement placement;
+  GridInfo grid;
+  std::vector<UavResult> uavs;
+  std::vector<std::string> warnings;
+  bool converged = true;
+  int iterations = 0;
+};
+
+/// Runs the whole DARP pipeline. Deterministic for a given input (seed included).
+/// Throws InputError when no free cell exists at this spacing.
+Output run(const Input& input, const PlanOptions& options, const Progress& progress);
+
+}  // namespace uavcover::darp
