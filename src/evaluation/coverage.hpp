@@ -1,0 +1,54 @@
+// Coverage simulation (Apostolidis et al. 2022 §3): sample the free area on a lattice, sweep a
+// square footprint of width w along every straight leg (w/2 beyond each end), count scans.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "uavcover/geometry.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::evaluation {
+
+struct CoverageOptions {
+  double footprint_m = 0.0;        ///< w; required (> 0)
+  double lattice_m = 0.0;          ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
+  std::size_t max_samples = 20'000'000;
+  bool count_transit = false;      ///< transit legs scan too
+};
+
+struct CoverageStats {
+  double poc = 0.0;                ///< share of samples scanned >= 1 time
+  double pooc = 0.0;               ///< share of samples scanned >= 2 times
+  int max_scans = 0;
+  std::vector<double> histogram;   ///< normalised: histogram[k] = share of samples scanned k times
+  int turns = 0;                   ///< waypoints of the coverage loops, start counted twice (paper)
+  double length_m = 0.0;           ///< all legs flown (coverage + transit)
+  double area_m2 = 0.0;            ///< free area
+  double turns_per_1000m2 = 0.0;
+  double length_per_1000m2 = 0.0;  ///< metres per 1000 m^2
+};
+
+struct UavCoverage {
+  CoverageStats stats;             ///< coverage by this UAV's legs alone
+  double area_share = 0.0;         ///< share of samples this UAV scans first / is nearest to
+};
+
+struct CoverageResult {
+  double lattice_m = 0.0;
+  std::size_t samples = 0;
+  CoverageStats total;
+  std::vector<UavCoverage> uavs;
+  // scan counts on the lattice, for heatmaps: row-major, -1 outside the free area
+  Point lattice_origin;            ///< local position of sample (0,0)
+  int lattice_cols = 0, lattice_rows = 0;
+  std::vector<int> scans;
+};
+
+/// One UAV's flight as parts (coverage/transit polylines in local metres).
+using Flight = std::vector<PathPart>;
+
+CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Flight>& flights,
+                                 const CoverageOptions& options);
+
+}  // namespace uavcover::evaluation
