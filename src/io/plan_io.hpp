@@ -1,0 +1,27 @@
+// Reading and writing a plan directory: DIR/plan.json and DIR/paths.geojson.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "uavcover/plan.hpp"
+
+namespace uavcover::io {
+
+/// RFC 7946 FeatureCollection: per UAV LineStrings (kind coverage/transit, uav, share_requested,
+/// share_actual, length_m, turns) plus Polygon features for the area and no-fly zones (role).
+nlohmann::json paths_geojson(const Plan& plan);
+
+/// plan.json: normalised mission, spacing, GSD/footprint, placement, per-UAV and total metrics.
+/// `extra` entries (e.g. "coverage", "cost") are merged in at top level.
+nlohmann::json plan_json(const Plan& plan, const nlohmann::json& extra = nlohmann::json::object());
+
+/// Writes text to `path` atomically (temp file + rename), creating parent folders.
+void write_file_atomic(const std::filesystem::path& path, const std::string& content);
+
+/// Reads DIR/plan.json and DIR/paths.geojson back into a Plan (mission, UAVs, parts with local
+/// and WGS84 coordinates). Throws InputError naming the file and field when they are unusable.
+Plan load_plan_dir(const std::filesystem::path& dir);
+
+}  // namespace uavcover::io
