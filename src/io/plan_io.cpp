@@ -1,0 +1,233 @@
+#include "io/plan_io.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+
+#include "geodesy/local_frame.hpp"
+#include "mission/mission_json.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover::io {
+
+using nlohmann::json;
+
+namespace {
+
+const char* kind_name(PartKind k) { return k == PartKind::Coverage ? "coverage" : "transit"; }
+
+json line_coords(const std::vector<LonLat>& pts) {
+  json c = json::array();
+  for (const auto& p : pts) c.push_back({p.lon, p.lat});
+  return c;
+}
+
+std::string slurp(const std::filesystem::path& p, const std::string& field) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(field, "cannot read " + p.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+json parse_file(const std::filesystem::path& p, const std::string& field) {
+  try {
+    return json::parse(slurp(p, field));
+  } catch (const json::parse_error& e) {
+    throw InputError(field, "malformed JSON in " + p.string());
+  }
+}
+
+}  // namespace
+
+json paths_geojson(const Plan& plan) {
+  json features = json::array();
+  for (std::size_t a = 0; a < plan.mission.area.size(); ++a)
+    features.push_back({{"type", "Feature"},
+                        {"properties", {{"role", "area"}, {"index", a}}},
+                        {"geometry", mission::geo_polygon_json(plan.mission.area[a])}});
+  for (std::size_t z = 0; z < plan.mission.no_fly_zones.size(); ++z)
+    features.push_back({{"type", "Feature"},
+                        {"properties", {{"role", "no_fly_zone"}, {"index", z}}},
+                        {"geometry", mission::geo_polygon_json(plan.mission.no_fly_zones[z])}});
+  for (const auto& u : plan.uavs) {
+    int part_index = 0;
+    for (const auto& part : u.parts) {
+      double len = 0;
+      for (std::size_t i = 1; i < part.local.size(); ++i) len += bg::distance(part.local[i - 1], part.local[i]);
+      const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
+      features.push_back({{"type", "Feature"},
+                          {"properties",
+                           {{"uav", u.id},
+                            {"kind", kind_name(part.kind)},
+                            {"part", part_index++},
+                            {"share_requested", u.share_requested},
+                            {"share_actual", u.share_actual},
+                            {"length_m", len},
+                            {"turns", turns}}},
+                          {"geometry", {{"type", "LineString"}, {"coordinates", line_coords(part.wgs84)}}}});
+    }
+  }
+  return {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+}
+
+json plan_json(const Plan& plan, const json& extra) {
+  const Mission& m = plan.mission;
+  json uavs = json::array();
+  double total_len = 0, total_cov = 0;
+  int total_turns = 0, total_cells = 0;
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    const auto& u = plan.uavs[i];
+    const auto& mu = m.uavs.at(i);
+    uavs.push_back({{"id", u.id},
+                    {"start", {mu.start_resolved.lon, mu.start_resolved.lat}},
+                    {"start_given", mu.start.has_value()},
+                    {"share_requested", u.share_requested},
+                    {"share_actual", u.share_actual},
+                    {"cells", u.cells},
+                    {"regions", u.regions},
+                    {"coverage_length_m", u.coverage_length_m},
+                    {"length_m", u.length_m},
+                    {"turns", u.turns}});
+    total_len += u.length_m;
+    total_cov += u.coverage_length_m;
+    total_turns += u.turns;
+    total_cells += u.cells;
+  }
+  const Placement& p = plan.placement;
+  json owner = json::array();
+  for (int v : plan.grid.owner) owner.push_back(v);
+  json j = {
+      {"uavcover_version", "0.1.0"},
+      {"mission", mission::to_json(m)},
+      {"origin", {plan.origin.lon, plan.origin.lat}},
+      {"spacing_m", m.spacing_m},
+      {"gsd_m", m.gsd_m ? json(*m.gsd_m) : json(nullptr)},
+      {"footprint_m", m.footprint_m ? json(*m.footprint_m) : json(nullptr)},
+      {"altitude_m", m.altitude_m},
+      {"altitude_source", m.altitude_source},
+      {"mode", m.mode == Mode::Strict ? "strict" : "coverage"},
+      {"seed", m.seed},
+      {"placement",
+       {{"shift_x_m", p.shift_x_m},
+        {"shift_y_m", p.shift_y_m},
+        {"rotation_deg", p.rotation_deg},
+        {"J", p.J},
+        {"J1", p.J1},
+        {"J2", p.J2},
+        {"J3", p.J3},
+        {"evaluations", p.evaluations}}},
+      {"grid",
+       {{"cell_m", plan.grid.cell_m},
+        {"rotation_deg", plan.grid.rotation_deg},
+        {"origin", {plan.grid.origin.x(), plan.grid.origin.y()}},
+        {"rows", plan.grid.rows},
+        {"cols", plan.grid.cols},
+        {"owner", std::move(owner)}}},
+      {"darp", {{"converged", plan.darp_converged}, {"iterations", plan.darp_iterations}}},
+      {"warnings", plan.warnings},
+      {"uavs", std::move(uavs)},
+      {"totals",
+       {{"length_m", total_len},
+        {"coverage_length_m", total_cov},
+        {"turns", total_turns},
+        {"cells", total_cells},
+        {"free_area_m2", plan.free_area_m2},
+        {"compute_time_s", plan.compute_time_s}}},
+  };
+  for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
+  return j;
+}
+
+void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  const std::filesystem::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path.string());
+  }
+}
+
+Plan load_plan_dir(const std::filesystem::path& dir) {
+  const auto plan_path = dir / "plan.json";
+  const auto paths_path = dir / "paths.geojson";
+  if (!std::filesystem::exists(plan_path)) throw InputError("PLAN_DIR", "no plan.json in " + dir.string());
+  if (!std::filesystem::exists(paths_path)) throw InputError("PLAN_DIR", "no paths.geojson in " + dir.string());
+  const json pj = parse_file(plan_path, "plan.json");
+  const json gj = parse_file(paths_path, "paths.geojson");
+  Plan plan;
+  try {
+    if (!pj.contains("mission")) throw InputError("plan.json: mission", "missing");
+    plan.mission = parse_mission(pj["mission"].dump(), ParseOptions{std::size_t{1} << 40});
+    const auto& o = pj.at("origin");
+    plan.origin = {o.at(0).get<double>(), o.at(1).get<double>()};
+    const auto& ju = pj.at("uavs");
+    if (!ju.is_array() || ju.size() != plan.mission.uavs.size())
+      throw InputError("plan.json: uavs", "does not match the mission's UAVs");
+    const auto& pl = pj.at("placement");
+    plan.placement = {pl.at("shift_x_m").get<double>(), pl.at("shift_y_m").get<double>(),
+                      pl.at("rotation_deg").get<double>(), pl.at("J").get<double>(), pl.at("J1").get<double>(),
+                      pl.at("J2").get<double>(), pl.at("J3").get<double>(), pl.at("evaluations").get<long>()};
+    const auto& g = pj.at("grid");
+    plan.grid.cell_m = g.at("cell_m").get<double>();
+    plan.grid.rotation_deg = g.at("rotation_deg").get<double>();
+    plan.grid.origin = Point(g.at("origin").at(0).get<double>(), g.at("origin").at(1).get<double>());
+    plan.grid.rows = g.at("rows").get<int>();
+    plan.grid.cols = g.at("cols").get<int>();
+    plan.grid.owner = g.at("owner").get<std::vector<int>>();
+    plan.darp_converged = pj.at("darp").at("converged").get<bool>();
+    plan.darp_iterations = pj.at("darp").at("iterations").get<int>();
+    plan.warnings = pj.at("warnings").get<std::vector<std::string>>();
+    plan.free_area_m2 = pj.at("totals").at("free_area_m2").get<double>();
+    plan.compute_time_s = pj.at("totals").at("compute_time_s").get<double>();
+    const geodesy::LocalFrame frame(plan.origin);
+    for (std::size_t i = 0; i < ju.size(); ++i) {
+      auto& mu = plan.mission.uavs[i];
+      const auto& s = ju[i].at("start");
+      mu.start_resolved = {s.at(0).get<double>(), s.at(1).get<double>()};
+      UavPlan up;
+      up.id = ju[i].at("id").get<std::string>();
+      up.share_requested = ju[i].at("share_requested").get<double>();
+      up.share_actual = ju[i].at("share_actual").get<double>();
+      up.cells = ju[i].at("cells").get<int>();
+      up.regions = ju[i].at("regions").get<int>();
+      up.coverage_length_m = ju[i].at("coverage_length_m").get<double>();
+      up.length_m = ju[i].at("length_m").get<double>();
+      up.turns = ju[i].at("turns").get<int>();
+      plan.uavs.push_back(std::move(up));
+    }
+    if (!gj.is_object() || !gj.contains("features") || !gj["features"].is_array())
+      throw InputError("paths.geojson: features", "missing");
+    for (const auto& f : gj["features"]) {
+      const auto& props = f.at("properties");
+      if (!props.contains("uav")) continue;
+      const std::string id = props.at("uav").get<std::string>();
+      auto it = std::find_if(plan.uavs.begin(), plan.uavs.end(), [&](const UavPlan& u) { return u.id == id; });
+      if (it == plan.uavs.end()) throw InputError("paths.geojson: properties.uav", "unknown UAV \"" + id + "\"");
+      PathPart part;
+      part.kind = props.at("kind").get<std::string>() == "coverage" ? PartKind::Coverage : PartKind::Transit;
+      for (const auto& c : f.at("geometry").at("coordinates")) {
+        const LonLat ll{c.at(0).get<double>(), c.at(1).get<double>()};
+        part.wgs84.push_back(ll);
+        part.local.push_back(frame.to_local(ll));
+      }
+      it->parts.push_back(std::move(part));
+    }
+  } catch (const json::exception& e) {
+    throw InputError("PLAN_DIR", std::string("plan.json or paths.geojson is not a uavcover plan: ") + e.what());
+  }
+  return plan;
+}
+
+}  // namespace uavcover::io

@@ -1,0 +1,90 @@
+#include "mission/mission_json.hpp"
+
+#include <algorithm>
+#include <set>
+
+namespace uavcover {
+
+namespace mission {
+
+using nlohmann::json;
+
+std::size_t normalise_ring(GeoRing& ring, bool ccw) {
+  GeoRing out;
+  for (const auto& p : ring)
+    if (out.empty() || !(out.back() == p)) out.push_back(p);
+  while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+  std::set<std::pair<double, double>> distinct;
+  for (const auto& p : out) distinct.insert({p.lon, p.lat});
+  double twice_area = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto& a = out[i];
+    const auto& b = out[(i + 1) % out.size()];
+    twice_area += (a.lon * b.lat - b.lon * a.lat);
+  }
+  if ((twice_area < 0) == ccw) std::reverse(out.begin(), out.end());
+  if (!out.empty()) out.push_back(out.front());
+  ring = std::move(out);
+  return distinct.size();
+}
+
+json geo_polygon_json(const GeoPolygon& poly) {
+  json rings = json::array();
+  for (const auto& r : poly) {
+    json ring = json::array();
+    for (const auto& p : r) ring.push_back({p.lon, p.lat});
+    rings.push_back(std::move(ring));
+  }
+  return {{"type", "Polygon"}, {"coordinates", std::move(rings)}};
+}
+
+json to_json(const Mission& m) {
+  json area;
+  if (m.area.size() == 1) {
+    area = geo_polygon_json(m.area.front());
+  } else {
+    json polys = json::array();
+    for (const auto& p : m.area) polys.push_back(geo_polygon_json(p)["coordinates"]);
+    area = {{"type", "MultiPolygon"}, {"coordinates", std::move(polys)}};
+  }
+  json nfz = json::array();
+  for (const auto& p : m.no_fly_zones) nfz.push_back(geo_polygon_json(p));
+  json j = {{"version", 1}, {"name", m.name}, {"area", std::move(area)}, {"no_fly_zones", std::move(nfz)}};
+  if (m.camera) {
+    const Camera& c = *m.camera;
+    json cj = {{"altitude_m", c.altitude_m}};
+    if (c.hfov_deg) cj["hfov_deg"] = *c.hfov_deg;
+    if (c.overlap) cj["overlap"] = *c.overlap;
+    if (c.sensor_width_mm) cj["sensor_width_mm"] = *c.sensor_width_mm;
+    if (c.focal_length_mm) cj["focal_length_mm"] = *c.focal_length_mm;
+    if (c.image_width_px) cj["image_width_px"] = *c.image_width_px;
+    if (c.side_overlap) cj["side_overlap"] = *c.side_overlap;
+    j["camera"] = std::move(cj);
+  } else {
+    j["spacing_m"] = m.spacing_m;
+    if (m.altitude_source == "altitude_m") j["altitude_m"] = m.altitude_m;
+  }
+  json uavs = json::array();
+  for (const auto& u : m.uavs) {
+    json ju = {{"id", u.id},
+               {"share", u.share},
+               {"speed_mps", u.speed_mps},
+               {"max_accel_mps2", u.max_accel_mps2},
+               {"endurance_min", u.endurance_min},
+               {"turn_c1", u.turn_c1},
+               {"turn_c2", u.turn_c2}};
+    if (u.start) ju["start"] = {u.start->lon, u.start->lat};
+    uavs.push_back(std::move(ju));
+  }
+  j["uavs"] = std::move(uavs);
+  j["mode"] = m.mode == Mode::Strict ? "strict" : "coverage";
+  j["planner"] = m.planner;
+  j["seed"] = m.seed;
+  return j;
+}
+
+}  // namespace mission
+
+std::string mission_to_json(const Mission& m, int indent) { return mission::to_json(m).dump(indent); }
+
+}  // namespace uavcover
