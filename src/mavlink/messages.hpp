@@ -1,0 +1,143 @@
+// The MAVLink messages of the mission protocol (common.xml / minimal.xml), written by hand.
+// Each struct lists its fields; encode_payload() writes them in wire order: the base fields sorted
+// by type size (largest first, stable), then the extension fields in declaration order.
+// CRC_EXTRA values agree with the c_library_v2 MAVLINK_MESSAGE_CRCS table and are re-derived from
+// the field definitions in tests/mavlink (crc_extra_test.cpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace uavcover::mavlink {
+
+struct MessageInfo {
+  std::uint32_t id = 0;
+  std::string_view name;
+  std::uint8_t crc_extra = 0;
+  std::uint8_t min_length = 0;  ///< base fields only (MAVLink 1 length)
+  std::uint8_t max_length = 0;  ///< with every extension field we know
+};
+
+/// MAV_MISSION_RESULT values used here.
+enum MissionResult : std::uint8_t {
+  kMissionAccepted = 0,
+  kMissionError = 1,
+  kMissionUnsupportedFrame = 2,
+  kMissionUnsupported = 3,
+  kMissionNoSpace = 4,
+  kMissionInvalid = 5,
+  kMissionInvalidSequence = 13,
+  kMissionDenied = 14,
+  kMissionOperationCancelled = 15,
+};
+std::string_view mission_result_name(std::uint8_t result);
+
+/// MAV_MISSION_TYPE
+enum MissionType : std::uint8_t { kMissionTypeMission = 0, kMissionTypeFence = 1, kMissionTypeRally = 2 };
+
+struct Heartbeat {
+  static constexpr MessageInfo info{0, "HEARTBEAT", 50, 9, 9};
+  std::uint32_t custom_mode = 0;
+  std::uint8_t type = 0;        ///< MAV_TYPE (6 = GCS, 2 = quadrotor)
+  std::uint8_t autopilot = 0;   ///< MAV_AUTOPILOT (3 = ArduPilot, 8 = invalid / GCS)
+  std::uint8_t base_mode = 0;
+  std::uint8_t system_status = 0;
+  std::uint8_t mavlink_version = 3;
+  friend bool operator==(const Heartbeat&, const Heartbeat&) = default;
+};
+
+struct MissionCount {
+  static constexpr MessageInfo info{44, "MISSION_COUNT", 221, 4, 9};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint16_t count = 0;
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  std::uint32_t opaque_id = 0;                      // extension
+  friend bool operator==(const MissionCount&, const MissionCount&) = default;
+};
+
+struct MissionRequestInt {
+  static constexpr MessageInfo info{51, "MISSION_REQUEST_INT", 196, 4, 5};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint16_t seq = 0;
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  friend bool operator==(const MissionRequestInt&, const MissionRequestInt&) = default;
+};
+
+struct MissionItemInt {
+  static constexpr MessageInfo info{73, "MISSION_ITEM_INT", 38, 37, 38};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint16_t seq = 0;
+  std::uint8_t frame = 0;
+  std::uint16_t command = 0;
+  std::uint8_t current = 0;
+  std::uint8_t autocontinue = 1;
+  float param1 = 0, param2 = 0, param3 = 0, param4 = 0;
+  std::int32_t x = 0;  ///< latitude * 1e7 in global frames
+  std::int32_t y = 0;  ///< longitude * 1e7 in global frames
+  float z = 0;
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  friend bool operator==(const MissionItemInt&, const MissionItemInt&) = default;
+};
+
+struct MissionAck {
+  static constexpr MessageInfo info{47, "MISSION_ACK", 153, 3, 8};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint8_t type = kMissionAccepted;             ///< MAV_MISSION_RESULT
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  std::uint32_t opaque_id = 0;                      // extension
+  friend bool operator==(const MissionAck&, const MissionAck&) = default;
+};
+
+struct MissionClearAll {
+  static constexpr MessageInfo info{45, "MISSION_CLEAR_ALL", 232, 2, 3};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  friend bool operator==(const MissionClearAll&, const MissionClearAll&) = default;
+};
+
+struct MissionCurrent {
+  static constexpr MessageInfo info{42, "MISSION_CURRENT", 28, 2, 18};
+  std::uint16_t seq = 0;
+  std::uint16_t total = 0;          // extension (UINT16_MAX: not supported)
+  std::uint8_t mission_state = 0;   // extension (MISSION_STATE)
+  std::uint8_t mission_mode = 0;    // extension
+  std::uint32_t mission_id = 0;     // extension
+  std::uint32_t fence_id = 0;       // extension
+  std::uint32_t rally_points_id = 0;  // extension
+  friend bool operator==(const MissionCurrent&, const MissionCurrent&) = default;
+};
+
+struct MissionItemReached {
+  static constexpr MessageInfo info{46, "MISSION_ITEM_REACHED", 11, 2, 2};
+  std::uint16_t seq = 0;
+  friend bool operator==(const MissionItemReached&, const MissionItemReached&) = default;
+};
+
+using Message = std::variant<Heartbeat, MissionCount, MissionRequestInt, MissionItemInt, MissionAck,
+                             MissionClearAll, MissionCurrent, MissionItemReached>;
+
+/// The messages this codec knows, or nullopt.
+std::optional<MessageInfo> message_info(std::uint32_t msgid);
+const MessageInfo& message_info(const Message& m);
+
+inline constexpr std::size_t kMaxPayload = 255;
+using PayloadBuffer = std::array<std::uint8_t, kMaxPayload>;
+
+/// Writes the full (untruncated) payload into `out`; returns its length (info.max_length).
+std::size_t encode_payload(const Message& m, PayloadBuffer& out);
+
+/// Decodes a payload as received (possibly truncated by MAVLink 2, or longer than we know:
+/// missing bytes read as zero, extra bytes are ignored). nullopt for an unknown msgid.
+std::optional<Message> decode_payload(std::uint32_t msgid, std::span<const std::uint8_t> payload);
+
+}  // namespace uavcover::mavlink

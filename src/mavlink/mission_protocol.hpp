@@ -1,0 +1,133 @@
+// The MAVLink mission upload protocol over UdpLink, both ends:
+//  - upload_mission(): the GCS side. MISSION_COUNT -> vehicle MISSION_REQUEST_INT(i) -> MISSION_ITEM_INT(i)
+//    -> ... -> MISSION_ACK. Requests are served in whatever order and as often as they come.
+//  - Vehicle: receives a mission (requests items in order, re-requests on timeout or out-of-sequence
+//    items, acks), answers MISSION_CLEAR_ALL, and "flies" a stored mission by broadcasting
+//    MISSION_CURRENT / MISSION_ITEM_REACHED, for tests and the simulated fleet.
+// Timeouts and retries follow the MAVLink mission protocol guide: 1500 ms default timeout, 250 ms for
+// mission items, at most 5 retries.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "export/mission_items.hpp"
+#include "mavlink/messages.hpp"
+#include "mavlink/udp.hpp"
+#include "uavcover/geometry.hpp"
+
+namespace uavcover::mavlink {
+
+inline constexpr std::chrono::milliseconds kDefaultTimeout{1500};
+inline constexpr std::chrono::milliseconds kItemTimeout{250};
+inline constexpr int kMaxRetries = 5;
+
+/// MISSION_ITEM_INT for one exported item: lat/lon * 1e7 (rounded) in global frames, as-is otherwise.
+MissionItemInt to_mission_item_int(const exporting::MissionItem& item, std::uint16_t seq);
+
+/// The items to upload. With `home` (ArduPilot: seq 0 is the home position) a MAV_CMD_NAV_WAYPOINT at
+/// the home position (frame MAV_FRAME_GLOBAL, altitude 0) is item 0 and the mission follows from seq 1.
+std::vector<MissionItemInt> to_mission_items(const std::vector<exporting::MissionItem>& items,
+                                             const std::optional<LonLat>& home);
+
+struct UploadOptions {
+  std::chrono::milliseconds timeout = kDefaultTimeout;  ///< wait for the vehicle's next message
+  int retries = kMaxRetries;                            ///< resends after a timeout before giving up
+  std::uint8_t target_system = 1;
+  std::uint8_t target_component = 1;
+  std::uint8_t mission_type = kMissionTypeMission;
+};
+
+struct UploadResult {
+  bool ok = false;
+  std::optional<std::uint8_t> ack;  ///< MISSION_ACK.type received, if any
+  std::string error;                ///< why it failed (empty when ok)
+  std::size_t count = 0;            ///< items in the mission
+  std::size_t unique_items = 0;     ///< distinct items the vehicle requested
+  std::size_t items_sent = 0;       ///< MISSION_ITEM_INT sent, repeats included
+  std::size_t count_sent = 0;       ///< MISSION_COUNT sent, resends included
+  std::size_t timeouts = 0;
+  std::size_t out_of_order = 0;     ///< requests for anything but the next new item
+  double elapsed_s = 0.0;
+};
+
+/// Called after each item sent: (distinct items requested so far, total).
+using UploadProgressFn = std::function<void(std::size_t done, std::size_t total)>;
+
+/// Uploads `items` (their seq fields are overwritten with their index) to the vehicle at the link's
+/// peer. Bounded: gives up after `retries` consecutive timeouts, and after at most
+/// (retries + 1) * timeout * (count + 2) in total.
+UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, const UploadOptions& options,
+                            const UploadProgressFn& progress = {});
+
+/// Watches a flying vehicle: collects MISSION_ITEM_REACHED seqs (in arrival order) until `last_seq` is
+/// reached or nothing arrives for `idle_timeout`.
+struct ProgressLog {
+  std::vector<std::uint16_t> reached;
+  std::vector<std::uint16_t> current;  ///< MISSION_CURRENT seqs as they changed
+};
+ProgressLog monitor_progress(UdpLink& link, std::uint8_t target_system, std::uint16_t last_seq,
+                             std::chrono::milliseconds idle_timeout);
+
+struct VehicleOptions {
+  std::chrono::milliseconds item_timeout = kItemTimeout;
+  int retries = kMaxRetries;
+  std::size_t max_items = 700;  ///< answers MAV_MISSION_NO_SPACE above this
+  std::chrono::milliseconds heartbeat_period{1000};
+};
+
+class Vehicle {
+ public:
+  struct Stats {
+    std::size_t uploads_accepted = 0;
+    std::size_t requests_sent = 0;
+    std::size_t rerequests = 0;        ///< after a timeout or an out-of-sequence item
+    std::size_t out_of_sequence = 0;   ///< items dropped because they were not the expected one
+    std::size_t cancelled = 0;         ///< transfers abandoned after the retries
+    std::size_t acks_resent = 0;       ///< final item seen again after the ACK: ACK repeated
+  };
+
+  /// The link's sysid/compid are the vehicle's; replies go to whoever sent last.
+  Vehicle(UdpLink& link, VehicleOptions options = {});
+
+  /// Handles messages and timeouts for at most `limit`, or until `stop` becomes true, or (when
+  /// `until_accepted`) until an upload completes.
+  void run(std::chrono::milliseconds limit, const std::atomic<bool>* stop = nullptr, bool until_accepted = false);
+
+  /// Flies the stored mission from `first_seq`: for each item, MISSION_CURRENT(seq) then, after
+  /// `per_item`, MISSION_ITEM_REACHED(seq); finally MISSION_CURRENT with mission_state COMPLETE.
+  void fly(std::uint16_t first_seq, std::chrono::milliseconds per_item);
+
+  [[nodiscard]] const std::vector<MissionItemInt>& mission() const { return mission_; }
+  [[nodiscard]] const Stats& stats() const { return stats_; }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  void handle(const Received& r);
+  void request(std::uint16_t seq);
+  void ack(std::uint8_t type, std::uint8_t target_system, std::uint8_t target_component);
+  void on_timeout();
+
+  UdpLink& link_;
+  VehicleOptions opt_;
+  std::vector<MissionItemInt> mission_;
+  // transfer in progress
+  bool receiving_ = false;
+  std::uint16_t count_ = 0;
+  std::uint16_t expected_ = 0;
+  std::vector<MissionItemInt> incoming_;
+  int retries_left_ = 0;
+  clock::time_point deadline_{};
+  std::uint8_t gcs_system_ = 0, gcs_component_ = 0;
+  // last completed upload (to repeat a lost ACK)
+  std::optional<std::uint16_t> last_completed_count_;
+  clock::time_point next_heartbeat_{};
+  Stats stats_;
+};
+
+}  // namespace uavcover::mavlink
