@@ -32,6 +32,7 @@ struct MissionItem {
   float alt = 0;             ///< metres, relative to home in frame 3
   bool autocontinue = true;
   std::string role;          ///< "takeoff", "transition", "coverage", "transit", "speed", "camera", "rtl", "land"
+  int part = -1;             ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
 };
 
 struct AltitudeOptions {

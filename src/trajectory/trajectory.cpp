@@ -1,0 +1,248 @@
+#include "trajectory/trajectory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "geodesy/local_frame.hpp"
+
+namespace uavcover::trajectory {
+
+namespace {
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 unit(const Vec3& a) {
+  const double n = norm(a);
+  return n > 0 ? scale(a, 1.0 / n) : Vec3{0, 0, 0};
+}
+
+constexpr double kStraightAngle = 1e-6;  // radians: below this a vertex is passed straight through
+
+}  // namespace
+
+Trajectory::Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits, const Options& options)
+    : limits_(limits), options_(options) {
+  if (waypoints.empty()) throw std::invalid_argument("trajectory: no waypoints");
+  if (!(limits.v_max > 0) || !(limits.a_max > 0))
+    throw std::invalid_argument("trajectory: v_max and a_max must be positive");
+  // 1. drop consecutive duplicates, densify long legs
+  std::vector<Vec3> pts;
+  for (const auto& w : waypoints)
+    if (pts.empty() || norm(sub(w, pts.back())) > 1e-9) pts.push_back(w);
+  waypoints_.push_back(pts.front());
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    const Vec3 d = sub(pts[i], pts[i - 1]);
+    const double len = norm(d);
+    if (options_.densify_m > 0 && len > options_.densify_m) {
+      const int n = static_cast<int>(std::ceil(len / options_.densify_m));
+      for (int k = 1; k < n; ++k) waypoints_.push_back(add(pts[i - 1], scale(d, static_cast<double>(k) / n)));
+    }
+    waypoints_.push_back(pts[i]);
+  }
+  const std::size_t n = waypoints_.size();
+  radii_.assign(n, 0.0);
+  if (n == 1) return;
+
+  // 2. corners: tangent length, radius, speed cap per vertex
+  std::vector<double> leg(n - 1);
+  std::vector<Vec3> dir(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const Vec3 d = sub(waypoints_[i + 1], waypoints_[i]);
+    leg[i] = norm(d);
+    dir[i] = scale(d, 1.0 / leg[i]);
+  }
+  std::vector<double> tangent(n, 0.0), cap(n, 0.0), angle(n, 0.0);
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const Vec3& din = dir[i - 1];
+    const Vec3& dout = dir[i];
+    const double phi = std::atan2(norm(cross(din, dout)), dot(din, dout));
+    angle[i] = phi;
+    if (phi < kStraightAngle) {
+      cap[i] = limits_.v_max;
+      continue;
+    }
+    if (options_.corners == CornerMode::Stop) continue;
+    const double th = std::tan(phi / 2.0);
+    double r = options_.fillet_radius_m;
+    const double avail = std::min(leg[i - 1], leg[i]) / 2.0;
+    if (r * th > avail) r = avail / th;
+    if (!(r >= options_.min_fillet_m) || !std::isfinite(r)) continue;  // stop at this corner
+    radii_[i] = r;
+    tangent[i] = r * th;
+    cap[i] = std::min(limits_.v_max, std::sqrt(limits_.a_max * r));
+  }
+
+  // 3. line lengths between tangent points; forward/backward pass over node speeds
+  std::vector<double> line(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) line[i] = std::max(0.0, leg[i] - tangent[i] - tangent[i + 1]);
+  const double a = limits_.a_max;
+  std::vector<double> u(n, 0.0);
+  cap[0] = cap[n - 1] = 0.0;
+  for (std::size_t i = 1; i < n; ++i) u[i] = std::min(cap[i], std::sqrt(u[i - 1] * u[i - 1] + 2 * a * line[i - 1]));
+  u[n - 1] = 0.0;
+  for (std::size_t i = n - 1; i-- > 0;) u[i] = std::min(u[i], std::sqrt(u[i + 1] * u[i + 1] + 2 * a * line[i]));
+
+  // 4. pieces
+  double t = 0;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    Piece ln;
+    ln.arc = false;
+    ln.t0 = t;
+    ln.start = add(waypoints_[i], scale(dir[i], tangent[i]));
+    ln.dir = dir[i];
+    ln.length = line[i];
+    ln.v_in = u[i];
+    ln.v_out = u[i + 1];
+    if (ln.length > 0) {
+      double vp = std::sqrt((ln.v_in * ln.v_in + ln.v_out * ln.v_out + 2 * a * ln.length) / 2.0);
+      vp = std::max({std::min(vp, limits_.v_max), ln.v_in, ln.v_out});
+      ln.v_peak = vp;
+      const double d_acc = (vp * vp - ln.v_in * ln.v_in) / (2 * a);
+      const double d_dec = (vp * vp - ln.v_out * ln.v_out) / (2 * a);
+      const double d_cruise = std::max(0.0, ln.length - d_acc - d_dec);
+      ln.t_acc = (vp - ln.v_in) / a;
+      ln.t_dec = (vp - ln.v_out) / a;
+      ln.t_cruise = vp > 0 ? d_cruise / vp : 0.0;
+      ln.duration = ln.t_acc + ln.t_cruise + ln.t_dec;
+      t += ln.duration;
+      pieces_.push_back(ln);
+    }
+    const std::size_t c = i + 1;
+    if (c + 1 < n && radii_[c] > 0) {
+      Piece arc;
+      arc.arc = true;
+      arc.t0 = t;
+      arc.radius = radii_[c];
+      arc.angle = angle[c];
+      arc.d1 = dir[i];
+      arc.u = unit(sub(dir[c], scale(dir[i], dot(dir[c], dir[i]))));
+      const Vec3 t1 = sub(waypoints_[c], scale(dir[i], tangent[c]));
+      arc.center = add(t1, scale(arc.u, arc.radius));
+      arc.speed = u[c];
+      arc.length = arc.radius * arc.angle;
+      if (!(arc.speed > 0)) throw std::logic_error("trajectory: zero speed on a fillet");
+      arc.duration = arc.length / arc.speed;
+      t += arc.duration;
+      pieces_.push_back(arc);
+    }
+  }
+  duration_ = t;
+}
+
+Sample Trajectory::at(double t) const {
+  Sample s;
+  if (pieces_.empty()) {
+    s.t = 0;
+    s.p = waypoints_.front();
+    return s;
+  }
+  t = std::clamp(t, 0.0, duration_);
+  s.t = t;
+  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double x, const Piece& p) { return x < p.t0; });
+  const std::size_t k = it == pieces_.begin() ? 0 : static_cast<std::size_t>(it - pieces_.begin()) - 1;
+  const Piece& pc = pieces_[k];
+  const double tau = std::clamp(t - pc.t0, 0.0, pc.duration);
+  const double a = limits_.a_max;
+  if (pc.arc) {
+    const double th = pc.speed * tau / pc.radius;
+    const double c = std::cos(th), sn = std::sin(th);
+    s.p = add(pc.center, add(scale(pc.u, -pc.radius * c), scale(pc.d1, pc.radius * sn)));
+    s.v = add(scale(pc.u, pc.speed * sn), scale(pc.d1, pc.speed * c));
+    const double ac = pc.speed * pc.speed / pc.radius;
+    s.a = add(scale(pc.u, ac * c), scale(pc.d1, -ac * sn));
+    s.piece = static_cast<int>(4 * k + 3);
+    return s;
+  }
+  double dist = 0, v = 0, acc = 0;
+  int phase = 0;
+  const double d_acc = pc.v_in * pc.t_acc + 0.5 * a * pc.t_acc * pc.t_acc;
+  if (tau < pc.t_acc) {
+    dist = pc.v_in * tau + 0.5 * a * tau * tau;
+    v = pc.v_in + a * tau;
+    acc = a;
+  } else if (tau < pc.t_acc + pc.t_cruise) {
+    dist = d_acc + pc.v_peak * (tau - pc.t_acc);
+    v = pc.v_peak;
+    phase = 1;
+  } else {
+    const double t3 = std::min(tau - pc.t_acc - pc.t_cruise, pc.t_dec);
+    dist = d_acc + pc.v_peak * pc.t_cruise + pc.v_peak * t3 - 0.5 * a * t3 * t3;
+    v = std::max(0.0, pc.v_peak - a * t3);
+    acc = pc.t_dec > 0 ? -a : 0.0;
+    phase = 2;
+  }
+  s.p = add(pc.start, scale(pc.dir, dist));
+  s.v = scale(pc.dir, v);
+  s.a = scale(pc.dir, acc);
+  s.piece = static_cast<int>(4 * k) + phase;
+  return s;
+}
+
+std::vector<Sample> Trajectory::sample(double dt) const {
+  if (!(dt > 0)) throw std::invalid_argument("trajectory: dt must be positive");
+  std::vector<Sample> out;
+  const auto steps = static_cast<std::size_t>(std::floor(duration_ / dt));
+  out.reserve(steps + 2);
+  for (std::size_t k = 0; k <= steps; ++k) out.push_back(at(static_cast<double>(k) * dt));
+  if (duration_ - out.back().t < 1e-3 * dt) {
+    if (out.size() > 1) out.pop_back();
+    if (duration_ > 0 || out.empty()) out.push_back(at(duration_));
+  } else {
+    out.push_back(at(duration_));
+  }
+  // the end is exactly at rest (the last piece decelerates to 0)
+  out.back().v = {0, 0, 0};
+  return out;
+}
+
+std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index, const exporting::AltitudeOptions& altitudes) {
+  const auto items = exporting::mission_items(plan, index, altitudes);
+  const geodesy::LocalFrame frame(plan.origin);
+  const Point home = frame.to_local(plan.mission.uavs.at(index).start_resolved);
+  std::vector<Vec3> pts{{home.x(), home.y(), 0.0}};
+  for (const auto& it : items) {
+    if (it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
+        it.command == exporting::kNavLand) {
+      const Point p = frame.to_local({it.lon, it.lat});
+      pts.push_back({p.x(), p.y(), static_cast<double>(it.alt)});
+    }
+  }
+  // return to launch: back above home at the current altitude, then down to the ground
+  const Vec3 last = pts.back();
+  pts.push_back({home.x(), home.y(), last[2]});
+  pts.push_back({home.x(), home.y(), 0.0});
+  return pts;
+}
+
+Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options,
+                          const exporting::AltitudeOptions& altitudes) {
+  const Uav& u = plan.mission.uavs.at(index);
+  return Trajectory(flight_waypoints(plan, index, altitudes), Limits{u.speed_mps, u.max_accel_mps2}, options);
+}
+
+double flight_time_s(const Plan& plan, std::size_t index, const Options& options,
+                     const exporting::AltitudeOptions& altitudes) {
+  return uav_trajectory(plan, index, options, altitudes).duration();
+}
+
+std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples) {
+  const geodesy::LocalFrame frame(plan.origin);
+  std::string out = "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az\n";
+  out.reserve(samples.size() * 120);
+  for (const auto& s : samples) {
+    const LonLat ll = frame.to_wgs84({s.p[0], s.p[1]});
+    out += fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.t,
+                       s.p[0], s.p[1], s.p[2], ll.lat, ll.lon, s.v[0], s.v[1], s.v[2], s.a[0], s.a[1], s.a[2]);
+  }
+  return out;
+}
+
+}  // namespace uavcover::trajectory

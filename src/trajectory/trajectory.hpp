@@ -1,0 +1,97 @@
+// Time-parameterised flight trajectories (Mondinelli 2025 §4): densify long legs, round corners with
+// fillets (or stop at them), limit speed to v_max and to sqrt(a_max * r) on arcs, forward/backward
+// speed pass, then sample (t, position, velocity, acceleration) at a fixed step.
+//
+// The path is a chain of straight lines and circular arcs in local ENU metres (x east, y north, z up).
+// Tangential acceleration happens only on lines and centripetal acceleration only on arcs (constant
+// speed there), so ||a|| <= a_max holds exactly; ||v|| <= v_max everywhere; start and end are at rest.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "export/mission_items.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::trajectory {
+
+using Vec3 = std::array<double, 3>;
+
+enum class CornerMode { Stop, Fillet };
+
+struct Options {
+  double dt = 0.1;               ///< sampling step, seconds
+  double densify_m = 10.0;       ///< legs longer than this get intermediate waypoints (0 = off)
+  CornerMode corners = CornerMode::Fillet;
+  double fillet_radius_m = 2.0;  ///< corner radius; shrunk where legs are too short
+  double min_fillet_m = 0.05;    ///< below this radius the UAV stops at the corner instead
+};
+
+struct Limits {
+  double v_max = 5.0;  ///< m/s
+  double a_max = 2.0;  ///< m/s^2
+};
+
+struct Sample {
+  double t = 0;
+  Vec3 p{}, v{}, a{};
+  int piece = 0;  ///< index of the path piece (line/arc) and phase; a changes only between pieces
+};
+
+/// One piece of the path: a straight line (with accelerate/cruise/decelerate phases) or an arc.
+struct Piece {
+  bool arc = false;
+  double t0 = 0, duration = 0, length = 0;
+  // line
+  Vec3 start{}, dir{};
+  double v_in = 0, v_peak = 0, v_out = 0, t_acc = 0, t_cruise = 0, t_dec = 0;
+  // arc: p(th) = center - r*u*cos(th) + r*d1*sin(th), th in [0, angle]
+  Vec3 center{}, u{}, d1{};
+  double radius = 0, angle = 0, speed = 0;
+};
+
+class Trajectory {
+ public:
+  /// `waypoints` are visited in order (consecutive duplicates are dropped). Needs >= 1 waypoint.
+  Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits, const Options& options = {});
+
+  [[nodiscard]] double duration() const { return duration_; }
+  [[nodiscard]] Sample at(double t) const;
+  /// Samples at 0, dt, 2dt, ... and at the end time (t strictly increasing).
+  [[nodiscard]] std::vector<Sample> sample(double dt) const;
+  [[nodiscard]] std::vector<Sample> sample() const { return sample(options_.dt); }
+  /// The waypoints after densification (the ones the trajectory passes by).
+  [[nodiscard]] const std::vector<Vec3>& waypoints() const { return waypoints_; }
+  /// Per waypoint: the radius actually used at that corner (0 = straight through or stop).
+  [[nodiscard]] const std::vector<double>& corner_radii() const { return radii_; }
+  [[nodiscard]] const std::vector<Piece>& pieces() const { return pieces_; }
+  [[nodiscard]] const Limits& limits() const { return limits_; }
+
+ private:
+  Limits limits_;
+  Options options_;
+  std::vector<Vec3> waypoints_;
+  std::vector<double> radii_;
+  std::vector<Piece> pieces_;
+  double duration_ = 0;
+};
+
+/// 3D flight waypoints of UAV `index` in local metres: home on the ground, then every positioned
+/// mission item (take-off, transition, transit, coverage) in order, then home and the ground again.
+std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
+                                   const exporting::AltitudeOptions& altitudes = {});
+
+/// The trajectory of UAV `index` under its own speed_mps and max_accel_mps2.
+Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options = {},
+                          const exporting::AltitudeOptions& altitudes = {});
+
+/// Flight time (s) of UAV `index` along its trajectory: an alternative to the eq. 15 time model.
+double flight_time_s(const Plan& plan, std::size_t index, const Options& options = {},
+                     const exporting::AltitudeOptions& altitudes = {});
+
+/// CSV with header `t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az`, positions in the plan's local frame.
+std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples);
+
+}  // namespace uavcover::trajectory
