@@ -1,0 +1,279 @@
+#include "evaluation/evaluate.hpp"
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "geometry/geometry.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::evaluation {
+
+using nlohmann::json;
+
+double footprint_for(const Mission& m) {
+  if (m.footprint_m && *m.footprint_m > 0.0) return *m.footprint_m;
+  if (m.camera) {
+    const Camera& c = *m.camera;
+    const double h = c.altitude_m > 0.0 ? c.altitude_m : m.altitude_m;
+    if (c.hfov_deg && *c.hfov_deg > 0.0 && h > 0.0)
+      return 2.0 * h * std::tan(*c.hfov_deg * std::numbers::pi / 360.0);
+    if (c.image_width_px && m.gsd_m && *m.gsd_m > 0.0) return *c.image_width_px * *m.gsd_m;
+    if (c.sensor_width_mm && c.focal_length_mm && *c.focal_length_mm > 0.0 && h > 0.0)
+      return *c.sensor_width_mm / *c.focal_length_mm * h;
+  }
+  return 1.5 * m.spacing_m;
+}
+
+MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame) {
+  const MultiPolygon area = geometry::unite(geometry::to_local(mission.area, frame));
+  const MultiPolygon nfz = geometry::unite(geometry::to_local(mission.no_fly_zones, frame));
+  return geometry::free_space(area, nfz);
+}
+
+Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>& flights,
+                            const std::vector<Uav>& uavs, double footprint_m,
+                            const EvaluateOptions& options) {
+  if (uavs.size() != flights.size()) throw InputError("uavs", "one UAV per flight is needed");
+  Evaluation ev;
+  ev.footprint_m = footprint_m;
+  for (const auto& u : uavs) ev.uav_ids.push_back(u.id);
+  CoverageOptions co = options.coverage;
+  co.footprint_m = footprint_m;
+  if (options.compute_coverage) {
+    ev.coverage = evaluate_coverage(free, flights, co);
+  } else {
+    // lengths and turns only: an empty set skips the lattice
+    ev.coverage = evaluate_coverage(MultiPolygon{}, flights, co);
+    ev.coverage.total.area_m2 = free.empty() ? 0.0 : std::abs(bg::area(free));
+  }
+  std::vector<double> lengths;
+  std::vector<int> turns;
+  for (const auto& u : ev.coverage.uavs) {
+    lengths.push_back(u.stats.length_m);
+    turns.push_back(u.stats.turns);
+  }
+  ev.cost = evaluate_cost(lengths, turns, uavs, ev.coverage.total.area_m2, options.cost);
+  return ev;
+}
+
+Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
+  const geodesy::LocalFrame frame(plan.origin);
+  const MultiPolygon free = free_area(plan.mission, frame);
+  std::vector<Flight> flights;
+  std::vector<Uav> uavs;
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    flights.push_back(plan.uavs[i].parts);
+    Uav u = i < plan.mission.uavs.size() ? plan.mission.uavs[i] : Uav{};
+    u.id = plan.uavs[i].id;
+    uavs.push_back(u);
+  }
+  const double w =
+      options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
+  return evaluate_flights(free, flights, uavs, w, options);
+}
+
+json to_json(const CoverageStats& s) {
+  return json{{"poc", s.poc},
+              {"pooc", s.pooc},
+              {"max_scans", s.max_scans},
+              {"histogram", s.histogram},
+              {"turns", s.turns},
+              {"length_m", s.length_m},
+              {"length_km", s.length_m / 1000.0},
+              {"area_m2", s.area_m2},
+              {"turns_per_1000m2", s.turns_per_1000m2},
+              {"length_per_1000m2", s.length_per_1000m2}};
+}
+
+json to_json(const CoverageResult& c, double footprint_m) {
+  json j = to_json(c.total);
+  j["footprint_m"] = footprint_m;
+  j["lattice_m"] = c.lattice_m;
+  j["samples"] = c.samples;
+  json uavs = json::array();
+  for (const auto& u : c.uavs) {
+    json ju = to_json(u.stats);
+    ju["area_share"] = u.area_share;
+    uavs.push_back(std::move(ju));
+  }
+  j["uavs"] = std::move(uavs);
+  return j;
+}
+
+json to_json(const CostResult& c) {
+  json uavs = json::array();
+  for (const auto& u : c.uavs)
+    uavs.push_back({{"flight_duration_min", u.flight_duration_min},
+                    {"batteries", u.batteries},
+                    {"change_battery_delay_min", u.change_battery_delay_min}});
+  return json{{"n_uavs", c.n_uavs},
+              {"batteries_per_uav", c.batteries_per_uav},
+              {"flight_time_min", c.flight_time_min},
+              {"deployment_time_min", c.deployment_time_min},
+              {"change_battery_delay_min", c.change_battery_delay_min},
+              {"total_time_min", c.total_time_min},
+              {"flight_cost_eur", c.flight_cost_eur},
+              {"single_battery", c.single_battery},
+              {"uavs", std::move(uavs)}};
+}
+
+json to_json(const Evaluation& e) {
+  json cov = to_json(e.coverage, e.footprint_m);
+  for (std::size_t i = 0; i < e.uav_ids.size() && i < cov["uavs"].size(); ++i)
+    cov["uavs"][i]["id"] = e.uav_ids[i];
+  return json{{"coverage", std::move(cov)}, {"cost", to_json(e.cost)}};
+}
+
+json evaluation_json(const Evaluation& e) {
+  const auto& t = e.coverage.total;
+  const auto& c = e.cost;
+  json j{{"poc", t.poc},
+         {"pooc", t.pooc},
+         {"max_scans", t.max_scans},
+         {"histogram", t.histogram},
+         {"turns", t.turns},
+         {"turns_per_1000m2", t.turns_per_1000m2},
+         {"length_m", t.length_m},
+         {"length_per_1000m2", t.length_per_1000m2},
+         {"area_m2", t.area_m2},
+         {"footprint_m", e.footprint_m},
+         {"lattice_m", e.coverage.lattice_m},
+         {"samples", e.coverage.samples},
+         {"batteries_per_uav", c.batteries_per_uav},
+         {"flight_time_min", c.flight_time_min},
+         {"deployment_time_min", c.deployment_time_min},
+         {"change_battery_delay_min", c.change_battery_delay_min},
+         {"total_time_min", c.total_time_min},
+         {"cost_eur", c.flight_cost_eur}};
+  json uavs = json::array();
+  for (std::size_t i = 0; i < e.coverage.uavs.size(); ++i) {
+    const auto& u = e.coverage.uavs[i];
+    json ju = to_json(u.stats);
+    ju["id"] = i < e.uav_ids.size() ? e.uav_ids[i] : "uav-" + std::to_string(i + 1);
+    ju["area_share"] = u.area_share;
+    if (i < c.uavs.size()) {
+      ju["flight_duration_min"] = c.uavs[i].flight_duration_min;
+      ju["batteries"] = c.uavs[i].batteries;
+    }
+    uavs.push_back(std::move(ju));
+  }
+  j["uavs"] = std::move(uavs);
+  return j;
+}
+
+namespace {
+
+std::vector<Point> read_line(const json& coords, const std::string& field, const geodesy::LocalFrame& frame,
+                             std::vector<LonLat>& wgs) {
+  if (!coords.is_array()) throw InputError(field, "must be an array of [longitude, latitude] positions");
+  if (coords.size() < 2) throw InputError(field, "a LineString needs at least 2 positions");
+  std::vector<Point> pts;
+  for (std::size_t k = 0; k < coords.size(); ++k) {
+    const json& p = coords[k];
+    const std::string f = field + "[" + std::to_string(k) + "]";
+    if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number())
+      throw InputError(f, "must be a position [longitude, latitude]");
+    const double lon = p[0].get<double>(), lat = p[1].get<double>();
+    if (!std::isfinite(lon) || lon < -180.0 || lon > 180.0) throw InputError(f, "longitude out of range");
+    if (!std::isfinite(lat) || lat < -90.0 || lat > 90.0) throw InputError(f, "latitude out of range");
+    wgs.push_back({lon, lat});
+    pts.push_back(frame.to_local({lon, lat}));
+  }
+  return pts;
+}
+
+}  // namespace
+
+GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& frame) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError("paths", std::string("not valid JSON: ") + e.what());
+  }
+  if (!doc.is_object()) throw InputError("type", "GeoJSON must be an object");
+  if (!doc.contains("type") || !doc["type"].is_string())
+    throw InputError("type", "missing GeoJSON type (FeatureCollection, Feature or LineString)");
+  std::vector<std::pair<json, std::string>> features;  // (feature, field prefix)
+  const std::string type = doc["type"].get<std::string>();
+  if (type == "FeatureCollection") {
+    if (!doc.contains("features") || !doc["features"].is_array())
+      throw InputError("features", "a FeatureCollection needs a 'features' array");
+    for (std::size_t i = 0; i < doc["features"].size(); ++i)
+      features.emplace_back(doc["features"][i], "features[" + std::to_string(i) + "]");
+  } else if (type == "Feature") {
+    features.emplace_back(doc, "");
+  } else if (type == "LineString" || type == "MultiLineString") {
+    features.emplace_back(json{{"type", "Feature"}, {"properties", json::object()}, {"geometry", doc}}, "");
+  } else {
+    throw InputError("type",
+                     "unsupported GeoJSON type '" + type + "' (FeatureCollection, Feature or LineString)");
+  }
+
+  GeoPaths out;
+  std::map<std::string, std::size_t> index;
+  int anonymous = 0;
+  for (const auto& [f, prefix] : features) {
+    const std::string pre = prefix.empty() ? "" : prefix + ".";
+    if (!f.is_object() || !f.contains("type") || f["type"] != "Feature")
+      throw InputError(pre + "type", "must be \"Feature\"");
+    if (!f.contains("geometry") || !f["geometry"].is_object())
+      throw InputError(pre + "geometry", "missing or not an object");
+    const json& g = f["geometry"];
+    if (!g.contains("type") || !g["type"].is_string())
+      throw InputError(pre + "geometry.type", "missing geometry type");
+    const std::string gt = g["type"].get<std::string>();
+    if (gt != "LineString" && gt != "MultiLineString") continue;  // area, no-fly zones, markers
+    if (!g.contains("coordinates")) throw InputError(pre + "geometry.coordinates", "missing");
+    json props = f.contains("properties") && f["properties"].is_object() ? f["properties"] : json::object();
+    PartKind kind = PartKind::Coverage;
+    if (props.contains("kind")) {
+      if (!props["kind"].is_string()) throw InputError(pre + "properties.kind", "must be a string");
+      const std::string k = props["kind"].get<std::string>();
+      if (k == "transit")
+        kind = PartKind::Transit;
+      else if (k != "coverage")
+        throw InputError(pre + "properties.kind", "must be \"coverage\" or \"transit\"");
+    }
+    std::string uav;
+    if (props.contains("uav") && !props["uav"].is_null()) {
+      if (props["uav"].is_string())
+        uav = props["uav"].get<std::string>();
+      else if (props["uav"].is_number_integer())
+        uav = "uav-" + std::to_string(props["uav"].get<long>());
+      else
+        throw InputError(pre + "properties.uav", "must be a string naming the UAV");
+    } else {
+      uav = "uav-" + std::to_string(++anonymous);
+      while (index.count(uav)) uav = "uav-" + std::to_string(++anonymous);
+    }
+    auto it = index.find(uav);
+    if (it == index.end()) {
+      it = index.emplace(uav, out.flights.size()).first;
+      out.uav_ids.push_back(uav);
+      out.flights.emplace_back();
+    }
+    const std::string cf = pre + "geometry.coordinates";
+    std::vector<json> lines;
+    if (gt == "LineString") {
+      lines.push_back(g["coordinates"]);
+    } else {
+      if (!g["coordinates"].is_array()) throw InputError(cf, "must be an array of LineString coordinates");
+      for (const auto& l : g["coordinates"]) lines.push_back(l);
+    }
+    for (std::size_t li = 0; li < lines.size(); ++li) {
+      PathPart part;
+      part.kind = kind;
+      part.local = read_line(lines[li], gt == "LineString" ? cf : cf + "[" + std::to_string(li) + "]", frame,
+                             part.wgs84);
+      out.flights[it->second].push_back(std::move(part));
+    }
+  }
+  if (out.flights.empty())
+    throw InputError("features",
+                     "no LineString found: the paths must be GeoJSON LineStrings, one or more per UAV");
+  return out;
+}
+
+}  // namespace uavcover::evaluation

@@ -1,0 +1,68 @@
+// Plan evaluation: coverage simulation + time/cost model, JSON output, and reading other tools'
+// paths (GeoJSON LineStrings per UAV) for `uavcover evaluate`.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "evaluation/cost.hpp"
+#include "evaluation/coverage.hpp"
+#include "geodesy/local_frame.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::evaluation {
+
+struct EvaluateOptions {
+  CoverageOptions coverage;  ///< footprint_m 0 = footprint_for(mission)
+  CostOptions cost;
+  bool compute_coverage = true;  ///< false: lengths/turns/cost only (no lattice)
+};
+
+struct Evaluation {
+  double footprint_m = 0.0;
+  CoverageResult coverage;
+  CostResult cost;
+  std::vector<std::string> uav_ids;
+};
+
+/// Footprint width w: mission.footprint_m, else 2*h*tan(HFOV/2) from the camera, else 1.5*ds.
+double footprint_for(const Mission& mission);
+
+/// Free area (area - no-fly zones) of the mission in the local frame centred at `origin`.
+MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame);
+
+/// Evaluates flights over `free` with the UAVs' speed/turn constants/endurance (uavs.size() ==
+/// flights.size()).
+Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>& flights,
+                            const std::vector<Uav>& uavs, double footprint_m,
+                            const EvaluateOptions& options = {});
+
+/// Coverage + cost of a plan (coverage parts and in/out transit legs).
+Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options = {});
+
+nlohmann::json to_json(const CoverageStats& stats);
+/// Coverage block for plan.json: lattice, footprint, totals and per-UAV stats.
+nlohmann::json to_json(const CoverageResult& coverage, double footprint_m = 0.0);
+nlohmann::json to_json(const CostResult& cost);
+/// {"coverage": ..., "cost": ...}
+nlohmann::json to_json(const Evaluation& evaluation);
+
+/// evaluation.json of `uavcover evaluate`: totals at top level (poc, pooc, max_scans, turns,
+/// length_m, flight_time_min, total_time_min, cost_eur, ...) and per-UAV figures under "uavs".
+nlohmann::json evaluation_json(const Evaluation& evaluation);
+
+/// Paths read from GeoJSON.
+struct GeoPaths {
+  std::vector<std::string> uav_ids;
+  std::vector<Flight> flights;  ///< local coordinates filled from `frame`, WGS84 kept
+};
+
+/// Reads a FeatureCollection (or a single Feature / geometry) of LineStrings or MultiLineStrings.
+/// properties.uav names the UAV (lines with the same name form one flight); without it every
+/// line is its own UAV. properties.kind "transit" marks transit legs. Polygon and Point features
+/// are ignored. Throws InputError naming the field (e.g. "features[2].geometry.coordinates").
+GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& frame);
+
+}  // namespace uavcover::evaluation
