@@ -1,0 +1,205 @@
+// Benchmarks of the DARP planner.
+//   bench_plan paper [strict|coverage] [dir]   the 20 regions of Apostolidis et al. 2022: PoC, turns,
+//                                              length and time per region, means over the paper's 18
+//   bench_plan scaling [max_cells]             mega-cells x UAVs -> time and peak RSS (one process per
+//                                              row, so peak RSS is that row's)
+//   bench_plan gbench [google benchmark flags]  Google Benchmark timings (when built with it)
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "evaluation/coverage.hpp"
+#include "planner/local_mission.hpp"
+#include "uavcover/uavcover.hpp"
+
+#ifdef UAVCOVER_HAVE_GBENCH
+#include <benchmark/benchmark.h>
+#endif
+
+using namespace uavcover;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// paper_results.csv: "J1 + J2 + J3 Optimization" rows
+std::vector<double> paper_row(const std::string& dir, const std::string& metric) {
+  std::ifstream f(dir + "/paper_results.csv");
+  std::string line;
+  while (std::getline(f, line)) {
+    if (line.rfind("\"J1 + J2 + J3 Optimization\",\"" + metric + "\"", 0) != 0) continue;
+    std::vector<double> v;
+    std::stringstream ss(line);
+    std::string cell;
+    int col = 0;
+    while (std::getline(ss, cell, ',')) {
+      if (col++ >= 2) v.push_back(std::atof(cell.c_str()));
+    }
+    return v;
+  }
+  return {};
+}
+
+int paper(Mode mode, const std::string& dir) {
+  const auto ppoc = paper_row(dir, "PoC"), pturns = paper_row(dir, "# WP (turns)"),
+             plen = paper_row(dir, "Path Length (m)");
+  std::printf("mode %s\n%-5s %7s %7s %6s %6s %9s %9s %7s %5s\n", mode == Mode::Strict ? "strict" : "coverage",
+              "roi", "PoC%", "paper", "turns", "paper", "length", "paper", "time_s", "cells");
+  double s_poc = 0, s_turns = 0, s_len = 0, s_t = 0, max_t = 0;
+  int n = 0, worse = 0;
+  for (int r = 1; r <= 20; ++r) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/roi%02d.json", r);
+    Mission m;
+    try {
+      m = parse_mission(slurp(dir + name));
+    } catch (const std::exception& e) {
+      std::printf("%-5d skipped: %s\n", r, e.what());
+      continue;
+    }
+    m.mode = mode;
+    const auto t0 = std::chrono::steady_clock::now();
+    const Plan p = plan(m);
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const planner::LocalMission lm = planner::to_local(p.mission);
+    std::vector<evaluation::Flight> flights;
+    for (const auto& u : p.uavs) flights.push_back(u.parts);
+    evaluation::CoverageOptions co;
+    co.footprint_m = 1.5 * m.spacing_m;
+    co.lattice_m = 1.0;
+    const auto cov = evaluation::evaluate_coverage(lm.free, flights, co);
+    int turns = 0, cells = 0;
+    double len = 0;
+    for (const auto& u : p.uavs) turns += u.turns, len += u.coverage_length_m, cells += u.cells;
+    const bool counted = r != 6 && r != 18;
+    const double pp = r - 1 < static_cast<int>(ppoc.size()) ? ppoc[r - 1] * 100 : NAN;
+    const double pt = r - 1 < static_cast<int>(pturns.size()) ? pturns[r - 1] : NAN;
+    const double pl = r - 1 < static_cast<int>(plen.size()) ? plen[r - 1] : NAN;
+    const bool w = mode == Mode::Strict && cov.total.poc * 100 < pp - 1e-9;
+    std::printf("%-5d %7.2f %7.2f %6d %6.0f %9.0f %9.0f %7.3f %5d%s%s\n", r, cov.total.poc * 100, pp, turns, pt, len,
+                pl, t, cells, counted ? "" : "  (not averaged)", w && counted ? "  lower PoC" : "");
+    if (counted) {
+      s_poc += cov.total.poc * 100, s_turns += turns, s_len += len, s_t += t, ++n;
+      if (w) ++worse;
+    }
+    max_t = std::max(max_t, t);
+  }
+  std::printf("mean over %d regions: PoC %.2f %%  turns %.2f  length %.3f km  time %.3f s (max %.3f s)  "
+              "PoC below the paper on %d\n",
+              n, s_poc / n, s_turns / n, s_len / n / 1000, s_t / n, max_t, worse);
+  return 0;
+}
+
+/// A square field of about `cells` mega-cells (ds = 10 m) with two no-fly zones, `uavs` UAVs.
+Mission synthetic(long cells, int uavs) {
+  Mission m;
+  m.name = "scaling";
+  m.spacing_m = 10.0;
+  const double side_m = std::sqrt(static_cast<double>(cells)) * 20.0 * 1.02;
+  const double lat0 = 45.0, lon0 = 9.0;
+  const double dlat = side_m / 111320.0, dlon = side_m / (111320.0 * std::cos(lat0 * M_PI / 180));
+  auto rect = [&](double a, double b, double c, double d) {  // fractions of the side
+    GeoRing ring{{lon0 + a * dlon, lat0 + b * dlat}, {lon0 + c * dlon, lat0 + b * dlat},
+                 {lon0 + c * dlon, lat0 + d * dlat}, {lon0 + a * dlon, lat0 + d * dlat},
+                 {lon0 + a * dlon, lat0 + b * dlat}};
+    return GeoPolygon{ring};
+  };
+  m.area.push_back(rect(0, 0, 1, 1));
+  m.no_fly_zones.push_back(rect(0.3, 0.3, 0.35, 0.4));
+  m.no_fly_zones.push_back(rect(0.6, 0.55, 0.7, 0.62));
+  for (int i = 0; i < uavs; ++i) {
+    Uav u;
+    u.id = "uav" + std::to_string(i);
+    u.share = 1.0 / uavs;
+    const double f = (i + 0.5) / uavs;
+    u.start = LonLat{lon0 + f * dlon, lat0 + (i % 2 ? 0.1 : 0.9) * dlat};
+    m.uavs.push_back(u);
+  }
+  m.seed = 7;
+  return m;
+}
+
+int scaling(long max_cells) {
+  std::printf("%10s %5s %9s %10s %9s %5s\n", "megacells", "uavs", "time_s", "peak_MiB", "converged", "iters");
+  for (long cells : {1000L, 10000L, 100000L, 300000L}) {
+    if (cells > max_cells) break;
+    for (int uavs : {1, 5, 20}) {
+      std::fflush(stdout);
+      const pid_t pid = fork();
+      if (pid == 0) {
+        const Mission m = synthetic(cells, uavs);
+        PlanOptions o;
+        const auto t0 = std::chrono::steady_clock::now();
+        const Plan p = plan(m, o);
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        rusage ru{};
+        getrusage(RUSAGE_SELF, &ru);
+        int free_cells = 0;
+        for (int o2 : p.grid.owner) free_cells += o2 >= 0;
+        std::printf("%10d %5d %9.2f %10.1f %9s %5d\n", free_cells, uavs, t, ru.ru_maxrss / 1024.0,
+                    p.darp_converged ? "yes" : "no", p.darp_iterations);
+        std::fflush(stdout);
+        _exit(0);
+      }
+      int status = 0;
+      waitpid(pid, &status, 0);
+    }
+  }
+  return 0;
+}
+
+#ifdef UAVCOVER_HAVE_GBENCH
+void BM_PaperRegion(benchmark::State& state) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/apostolidis2022/roi%02d.json", static_cast<int>(state.range(0)));
+  const Mission m = parse_mission(slurp(std::string(UAVCOVER_SHARED_DIR) + "/bench" + name));
+  for (auto _ : state) benchmark::DoNotOptimize(plan(m));
+}
+BENCHMARK(BM_PaperRegion)->DenseRange(1, 20)->Unit(benchmark::kMillisecond);
+
+void BM_Synthetic(benchmark::State& state) {
+  const Mission m = synthetic(state.range(0), static_cast<int>(state.range(1)));
+  for (auto _ : state) benchmark::DoNotOptimize(plan(m));
+}
+BENCHMARK(BM_Synthetic)->Args({2000, 1})->Args({2000, 4})->Args({10000, 10})->Unit(benchmark::kMillisecond);
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string cmd = argc > 1 ? argv[1] : "paper";
+  try {
+    if (cmd == "paper") {
+      const Mode mode = argc > 2 && std::string(argv[2]) == "coverage" ? Mode::Coverage : Mode::Strict;
+      return paper(mode, argc > 3 ? argv[3] : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022");
+    }
+    if (cmd == "scaling") return scaling(argc > 2 ? std::atol(argv[2]) : 100000L);
+#ifdef UAVCOVER_HAVE_GBENCH
+    if (cmd == "gbench") {
+      --argc, ++argv;
+      benchmark::Initialize(&argc, argv);
+      benchmark::RunSpecifiedBenchmarks();
+      return 0;
+    }
+#endif
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "usage: bench_plan paper [strict|coverage] [dir] | scaling [max_cells] | gbench\n");
+  return 2;
+}

@@ -1,0 +1,266 @@
+#include "darp/division.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <queue>
+#include <random>
+
+namespace uavcover::darp {
+
+namespace {
+
+constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
+
+struct Graph {
+  int n = 0;
+  std::vector<std::array<int, 4>> nb;  // by direction: 0 right, 1 up, 2 left, 3 down; -1 none
+};
+
+Graph build_graph(const grid::Grid& g, const std::vector<int>& cells, std::vector<int>& lid) {
+  Graph G;
+  G.n = static_cast<int>(cells.size());
+  lid.assign(static_cast<std::size_t>(g.rows) * g.cols, -1);
+  for (int i = 0; i < G.n; ++i) lid[cells[i]] = i;
+  G.nb.assign(G.n, {-1, -1, -1, -1});
+  for (int i = 0; i < G.n; ++i) {
+    const int k = cells[i];
+    if ((g.link[k] & 1) && lid[k + 1] >= 0) G.nb[i][0] = lid[k + 1], G.nb[lid[k + 1]][2] = i;
+    if ((g.link[k] & 2) && lid[k + g.cols] >= 0) G.nb[i][1] = lid[k + g.cols], G.nb[lid[k + g.cols]][3] = i;
+  }
+  return G;
+}
+
+/// Geodesic distances (octile metric over links: diagonal steps of sqrt 2 through a free corner).
+std::vector<double> geodesic(const Graph& G, int src) {
+  std::vector<double> d(G.n, std::numeric_limits<double>::infinity());
+  using QE = std::pair<double, int>;
+  std::priority_queue<QE, std::vector<QE>, std::greater<>> pq;
+  d[src] = 0;
+  pq.push({0, src});
+  constexpr double diag = std::numbers::sqrt2;
+  while (!pq.empty()) {
+    auto [du, u] = pq.top();
+    pq.pop();
+    if (du > d[u]) continue;
+    auto relax = [&](int v, double w) {
+      if (v >= 0 && du + w < d[v]) {
+        d[v] = du + w;
+        pq.push({d[v], v});
+      }
+    };
+    for (int dir = 0; dir < 4; ++dir) relax(G.nb[u][dir], 1.0);
+    for (int dir = 0; dir < 4; ++dir) {
+      const int d2 = (dir + 1) % 4;
+      int v = -1;
+      if (G.nb[u][dir] >= 0) v = G.nb[G.nb[u][dir]][d2];
+      if (v < 0 && G.nb[u][d2] >= 0) v = G.nb[G.nb[u][d2]][dir];
+      relax(v, diag);
+    }
+  }
+  return d;
+}
+
+/// Multi-source BFS (unit steps) from the cells where `src` is true.
+void bfs(const Graph& G, const std::vector<int>& sources, std::vector<int>& dist, std::vector<int>& queue) {
+  dist.assign(G.n, std::numeric_limits<int>::max());
+  queue.clear();
+  for (int s : sources) {
+    dist[s] = 0;
+    queue.push_back(s);
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int u = queue[h];
+    for (int v : G.nb[u])
+      if (v >= 0 && dist[v] == std::numeric_limits<int>::max()) {
+        dist[v] = dist[u] + 1;
+        queue.push_back(v);
+      }
+  }
+}
+
+/// Marks the cells of participant i connected to its start; returns their count.
+int main_piece(const Graph& G, const std::vector<int>& owner, int i, int start, std::vector<int>& mark,
+               int stamp, std::vector<int>& stack) {
+  int count = 0;
+  stack.clear();
+  stack.push_back(start);
+  mark[start] = stamp;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    ++count;
+    for (int v : G.nb[u])
+      if (v >= 0 && mark[v] != stamp && owner[v] == i) {
+        mark[v] = stamp;
+        stack.push_back(v);
+      }
+  }
+  return count;
+}
+
+/// Makes every region connected: cells cut off from their owner's start are handed to an
+/// adjacent region (multi-source BFS from the kept cells).
+void repair(const Graph& G, std::vector<int>& owner, const std::vector<int>& starts) {
+  std::vector<int> mark(G.n, -1), stack;
+  for (std::size_t i = 0; i < starts.size(); ++i)
+    main_piece(G, owner, static_cast<int>(i), starts[i], mark, static_cast<int>(i), stack);
+  std::vector<int> queue;
+  for (int u = 0; u < G.n; ++u) {
+    if (mark[u] == owner[u])
+      queue.push_back(u);
+    else
+      owner[u] = -1;
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int u = queue[h];
+    for (int v : G.nb[u])
+      if (v >= 0 && owner[v] < 0) {
+        owner[v] = owner[u];
+        queue.push_back(v);
+      }
+  }
+}
+
+}  // namespace
+
+double tolerance(std::size_t cells) { return std::max(2.0, 0.01 * static_cast<double>(cells)); }
+
+DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::function<void(double)>& progress) {
+  DivisionResult out;
+  std::vector<int> lid;
+  const Graph G = build_graph(g, in.cells, lid);
+  const int n = G.n;
+  const int P = static_cast<int>(in.starts.size());
+  std::vector<int> st(P);
+  for (int i = 0; i < P; ++i) st[i] = lid[in.starts[i]];
+  out.owner.assign(n, 0);
+  out.counts.assign(P, 0);
+  if (P == 0 || n == 0) return out;
+  if (P == 1) {
+    out.counts[0] = n;
+    out.converged = true;
+    out.max_deviation = std::fabs(n - in.targets[0]);
+    return out;
+  }
+
+  // geodesic distances from each start
+  std::vector<std::vector<double>> D(P);
+  for (int i = 0; i < P; ++i) {
+    D[i] = geodesic(G, st[i]);
+    for (double& v : D[i]) v += 1.0;  // keep the start's evaluation positive
+  }
+
+  const double final_tol = tolerance(n);
+  std::mt19937_64 rng(in.seed ^ 0xda3e39cb94b95bdbULL);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+
+  std::vector<int> best_owner;
+  double best_dev = std::numeric_limits<double>::infinity();
+  std::vector<int> owner(n), cand(n), counts(P), mark(n, -1), stack, dist_r, dist_q, queue, piece_r, piece_q;
+  std::vector<double> M(static_cast<std::size_t>(P) * n);
+  const int attempts = std::max(1, in.attempts);
+  const long total_iters = static_cast<long>(attempts) * std::max(1, in.max_iterations);
+  int stamp = 0;
+
+  for (int attempt = 0; attempt < attempts && !out.converged; ++attempt) {
+    const double tol = std::max(1.0, final_tol * (attempt + 1) / attempts);
+    const double rand_level = 0.002 * (attempt + 1);
+    for (int i = 0; i < P; ++i)
+      for (int x = 0; x < n; ++x) M[static_cast<std::size_t>(i) * n + x] = D[i][x] * (1.0 + rand_level * (u01(rng) - 0.5));
+    std::vector<double> lm(P, 0.0), step(P, 0.02);
+    std::vector<int> last_sign(P, 0);
+
+    for (int it = 0; it < in.max_iterations; ++it) {
+      ++out.iterations;
+      if (progress && out.iterations % 32 == 0) progress(static_cast<double>(out.iterations) / total_iters);
+      // assignment: argmin over the corrected evaluation matrices
+      std::vector<double> m(P);
+      for (int i = 0; i < P; ++i) m[i] = std::exp(lm[i]);
+      for (int x = 0; x < n; ++x) {
+        int bi = 0;
+        double bv = m[0] * M[x];
+        for (int i = 1; i < P; ++i) {
+          const double v = m[i] * M[static_cast<std::size_t>(i) * n + x];
+          if (v < bv) bv = v, bi = i;
+        }
+        owner[x] = bi;
+      }
+      for (int i = 0; i < P; ++i) owner[st[i]] = i;
+      std::fill(counts.begin(), counts.end(), 0);
+      for (int x = 0; x < n; ++x) ++counts[owner[x]];
+
+      // connectivity
+      std::vector<char> disconnected(P, 0);
+      bool any_disc = false;
+      for (int i = 0; i < P; ++i) {
+        ++stamp;
+        const int c = main_piece(G, owner, i, st[i], mark, stamp, stack);
+        if (c < counts[i]) {
+          disconnected[i] = 1;
+          any_disc = true;
+          piece_r.clear();
+          piece_q.clear();
+          for (int x = 0; x < n; ++x) {
+            if (owner[x] != i) continue;
+            (mark[x] == stamp ? piece_r : piece_q).push_back(x);
+          }
+          // connectivity matrix C_i = d(main piece) - d(other pieces), scaled to [1 - v, 1 + v]
+          bfs(G, piece_r, dist_r, queue);
+          bfs(G, piece_q, dist_q, queue);
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (int x = 0; x < n; ++x) {
+            const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
+            lo = std::min(lo, c2), hi = std::max(hi, c2);
+          }
+          if (hi > lo) {
+            double* Mi = M.data() + static_cast<std::size_t>(i) * n;
+            for (int x = 0; x < n; ++x) {
+              const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
+              Mi[x] *= (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
+            }
+          }
+        }
+      }
+
+      // the best connected division so far (disconnected pieces handed to neighbours)
+      cand = owner;
+      if (any_disc) repair(G, cand, st);
+      std::vector<int> cc(P, 0);
+      for (int x = 0; x < n; ++x) ++cc[cand[x]];
+      double dev = 0;
+      for (int i = 0; i < P; ++i) dev = std::max(dev, std::fabs(cc[i] - in.targets[i]));
+      if (dev < best_dev) {
+        best_dev = dev;
+        best_owner = cand;
+      }
+      if (dev <= tol) {
+        out.converged = dev <= final_tol;
+        break;
+      }
+
+      // multiplicative correction toward the share (sign-adaptive step per participant)
+      for (int i = 0; i < P; ++i) {
+        const double err = counts[i] - in.targets[i];
+        const int sign = err > 0.5 ? 1 : (err < -0.5 ? -1 : 0);
+        if (sign != 0 && last_sign[i] != 0 && sign != last_sign[i])
+          step[i] = std::max(1e-6, step[i] * 0.5);
+        else if (sign != 0)
+          step[i] = std::min(0.1, step[i] * 1.15);
+        if (sign != 0) last_sign[i] = sign;
+        const double scale = std::max(1.0, 0.05 * in.targets[i]);
+        lm[i] += step[i] * std::clamp(err / scale, -1.0, 1.0);
+      }
+    }
+  }
+
+  out.owner = best_owner;
+  std::fill(out.counts.begin(), out.counts.end(), 0);
+  for (int x = 0; x < n; ++x) ++out.counts[out.owner[x]];
+  out.max_deviation = best_dev;
+  out.converged = best_dev <= final_tol;
+  return out;
+}
+
+}  // namespace uavcover::darp
