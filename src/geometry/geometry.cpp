@@ -86,9 +86,13 @@ bool segment_enters(const MultiPolygon& obstacles, Point a, Point b, double tol)
     const Point mid{(piece.front().x() + piece.back().x()) / 2, (piece.front().y() + piece.back().y()) / 2};
     for (const auto& poly : obstacles) {
       if (bg::within(mid, poly)) {
-        const double depth = bg::distance(mid, bg::exterior_ring(poly));
-        double d = depth;
-        for (const auto& in : bg::interior_rings(poly)) d = std::min(d, bg::distance(mid, in));
+        // distance to the boundary (rings as lines: bg::distance to a ring would be 0 inside it)
+        auto boundary_distance = [&](const auto& ring) {
+          const Polyline line(ring.begin(), ring.end());
+          return bg::distance(mid, line);
+        };
+        double d = boundary_distance(bg::exterior_ring(poly));
+        for (const auto& in : bg::interior_rings(poly)) d = std::min(d, boundary_distance(in));
         if (d > tol) return true;
       }
     }

@@ -14,6 +14,16 @@ std::size_t normalise_ring(GeoRing& ring, bool ccw) {
   for (const auto& p : ring)
     if (out.empty() || !(out.back() == p)) out.push_back(p);
   while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+  // a ring traced several times over (same cycle repeated) collapses to one cycle
+  for (std::size_t period = 3; period < out.size(); ++period) {
+    if (out.size() % period != 0) continue;
+    bool repeats = true;
+    for (std::size_t i = period; i < out.size() && repeats; ++i) repeats = out[i] == out[i % period];
+    if (repeats) {
+      out.resize(period);
+      break;
+    }
+  }
   std::set<std::pair<double, double>> distinct;
   for (const auto& p : out) distinct.insert({p.lon, p.lat});
   double twice_area = 0;

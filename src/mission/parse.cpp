@@ -375,10 +375,11 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   json j;
   try {
     j = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // e.g. "[json.exception.parse_error.101] parse error at line 1, column 9: ..." -> drop the prefix
     std::string what = e.what();
-    const auto pos = what.find("parse error");
-    throw InputError("mission", "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+    const auto pos = what.find("] ");
+    throw InputError("mission", "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
   }
   if (!j.is_object()) throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
   const bool mcpp = j.contains("droneNo") || (j.contains("polygon") && !j.contains("area"));

@@ -1,0 +1,346 @@
+// Every validation rule of the mission file (issue 2) has a test here.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "uavcover/error.hpp"
+#include "uavcover/mission.hpp"
+
+using nlohmann::json;
+using uavcover::InputError;
+using uavcover::parse_mission;
+
+namespace {
+
+// A 1 km x 0.8 km field near Thessaloniki.
+json base() {
+  return json::parse(R"({
+    "name": "test field",
+    "area": {"type": "Polygon", "coordinates": [[[22.90, 40.60], [22.912, 40.60], [22.912, 40.607], [22.90, 40.607], [22.90, 40.60]]]},
+    "spacing_m": 40,
+    "uavs": [{"id": "a", "start": [22.901, 40.601]}, {"id": "b"}],
+    "mode": "strict",
+    "seed": 7
+  })");
+}
+
+// Expects an InputError whose field is `field` and whose message contains `needle`.
+void expect_error(const json& j, const std::string& field, const std::string& needle) {
+  try {
+    parse_mission(j.dump());
+    FAIL() << "accepted: " << j.dump();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(MissionParse, AcceptsTheBaseMission) {
+  const auto m = parse_mission(base().dump());
+  EXPECT_EQ(m.name, "test field");
+  ASSERT_EQ(m.uavs.size(), 2u);
+  EXPECT_DOUBLE_EQ(m.uavs[0].share, 0.5);
+  EXPECT_TRUE(m.uavs[0].start.has_value());
+  EXPECT_FALSE(m.uavs[1].start.has_value());
+  EXPECT_EQ(m.seed, 7u);
+  EXPECT_EQ(m.mode, uavcover::Mode::Strict);
+  EXPECT_DOUBLE_EQ(m.spacing_m, 40.0);
+  EXPECT_EQ(m.altitude_source, "default");
+  EXPECT_DOUBLE_EQ(m.altitude_m, 40.0);
+}
+
+TEST(MissionParse, NormalisesWindingAndClosure) {
+  auto j = base();
+  // clockwise and unclosed
+  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.90, 40.607], [22.912, 40.607], [22.912, 40.60]]]");
+  const auto m = parse_mission(j.dump());
+  const auto& ring = m.area.at(0).at(0);
+  ASSERT_EQ(ring.size(), 5u);
+  EXPECT_EQ(ring.front(), ring.back());
+  double twice = 0;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) twice += ring[i].lon * ring[i + 1].lat - ring[i + 1].lon * ring[i].lat;
+  EXPECT_GT(twice, 0) << "outer ring must be counter-clockwise (RFC 7946)";
+}
+
+TEST(MissionParse, HolesBecomeNoFlyZones) {
+  auto j = base();
+  j["area"]["coordinates"].push_back(json::parse("[[22.905, 40.603], [22.906, 40.603], [22.906, 40.604], [22.905, 40.604]]"));
+  const auto m = parse_mission(j.dump());
+  EXPECT_EQ(m.area.at(0).size(), 1u);
+  ASSERT_EQ(m.no_fly_zones.size(), 1u);
+}
+
+TEST(MissionParse, MultiPolygonArea) {
+  auto j = base();
+  j["area"] = json::parse(R"({"type": "MultiPolygon", "coordinates": [
+      [[[22.90, 40.60], [22.905, 40.60], [22.905, 40.605], [22.90, 40.605]]],
+      [[[22.91, 40.60], [22.915, 40.60], [22.915, 40.605], [22.91, 40.605]]]]})");
+  EXPECT_EQ(parse_mission(j.dump()).area.size(), 2u);
+}
+
+TEST(MissionParse, MalformedJson) {
+  try {
+    parse_mission("{\"area\": ");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "mission");
+    EXPECT_NE(std::string(e.what()).find("malformed JSON"), std::string::npos);
+  }
+  EXPECT_THROW(parse_mission("[1,2]"), InputError);
+  EXPECT_THROW(parse_mission(""), InputError);
+  EXPECT_THROW(parse_mission("{\"spacing_m\": NaN}"), InputError);
+}
+
+TEST(MissionParse, WrongTypes) {
+  auto j = base();
+  j["spacing_m"] = "forty";
+  expect_error(j, "spacing_m", "expected a number");
+  j = base();
+  j["uavs"] = "two";
+  expect_error(j, "uavs", "expected a count or an array");
+  j = base();
+  j["mode"] = 3;
+  expect_error(j, "mode", "expected a string");
+  j = base();
+  j["area"]["coordinates"][0][1] = "x";
+  expect_error(j, "area.coordinates[0][1]", "expected a position");
+  j = base();
+  j["area"]["type"] = "LineString";
+  expect_error(j, "area.type", "Polygon");
+}
+
+TEST(MissionParse, UnknownFieldsAreNamed) {
+  auto j = base();
+  j["spacing"] = 40;
+  expect_error(j, "spacing", "unknown field");
+}
+
+TEST(MissionParse, NonFiniteNumbers) {
+  // JSON has no NaN literal; 1e999 overflows to infinity
+  std::string text = base().dump();
+  const auto pos = text.find("\"spacing_m\":40");
+  ASSERT_NE(pos, std::string::npos);
+  text.replace(pos, 14, "\"spacing_m\":1e999");
+  try {
+    parse_mission(text);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "mission");
+    EXPECT_NE(std::string(e.what()).find("overflow"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MissionParse, CoordinatesOutOfRange) {
+  auto j = base();
+  j["area"]["coordinates"][0][2] = {190.0, 40.607};
+  expect_error(j, "area.coordinates[0][2]", "longitude");
+  j = base();
+  j["area"]["coordinates"][0][2] = {22.912, 91.0};
+  expect_error(j, "area.coordinates[0][2]", "latitude");
+  j = base();
+  j["uavs"][0]["start"] = {22.9, -95.0};
+  expect_error(j, "uavs[0].start", "latitude");
+}
+
+TEST(MissionParse, TooFewDistinctVertices) {
+  auto j = base();
+  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.91, 40.60], [22.90, 40.60], [22.91, 40.60]]]");
+  expect_error(j, "area.coordinates[0]", "at least 3 distinct");
+}
+
+TEST(MissionParse, SelfIntersectingRing) {
+  auto j = base();
+  // bow-tie
+  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.91, 40.607], [22.91, 40.60], [22.90, 40.607]]]");
+  expect_error(j, "area.coordinates[0]", "intersects itself");
+  j = base();
+  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.903, 40.602], [22.905, 40.604], [22.905, 40.602], [22.903, 40.604]]]}])");
+  expect_error(j, "no_fly_zones[0].coordinates[0]", "intersects itself");
+}
+
+TEST(MissionParse, NoFlyZoneSwallowsTheArea) {
+  auto j = base();
+  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.89, 40.59], [22.92, 40.59], [22.92, 40.61], [22.89, 40.61]]]}])");
+  expect_error(j, "no_fly_zones", "remove the whole area");
+}
+
+TEST(MissionParse, StartInsideNoFlyZone) {
+  auto j = base();
+  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.9005, 40.6005], [22.902, 40.6005], [22.902, 40.602], [22.9005, 40.602]]]}])");
+  expect_error(j, "uavs[0].start", "inside a no-fly zone");
+}
+
+TEST(MissionParse, StartOutsideTheAreaIsAllowed) {
+  auto j = base();
+  j["uavs"][0]["start"] = {22.899, 40.599};
+  EXPECT_NO_THROW(parse_mission(j.dump()));
+}
+
+TEST(MissionParse, Shares) {
+  auto j = base();
+  j["uavs"][0]["share"] = 0;
+  j["uavs"][1]["share"] = 0;
+  expect_error(j, "uavs", "all shares are zero");
+  j = base();
+  j["uavs"][1]["share"] = -0.2;
+  expect_error(j, "uavs[1].share", "negative");
+  j = base();
+  j["uavs"][0]["share"] = 3;
+  j["uavs"][1]["share"] = 2;
+  auto m = parse_mission(j.dump());
+  EXPECT_NEAR(m.uavs[0].share, 0.6, 1e-12);
+  EXPECT_NEAR(m.uavs[1].share, 0.4, 1e-12);
+  j = base();
+  j["uavs"][0]["share"] = 0.7;
+  m = parse_mission(j.dump());
+  EXPECT_NEAR(m.uavs[1].share, 0.3, 1e-12);
+  j["uavs"][0]["share"] = 1.2;
+  expect_error(j, "uavs", "already add up");
+}
+
+TEST(MissionParse, Spacing) {
+  auto j = base();
+  j["spacing_m"] = 0;
+  expect_error(j, "spacing_m", "must be positive");
+  j["spacing_m"] = -5;
+  expect_error(j, "spacing_m", "must be positive");
+  j.erase("spacing_m");
+  expect_error(j, "spacing_m", "missing");
+  j = base();
+  j["camera"] = {{"altitude_m", 50}, {"hfov_deg", 73.4}, {"overlap", 0.5}};
+  expect_error(j, "spacing_m", "not both");
+}
+
+TEST(MissionParse, ZeroUavs) {
+  auto j = base();
+  j["uavs"] = 0;
+  expect_error(j, "uavs", "at least one UAV");
+  j["uavs"] = json::array();
+  expect_error(j, "uavs", "at least one UAV");
+}
+
+TEST(MissionParse, GridTooLargeSaysWhatFits) {
+  auto j = base();
+  j["spacing_m"] = 0.05;
+  try {
+    parse_mission(j.dump());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "spacing_m");
+    const std::string w = e.what();
+    EXPECT_NE(w.find("cells"), std::string::npos) << w;
+    EXPECT_NE(w.find("use a spacing of at least"), std::string::npos) << w;
+  }
+  uavcover::ParseOptions small;
+  small.max_cells = 100;
+  EXPECT_THROW(parse_mission(base().dump(), small), InputError);
+}
+
+TEST(MissionParse, AntimeridianIsRefusedClearly) {
+  auto j = base();
+  j["area"]["coordinates"] = json::parse("[[[179.99, 10.0], [-179.99, 10.0], [-179.99, 10.01], [179.99, 10.01]]]");
+  j["uavs"] = 1;
+  expect_error(j, "area.coordinates[0]", "antimeridian");
+}
+
+TEST(MissionParse, CameraEq14) {
+  auto j = base();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 40}, {"hfov_deg", 73.4}, {"overlap", 0.5}};
+  const auto m = parse_mission(j.dump());
+  const double t = std::tan(73.4 / 2 * M_PI / 180);
+  EXPECT_NEAR(m.spacing_m, 1.5 * 40 * t, 1e-9);
+  EXPECT_NEAR(*m.footprint_m, 2 * 40 * t, 1e-9);
+  EXPECT_EQ(m.altitude_source, "camera");
+  EXPECT_DOUBLE_EQ(m.altitude_m, 40);
+}
+
+TEST(MissionParse, CameraQgcConvention) {
+  auto j = base();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 100},   {"sensor_width_mm", 13.2}, {"focal_length_mm", 8.8},
+                 {"image_width_px", 5472}, {"side_overlap", 0.7}};
+  const auto m = parse_mission(j.dump());
+  const double gsd = 100 * 13.2 / (8.8 * 5472);
+  EXPECT_NEAR(*m.gsd_m, gsd, 1e-12);
+  EXPECT_NEAR(*m.footprint_m, 5472 * gsd, 1e-9);
+  EXPECT_NEAR(m.spacing_m, 5472 * gsd * 0.3, 1e-9);
+  j["camera"].erase("focal_length_mm");
+  expect_error(j, "camera.focal_length_mm", "missing");
+}
+
+TEST(MissionParse, UavCountGivesEqualShares) {
+  auto j = base();
+  j["uavs"] = 4;
+  const auto m = parse_mission(j.dump());
+  ASSERT_EQ(m.uavs.size(), 4u);
+  for (const auto& u : m.uavs) EXPECT_DOUBLE_EQ(u.share, 0.25);
+  EXPECT_EQ(m.uavs[3].id, "uav4");
+}
+
+TEST(MissionParse, UavIdsAreSafeAndUnique) {
+  auto j = base();
+  j["uavs"][1]["id"] = "a";
+  expect_error(j, "uavs[1].id", "duplicate");
+  j["uavs"][1]["id"] = "../x";
+  expect_error(j, "uavs[1].id", "may contain only");
+}
+
+TEST(MissionParse, ImportsMcppOptimizedDarpFormat) {
+  const auto j = json::parse(R"({
+    "droneNo": 2, "scanningDensity": 30,
+    "polygon": [{"lat": 40.60, "long": 22.90}, {"lat": 40.60, "long": 22.912}, {"lat": 40.607, "long": 22.912}, {"lat": 40.607, "long": 22.90}],
+    "obstacles": [[{"lat": 40.603, "long": 22.905}, {"lat": 40.603, "long": 22.906}, {"lat": 40.604, "long": 22.906}, {"lat": 40.604, "long": 22.905}]],
+    "pathsStrictlyInPoly": false,
+    "initialPos": [{"lat": 40.601, "long": 22.901}, {"lat": 40.606, "long": 22.911}],
+    "rPortions": [0.3, 0.7]
+  })");
+  const auto m = parse_mission(j.dump());
+  EXPECT_EQ(m.source_format, "mcpp-optimized-darp");
+  EXPECT_EQ(m.mode, uavcover::Mode::Coverage);
+  EXPECT_DOUBLE_EQ(m.spacing_m, 30);
+  ASSERT_EQ(m.uavs.size(), 2u);
+  EXPECT_NEAR(m.uavs[1].share, 0.7, 1e-12);
+  EXPECT_NEAR(m.uavs[0].start->lat, 40.601, 1e-12);
+  EXPECT_EQ(m.no_fly_zones.size(), 1u);
+  auto bad = j;
+  bad["rPortions"] = {0.3};
+  expect_error(bad, "rPortions", "one portion per drone");
+}
+
+TEST(MissionParse, RoundTripThroughJson) {
+  const auto m = parse_mission(base().dump());
+  const auto again = parse_mission(uavcover::mission_to_json(m));
+  EXPECT_EQ(again.area, m.area);
+  EXPECT_EQ(again.uavs.size(), m.uavs.size());
+  EXPECT_DOUBLE_EQ(again.uavs[0].share, m.uavs[0].share);
+}
+
+TEST(MissionParse, RingTracedTwiceCollapsesToOneCycle) {
+  auto j = base();
+  auto ring = j["area"]["coordinates"][0];
+  ring.erase(ring.size() - 1);
+  auto twice = ring;
+  for (const auto& p : ring) twice.push_back(p);
+  twice.push_back(ring[0]);
+  j["area"]["coordinates"][0] = twice;
+  const auto m = parse_mission(j.dump());
+  EXPECT_EQ(m.area.at(0).at(0).size(), 5u);
+}
+
+TEST(MissionParse, AllBenchmarkRoisParse) {
+  for (int i = 1; i <= 20; ++i) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s/bench/apostolidis2022/roi%02d.json", UAVCOVER_SHARED_DIR, i);
+    FILE* f = std::fopen(name, "rb");
+    ASSERT_NE(f, nullptr) << name;
+    std::string text;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
+    std::fclose(f);
+    EXPECT_NO_THROW(parse_mission(text)) << name;
+  }
+}
