@@ -1,0 +1,89 @@
+// Hand-built plans for the export and trajectory tests: a 200 m x 100 m rectangle split between two
+// UAVs along x = 0, each flying one closed loop, with a no-fly zone in the east half.
+#pragma once
+
+#include <vector>
+
+#include "geodesy/local_frame.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::fixture {
+
+inline PathPart make_part(const geodesy::LocalFrame& frame, PartKind kind, std::vector<Point> pts) {
+  PathPart part{kind, std::move(pts), {}};
+  for (const auto& p : part.local) part.wgs84.push_back(frame.to_wgs84(p));
+  return part;
+}
+
+inline GeoRing geo_ring(const geodesy::LocalFrame& frame, const std::vector<Point>& pts) {
+  GeoRing ring;
+  for (const auto& p : pts) ring.push_back(frame.to_wgs84(p));
+  ring.push_back(ring.front());
+  return ring;
+}
+
+/// Two UAVs: "alpha" (west half) and "bravo" (east half). `camera` sets a camera block.
+inline Plan two_uav_plan(bool camera = false) {
+  Plan plan;
+  plan.origin = {8.5455, 47.3977};
+  const geodesy::LocalFrame frame(plan.origin);
+  Mission& m = plan.mission;
+  m.name = "fixture";
+  // CCW exterior (RFC 7946 / normalised mission)
+  m.area.push_back({geo_ring(frame, {{-100, -50}, {100, -50}, {100, 50}, {-100, 50}})});
+  m.no_fly_zones.push_back({geo_ring(frame, {{60, -30}, {80, -30}, {80, -10}, {60, -10}})});
+  m.spacing_m = 10.0;
+  m.altitude_m = 40.0;
+  m.altitude_source = "default";
+  if (camera) {
+    m.camera = Camera{};
+    m.camera->altitude_m = 40.0;
+    m.camera->hfov_deg = 60.0;
+    m.camera->overlap = 0.2;
+    m.altitude_source = "camera";
+  }
+  Uav a;
+  a.id = "alpha";
+  a.start_resolved = frame.to_wgs84({-120, -60});
+  a.start = a.start_resolved;
+  a.share = 0.5;
+  a.speed_mps = 5.0;
+  a.max_accel_mps2 = 2.0;
+  Uav b = a;
+  b.id = "bravo";
+  b.start_resolved = frame.to_wgs84({120, -60});
+  b.start = b.start_resolved;
+  b.speed_mps = 8.0;
+  b.max_accel_mps2 = 3.0;
+  m.uavs = {a, b};
+
+  UavPlan pa;
+  pa.id = "alpha";
+  pa.share_requested = pa.share_actual = 0.5;
+  const std::vector<Point> loop_a{{-90, -40}, {-10, -40}, {-10, 0}, {-50, 0}, {-50, 40}, {-90, 40}, {-90, -40}};
+  pa.parts.push_back(make_part(frame, PartKind::Transit, {{-120, -60}, {-90, -40}}));
+  pa.parts.push_back(make_part(frame, PartKind::Coverage, loop_a));
+  pa.parts.push_back(make_part(frame, PartKind::Transit, {{-90, -40}, {-120, -60}}));
+  UavPlan pb;
+  pb.id = "bravo";
+  pb.share_requested = pb.share_actual = 0.5;
+  const std::vector<Point> loop_b{{90, -40}, {90, 40}, {50, 40}, {50, 0}, {10, 0}, {10, -40}, {90, -40}};
+  pb.parts.push_back(make_part(frame, PartKind::Transit, {{120, -60}, {90, -40}}));
+  pb.parts.push_back(make_part(frame, PartKind::Coverage, loop_b));
+  pb.parts.push_back(make_part(frame, PartKind::Transit, {{90, -40}, {120, -60}}));
+  plan.uavs = {pa, pb};
+
+  GridInfo& g = plan.grid;
+  g.cell_m = 20.0;
+  g.rotation_deg = 0.0;
+  g.origin = Point(-100, -50);
+  g.rows = 5;
+  g.cols = 10;
+  g.owner.assign(50, 0);
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.cols; ++c) g.owner[static_cast<std::size_t>(r * g.cols + c)] = c < 5 ? 0 : 1;
+  g.owner[1 * 10 + 8] = -1;  // the no-fly zone cell
+  return plan;
+}
+
+}  // namespace uavcover::fixture

@@ -1,0 +1,164 @@
+#include <gtest/gtest.h>
+
+#include "export/fixture.hpp"
+#include "export/mission_items.hpp"
+#include "export/separation.hpp"
+
+using namespace uavcover;
+using namespace uavcover::exporting;
+
+namespace {
+
+std::vector<MissionItem> with_role(const std::vector<MissionItem>& items, const std::string& role) {
+  std::vector<MissionItem> out;
+  for (const auto& it : items)
+    if (it.role == role) out.push_back(it);
+  return out;
+}
+
+}  // namespace
+
+TEST(MissionItems, TransitionAltitudePerUav) {
+  AltitudeOptions opt;
+  opt.transition_base_m = 50;
+  opt.transition_step_m = 7;
+  EXPECT_DOUBLE_EQ(transition_altitude(opt, 0), 50);
+  EXPECT_DOUBLE_EQ(transition_altitude(opt, 3), 71);
+}
+
+TEST(MissionItems, SequenceFollowsHongTransitionScheme) {
+  const Plan plan = fixture::two_uav_plan();
+  for (std::size_t u = 0; u < 2; ++u) {
+    const AltitudeOptions opt;
+    const double T = transition_altitude(opt, u);
+    const auto items = mission_items(plan, u, opt);
+    ASSERT_GE(items.size(), 5u);
+    const LonLat home = plan.mission.uavs[u].start_resolved;
+    // take-off above home straight to the transition altitude
+    EXPECT_EQ(items[0].command, kNavTakeoff);
+    EXPECT_EQ(items[0].frame, kFrameGlobalRelativeAlt);
+    EXPECT_DOUBLE_EQ(items[0].lat, home.lat);
+    EXPECT_DOUBLE_EQ(items[0].lon, home.lon);
+    EXPECT_FLOAT_EQ(items[0].alt, static_cast<float>(T));
+    EXPECT_EQ(items[1].command, kDoChangeSpeed);
+    EXPECT_FLOAT_EQ(items[1].param2, static_cast<float>(plan.mission.uavs[u].speed_mps));
+    // coverage waypoints: the loop, in order, at mission altitude
+    const auto cov = with_role(items, "coverage");
+    const auto& loop = plan.uavs[u].parts[1].wgs84;
+    ASSERT_EQ(cov.size(), loop.size());
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      EXPECT_DOUBLE_EQ(cov[k].lat, loop[k].lat);
+      EXPECT_DOUBLE_EQ(cov[k].lon, loop[k].lon);
+      EXPECT_FLOAT_EQ(cov[k].alt, 40.0f);
+      EXPECT_EQ(cov[k].command, kNavWaypoint);
+      EXPECT_EQ(cov[k].part, 1);
+    }
+    // every non-coverage waypoint flies at the transition altitude
+    for (const auto& it : items) {
+      if (it.command == kNavWaypoint && it.role != "coverage") {
+        EXPECT_FLOAT_EQ(it.alt, static_cast<float>(T));
+      }
+    }
+    // the item right before the first coverage waypoint is above the entry (descent is vertical)
+    std::size_t first_cov = 0;
+    while (items[first_cov].role != "coverage") ++first_cov;
+    EXPECT_DOUBLE_EQ(items[first_cov - 1].lat, loop.front().lat);
+    EXPECT_DOUBLE_EQ(items[first_cov - 1].lon, loop.front().lon);
+    // after the loop: climb on the spot, then back home at T, then RTL
+    std::size_t last_cov = items.size() - 1;
+    while (items[last_cov].role != "coverage") --last_cov;
+    EXPECT_EQ(items[last_cov + 1].role, "transition");
+    EXPECT_FLOAT_EQ(items[last_cov + 1].alt, static_cast<float>(T));
+    EXPECT_DOUBLE_EQ(items[last_cov + 1].lat, loop.back().lat);
+    EXPECT_EQ(items.back().command, kNavReturnToLaunch);
+    const auto& before = items[items.size() - 2];
+    EXPECT_DOUBLE_EQ(before.lat, home.lat);
+    EXPECT_DOUBLE_EQ(before.lon, home.lon);
+    // no camera -> no trigger items
+    EXPECT_TRUE(with_role(items, "camera").empty());
+  }
+}
+
+TEST(MissionItems, CameraTriggersAtStartAndEndOfEachSweep) {
+  const Plan plan = fixture::two_uav_plan(true);
+  const auto items = mission_items(plan, 0);
+  std::vector<std::size_t> cams;
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].command == kDoSetCamTriggDist) cams.push_back(k);
+  ASSERT_EQ(cams.size(), 2u);
+  EXPECT_FLOAT_EQ(items[cams[0]].param1, 10.0f);
+  EXPECT_FLOAT_EQ(items[cams[1]].param1, 0.0f);
+  EXPECT_EQ(items[cams[0] - 1].role, "coverage");  // right after reaching the loop start
+  EXPECT_EQ(items[cams[1] - 1].role, "coverage");  // right after the last loop waypoint
+  EXPECT_EQ(items[cams[1] + 1].role, "transition");
+}
+
+TEST(MissionItems, LandInsteadOfRtl) {
+  const Plan plan = fixture::two_uav_plan();
+  AltitudeOptions opt;
+  opt.land_instead_of_rtl = true;
+  const auto items = mission_items(plan, 1, opt);
+  EXPECT_EQ(items.back().command, kNavLand);
+  EXPECT_DOUBLE_EQ(items.back().lat, plan.mission.uavs[1].start_resolved.lat);
+  EXPECT_FLOAT_EQ(items.back().alt, 0.0f);
+  for (const auto& it : items) EXPECT_NE(it.command, kNavReturnToLaunch);
+}
+
+TEST(MissionItems, BadIndexThrows) {
+  const Plan plan = fixture::two_uav_plan();
+  EXPECT_THROW(mission_items(plan, 2), std::out_of_range);
+}
+
+TEST(Separation, FixtureIsSafeAndUsesTheGrid) {
+  const Plan plan = fixture::two_uav_plan();
+  const RegionMap regions(plan);
+  EXPECT_TRUE(regions.uses_grid());
+  EXPECT_EQ(regions.owner({-50, -20}), 0);
+  EXPECT_EQ(regions.owner({50, -20}), 1);
+  EXPECT_EQ(regions.owner({70, -20}), -1);   // no-fly cell
+  EXPECT_EQ(regions.owner({500, 0}), -1);    // outside the grid
+  EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
+}
+
+TEST(Separation, SharedOrLowTransitionAltitudesAreReported) {
+  const Plan plan = fixture::two_uav_plan();
+  AltitudeOptions same;
+  same.transition_step_m = 0;
+  const auto p1 = check_separation(plan, same);
+  ASSERT_EQ(p1.size(), 1u);
+  EXPECT_NE(p1[0].find("share the transition altitude"), std::string::npos);
+  AltitudeOptions low;
+  low.transition_base_m = 30;  // below the 40 m mission altitude for UAV 0
+  const auto p2 = check_separation(plan, low);
+  ASSERT_FALSE(p2.empty());
+  EXPECT_NE(p2[0].find("not above the mission altitude"), std::string::npos);
+}
+
+TEST(Separation, LowLegThroughAnotherRegionIsReported) {
+  Plan plan = fixture::two_uav_plan();
+  const geodesy::LocalFrame frame(plan.origin);
+  // alpha also owns one cell inside bravo's half (col 7, row 3: x 40..60, y 10..30) and flies a second
+  // loop there right after its first one, with no transit: the connecting leg stays at mission
+  // altitude and crosses bravo's region
+  plan.grid.owner[3 * 10 + 7] = 0;
+  auto& parts = plan.uavs[0].parts;
+  parts.insert(parts.begin() + 2,
+               fixture::make_part(frame, PartKind::Coverage, {{45, 15}, {55, 15}, {55, 25}, {45, 25}, {45, 15}}));
+  ASSERT_TRUE(RegionMap(plan).uses_grid());
+  const auto problems = check_separation(plan, AltitudeOptions{});
+  ASSERT_FALSE(problems.empty());
+  EXPECT_NE(problems[0].find("enters the region of uav 'bravo'"), std::string::npos);
+  // with a transit part between the loops the leg flies at the transition altitude: no problem
+  parts.insert(parts.begin() + 2, fixture::make_part(frame, PartKind::Transit, {{-90, -40}, {45, 15}}));
+  EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
+}
+
+TEST(Separation, FallsBackToLoopsWithoutAGrid) {
+  Plan plan = fixture::two_uav_plan();
+  plan.grid = GridInfo{};
+  const RegionMap regions(plan);
+  EXPECT_FALSE(regions.uses_grid());
+  EXPECT_EQ(regions.owner({-30, -20}), 0);
+  EXPECT_EQ(regions.owner({70, 20}), 1);
+  EXPECT_EQ(regions.owner({0, 45}), -1);
+}
