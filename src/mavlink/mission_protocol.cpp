@@ -241,6 +241,10 @@ void Vehicle::handle(const Received& r) {
       }
       return;
     }
+    if (item->seq < expected_) {  // a late duplicate (we re-requested too early): drop it
+      ++stats_.duplicates;
+      return;
+    }
     if (item->seq != expected_) {  // out of sequence: drop it and ask again for the expected one
       ++stats_.out_of_sequence;
       ++stats_.rerequests;

@@ -87,7 +87,8 @@ class Vehicle {
     std::size_t uploads_accepted = 0;
     std::size_t requests_sent = 0;
     std::size_t rerequests = 0;        ///< after a timeout or an out-of-sequence item
-    std::size_t out_of_sequence = 0;   ///< items dropped because they were not the expected one
+    std::size_t out_of_sequence = 0;   ///< items ahead of the expected one: dropped, expected re-requested
+    std::size_t duplicates = 0;        ///< items already received: dropped (the expected one is requested)
     std::size_t cancelled = 0;         ///< transfers abandoned after the retries
     std::size_t acks_resent = 0;       ///< final item seen again after the ACK: ACK repeated
   };
