@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
       "evaluates coverage, time and cost, and exports flight-ready files.\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input or usage."};
   app.require_subcommand(1);
+  app.fallthrough();  // global flags (--quiet) may follow the sub-command
   app.set_version_flag("--version", "uavcover 0.1.0");
   app.add_flag("-q,--quiet", cli::global_flags().quiet, "No progress bar or summary");
   auto& registry = cli::CommandRegistry::all();

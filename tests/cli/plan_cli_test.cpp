@@ -1,0 +1,124 @@
+// End-to-end tests of `uavcover plan`: exit codes, messages, and the files it writes.
+#include <gtest/gtest.h>
+
+#include "cli/cli_support.hpp"
+
+using namespace uavcover::testing;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+TEST(PlanCli, HelpDocumentsTheCommands) {
+  auto r = run_cli("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("plan"), std::string::npos);
+  r = run_cli("plan --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--out"), std::string::npos);
+  EXPECT_NE(r.output.find("--seed"), std::string::npos);
+  EXPECT_NE(r.output.find("paths.geojson"), std::string::npos);
+}
+
+TEST(PlanCli, UsageErrorsExitTwo) {
+  EXPECT_EQ(run_cli("").exit_code, 2);
+  EXPECT_EQ(run_cli("plan").exit_code, 2);
+  EXPECT_EQ(run_cli("frobnicate").exit_code, 2);
+}
+
+TEST(PlanCli, WritesPathsAndPlan) {
+  const auto dir = temp_dir("plan");
+  const auto r = run_cli("plan " + example("olive-grove.json").string() + " --out " + dir.string() + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.output.empty()) << "--quiet prints nothing: " << r.output;
+  const json gj = read_json(dir / "paths.geojson");
+  ASSERT_EQ(gj["type"], "FeatureCollection");
+  std::map<std::string, int> coverage_lines;
+  int areas = 0, nfz = 0;
+  for (const auto& f : gj["features"]) {
+    const auto& props = f["properties"];
+    if (props.contains("role")) {
+      EXPECT_EQ(f["geometry"]["type"], "Polygon");
+      areas += props["role"] == "area";
+      nfz += props["role"] == "no_fly_zone";
+      continue;
+    }
+    ASSERT_EQ(f["geometry"]["type"], "LineString");
+    for (const char* k : {"uav", "kind", "share_requested", "share_actual", "length_m", "turns"})
+      EXPECT_TRUE(props.contains(k)) << k;
+    const auto& c = f["geometry"]["coordinates"];
+    ASSERT_GE(c.size(), 2u);
+    for (const auto& p : c) {
+      EXPECT_GT(p[0].get<double>(), 22.8);  // [lon, lat] order
+      EXPECT_LT(p[1].get<double>(), 40.7);
+    }
+    if (props["kind"] == "coverage") {
+      ++coverage_lines[props["uav"]];
+      EXPECT_EQ(c.front(), c.back()) << "coverage loops are closed";
+    } else {
+      EXPECT_EQ(props["kind"], "transit");
+    }
+  }
+  EXPECT_EQ(areas, 1);
+  EXPECT_EQ(nfz, 2);
+  EXPECT_EQ(coverage_lines.size(), 3u);
+  const json pj = read_json(dir / "plan.json");
+  EXPECT_NEAR(pj["spacing_m"].get<double>(), 55.9, 0.1);
+  EXPECT_NEAR(pj["footprint_m"].get<double>(), 74.5, 0.1);
+  EXPECT_EQ(pj["uavs"].size(), 3u);
+  for (const char* k : {"J", "J1", "J2", "J3", "rotation_deg", "shift_x_m", "shift_y_m"})
+    EXPECT_TRUE(pj["placement"].contains(k)) << k;
+  double share_sum = 0;
+  for (const auto& u : pj["uavs"]) share_sum += u["share_actual"].get<double>();
+  EXPECT_NEAR(share_sum, 1.0, 1e-9);
+  EXPECT_GT(pj["totals"]["length_m"].get<double>(), 1000);
+  fs::remove_all(dir);
+}
+
+TEST(PlanCli, SameSeedSamePlan) {
+  const auto d1 = temp_dir("seed1"), d2 = temp_dir("seed2"), d3 = temp_dir("seed3");
+  const std::string m = example("mcpp-darp-input.json").string();
+  ASSERT_EQ(run_cli("plan " + m + " --out " + d1.string() + " -q --seed 5").exit_code, 0);
+  ASSERT_EQ(run_cli("plan " + m + " --out " + d2.string() + " -q --seed 5").exit_code, 0);
+  EXPECT_EQ(slurp(d1 / "paths.geojson"), slurp(d2 / "paths.geojson"));
+  // random starts (UAV count only) depend on the seed
+  const auto dir = temp_dir("seedm");
+  json mission = read_json(example("olive-grove.json"));
+  mission["uavs"] = 2;
+  std::ofstream(dir / "m.json") << mission.dump();
+  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d1.string() + " -q --seed 1").exit_code, 0);
+  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d3.string() + " -q --seed 2").exit_code, 0);
+  EXPECT_NE(read_json(d1 / "plan.json")["uavs"][0]["start"], read_json(d3 / "plan.json")["uavs"][0]["start"]);
+  for (const auto& d : {d1, d2, d3, dir}) fs::remove_all(d);
+}
+
+TEST(PlanCli, BadInputExitsTwoWithOneLineAndNoFiles) {
+  const auto dir = temp_dir("bad");
+  json mission = read_json(example("olive-grove.json"));
+  mission["uavs"][1]["share"] = -1;
+  std::ofstream(dir / "bad.json") << mission.dump();
+  std::ofstream(dir / "broken.json") << "{\"area\": [";
+  struct Case {
+    std::string file, needle;
+  };
+  for (const Case& c : {Case{(dir / "bad.json").string(), "uavs[1].share"},
+                        Case{(dir / "broken.json").string(), "malformed JSON"},
+                        Case{(dir / "missing.json").string(), "cannot read"}}) {
+    const auto out = dir / "out";
+    const auto r = run_cli("plan " + c.file + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+    EXPECT_FALSE(fs::exists(out)) << "no output on bad input";
+  }
+  fs::remove_all(dir);
+}
+
+TEST(PlanCli, ImportsMcppFormatAndRefusesHugeGrids) {
+  const auto dir = temp_dir("mcpp");
+  auto r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + dir.string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_json(dir / "plan.json")["mission"]["uavs"][0]["share"].get<double>(), 0.6);
+  r = run_cli("plan " + example("olive-grove.json").string() + " --out " + (dir / "x").string() + " --max-cells 50");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("use a spacing of at least"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
