@@ -1,0 +1,113 @@
+// `uavcover upload PLAN_DIR --uav ID --to udp:HOST:PORT`: sends one UAV's mission to a vehicle with the
+// MAVLink mission upload protocol (MISSION_COUNT / MISSION_REQUEST_INT / MISSION_ITEM_INT / MISSION_ACK).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+#include <stdexcept>
+
+#include "cli/command.hpp"
+#include "export/mission_items.hpp"
+#include "io/plan_io.hpp"
+#include "mavlink/mission_protocol.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::cli {
+namespace {
+
+struct UploadArgs {
+  std::string plan_dir;
+  std::string uav;
+  std::string to;
+  double timeout_s = 1.5;
+  int retries = mavlink::kMaxRetries;
+  int target_system = 1;
+  int target_component = 1;
+  int sysid = 255;
+  int compid = 190;
+  bool no_home = false;
+  exporting::AltitudeOptions altitude;
+};
+
+void run_upload(const UploadArgs& a) {
+  const mavlink::Endpoint to = mavlink::parse_udp_endpoint(a.to, "--to");
+  if (!(a.timeout_s > 0) || a.timeout_s > 60) throw InputError("--timeout", "must be in (0, 60] seconds");
+  if (a.retries < 0 || a.retries > 100) throw InputError("--retries", "must be in 0..100");
+  auto byte_option = [](int v, const char* field, int lo) {
+    if (v < lo || v > 255) throw InputError(field, fmt::format("must be in {}..255", lo));
+    return static_cast<std::uint8_t>(v);
+  };
+  mavlink::UploadOptions opt;
+  opt.target_system = byte_option(a.target_system, "--target-system", 1);
+  opt.target_component = byte_option(a.target_component, "--target-component", 0);
+  opt.timeout = std::chrono::milliseconds(std::max<long>(1, std::lround(a.timeout_s * 1000.0)));
+  opt.retries = a.retries;
+
+  const Plan plan = io::load_plan_dir(a.plan_dir);
+  std::size_t index = plan.uavs.size();
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+    if (plan.uavs[i].id == a.uav) index = i;
+  if (index == plan.uavs.size()) {
+    std::string ids;
+    for (const auto& u : plan.uavs) ids += (ids.empty() ? "" : ", ") + u.id;
+    throw InputError("--uav", fmt::format("no UAV '{}' in the plan (it has: {})", a.uav, ids));
+  }
+  const auto exported = exporting::mission_items(plan, index, a.altitude);
+  std::optional<LonLat> home;
+  if (!a.no_home) home = plan.mission.uavs.at(index).start_resolved;
+  const auto items = mavlink::to_mission_items(exported, home);
+
+  mavlink::UdpLink link(mavlink::Endpoint{"0.0.0.0", 0}, byte_option(a.sysid, "--sysid", 1),
+                        byte_option(a.compid, "--compid", 0));
+  link.set_peer(to);
+  const bool quiet = global_flags().quiet;
+  if (!quiet)
+    std::cerr << fmt::format("uploading {} items for UAV '{}' to {}:{} (system {}, component {}){}\n", items.size(),
+                             a.uav, to.host, to.port, opt.target_system, opt.target_component,
+                             home ? ", item 0 = home" : "");
+  const auto res = mavlink::upload_mission(link, items, opt, [&](std::size_t done, std::size_t total) {
+    if (!quiet) std::cerr << fmt::format("\r  {}/{} items", done, total) << std::flush;
+  });
+  if (!quiet && res.unique_items > 0) std::cerr << "\n";
+  if (!res.ok) throw std::runtime_error("upload failed: " + res.error);
+  if (!quiet)
+    std::cout << fmt::format(
+        "{}: {} items accepted by system {} in {:.2f} s ({} item messages sent, {} timeouts, {} out-of-order "
+        "requests)\n",
+        a.uav, res.count, opt.target_system, res.elapsed_s, res.items_sent, res.timeouts, res.out_of_order);
+}
+
+const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
+  auto args = std::make_shared<UploadArgs>();
+  auto* cmd = app.add_subcommand("upload", "Upload one UAV's mission to a vehicle over MAVLink 2 (UDP)");
+  cmd->add_option("PLAN_DIR", args->plan_dir, "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--uav", args->uav, "Id of the UAV whose mission is sent")->required();
+  cmd->add_option("--to", args->to, "Vehicle address, udp:HOST:PORT (we send from an ephemeral port; it answers there)")
+      ->required();
+  cmd->add_option("--timeout", args->timeout_s, "Seconds to wait for the vehicle before resending")
+      ->capture_default_str();
+  cmd->add_option("--retries", args->retries, "Resends after a timeout before giving up")->capture_default_str();
+  cmd->add_option("--target-system", args->target_system, "Vehicle MAVLink system id")->capture_default_str();
+  cmd->add_option("--target-component", args->target_component, "Vehicle MAVLink component id")
+      ->capture_default_str();
+  cmd->add_option("--sysid", args->sysid, "Our MAVLink system id")->capture_default_str();
+  cmd->add_option("--compid", args->compid, "Our MAVLink component id")->capture_default_str();
+  cmd->add_flag("--no-home", args->no_home,
+                "Do not send the home position as item 0 (ArduPilot expects it there; PX4 does not)");
+  cmd->add_option("--transition-base", args->altitude.transition_base_m, "Transition altitude of the first UAV (m)")
+      ->capture_default_str();
+  cmd->add_option("--transition-step", args->altitude.transition_step_m, "Transition altitude added per UAV (m)")
+      ->capture_default_str();
+  cmd->add_flag("--land", args->altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
+  cmd->footer(
+      "The mission is the one `uavcover export` writes (take-off, speed, transition altitudes, coverage,\n"
+      "RTL/land); latitude/longitude are sent as degrees * 1e7 in MISSION_ITEM_INT. Timeouts and retries\n"
+      "follow the MAVLink mission protocol (1.5 s, 5 retries); requests are served in any order.\n"
+      "Exit codes: 0 accepted, 1 upload failed (no answer, vehicle refused), 2 bad input.");
+  cmd->callback([args] { run_upload(*args); });
+});
+
+}  // namespace
+}  // namespace uavcover::cli
