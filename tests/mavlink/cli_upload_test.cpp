@@ -1,0 +1,141 @@
+// End to end: `uavcover upload` (the real binary) against our simulated vehicle on 127.0.0.1.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "export/mission_items.hpp"
+#include "io/plan_io.hpp"
+#include "mavlink/mission_protocol.hpp"
+
+using namespace uavcover;
+using namespace uavcover::mavlink;
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliResult {
+  int code = -1;
+  std::string out, err;
+};
+
+CliResult run_cli(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string("'") + UAVCOVER_CLI + "' " + args + " > '" + out.string() + "' 2> '" +
+                          err.string() + "'";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::stringstream o, e;
+  o << std::ifstream(out).rdbuf();
+  e << std::ifstream(err).rdbuf();
+  r.out = o.str();
+  r.err = e.str();
+  return r;
+}
+
+class CliUpload : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("uavcover-upload-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    plan_dir_ = dir_ / "plan";
+    const auto r = run_cli("-q plan '" + std::string(UAVCOVER_SOURCE_DIR) + "/examples/olive-grove.json' -o '" +
+                               plan_dir_.string() + "'",
+                           dir_);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_, plan_dir_;
+};
+
+struct VehicleThread {
+  UdpLink link;
+  Vehicle vehicle;
+  std::atomic<bool> stop{false};
+  std::thread thread;
+  explicit VehicleThread(std::uint8_t sysid) : link(Endpoint{"127.0.0.1", 0}, sysid, 1), vehicle(link) {
+    thread = std::thread([this] { vehicle.run(30s, &stop, true); });
+  }
+  ~VehicleThread() { join(); }
+  void join() {
+    stop = true;
+    if (thread.joinable()) thread.join();
+  }
+  [[nodiscard]] std::string address() const { return "udp:127.0.0.1:" + std::to_string(link.local_port()); }
+};
+
+}  // namespace
+
+TEST_F(CliUpload, UploadsTheExportedMissionWithHomeFirst) {
+  const Plan plan = io::load_plan_dir(plan_dir_);
+  ASSERT_GE(plan.uavs.size(), 2U);
+  const std::size_t index = 1;
+  const std::string id = plan.uavs[index].id;
+  VehicleThread v(1);
+  const auto r = run_cli("upload '" + plan_dir_.string() + "' --uav " + id + " --to " + v.address(), dir_);
+  v.join();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("items accepted by system 1"), std::string::npos) << r.out;
+  const auto exported = exporting::mission_items(plan, index);
+  const LonLat home = plan.mission.uavs[index].start_resolved;
+  auto want = to_mission_items(exported, home);
+  const auto& got = v.vehicle.mission();
+  ASSERT_EQ(got.size(), exported.size() + 1);
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    want[i].target_system = 1;
+    want[i].target_component = 1;
+    EXPECT_EQ(got[i], want[i]) << "item " << i;
+  }
+  // item 0: home; item 1: take-off at the UAV's transition altitude
+  EXPECT_EQ(got[0].x, static_cast<std::int32_t>(std::llround(home.lat * 1e7)));
+  EXPECT_EQ(got[0].y, static_cast<std::int32_t>(std::llround(home.lon * 1e7)));
+  EXPECT_EQ(got[1].command, exporting::kNavTakeoff);
+  EXPECT_FLOAT_EQ(got[1].z, static_cast<float>(exporting::transition_altitude({}, index)));
+}
+
+TEST_F(CliUpload, NoHomeSendsTheItemsOnly) {
+  const Plan plan = io::load_plan_dir(plan_dir_);
+  VehicleThread v(4);
+  const auto r = run_cli("-q upload '" + plan_dir_.string() + "' --uav " + plan.uavs[0].id + " --to " +
+                             v.address() + " --target-system 4 --no-home --land",
+                         dir_);
+  v.join();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());  // --quiet
+  exporting::AltitudeOptions alt;
+  alt.land_instead_of_rtl = true;
+  const auto exported = exporting::mission_items(plan, 0, alt);
+  ASSERT_EQ(v.vehicle.mission().size(), exported.size());
+  EXPECT_EQ(v.vehicle.mission().front().command, exporting::kNavTakeoff);
+  EXPECT_EQ(v.vehicle.mission().back().command, exporting::kNavLand);
+}
+
+TEST_F(CliUpload, BadInputIsExitCode2AndSilenceIs1) {
+  const Plan plan = io::load_plan_dir(plan_dir_);
+  const std::string base = "upload '" + plan_dir_.string() + "' ";
+  auto r = run_cli(base + "--uav " + plan.uavs[0].id + " --to tcp:127.0.0.1:5760", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--to"), std::string::npos) << r.err;
+  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:99999", dir_);
+  EXPECT_EQ(r.code, 2);
+  r = run_cli(base + "--uav nobody --to udp:127.0.0.1:14550", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--uav"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(plan.uavs[0].id), std::string::npos) << r.err;  // lists the ids it has
+  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:14550 --timeout 0", dir_);
+  EXPECT_EQ(r.code, 2);
+  // Nobody answers: gives up after the retries, exit 1.
+  UdpLink silent(Endpoint{"127.0.0.1", 0}, 1, 1);
+  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:" + std::to_string(silent.local_port()) +
+                  " --timeout 0.05 --retries 2",
+              dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("no answer from the vehicle after 2 retries"), std::string::npos) << r.err;
+}
