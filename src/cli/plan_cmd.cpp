@@ -6,7 +6,7 @@
 
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
-#include "io/plan_io.hpp"
+#include "io/plan_dir.hpp"
 #include "uavcover/uavcover.hpp"
 
 namespace uavcover::cli {
@@ -17,11 +17,15 @@ struct PlanArgs {
   std::string out;
   std::optional<std::uint64_t> seed;
   std::size_t max_cells = ParseOptions{}.max_cells;
+  std::vector<std::string> exports;
+  bool no_evaluate = false;
+  bool no_images = false;
 };
 
 void run_plan(const PlanArgs& a) {
   ParseOptions po;
   po.max_cells = a.max_cells;
+  io::check_export_formats(a.exports);
   const Mission mission = parse_mission(read_file(a.mission, "MISSION"), po);
   PlanOptions opt;
   opt.seed = a.seed;
@@ -35,8 +39,11 @@ void run_plan(const PlanArgs& a) {
   }
   finish_progress_bar();
   const std::filesystem::path dir(a.out);
-  io::write_file_atomic(dir / "paths.geojson", io::paths_geojson(result).dump(1) + "\n");
-  io::write_file_atomic(dir / "plan.json", io::plan_json(result).dump(1) + "\n");
+  io::PlanDirOptions dir_opt;
+  dir_opt.evaluate = !a.no_evaluate;
+  dir_opt.images = !a.no_images;
+  dir_opt.exports = a.exports;
+  const io::PlanDirResult written = io::write_plan_dir(result, dir, dir_opt);
   if (quiet) return;
   std::cout << fmt::format("{} — {} UAV(s), spacing {:.1f} m, mode {}, seed {}\n", result.mission.name,
                            result.uavs.size(), result.mission.spacing_m,
@@ -47,8 +54,13 @@ void run_plan(const PlanArgs& a) {
     std::cout << fmt::format("{:<12} {:>8.3f} {:>8.3f} {:>7} {:>7} {:>11.3f}\n", u.id, u.share_requested,
                              u.share_actual, u.cells, u.turns, u.length_m / 1000.0);
   for (const auto& w : result.warnings) std::cout << "warning: " << w << "\n";
-  std::cout << fmt::format("wrote {} and {} ({:.3f} s)\n", (dir / "paths.geojson").string(),
-                           (dir / "plan.json").string(), result.compute_time_s);
+  if (written.poc >= 0)
+    std::cout << fmt::format("coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min, total {:.1f} min, "
+                             "cost {:.2f} EUR\n",
+                             written.poc * 100, written.pooc * 100, written.flight_time_min,
+                             written.total_time_min, written.cost_eur);
+  std::cout << fmt::format("planned in {:.3f} s; wrote {} files to {}\n", result.compute_time_s,
+                           written.files.size(), dir.string());
 }
 
 const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
@@ -60,12 +72,19 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan");
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
       ->capture_default_str();
+  cmd->add_option("--export", args->exports,
+                  "Also export these formats: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
+      ->delimiter(',');
+  cmd->add_flag("--no-evaluate", args->no_evaluate, "Skip the coverage simulation and cost model");
+  cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(
       "Outputs:\n"
       "  DIR/paths.geojson  FeatureCollection: per UAV LineStrings (kind coverage|transit, uav, share_requested,\n"
       "                     share_actual, length_m, turns) and Polygons for the area and no-fly zones (role).\n"
       "  DIR/plan.json      normalised mission, spacing, GSD/footprint, grid placement (J, J1-J3), per-UAV and\n"
-      "                     total metrics.\n"
+      "                     total metrics, coverage (PoC, PoOC, histogram) and time/cost (eq. 15-22).\n"
+      "  DIR/plan.png, plan.svg, heatmap.png, histogram.png   pictures for the report.\n"
+      "  DIR/export/, DIR/trajectory/   with --export.\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (message names the field; no files written).");
   cmd->callback([args] { run_plan(*args); });
 });

@@ -70,6 +70,19 @@ TEST(PlanCli, WritesPathsAndPlan) {
   for (const auto& u : pj["uavs"]) share_sum += u["share_actual"].get<double>();
   EXPECT_NEAR(share_sum, 1.0, 1e-9);
   EXPECT_GT(pj["totals"]["length_m"].get<double>(), 1000);
+  // coverage and cost are in plan.json at planning time
+  ASSERT_TRUE(pj.contains("coverage")) << pj.dump().substr(0, 500);
+  ASSERT_TRUE(pj.contains("cost"));
+  const double poc = pj["coverage"]["poc"].get<double>();
+  EXPECT_GT(poc, 0.85);
+  EXPECT_LE(poc, 1.0);
+  // pictures
+  for (const char* img : {"plan.png", "heatmap.png", "histogram.png"}) {
+    const std::string png = slurp(dir / img);
+    ASSERT_GT(png.size(), 1000u) << img;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << img;
+  }
+  EXPECT_NE(slurp(dir / "plan.svg").find("<svg"), std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -109,6 +122,22 @@ TEST(PlanCli, BadInputExitsTwoWithOneLineAndNoFiles) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
     EXPECT_FALSE(fs::exists(out)) << "no output on bad input";
   }
+  fs::remove_all(dir);
+}
+
+TEST(PlanCli, ExportsInOneGoAndRefusesUnknownFormats) {
+  const auto dir = temp_dir("export");
+  auto r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + dir.string() +
+                   " -q --no-images --export qgc,wpl");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "export" / "uav1.plan"));
+  EXPECT_TRUE(fs::exists(dir / "export" / "uav2.waypoints"));
+  EXPECT_FALSE(fs::exists(dir / "plan.png"));
+  const auto bad = dir / "bad";
+  r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + bad.string() + " --export qgc,gpx");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--export"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(bad));
   fs::remove_all(dir);
 }
 
