@@ -204,19 +204,24 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   cairo_set_line_width(cr, 2.0);
   cairo_stroke(cr);
 
-  // regions from the DARP grid: mega-cell (r, c) spans origin + [c, c+1] x [r, r+1] * cell_m in the
-  // grid frame, rotated by rotation_deg into the local frame
+  // regions from the DARP grid: GridInfo::origin is the local position of mega-cell (0,0)'s
+  // lower-left corner; cell (r, c) spans origin + R(rotation) * ([c, c+1] x [r, r+1] * cell_m)
   const GridInfo& g = plan.grid;
+  cairo_save(cr);
+  path_multipolygon(cr, v, area);
+  cairo_clip(cr);
   if (g.cell_m > 0 && g.rows > 0 && g.cols > 0 &&
       g.owner.size() == static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols)) {
     const double t = g.rotation_deg * std::numbers::pi / 180.0;
     const double ct = std::cos(t), st = std::sin(t);
-    auto to_local = [&](double qx, double qy) { return Point{ct * qx - st * qy, st * qx + ct * qy}; };
+    auto to_local = [&](double qx, double qy) {
+      return Point{g.origin.x() + ct * qx - st * qy, g.origin.y() + st * qx + ct * qy};
+    };
     for (int r = 0; r < g.rows; ++r)
       for (int c = 0; c < g.cols; ++c) {
         const int o = g.owner[static_cast<std::size_t>(r * g.cols + c)];
         if (o < 0) continue;
-        const double x0 = g.origin.x() + c * g.cell_m, y0 = g.origin.y() + r * g.cell_m;
+        const double x0 = c * g.cell_m, y0 = r * g.cell_m;
         const Point p[4] = {to_local(x0, y0), to_local(x0 + g.cell_m, y0),
                             to_local(x0 + g.cell_m, y0 + g.cell_m), to_local(x0, y0 + g.cell_m)};
         cairo_move_to(cr, v.px(p[0].x()), v.py(p[0].y()));
@@ -226,6 +231,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
         cairo_fill(cr);
       }
   }
+  cairo_restore(cr);
 
   // no-fly zones: hatched red
   if (!nfz.empty()) {
@@ -276,6 +282,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   // starts
   for (std::size_t i = 0; i < starts.size(); ++i) {
     const double x = v.px(starts[i].x()), y = v.py(starts[i].y());
+    cairo_new_path(cr);
     cairo_arc(cr, x, y, 7, 0, 2 * std::numbers::pi);
     set(cr, uav_colour(i));
     cairo_fill_preserve(cr);
@@ -301,8 +308,9 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
     cairo_stroke(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     const auto& u = plan.uavs[i];
-    text(cr, lx + 30, ly,
-         fmt::format("{}  {:.1f}%  {:.2f} km", u.id, 100 * u.share_actual, u.length_m / 1000), 13);
+    double len = 0.0;
+    for (const auto& part : u.parts) len += geometry::length(part.local);
+    text(cr, lx + 30, ly, fmt::format("{}  {:.1f}%  {:.2f} km", u.id, 100 * u.share_actual, len / 1000), 13);
   }
   if (plan.uavs.size() > shown) {
     ly += 22;
@@ -314,6 +322,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   cairo_move_to(cr, lx, ly - 5);
   cairo_line_to(cr, lx + 22, ly - 5);
   cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, lx + 30, ly, "coverage path", 13);
   ly += 22;
   const double dash[] = {6.0, 4.0};
@@ -323,13 +332,16 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   cairo_line_to(cr, lx + 22, ly - 5);
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, lx + 30, ly, "transit", 13);
   ly += 22;
+  cairo_new_path(cr);
   cairo_arc(cr, lx + 11, ly - 5, 6, 0, 2 * std::numbers::pi);
   cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
   cairo_fill_preserve(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, lx + 30, ly, "start / return", 13);
   if (!nfz.empty()) {
     ly += 22;
