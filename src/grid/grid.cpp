@@ -30,9 +30,9 @@ void add_multi(const MultiPolygon& mp, std::vector<Edge>& out) {
 /// Even-odd scanline fill: out[row * ncols + col] = 1 when lattice point
 /// (xfirst + col*step, yfirst + row*step) lies inside the rings formed by `edges`
 /// (sorted by ya).
-void scan(const std::vector<QEdge>& edges, double xfirst, double yfirst, double step, int ncols, int nrows,
-          std::vector<std::uint8_t>& out) {
-  out.assign(static_cast<std::size_t>(ncols) * nrows, 0);
+template <typename RowFn>
+void scan_rows(const std::vector<QEdge>& edges, double xfirst, double yfirst, double step, int ncols, int nrows,
+               RowFn&& fn) {
   std::vector<int> active;
   std::vector<double> xs;
   std::size_t next = 0;
@@ -51,13 +51,21 @@ void scan(const std::vector<QEdge>& edges, double xfirst, double yfirst, double 
       ++k;
     }
     std::sort(xs.begin(), xs.end());
-    std::uint8_t* line = out.data() + static_cast<std::size_t>(row) * ncols;
     for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
       const int lo = std::max(0, static_cast<int>(std::ceil((xs[k] - xfirst) / step)));
       const int hi = std::min(ncols - 1, static_cast<int>(std::floor((xs[k + 1] - xfirst) / step)));
-      for (int c = lo; c <= hi; ++c) line[c] = 1;
+      if (lo <= hi) fn(row, lo, hi);
     }
   }
+}
+
+void scan(const std::vector<QEdge>& edges, double xfirst, double yfirst, double step, int ncols, int nrows,
+          std::vector<std::uint8_t>& out) {
+  out.assign(static_cast<std::size_t>(ncols) * nrows, 0);
+  scan_rows(edges, xfirst, yfirst, step, ncols, nrows, [&](int row, int lo, int hi) {
+    std::uint8_t* line = out.data() + static_cast<std::size_t>(row) * ncols;
+    std::fill(line + lo, line + hi + 1, 1);
+  });
 }
 
 std::vector<QEdge> to_q(const std::vector<Edge>& edges, const Grid& g) {
@@ -87,6 +95,59 @@ bool segments_meet(double ax, double ay, double bx, double by, double cx, double
   if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
   // degenerate: an endpoint on the other segment (bounding boxes overlap already)
   return d1 == 0 || d2 == 0 || d3 == 0 || d4 == 0;
+}
+
+/// Coverage estimate on a KxK sample lattice per mega-cell (K <= 16, step dn/K, aligned with the
+/// grid): samples in free cells are covered; samples of other cells are covered when they lie
+/// within ds/4 of a free neighbour (footprint w = 1.5 ds reaches ds/4 beyond a cell's outer
+/// sub-cell centres).
+double estimate_coverage(const Grid& g, const std::vector<QEdge>& fe_sorted, int K) {
+  static const auto popcount16 = [] {
+    std::array<std::uint8_t, 1 << 16> t{};
+    for (unsigned i = 1; i < t.size(); ++i) t[i] = static_cast<std::uint8_t>(t[i >> 1] + (i & 1));
+    return t;
+  }();
+  const int rows = g.rows, cols = g.cols;
+  int band = 0;  // samples per side within ds/4 = dn/8 of the cell edge
+  while ((band + 0.5) / K < 0.125) ++band;
+  const std::uint16_t full = static_cast<std::uint16_t>((1u << K) - 1);
+  const std::uint16_t low = static_cast<std::uint16_t>((1u << band) - 1);
+  const std::uint16_t high = static_cast<std::uint16_t>(low << (K - band));
+  std::vector<std::uint16_t> bits(static_cast<std::size_t>(rows) * cols * K, 0);
+  auto fr = [&](int r, int c) { return r >= 0 && c >= 0 && r < rows && c < cols && g.free[g.idx(r, c)]; };
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      std::uint16_t* b = bits.data() + static_cast<std::size_t>(g.idx(r, c)) * K;
+      if (g.free[g.idx(r, c)]) {
+        std::fill(b, b + K, full);
+        continue;
+      }
+      std::uint16_t side = 0;
+      if (fr(r, c - 1)) side |= low;
+      if (fr(r, c + 1)) side |= high;
+      for (int a = 0; a < K; ++a) b[a] = side;
+      const bool dn_ = fr(r - 1, c), up = fr(r + 1, c);
+      const std::uint16_t dl = fr(r - 1, c - 1) ? low : 0, dr = fr(r - 1, c + 1) ? high : 0;
+      const std::uint16_t ul = fr(r + 1, c - 1) ? low : 0, ur = fr(r + 1, c + 1) ? high : 0;
+      for (int a = 0; a < band; ++a) {
+        b[a] |= dn_ ? full : static_cast<std::uint16_t>(dl | dr);
+        b[K - 1 - a] |= up ? full : static_cast<std::uint16_t>(ul | ur);
+      }
+    }
+  const double step = g.dn / K;
+  long inside = 0, covered = 0;
+  scan_rows(fe_sorted, g.x0 + 0.5 * step, g.y0 + 0.5 * step, step, K * cols, K * rows, [&](int row, int lo, int hi) {
+    inside += hi - lo + 1;
+    const int r = row / K, a = row % K;
+    const std::uint16_t* brow = bits.data() + static_cast<std::size_t>(r) * cols * K + a;
+    for (int c = lo / K; c <= hi / K; ++c) {
+      unsigned v = brow[static_cast<std::size_t>(c) * K];
+      const int x0 = std::max(lo, K * c) - K * c, x1 = std::min(hi, K * c + K - 1) - K * c;
+      v &= ((1u << (x1 + 1)) - 1) & ~((1u << x0) - 1);
+      covered += popcount16[v];
+    }
+  });
+  return inside ? static_cast<double>(covered) / inside : 0.0;
 }
 
 }  // namespace
@@ -219,7 +280,15 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
       if (c + 1 < cols && g.free[k + 1] && !(no_link[k] & 1)) g.link[k] |= 1;
       if (r + 1 < rows && g.free[k + cols] && !(no_link[k] & 2)) g.link[k] |= 2;
     }
+  if (prep.estimate_coverage) g.coverage_estimate = estimate_coverage(g, fe, 8);
   return g;
+}
+
+double coverage_proxy(const Prepared& prep, const Grid& g, int samples_per_cell) {
+  if (g.free_cells == 0) return 0.0;
+  std::vector<QEdge> fe = to_q(prep.free_edges, g);
+  std::sort(fe.begin(), fe.end(), [](const QEdge& a, const QEdge& b) { return a.ya < b.ya; });
+  return estimate_coverage(g, fe, std::clamp(samples_per_cell, 1, 16));
 }
 
 int components(const Grid& g, std::vector<int>& label) {
@@ -266,6 +335,11 @@ Score score(const Prepared& prep, const Grid& g, const Weights& w) {
   s.components = components(g, label);
   s.J = w.a * s.J1 + w.b * s.J2 - w.c * s.J3;
   if (s.components > std::max(1, prep.free_parts)) s.J -= w.disconnected_penalty;
+  s.key = s.J - w.length_weight * s.J1;
+  if (w.coverage_weight > 0) {
+    s.coverage = g.coverage_estimate;
+    s.key += w.coverage_weight * s.coverage;
+  }
   return s;
 }
 

@@ -30,6 +30,7 @@ struct Prepared {
   int free_parts = 0;            ///< polygons in the free multipolygon
   double ds = 0.0;
   Mode mode = Mode::Strict;
+  bool estimate_coverage = true;  ///< rasterize() also fills Grid::coverage_estimate
 };
 
 Prepared prepare(const MultiPolygon& free, const MultiPolygon& no_fly, double ds, Mode mode);
@@ -47,6 +48,9 @@ struct Grid {
   /// A link exists when both cells are free and the path segments joining them are clear.
   std::vector<std::uint8_t> link;
   int free_cells = 0;
+  /// Share of the free area a w = 1.5 ds footprint swept along the STC path would cover, sampled
+  /// on 8x8 points per mega-cell (coverage_proxy gives finer versions).
+  double coverage_estimate = 0.0;
 
   [[nodiscard]] int idx(int r, int c) const { return r * cols + c; }
   [[nodiscard]] Point q_to_local(double qx, double qy) const {
@@ -76,10 +80,16 @@ struct Score {
   double J = 0.0, J1 = 0.0, J2 = 0.0, J3 = 0.0;
   int free_cells = 0;
   int components = 0;
+  double coverage = 0.0;  ///< coverage_proxy at a coarse lattice (ds/4), when weighted
+  double key = 0.0;       ///< what the search maximises: J + coverage_weight * coverage - length_weight * J1
 };
 
 struct Weights {
   double a = 0.68, b = 0.32, c = 0.25, disconnected_penalty = 0.5;
+  /// Weight of the swept-footprint coverage estimate added to J in the search (0: the paper's J).
+  double coverage_weight = 9.0;
+  /// Weight of J1 (the path length, proportional to the free cells) subtracted in the search.
+  double length_weight = 3.4;
 };
 
 /// Placement index of eq. 7-10 for a rasterised grid. J1 = s*dn^2/Ap; J2 = Ap / area of the free
@@ -88,6 +98,11 @@ struct Weights {
 /// outermost lanes sit equally far from the borders). The penalty applies when the free grid has
 /// more connected components than the free space has polygons.
 Score score(const Prepared& prep, const Grid& g, const Weights& w = {});
+
+/// Share of the free area within Chebyshev distance 0.75 ds of a path sub-cell centre: what a
+/// square footprint of width w = 1.5 ds swept along the STC path covers (legs join neighbouring
+/// sub-cell centres). Sampled on `samples_per_cell`^2 points per mega-cell (<= 16), aligned with the grid.
+double coverage_proxy(const Prepared& prep, const Grid& g, int samples_per_cell = 16);
 
 /// Connected components of the free cells over links: label per cell (-1 blocked), returns count.
 int components(const Grid& g, std::vector<int>& label);

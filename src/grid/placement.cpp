@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace uavcover::grid {
@@ -33,11 +34,32 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
   };
   // better: higher J, then more free cells, then the earlier candidate (deterministic)
   auto better = [](const Candidate& a, const Candidate& b) {
-    if (a.s.J != b.s.J) return a.s.J > b.s.J;
+    if (a.s.key != b.s.key) return a.s.key > b.s.key;
     return a.s.free_cells > b.s.free_cells;
   };
 
+  // pool of the best distinct candidates for the final re-ranking
+  std::vector<Candidate> pool;
+  const std::size_t pool_size = static_cast<std::size_t>(std::max(1, opt.rerank));
+  auto offer = [&](const Candidate& c) {
+    for (auto& p : pool) {
+      // the same grid seen twice (equal cell count and coverage) counts once
+      if (p.s.free_cells == c.s.free_cells && p.s.coverage == c.s.coverage && p.s.components == c.s.components) {
+        if (better(c, p)) p = c;
+        return;
+      }
+    }
+    if (pool.size() < pool_size) {
+      pool.push_back(c);
+    } else {
+      auto worst = std::min_element(pool.begin(), pool.end(), [&](const Candidate& a, const Candidate& b) {
+        return better(b, a);
+      });
+      if (better(c, *worst)) *worst = c;
+    }
+  };
   Candidate best = evaluate(0, 0, 0);
+  offer(best);
   if (opt.optimise && budget > 1) {
     std::mt19937_64 rng(opt.seed ^ 0x9e3779b97f4a7c15ULL);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -60,6 +82,7 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
         for (int j = 0; j < ns; ++j) {
           Candidate c = evaluate(dn * i / ns, dn * j / ns, 90.0 * t / nt);
           if (better(c, best)) best = c;
+          offer(c);
           scanned.push_back(c);
         }
     std::stable_sort(scanned.begin(), scanned.end(), better);
@@ -99,13 +122,23 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
           sy += gauss(rng) * shift_step * scale * 0.5;
         }
         Candidate next = evaluate(wrap(sx, dn), wrap(sy, dn), wrap(th, 90.0));
-        const double delta = next.s.J - cur.s.J;  // maximisation: accept improvements always
+        const double delta = next.s.key - cur.s.key;  // maximisation: accept improvements always
+        offer(next);
         if (delta >= 0 || u01(rng) < std::exp(delta / T)) cur = next;
         if (better(cur, best)) best = cur;
       }
     }
   }
   PlacementResult out;
+  if (opt.rerank > 1 && pool.size() > 1) {
+    std::stable_sort(pool.begin(), pool.end(), better);
+    double best_key = -std::numeric_limits<double>::infinity();
+    for (const auto& c : pool) {
+      const double cov = coverage_proxy(prep, rasterize(prep, c.sx, c.sy, c.th));
+      const double key = c.s.key + opt.weights.coverage_weight * (cov - c.s.coverage);
+      if (key > best_key + 1e-12) best_key = key, best = c, out.coverage = cov;
+    }
+  }
   out.grid = rasterize(prep, best.sx, best.sy, best.th);
   out.placement.shift_x_m = best.sx;
   out.placement.shift_y_m = best.sy;

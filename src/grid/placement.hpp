@@ -16,10 +16,14 @@ struct PlacementOptions {
   bool optimise = true;    ///< false: the single placement (0, 0, 0)
   std::uint64_t seed = 0;
   Weights weights{};
+  /// The best `rerank` distinct candidates of the search are re-ranked with the finer coverage
+  /// estimate (coverage_proxy at ds/8) in place of the coarse one; <= 1 keeps the search's best.
+  int rerank = 24;
 };
 
 struct PlacementResult {
   Placement placement;  ///< sx, sy, theta, J and its terms, evaluations used
+  double coverage = 0.0;  ///< coverage_proxy of the chosen grid
   Grid grid;            ///< the grid at the best placement
 };
 
