@@ -15,18 +15,19 @@ RegionMap::RegionMap(const Plan& plan) : plan_(&plan) {
                        g.owner.size() == static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols);
   if (grid_ok) {
     // confirm the convention: coverage waypoints lie inside mega-cells of their own UAV
-    for (double sign : {1.0, -1.0}) {
+    // candidates: origin as a local point (rotate p - origin) or as a rotated-frame point, either sign
+    for (int mode = 0; mode < 4; ++mode) {
       std::size_t total = 0, hits = 0;
       for (std::size_t u = 0; u < plan.uavs.size(); ++u)
         for (const auto& part : plan.uavs[u].parts)
           if (part.kind == PartKind::Coverage)
             for (const auto& p : part.local) {
               ++total;
-              hits += grid_owner(p, sign) == static_cast<int>(u) ? 1 : 0;
+              hits += grid_owner(p, mode) == static_cast<int>(u) ? 1 : 0;
             }
       if (total > 0 && static_cast<double>(hits) >= 0.95 * static_cast<double>(total)) {
         use_grid_ = true;
-        sign_ = sign;
+        mode_ = mode;
         return;
       }
     }
@@ -42,20 +43,28 @@ RegionMap::RegionMap(const Plan& plan) : plan_(&plan) {
     }
 }
 
-int RegionMap::grid_owner(Point p, double sign) const {
+int RegionMap::grid_owner(Point p, int mode) const {
   const GridInfo& g = plan_->grid;
+  const double sign = (mode & 1) != 0 ? -1.0 : 1.0;
+  const bool local_origin = (mode & 2) == 0;
   const double th = sign * g.rotation_deg * std::numbers::pi / 180.0;
-  // coordinates in the grid's frame: rotate the local point by -rotation
-  const double qx = p.x() * std::cos(th) + p.y() * std::sin(th);
-  const double qy = -p.x() * std::sin(th) + p.y() * std::cos(th);
-  const double fc = std::floor((qx - g.origin.x()) / g.cell_m);
-  const double fr = std::floor((qy - g.origin.y()) / g.cell_m);
+  // offsets along the grid's axes: rotate by -rotation
+  const double x = local_origin ? p.x() - g.origin.x() : p.x();
+  const double y = local_origin ? p.y() - g.origin.y() : p.y();
+  double qx = x * std::cos(th) + y * std::sin(th);
+  double qy = -x * std::sin(th) + y * std::cos(th);
+  if (!local_origin) {
+    qx -= g.origin.x();
+    qy -= g.origin.y();
+  }
+  const double fc = std::floor(qx / g.cell_m);
+  const double fr = std::floor(qy / g.cell_m);
   if (fc < 0 || fr < 0 || fc >= g.cols || fr >= g.rows) return -1;
   return g.owner[static_cast<std::size_t>(fr) * static_cast<std::size_t>(g.cols) + static_cast<std::size_t>(fc)];
 }
 
 int RegionMap::owner(Point p) const {
-  if (use_grid_) return grid_owner(p, sign_);
+  if (use_grid_) return grid_owner(p, mode_);
   for (std::size_t u = 0; u < loops_.size(); ++u)
     if (!loops_[u].empty() && bg::within(p, loops_[u])) return static_cast<int>(u);
   return -1;

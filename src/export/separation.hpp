@@ -21,10 +21,10 @@ class RegionMap {
   [[nodiscard]] bool uses_grid() const { return use_grid_; }
 
  private:
-  [[nodiscard]] int grid_owner(Point p, double sign) const;
+  [[nodiscard]] int grid_owner(Point p, int mode) const;
   const Plan* plan_;
   bool use_grid_ = false;
-  double sign_ = 1.0;
+  int mode_ = 0;
   std::vector<MultiPolygon> loops_;  // fallback regions, per UAV
 };
 
