@@ -1,0 +1,92 @@
+// Evaluating plans made through the facade, and the study command end to end.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "evaluation/evaluate.hpp"
+#include "uavcover/uavcover.hpp"
+
+using namespace uavcover;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string roi(const std::string& name) {
+  std::ifstream in(std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/" + name);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(EvaluatePlan, PlannedRegionIsCoveredAndCosted) {
+  Mission m = parse_mission(roi("roi01.json"));
+  m.mode = Mode::Coverage;
+  const Plan p = plan(m);
+  const auto ev = evaluation::evaluate_plan(p);
+  EXPECT_DOUBLE_EQ(ev.footprint_m, 60.0);
+  EXPECT_GT(ev.coverage.total.poc, 0.97);
+  EXPECT_GT(ev.coverage.total.pooc, 0.3);
+  int turns = 0;
+  double length = 0.0;
+  for (const auto& u : p.uavs) turns += u.turns, length += u.length_m;
+  EXPECT_EQ(ev.coverage.total.turns, turns);
+  EXPECT_NEAR(ev.coverage.total.length_m, length, 1e-6 * length);
+  ASSERT_EQ(ev.cost.n_uavs, 1);
+  EXPECT_NEAR(ev.cost.flight_time_min, evaluation::flight_duration_min(length, turns, p.mission.uavs[0]),
+              1e-9);
+  EXPECT_DOUBLE_EQ(ev.cost.deployment_time_min, 8.0);
+  const auto j = evaluation::to_json(ev);
+  ASSERT_TRUE(j.contains("coverage") && j.contains("cost"));
+  EXPECT_EQ(j["coverage"]["uavs"].size(), 1u);
+  EXPECT_DOUBLE_EQ(j["coverage"]["poc"].get<double>(), ev.coverage.total.poc);
+  EXPECT_DOUBLE_EQ(j["cost"]["total_time_min"].get<double>(), ev.cost.total_time_min);
+  EXPECT_NEAR(j["coverage"]["uavs"][0]["area_share"].get<double>(), 1.0, 1e-12);
+}
+
+TEST(StudyCommand, TableJsonAndPicture) {
+  const fs::path dir = fs::temp_directory_path() / ("uavcover_study_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi01.json";
+  const std::string cmd = std::string(UAVCOVER_CLI) + " study " + mission + " --uavs 1..3 --out " +
+                          dir.string() + " > " + (dir.string() + ".txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream in(dir / "study.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["rows"].size(), 3u);
+  double best = 1e300;
+  int best_n = 0;
+  for (const auto& r : j["rows"]) {
+    ASSERT_TRUE(r.contains("total_time_min")) << r.dump();
+    EXPECT_GT(r["poc"].get<double>(), 0.9);
+    EXPECT_DOUBLE_EQ(r["deployment_time_min"].get<double>(), 5.0 + 3.0 * r["uavs"].get<int>());
+    if (r["total_time_min"].get<double>() < best)
+      best = r["total_time_min"].get<double>(), best_n = r["uavs"].get<int>();
+  }
+  EXPECT_EQ(j["recommended_uavs"].get<int>(), best_n);
+  EXPECT_GT(fs::file_size(dir / "study.png"), 3000u);
+  std::ifstream txt(dir.string() + ".txt");
+  const std::string out((std::istreambuf_iterator<char>(txt)), std::istreambuf_iterator<char>());
+  EXPECT_NE(out.find("recommended: " + std::to_string(best_n)), std::string::npos) << out;
+  fs::remove_all(dir);
+  fs::remove(dir.string() + ".txt");
+}
+
+TEST(StudyCommand, RefusesBadCounts) {
+  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi01.json";
+  for (const char* bad : {"0..3", "3..1", "x", "1,,2"}) {
+    const std::string cmd = std::string(UAVCOVER_CLI) + " -q study " + mission + " --uavs " + bad +
+                            " --out /tmp/uavcover_never_written 2>/dev/null";
+    const int rc = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(rc));
+    EXPECT_EQ(WEXITSTATUS(rc), 2) << bad;
+  }
+  EXPECT_FALSE(fs::exists("/tmp/uavcover_never_written/study.json"));
+}
