@@ -33,7 +33,8 @@ void run_export(ExportArgs& a) {
   if (a.opt.trajectory.densify_m < 0) throw InputError("--densify", "must be >= 0");
   if (a.opt.trajectory.fillet_radius_m < 0) throw InputError("--fillet-radius", "must be >= 0");
   const Plan plan = io::load_plan_dir(a.plan_dir);
-  const std::filesystem::path out = a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
+  const std::filesystem::path out =
+      a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
   const auto files = exporting::export_plan(plan, a.formats, out, a.opt);
   if (global_flags().quiet) return;
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
@@ -45,27 +46,35 @@ void run_export(ExportArgs& a) {
 
 const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   auto args = std::make_shared<ExportArgs>();
-  auto* cmd = app.add_subcommand("export", "Write flight-ready files (QGC, Mission Planner, KML, DJI, Litchi, ...) for a plan");
-  cmd->add_option("PLAN_DIR", args->plan_dir, "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
+  auto* cmd = app.add_subcommand(
+      "export", "Write flight-ready files (QGC, Mission Planner, KML, DJI, Litchi, ...) for a plan");
+  cmd->add_option("PLAN_DIR", args->plan_dir,
+                  "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--format,-f", args->formats,
                   "Formats, comma-separated: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
       ->required()
       ->delimiter(',');
-  cmd->add_option("--out,-o", args->out, "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/");
-  cmd->add_option("--transition-base", args->opt.altitude.transition_base_m, "Transition altitude of the first UAV (m)")
+  cmd->add_option("--out,-o", args->out,
+                  "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/");
+  cmd->add_option("--transition-base", args->opt.altitude.transition_base_m,
+                  "Transition altitude of the first UAV (m)")
       ->capture_default_str();
-  cmd->add_option("--transition-step", args->opt.altitude.transition_step_m, "Transition altitude added per UAV (m)")
+  cmd->add_option("--transition-step", args->opt.altitude.transition_step_m,
+                  "Transition altitude added per UAV (m)")
       ->capture_default_str();
   cmd->add_flag("--land", args->opt.altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
-  cmd->add_option("--firmware-type", args->opt.qgc_firmware_type, "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot)")
+  cmd->add_option("--firmware-type", args->opt.qgc_firmware_type,
+                  "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot)")
       ->capture_default_str();
-  cmd->add_option("--vehicle-type", args->opt.qgc_vehicle_type, "QGC .plan vehicleType (MAV_TYPE: 2 quadrotor)")
+  cmd->add_option("--vehicle-type", args->opt.qgc_vehicle_type,
+                  "QGC .plan vehicleType (MAV_TYPE: 2 quadrotor)")
       ->capture_default_str();
   cmd->add_flag("--kmz", args->opt.kmz, "Also write <id>.kmz next to each <id>.kml");
   cmd->add_option("--dt", args->opt.trajectory.dt, "Trajectory sampling step (s)")->capture_default_str();
-  cmd->add_option("--densify", args->opt.trajectory.densify_m, "Trajectory: split legs longer than this (m, 0 = off)")
+  cmd->add_option("--densify", args->opt.trajectory.densify_m,
+                  "Trajectory: split legs longer than this (m, 0 = off)")
       ->capture_default_str();
   cmd->add_option("--corners", args->corners, "Trajectory corners: fillet or stop")->capture_default_str();
   cmd->add_option("--fillet-radius", args->opt.trajectory.fillet_radius_m, "Trajectory corner radius (m)")

@@ -2,9 +2,9 @@
 
 #include <zip.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <set>
 #include <stdexcept>
@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::vector<std::string>& known_formats() {
-  static const std::vector<std::string> formats{"geojson", "qgc", "wpl", "kml", "dji", "litchi", "csv", "trajectory"};
+  static const std::vector<std::string> formats{"geojson", "qgc",    "wpl", "kml",
+                                                "dji",     "litchi", "csv", "trajectory"};
   return formats;
 }
 
@@ -41,12 +42,23 @@ std::string xml_escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -58,7 +70,8 @@ std::string coord(double v) { return fmt::format("{:.9f}", v); }
 /// A file-system-safe version of a UAV id.
 std::string safe_name(const std::string& id) {
   std::string out;
-  for (char c : id) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
+  for (char c : id)
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
   if (out.empty() || out == "." || out == "..") out = "uav";
   return out;
 }
@@ -93,7 +106,8 @@ json polygon_feature(const GeoPolygon& poly, const std::string& role) {
 double signed_area(const json& ring) {
   double s = 0;
   for (std::size_t i = 0; i + 1 < ring.size(); ++i)
-    s += ring[i][0].get<double>() * ring[i + 1][1].get<double>() - ring[i + 1][0].get<double>() * ring[i][1].get<double>();
+    s += ring[i][0].get<double>() * ring[i + 1][1].get<double>() -
+         ring[i + 1][0].get<double>() * ring[i][1].get<double>();
   return s / 2.0;
 }
 
@@ -127,7 +141,8 @@ void check_geometry(const json& g, const std::string& where, std::vector<std::st
         continue;
       }
       std::size_t bad = problems.size();
-      for (std::size_t k = 0; k < ring.size(); ++k) check_position(ring[k], fmt::format("{} position {}", rw, k), problems);
+      for (std::size_t k = 0; k < ring.size(); ++k)
+        check_position(ring[k], fmt::format("{} position {}", rw, k), problems);
       if (problems.size() != bad) continue;
       if (ring.front()[0] != ring.back()[0] || ring.front()[1] != ring.back()[1])
         problems.push_back(rw + ": ring is not closed");
@@ -141,12 +156,15 @@ void check_geometry(const json& g, const std::string& where, std::vector<std::st
   } else if (type == "MultiPolygon") {
     for (std::size_t i = 0; i < c.size(); ++i) check_polygon(c[i], fmt::format("{} polygon {}", where, i));
   } else if (type == "LineString") {
-    if (!c.is_array() || c.size() < 2) problems.push_back(where + ": a LineString needs at least 2 positions");
+    if (!c.is_array() || c.size() < 2)
+      problems.push_back(where + ": a LineString needs at least 2 positions");
     else
-      for (std::size_t k = 0; k < c.size(); ++k) check_position(c[k], fmt::format("{} position {}", where, k), problems);
+      for (std::size_t k = 0; k < c.size(); ++k)
+        check_position(c[k], fmt::format("{} position {}", where, k), problems);
   } else if (type == "MultiLineString") {
     for (std::size_t i = 0; i < c.size(); ++i) {
-      if (!c[i].is_array() || c[i].size() < 2) problems.push_back(where + ": a LineString needs at least 2 positions");
+      if (!c[i].is_array() || c[i].size() < 2)
+        problems.push_back(where + ": a LineString needs at least 2 positions");
       else
         for (std::size_t k = 0; k < c[i].size(); ++k)
           check_position(c[i][k], fmt::format("{} line {} position {}", where, i, k), problems);
@@ -154,7 +172,8 @@ void check_geometry(const json& g, const std::string& where, std::vector<std::st
   } else if (type == "Point") {
     check_position(c, where, problems);
   } else if (type == "MultiPoint") {
-    for (std::size_t k = 0; k < c.size(); ++k) check_position(c[k], fmt::format("{} position {}", where, k), problems);
+    for (std::size_t k = 0; k < c.size(); ++k)
+      check_position(c[k], fmt::format("{} position {}", where, k), problems);
   } else {
     problems.push_back(where + ": unknown geometry type '" + type + "'");
   }
@@ -232,7 +251,8 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   auto fence = [&](const GeoPolygon& poly, bool inclusion) {
     if (poly.empty() || poly.front().size() < 4) return;
     json pts = json::array();
-    for (std::size_t k = 0; k + 1 < poly.front().size(); ++k) pts.push_back({poly.front()[k].lat, poly.front()[k].lon});
+    for (std::size_t k = 0; k + 1 < poly.front().size(); ++k)
+      pts.push_back({poly.front()[k].lat, poly.front()[k].lon});
     polygons.push_back({{"inclusion", inclusion}, {"polygon", pts}, {"version", 1}});
   };
   for (const auto& poly : plan.mission.area) fence(poly, true);
@@ -262,8 +282,8 @@ std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& o
   int seq = 1;
   for (const auto& it : items) {
     out += fmt::format("{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t{:.8f}\t{:.8f}\t{}\t{}\n", seq++, it.frame, it.command,
-                       num(it.param1), num(it.param2), num(it.param3), num(it.param4), it.lat, it.lon, num(it.alt),
-                       it.autocontinue ? 1 : 0);
+                       num(it.param1), num(it.param2), num(it.param3), num(it.param4), it.lat, it.lon,
+                       num(it.alt), it.autocontinue ? 1 : 0);
   }
   return out;
 }
@@ -295,9 +315,10 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   const auto items = mission_items(plan, index, opt.altitude);
   const UavPlan& up = plan.uavs.at(index);
   const LonLat home = plan.mission.uavs.at(index).start_resolved;
-  std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n";
-  s += "  <Document>\n    <name>" + xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) +
-       "</name>\n";
+  std::string s =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n";
+  s += "  <Document>\n    <name>" +
+       xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) + "</name>\n";
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";
   s += "    <Style id=\"nfz\"><LineStyle><color>ff0000ff</color><width>2</width></LineStyle>"
@@ -310,7 +331,8 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   std::string coords = coord(home.lon) + "," + coord(home.lat) + ",0";
   for (const auto& it : items)
     if (has_position(it)) coords += fmt::format(" {},{},{}", coord(it.lon), coord(it.lat), num(it.alt));
-  s += "    <Placemark>\n      <name>" + xml_escape(up.id) + " path</name>\n      <styleUrl>#path</styleUrl>\n";
+  s += "    <Placemark>\n      <name>" + xml_escape(up.id) +
+       " path</name>\n      <styleUrl>#path</styleUrl>\n";
   s += "      <LineString>\n        <tessellate>0</tessellate>\n        <altitudeMode>" +
        xml_escape(opt.kml_altitude_mode) + "</altitudeMode>\n        <coordinates>" + coords +
        "</coordinates>\n      </LineString>\n    </Placemark>\n";
@@ -328,7 +350,8 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
 
   const std::string header =
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<kml xmlns=\"http://www.opengis.net/kml/2.2\" xmlns:wpml=\"http://www.dji.com/wpmz/1.0.2\">\n  <Document>\n";
+      "<kml xmlns=\"http://www.opengis.net/kml/2.2\" xmlns:wpml=\"http://www.dji.com/wpmz/1.0.2\">\n  "
+      "<Document>\n";
   const std::string mission_config = fmt::format(
       "    <wpml:missionConfig>\n"
       "      <wpml:flyToWaylineMode>safely</wpml:flyToWaylineMode>\n"
@@ -342,8 +365,8 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
       "        <wpml:droneSubEnumValue>{}</wpml:droneSubEnumValue>\n"
       "      </wpml:droneInfo>\n"
       "    </wpml:missionConfig>\n",
-      opt.altitude.land_instead_of_rtl ? "autoLand" : "goHome", num(std::min(transit_alt, 1500.0)), num(speed),
-      opt.dji_drone_enum, opt.dji_drone_sub_enum);
+      opt.altitude.land_instead_of_rtl ? "autoLand" : "goHome", num(std::min(transit_alt, 1500.0)),
+      num(speed), opt.dji_drone_enum, opt.dji_drone_sub_enum);
 
   // camera: one action group per coverage run, photos every spacing_m metres
   auto action_group = [&](std::size_t start, std::size_t end, int id) {
@@ -388,7 +411,8 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
       "      </wpml:waylineCoordinateSysParam>\n"
       "      <wpml:autoFlightSpeed>{}</wpml:autoFlightSpeed>\n"
       "      <wpml:globalHeight>{}</wpml:globalHeight>\n"
-      "      <wpml:globalWaypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:globalWaypointTurnMode>\n"
+      "      "
+      "<wpml:globalWaypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:globalWaypointTurnMode>\n"
       "      <wpml:globalUseStraightLine>1</wpml:globalUseStraightLine>\n"
       "      <wpml:globalWaypointHeadingParam>\n"
       "        <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
@@ -438,7 +462,8 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
               "          <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
               "        </wpml:waypointHeadingParam>\n"
               "        <wpml:waypointTurnParam>\n"
-              "          <wpml:waypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:waypointTurnMode>\n"
+              "          "
+              "<wpml:waypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:waypointTurnMode>\n"
               "          <wpml:waypointTurnDampingDist>0</wpml:waypointTurnDampingDist>\n"
               "        </wpml:waypointTurnParam>\n"
               "        <wpml:useStraightLine>1</wpml:useStraightLine>\n",
@@ -464,16 +489,20 @@ std::string litchi_csv(const Plan& plan, std::size_t index, const ExportOptions&
   const auto wps = flown_waypoints(items);
   const Uav& uav = plan.mission.uavs.at(index);
   const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
-  std::string out = "latitude,longitude,altitude(m),heading(deg),curvesize(m),rotationdir,gimbalmode,gimbalpitchangle";
+  std::string out =
+      "latitude,longitude,altitude(m),heading(deg),curvesize(m),rotationdir,gimbalmode,gimbalpitchangle";
   for (int k = 1; k <= 15; ++k) out += fmt::format(",actiontype{},actionparam{}", k, k);
-  out += ",altitudemode,speed(m/s),poi_latitude,poi_longitude,poi_altitude(m),poi_altitudemode,photo_timeinterval,"
-         "photo_distinterval\n";
+  out +=
+      ",altitudemode,speed(m/"
+      "s),poi_latitude,poi_longitude,poi_altitude(m),poi_altitudemode,photo_timeinterval,"
+      "photo_distinterval\n";
   for (const MissionItem* w : wps) {
     // gimbal pitch -90 (nadir); no actions; altitude relative to take-off (altitudemode 0)
     out += fmt::format("{:.8f},{:.8f},{},0,0,0,2,-90", w->lat, w->lon, num(w->alt));
     for (int k = 1; k <= 15; ++k) out += ",-1,0";
     const bool shoot = camera && w->role == "coverage";
-    out += fmt::format(",0,{},0,0,0,0,-1,{}\n", num(uav.speed_mps), shoot ? num(plan.mission.spacing_m) : "-1");
+    out +=
+        fmt::format(",0,{},0,0,0,0,-1,{}\n", num(uav.speed_mps), shoot ? num(plan.mission.spacing_m) : "-1");
   }
   return out;
 }
@@ -483,8 +512,9 @@ std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptio
   std::string out = "seq,role,command,frame,lat,lon,alt_m,param1,param2,param3,param4\n";
   int seq = 1;
   for (const auto& it : items)
-    out += fmt::format("{},{},{},{},{:.9f},{:.9f},{},{},{},{},{}\n", seq++, it.role, it.command, it.frame, it.lat,
-                       it.lon, num(it.alt), num(it.param1), num(it.param2), num(it.param3), num(it.param4));
+    out += fmt::format("{},{},{},{},{:.9f},{:.9f},{},{},{},{},{}\n", seq++, it.role, it.command, it.frame,
+                       it.lat, it.lon, num(it.alt), num(it.param1), num(it.param2), num(it.param3),
+                       num(it.param4));
   return out;
 }
 
@@ -494,7 +524,8 @@ void write_zip(const fs::path& path, const std::map<std::string, std::string>& e
   fs::remove(tmp);
   int err = 0;
   zip_t* za = zip_open(tmp.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
-  if (za == nullptr) throw std::runtime_error(fmt::format("cannot create '{}' (libzip error {})", tmp.string(), err));
+  if (za == nullptr)
+    throw std::runtime_error(fmt::format("cannot create '{}' (libzip error {})", tmp.string(), err));
   for (const auto& [name, data] : entries) {
     zip_source_t* src = zip_source_buffer(za, data.data(), data.size(), 0);
     if (src == nullptr || zip_file_add(za, name.c_str(), src, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
@@ -512,8 +543,8 @@ void write_zip(const fs::path& path, const std::map<std::string, std::string>& e
   fs::rename(tmp, path);
 }
 
-std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::string>& formats, const fs::path& out_dir,
-                                  const ExportOptions& opt) {
+std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::string>& formats,
+                                  const fs::path& out_dir, const ExportOptions& opt) {
   // parse and check the format list first: nothing is written when one is unknown
   std::vector<std::string> wanted;
   for (const auto& entry : formats) {
@@ -565,7 +596,8 @@ std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::strin
       if (f == "geojson") {
         const json doc = uav_geojson(plan, i);
         const auto problems = validate_geojson(doc);
-        if (!problems.empty()) throw std::runtime_error("geojson export of '" + id + "' is invalid: " + problems.front());
+        if (!problems.empty())
+          throw std::runtime_error("geojson export of '" + id + "' is invalid: " + problems.front());
         put(dir / (id + ".geojson"), doc.dump(1) + "\n");
       } else if (f == "qgc") {
         put(dir / (id + ".plan"), qgc_plan(plan, i, opt).dump(4) + "\n");

@@ -21,7 +21,7 @@ struct ExportOptions {
   int qgc_vehicle_type = 2;    ///< MAV_TYPE: 2 quadrotor
   bool kmz = false;            ///< also write <id>.kmz next to <id>.kml
   std::string kml_altitude_mode = "relativeToGround";
-  int dji_drone_enum = 77;     ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
+  int dji_drone_enum = 77;  ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
   int dji_drone_sub_enum = 0;
   bool check_separation = true;  ///< refuse to export when check_separation() finds problems
 };
@@ -42,7 +42,8 @@ std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& o
 /// KML document: area, no-fly zones, the UAV's 3D path as a LineString.
 std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// DJI WPML: {"wpmz/template.kml", "wpmz/waylines.wpml"} contents.
-std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
+std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
+                                            const ExportOptions& opt = {});
 /// Litchi mission CSV.
 std::string litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// Plain CSV of the mission items (seq,role,command,frame,lat,lon,alt_m,param1..param4).

@@ -36,7 +36,9 @@ MissionItem command_item(std::uint16_t command, float p1, float p2, float p3, fl
   return it;
 }
 
-bool same_place(LonLat a, LonLat b) { return std::abs(a.lat - b.lat) < 1e-9 && std::abs(a.lon - b.lon) < 1e-9; }
+bool same_place(LonLat a, LonLat b) {
+  return std::abs(a.lat - b.lat) < 1e-9 && std::abs(a.lon - b.lon) < 1e-9;
+}
 
 }  // namespace
 
@@ -54,7 +56,8 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   // take-off: climb straight to the transition altitude above home
   items.push_back(position_item(kNavTakeoff, home, transit_alt, "takeoff"));
   // MAV_CMD_DO_CHANGE_SPEED: param1 1 = ground speed, param2 speed, param3 -1 = throttle unchanged
-  items.push_back(command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
+  items.push_back(
+      command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
 
   bool high = true;  // at the transition altitude
   LonLat here = home;

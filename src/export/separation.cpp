@@ -1,8 +1,8 @@
 #include "export/separation.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numbers>
 
 #include "geodesy/local_frame.hpp"
@@ -60,7 +60,8 @@ int RegionMap::grid_owner(Point p, int mode) const {
   const double fc = std::floor(qx / g.cell_m);
   const double fr = std::floor(qy / g.cell_m);
   if (fc < 0 || fr < 0 || fc >= g.cols || fr >= g.rows) return -1;
-  return g.owner[static_cast<std::size_t>(fr) * static_cast<std::size_t>(g.cols) + static_cast<std::size_t>(fc)];
+  return g
+      .owner[static_cast<std::size_t>(fr) * static_cast<std::size_t>(g.cols) + static_cast<std::size_t>(fc)];
 }
 
 int RegionMap::owner(Point p) const {
@@ -78,13 +79,14 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
   for (std::size_t i = 0; i < n; ++i) {
     const double ti = transition_altitude(opt, i);
     if (ti < mission_alt + sep.min_vertical_m)
-      problems.push_back(fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m",
-                                     plan.uavs[i].id, ti, mission_alt));
+      problems.push_back(
+          fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m",
+                      plan.uavs[i].id, ti, mission_alt));
     for (std::size_t j = i + 1; j < n; ++j) {
       const double tj = transition_altitude(opt, j);
       if (std::abs(ti - tj) < sep.min_vertical_m)
-        problems.push_back(fmt::format("uavs '{}' and '{}' share the transition altitude {} m", plan.uavs[i].id,
-                                       plan.uavs[j].id, ti));
+        problems.push_back(fmt::format("uavs '{}' and '{}' share the transition altitude {} m",
+                                       plan.uavs[i].id, plan.uavs[j].id, ti));
     }
   }
 
@@ -97,7 +99,8 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
     const auto items = mission_items(plan, u, opt);
     const MissionItem* prev = nullptr;
     for (const auto& it : items) {
-      const bool positioned = it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
+      const bool positioned =
+          it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
       if (!positioned) continue;
       if (prev != nullptr) {
         const bool low = std::min(prev->alt, it.alt) <= mission_alt + 1e-3;
@@ -113,10 +116,12 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
             const Point p{a.x() + f * (b.x() - a.x()), a.y() + f * (b.y() - a.y())};
             const int o = regions.owner(p);
             if (o >= 0 && o != static_cast<int>(u)) {
-              problems.push_back(fmt::format(
-                  "uav '{}': leg at mission altitude from ({:.7f}, {:.7f}) to ({:.7f}, {:.7f}) enters the region of "
-                  "uav '{}'",
-                  plan.uavs[u].id, prev->lon, prev->lat, it.lon, it.lat, plan.uavs[static_cast<std::size_t>(o)].id));
+              problems.push_back(
+                  fmt::format("uav '{}': leg at mission altitude from ({:.7f}, {:.7f}) to ({:.7f}, {:.7f}) "
+                              "enters the region of "
+                              "uav '{}'",
+                              plan.uavs[u].id, prev->lon, prev->lat, it.lon, it.lat,
+                              plan.uavs[static_cast<std::size_t>(o)].id));
               break;
             }
           }

@@ -29,8 +29,8 @@ class RegionMap {
 };
 
 struct SeparationOptions {
-  double min_vertical_m = 1.0;   ///< transition altitudes must differ by at least this
-  double sample_step_m = 0.5;    ///< leg sampling step for the region test (also capped at cell/4)
+  double min_vertical_m = 1.0;  ///< transition altitudes must differ by at least this
+  double sample_step_m = 0.5;   ///< leg sampling step for the region test (also capped at cell/4)
 };
 
 /// Problems found, one line each (empty = separation holds): shared or too-close transition

@@ -1,8 +1,8 @@
 #include "trajectory/trajectory.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <stdexcept>
 
 #include "geodesy/local_frame.hpp"
@@ -86,9 +86,11 @@ Trajectory::Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits,
   const double a = limits_.a_max;
   std::vector<double> u(n, 0.0);
   cap[0] = cap[n - 1] = 0.0;
-  for (std::size_t i = 1; i < n; ++i) u[i] = std::min(cap[i], std::sqrt(u[i - 1] * u[i - 1] + 2 * a * line[i - 1]));
+  for (std::size_t i = 1; i < n; ++i)
+    u[i] = std::min(cap[i], std::sqrt(u[i - 1] * u[i - 1] + 2 * a * line[i - 1]));
   u[n - 1] = 0.0;
-  for (std::size_t i = n - 1; i-- > 0;) u[i] = std::min(u[i], std::sqrt(u[i + 1] * u[i + 1] + 2 * a * line[i]));
+  for (std::size_t i = n - 1; i-- > 0;)
+    u[i] = std::min(u[i], std::sqrt(u[i + 1] * u[i + 1] + 2 * a * line[i]));
 
   // 4. pieces
   double t = 0;
@@ -146,7 +148,8 @@ Sample Trajectory::at(double t) const {
   }
   t = std::clamp(t, 0.0, duration_);
   s.t = t;
-  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double x, const Piece& p) { return x < p.t0; });
+  auto it =
+      std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double x, const Piece& p) { return x < p.t0; });
   const std::size_t k = it == pieces_.begin() ? 0 : static_cast<std::size_t>(it - pieces_.begin()) - 1;
   const Piece& pc = pieces_[k];
   const double tau = std::clamp(t - pc.t0, 0.0, pc.duration);
@@ -203,7 +206,8 @@ std::vector<Sample> Trajectory::sample(double dt) const {
   return out;
 }
 
-std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index, const exporting::AltitudeOptions& altitudes) {
+std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
+                                   const exporting::AltitudeOptions& altitudes) {
   const auto items = exporting::mission_items(plan, index, altitudes);
   const geodesy::LocalFrame frame(plan.origin);
   const Point home = frame.to_local(plan.mission.uavs.at(index).start_resolved);
@@ -239,8 +243,9 @@ std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples)
   out.reserve(samples.size() * 120);
   for (const auto& s : samples) {
     const LonLat ll = frame.to_wgs84({s.p[0], s.p[1]});
-    out += fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.t,
-                       s.p[0], s.p[1], s.p[2], ll.lat, ll.lon, s.v[0], s.v[1], s.v[2], s.a[0], s.a[1], s.a[2]);
+    out += fmt::format(
+        "{:.6f},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.t, s.p[0],
+        s.p[1], s.p[2], ll.lat, ll.lon, s.v[0], s.v[1], s.v[2], s.a[0], s.a[1], s.a[2]);
   }
   return out;
 }

@@ -22,8 +22,8 @@ using Vec3 = std::array<double, 3>;
 enum class CornerMode { Stop, Fillet };
 
 struct Options {
-  double dt = 0.1;               ///< sampling step, seconds
-  double densify_m = 10.0;       ///< legs longer than this get intermediate waypoints (0 = off)
+  double dt = 0.1;          ///< sampling step, seconds
+  double densify_m = 10.0;  ///< legs longer than this get intermediate waypoints (0 = off)
   CornerMode corners = CornerMode::Fillet;
   double fillet_radius_m = 2.0;  ///< corner radius; shrunk where legs are too short
   double min_fillet_m = 0.05;    ///< below this radius the UAV stops at the corner instead

@@ -60,7 +60,8 @@ inline Plan two_uav_plan(bool camera = false) {
   UavPlan pa;
   pa.id = "alpha";
   pa.share_requested = pa.share_actual = 0.5;
-  const std::vector<Point> loop_a{{-90, -40}, {-10, -40}, {-10, 0}, {-50, 0}, {-50, 40}, {-90, 40}, {-90, -40}};
+  const std::vector<Point> loop_a{{-90, -40}, {-10, -40}, {-10, 0},  {-50, 0},
+                                  {-50, 40},  {-90, 40},  {-90, -40}};
   pa.parts.push_back(make_part(frame, PartKind::Transit, {{-120, -60}, {-90, -40}}));
   pa.parts.push_back(make_part(frame, PartKind::Coverage, loop_a));
   pa.parts.push_back(make_part(frame, PartKind::Transit, {{-90, -40}, {-120, -60}}));

@@ -21,7 +21,8 @@ using nlohmann::json;
 namespace {
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("uavcover_export_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("uavcover_export_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -220,7 +221,10 @@ TEST(Formats, KmlAndKmzRoundTrip) {
     ASSERT_EQ(placemarks.size(), 3u);  // area, no-fly zone, path
     // area polygon: lon,lat order, matches the mission ring
     const auto area = kml_coords(
-        doc.select_node("/kml/Document/Placemark[1]/Polygon/outerBoundaryIs/LinearRing/coordinates").node().text().get());
+        doc.select_node("/kml/Document/Placemark[1]/Polygon/outerBoundaryIs/LinearRing/coordinates")
+            .node()
+            .text()
+            .get());
     const GeoRing& ring = plan.mission.area[0][0];
     ASSERT_EQ(area.size(), ring.size());
     for (std::size_t k = 0; k < ring.size(); ++k) {
@@ -284,7 +288,8 @@ TEST(Formats, DjiWpmlRoundTrip) {
           EXPECT_STREQ(wps[k].role.c_str(), "coverage");
           const int end = g.child("wpml:actionGroupEndIndex").text().as_int();
           EXPECT_STREQ(wps[static_cast<std::size_t>(end)].role.c_str(), "coverage");
-          EXPECT_NEAR(g.select_node("wpml:actionTrigger/wpml:actionTriggerParam").node().text().as_double(), 10.0, 1e-9);
+          EXPECT_NEAR(g.select_node("wpml:actionTrigger/wpml:actionTriggerParam").node().text().as_double(),
+                      10.0, 1e-9);
         }
         ++k;
       }
@@ -370,7 +375,8 @@ TEST(Formats, GeojsonValidatorCatchesBrokenDocuments) {
   EXPECT_NE(validate_geojson(cw)[0].find("counter-clockwise"), std::string::npos);
   // open ring
   json open = good;
-  open["features"][0]["geometry"]["coordinates"][0].erase(open["features"][0]["geometry"]["coordinates"][0].size() - 1);
+  open["features"][0]["geometry"]["coordinates"][0].erase(
+      open["features"][0]["geometry"]["coordinates"][0].size() - 1);
   auto p = validate_geojson(open);
   ASSERT_FALSE(p.empty());
   EXPECT_NE(p[0].find("not closed"), std::string::npos);

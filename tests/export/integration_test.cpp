@@ -39,7 +39,8 @@ TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
   PlanOptions po;
   po.placement_evaluations = 200;
   const Plan planned = plan(mission, po);
-  const fs::path dir = fs::temp_directory_path() / ("uavcover_export_integration_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("uavcover_export_integration_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   io::write_file_atomic(dir / "paths.geojson", io::paths_geojson(planned).dump(1) + "\n");
   io::write_file_atomic(dir / "plan.json", io::plan_json(planned).dump(1) + "\n");

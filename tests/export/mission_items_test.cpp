@@ -115,8 +115,8 @@ TEST(Separation, FixtureIsSafeAndUsesTheGrid) {
   EXPECT_TRUE(regions.uses_grid());
   EXPECT_EQ(regions.owner({-50, -20}), 0);
   EXPECT_EQ(regions.owner({50, -20}), 1);
-  EXPECT_EQ(regions.owner({70, -20}), -1);   // no-fly cell
-  EXPECT_EQ(regions.owner({500, 0}), -1);    // outside the grid
+  EXPECT_EQ(regions.owner({70, -20}), -1);  // no-fly cell
+  EXPECT_EQ(regions.owner({500, 0}), -1);   // outside the grid
   EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
 }
 
@@ -142,8 +142,8 @@ TEST(Separation, LowLegThroughAnotherRegionIsReported) {
   // altitude and crosses bravo's region
   plan.grid.owner[3 * 10 + 7] = 0;
   auto& parts = plan.uavs[0].parts;
-  parts.insert(parts.begin() + 2,
-               fixture::make_part(frame, PartKind::Coverage, {{45, 15}, {55, 15}, {55, 25}, {45, 25}, {45, 15}}));
+  parts.insert(parts.begin() + 2, fixture::make_part(frame, PartKind::Coverage,
+                                                     {{45, 15}, {55, 15}, {55, 25}, {45, 25}, {45, 15}}));
   ASSERT_TRUE(RegionMap(plan).uses_grid());
   const auto problems = check_separation(plan, AltitudeOptions{});
   ASSERT_FALSE(problems.empty());

@@ -46,7 +46,8 @@ void check_all(const Trajectory& traj, double dt, double nominal_radius) {
   double dev_bound = 1e-6;
   for (std::size_t i = 1; i + 1 < w.size(); ++i) {
     EXPECT_LE(radii[i], nominal_radius + 1e-12);
-    if (radii[i] > 0) dev_bound = std::max(dev_bound, radii[i] * (1.0 - std::sin(half_interior(w, i))) + 1e-6);
+    if (radii[i] > 0)
+      dev_bound = std::max(dev_bound, radii[i] * (1.0 - std::sin(half_interior(w, i))) + 1e-6);
   }
   // rest at both ends, at the first and last waypoints
   EXPECT_DOUBLE_EQ(s.front().t, 0.0);
@@ -91,7 +92,8 @@ void check_all(const Trajectory& traj, double dt, double nominal_radius) {
   // every waypoint reached: within the corner offset of its fillet plus half a sampling step
   for (std::size_t i = 0; i < w.size(); ++i) {
     double tol = vmax * dt / 2 + 1e-6;
-    if (i > 0 && i + 1 < w.size() && radii[i] > 0) tol += radii[i] * (1.0 / std::sin(half_interior(w, i)) - 1.0);
+    if (i > 0 && i + 1 < w.size() && radii[i] > 0)
+      tol += radii[i] * (1.0 / std::sin(half_interior(w, i)) - 1.0);
     double best = 1e300;
     for (const auto& x : s) best = std::min(best, dist(x.p, w[i]));
     EXPECT_LE(best, tol) << "waypoint " << i;
@@ -163,7 +165,8 @@ TEST(Trajectory, ShortLegsShrinkTheFilletAndUTurnsStop) {
   Options opt;
   opt.fillet_radius_m = 5.0;
   // zig-zag with 2 m legs (fillets must shrink), then a 180 degree reversal (must stop)
-  const std::vector<Vec3> w{{0, 0, 0}, {20, 0, 0}, {20, 2, 0}, {0, 2, 0}, {0, 4, 0}, {20, 4, 0}, {5, 4, 0}, {5, 4, 3}};
+  const std::vector<Vec3> w{{0, 0, 0}, {20, 0, 0}, {20, 2, 0}, {0, 2, 0},
+                            {0, 4, 0}, {20, 4, 0}, {5, 4, 0},  {5, 4, 3}};
   const Trajectory t(w, {6.0, 2.5}, opt);
   check_all(t, 0.05, 5.0);
   const auto& r = t.corner_radii();
@@ -229,7 +232,8 @@ TEST(Trajectory, CsvHasTheExactHeaderAndOneRowPerSample) {
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az");
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), samples.size() + 1);
   // the first row is home on the ground, at rest
-  const std::string row1 = csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+  const std::string row1 =
+      csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
   std::vector<double> f;
   std::size_t pos = 0;
   while (pos <= row1.size()) {
