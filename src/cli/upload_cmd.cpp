@@ -62,8 +62,8 @@ void run_upload(const UploadArgs& a) {
   link.set_peer(to);
   const bool quiet = global_flags().quiet;
   if (!quiet)
-    std::cerr << fmt::format("uploading {} items for UAV '{}' to {}:{} (system {}, component {}){}\n", items.size(),
-                             a.uav, to.host, to.port, opt.target_system, opt.target_component,
+    std::cerr << fmt::format("uploading {} items for UAV '{}' to {}:{} (system {}, component {}){}\n",
+                             items.size(), a.uav, to.host, to.port, opt.target_system, opt.target_component,
                              home ? ", item 0 = home" : "");
   const auto res = mavlink::upload_mission(link, items, opt, [&](std::size_t done, std::size_t total) {
     if (!quiet) std::cerr << fmt::format("\r  {}/{} items", done, total) << std::flush;
@@ -80,15 +80,18 @@ void run_upload(const UploadArgs& a) {
 const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
   auto args = std::make_shared<UploadArgs>();
   auto* cmd = app.add_subcommand("upload", "Upload one UAV's mission to a vehicle over MAVLink 2 (UDP)");
-  cmd->add_option("PLAN_DIR", args->plan_dir, "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
+  cmd->add_option("PLAN_DIR", args->plan_dir,
+                  "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--uav", args->uav, "Id of the UAV whose mission is sent")->required();
-  cmd->add_option("--to", args->to, "Vehicle address, udp:HOST:PORT (we send from an ephemeral port; it answers there)")
+  cmd->add_option("--to", args->to,
+                  "Vehicle address, udp:HOST:PORT (we send from an ephemeral port; it answers there)")
       ->required();
   cmd->add_option("--timeout", args->timeout_s, "Seconds to wait for the vehicle before resending")
       ->capture_default_str();
-  cmd->add_option("--retries", args->retries, "Resends after a timeout before giving up")->capture_default_str();
+  cmd->add_option("--retries", args->retries, "Resends after a timeout before giving up")
+      ->capture_default_str();
   cmd->add_option("--target-system", args->target_system, "Vehicle MAVLink system id")->capture_default_str();
   cmd->add_option("--target-component", args->target_component, "Vehicle MAVLink component id")
       ->capture_default_str();
@@ -96,9 +99,11 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
   cmd->add_option("--compid", args->compid, "Our MAVLink component id")->capture_default_str();
   cmd->add_flag("--no-home", args->no_home,
                 "Do not send the home position as item 0 (ArduPilot expects it there; PX4 does not)");
-  cmd->add_option("--transition-base", args->altitude.transition_base_m, "Transition altitude of the first UAV (m)")
+  cmd->add_option("--transition-base", args->altitude.transition_base_m,
+                  "Transition altitude of the first UAV (m)")
       ->capture_default_str();
-  cmd->add_option("--transition-step", args->altitude.transition_step_m, "Transition altitude added per UAV (m)")
+  cmd->add_option("--transition-step", args->altitude.transition_step_m,
+                  "Transition altitude added per UAV (m)")
       ->capture_default_str();
   cmd->add_flag("--land", args->altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
   cmd->footer(

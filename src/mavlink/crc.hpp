@@ -30,7 +30,7 @@ constexpr std::uint16_t crc_accumulate(std::string_view text, std::uint16_t crc 
 
 /// One field of a message definition as common.xml gives it (for deriving CRC_EXTRA).
 struct FieldDef {
-  std::string_view type;   ///< C type without array suffix, e.g. "uint16_t"
+  std::string_view type;  ///< C type without array suffix, e.g. "uint16_t"
   std::string_view name;
   std::uint8_t array_length = 0;
 };

@@ -85,8 +85,7 @@ Parser::Step Parser::try_frame(std::vector<Frame>& out) {
   }
   std::uint16_t crc = crc_accumulate(std::span<const std::uint8_t>(p + 1, header_len - 1 + len));
   crc = crc_accumulate(info->crc_extra, crc);
-  const std::uint16_t got =
-      static_cast<std::uint16_t>(p[header_len + len] | (p[header_len + len + 1] << 8));
+  const std::uint16_t got = static_cast<std::uint16_t>(p[header_len + len] | (p[header_len + len + 1] << 8));
   if (crc != got || (!v2 && len < info->min_length)) {
     ++stats_.crc_errors;
     return Step::Rejected;

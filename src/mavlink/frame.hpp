@@ -53,11 +53,11 @@ std::optional<Message> decode(const Frame& frame);
 class Parser {
  public:
   struct Stats {
-    std::size_t frames = 0;          ///< accepted
-    std::size_t crc_errors = 0;      ///< candidates with a known msgid and a wrong checksum
-    std::size_t unknown_msgid = 0;   ///< candidates whose msgid is not in this codec
-    std::size_t bad_flags = 0;       ///< unsupported incompatibility flags
-    std::size_t bytes_skipped = 0;   ///< bytes discarded while resynchronising
+    std::size_t frames = 0;         ///< accepted
+    std::size_t crc_errors = 0;     ///< candidates with a known msgid and a wrong checksum
+    std::size_t unknown_msgid = 0;  ///< candidates whose msgid is not in this codec
+    std::size_t bad_flags = 0;      ///< unsupported incompatibility flags
+    std::size_t bytes_skipped = 0;  ///< bytes discarded while resynchronising
   };
 
   /// Feeds bytes; appends every complete valid frame to `out`. With `end_of_input` (e.g. the end

@@ -196,37 +196,63 @@ std::optional<Message> decode_as(std::span<const std::uint8_t> payload) {
 
 std::string_view mission_result_name(std::uint8_t result) {
   switch (result) {
-    case kMissionAccepted: return "MAV_MISSION_ACCEPTED";
-    case kMissionError: return "MAV_MISSION_ERROR";
-    case kMissionUnsupportedFrame: return "MAV_MISSION_UNSUPPORTED_FRAME";
-    case kMissionUnsupported: return "MAV_MISSION_UNSUPPORTED";
-    case kMissionNoSpace: return "MAV_MISSION_NO_SPACE";
-    case kMissionInvalid: return "MAV_MISSION_INVALID";
-    case 6: return "MAV_MISSION_INVALID_PARAM1";
-    case 7: return "MAV_MISSION_INVALID_PARAM2";
-    case 8: return "MAV_MISSION_INVALID_PARAM3";
-    case 9: return "MAV_MISSION_INVALID_PARAM4";
-    case 10: return "MAV_MISSION_INVALID_PARAM5_X";
-    case 11: return "MAV_MISSION_INVALID_PARAM6_Y";
-    case 12: return "MAV_MISSION_INVALID_PARAM7";
-    case kMissionInvalidSequence: return "MAV_MISSION_INVALID_SEQUENCE";
-    case kMissionDenied: return "MAV_MISSION_DENIED";
-    case kMissionOperationCancelled: return "MAV_MISSION_OPERATION_CANCELLED";
-    default: return "MAV_MISSION_RESULT(unknown)";
+    case kMissionAccepted:
+      return "MAV_MISSION_ACCEPTED";
+    case kMissionError:
+      return "MAV_MISSION_ERROR";
+    case kMissionUnsupportedFrame:
+      return "MAV_MISSION_UNSUPPORTED_FRAME";
+    case kMissionUnsupported:
+      return "MAV_MISSION_UNSUPPORTED";
+    case kMissionNoSpace:
+      return "MAV_MISSION_NO_SPACE";
+    case kMissionInvalid:
+      return "MAV_MISSION_INVALID";
+    case 6:
+      return "MAV_MISSION_INVALID_PARAM1";
+    case 7:
+      return "MAV_MISSION_INVALID_PARAM2";
+    case 8:
+      return "MAV_MISSION_INVALID_PARAM3";
+    case 9:
+      return "MAV_MISSION_INVALID_PARAM4";
+    case 10:
+      return "MAV_MISSION_INVALID_PARAM5_X";
+    case 11:
+      return "MAV_MISSION_INVALID_PARAM6_Y";
+    case 12:
+      return "MAV_MISSION_INVALID_PARAM7";
+    case kMissionInvalidSequence:
+      return "MAV_MISSION_INVALID_SEQUENCE";
+    case kMissionDenied:
+      return "MAV_MISSION_DENIED";
+    case kMissionOperationCancelled:
+      return "MAV_MISSION_OPERATION_CANCELLED";
+    default:
+      return "MAV_MISSION_RESULT(unknown)";
   }
 }
 
 std::optional<MessageInfo> message_info(std::uint32_t msgid) {
   switch (msgid) {
-    case Heartbeat::info.id: return Heartbeat::info;
-    case MissionCount::info.id: return MissionCount::info;
-    case MissionRequestInt::info.id: return MissionRequestInt::info;
-    case MissionItemInt::info.id: return MissionItemInt::info;
-    case MissionAck::info.id: return MissionAck::info;
-    case MissionClearAll::info.id: return MissionClearAll::info;
-    case MissionCurrent::info.id: return MissionCurrent::info;
-    case MissionItemReached::info.id: return MissionItemReached::info;
-    default: return std::nullopt;
+    case Heartbeat::info.id:
+      return Heartbeat::info;
+    case MissionCount::info.id:
+      return MissionCount::info;
+    case MissionRequestInt::info.id:
+      return MissionRequestInt::info;
+    case MissionItemInt::info.id:
+      return MissionItemInt::info;
+    case MissionAck::info.id:
+      return MissionAck::info;
+    case MissionClearAll::info.id:
+      return MissionClearAll::info;
+    case MissionCurrent::info.id:
+      return MissionCurrent::info;
+    case MissionItemReached::info.id:
+      return MissionItemReached::info;
+    default:
+      return std::nullopt;
   }
 }
 
@@ -243,15 +269,24 @@ std::size_t encode_payload(const Message& m, PayloadBuffer& out) {
 
 std::optional<Message> decode_payload(std::uint32_t msgid, std::span<const std::uint8_t> payload) {
   switch (msgid) {
-    case Heartbeat::info.id: return decode_as<Heartbeat>(payload);
-    case MissionCount::info.id: return decode_as<MissionCount>(payload);
-    case MissionRequestInt::info.id: return decode_as<MissionRequestInt>(payload);
-    case MissionItemInt::info.id: return decode_as<MissionItemInt>(payload);
-    case MissionAck::info.id: return decode_as<MissionAck>(payload);
-    case MissionClearAll::info.id: return decode_as<MissionClearAll>(payload);
-    case MissionCurrent::info.id: return decode_as<MissionCurrent>(payload);
-    case MissionItemReached::info.id: return decode_as<MissionItemReached>(payload);
-    default: return std::nullopt;
+    case Heartbeat::info.id:
+      return decode_as<Heartbeat>(payload);
+    case MissionCount::info.id:
+      return decode_as<MissionCount>(payload);
+    case MissionRequestInt::info.id:
+      return decode_as<MissionRequestInt>(payload);
+    case MissionItemInt::info.id:
+      return decode_as<MissionItemInt>(payload);
+    case MissionAck::info.id:
+      return decode_as<MissionAck>(payload);
+    case MissionClearAll::info.id:
+      return decode_as<MissionClearAll>(payload);
+    case MissionCurrent::info.id:
+      return decode_as<MissionCurrent>(payload);
+    case MissionItemReached::info.id:
+      return decode_as<MissionItemReached>(payload);
+    default:
+      return std::nullopt;
   }
 }
 

@@ -43,8 +43,8 @@ enum MissionType : std::uint8_t { kMissionTypeMission = 0, kMissionTypeFence = 1
 struct Heartbeat {
   static constexpr MessageInfo info{0, "HEARTBEAT", 50, 9, 9};
   std::uint32_t custom_mode = 0;
-  std::uint8_t type = 0;        ///< MAV_TYPE (6 = GCS, 2 = quadrotor)
-  std::uint8_t autopilot = 0;   ///< MAV_AUTOPILOT (3 = ArduPilot, 8 = invalid / GCS)
+  std::uint8_t type = 0;       ///< MAV_TYPE (6 = GCS, 2 = quadrotor)
+  std::uint8_t autopilot = 0;  ///< MAV_AUTOPILOT (3 = ArduPilot, 8 = invalid / GCS)
   std::uint8_t base_mode = 0;
   std::uint8_t system_status = 0;
   std::uint8_t mavlink_version = 3;
@@ -108,11 +108,11 @@ struct MissionClearAll {
 struct MissionCurrent {
   static constexpr MessageInfo info{42, "MISSION_CURRENT", 28, 2, 18};
   std::uint16_t seq = 0;
-  std::uint16_t total = 0;          // extension (UINT16_MAX: not supported)
-  std::uint8_t mission_state = 0;   // extension (MISSION_STATE)
-  std::uint8_t mission_mode = 0;    // extension
-  std::uint32_t mission_id = 0;     // extension
-  std::uint32_t fence_id = 0;       // extension
+  std::uint16_t total = 0;            // extension (UINT16_MAX: not supported)
+  std::uint8_t mission_state = 0;     // extension (MISSION_STATE)
+  std::uint8_t mission_mode = 0;      // extension
+  std::uint32_t mission_id = 0;       // extension
+  std::uint32_t fence_id = 0;         // extension
   std::uint32_t rally_points_id = 0;  // extension
   friend bool operator==(const MissionCurrent&, const MissionCurrent&) = default;
 };

@@ -11,8 +11,15 @@ using clock = std::chrono::steady_clock;
 
 bool is_global_frame(std::uint8_t frame) {
   switch (frame) {
-    case 0: case 3: case 5: case 6: case 10: case 11: return true;
-    default: return false;
+    case 0:
+    case 3:
+    case 5:
+    case 6:
+    case 10:
+    case 11:
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -24,7 +31,9 @@ std::chrono::milliseconds until(clock::time_point t) {
 }
 
 // A message addressed to `sysid` (0 = broadcast)?
-bool for_me(std::uint8_t target_system, std::uint8_t sysid) { return target_system == 0 || target_system == sysid; }
+bool for_me(std::uint8_t target_system, std::uint8_t sysid) {
+  return target_system == 0 || target_system == sysid;
+}
 
 }  // namespace
 
@@ -77,7 +86,8 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
     res.elapsed_s = std::chrono::duration<double>(clock::now() - t0).count();
     return res;
   };
-  if (items.size() > 65535) return finish(false, "too many mission items (" + std::to_string(items.size()) + ")");
+  if (items.size() > 65535)
+    return finish(false, "too many mission items (" + std::to_string(items.size()) + ")");
   if (!link.has_peer()) return finish(false, "no vehicle address");
   const auto count = static_cast<std::uint16_t>(items.size());
   res.count = count;
@@ -91,8 +101,8 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
   const auto hard_deadline = t0 + options.timeout * (retries + 1) * (static_cast<long>(count) + 2);
 
   Heartbeat hb;
-  hb.type = 6;        // MAV_TYPE_GCS
-  hb.autopilot = 8;   // MAV_AUTOPILOT_INVALID
+  hb.type = 6;       // MAV_TYPE_GCS
+  hb.autopilot = 8;  // MAV_AUTOPILOT_INVALID
   hb.system_status = 4;
   link.send(hb);
 
@@ -153,10 +163,12 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
       if (!for_me(ack->target_system, link.sysid()) || ack->mission_type != options.mission_type) continue;
       res.ack = ack->type;
       if (ack->type != kMissionAccepted)
-        return finish(false, "the vehicle refused the mission: " + std::string(mission_result_name(ack->type)));
+        return finish(false,
+                      "the vehicle refused the mission: " + std::string(mission_result_name(ack->type)));
       if (res.unique_items != count)
-        return finish(false, "the vehicle accepted after requesting only " + std::to_string(res.unique_items) +
-                                 " of " + std::to_string(count) + " items");
+        return finish(false, "the vehicle accepted after requesting only " +
+                                 std::to_string(res.unique_items) + " of " + std::to_string(count) +
+                                 " items");
       return finish(true, "");
     }
   }
@@ -178,7 +190,9 @@ ProgressLog monitor_progress(UdpLink& link, std::uint8_t target_system, std::uin
   }
 }
 
-Vehicle::Vehicle(UdpLink& link, VehicleOptions options) : link_(link), opt_(options) { link_.learn_peer(true); }
+Vehicle::Vehicle(UdpLink& link, VehicleOptions options) : link_(link), opt_(options) {
+  link_.learn_peer(true);
+}
 
 void Vehicle::request(std::uint16_t seq) {
   MissionRequestInt req;

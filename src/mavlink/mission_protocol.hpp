@@ -52,7 +52,7 @@ struct UploadResult {
   std::size_t items_sent = 0;       ///< MISSION_ITEM_INT sent, repeats included
   std::size_t count_sent = 0;       ///< MISSION_COUNT sent, resends included
   std::size_t timeouts = 0;
-  std::size_t out_of_order = 0;     ///< requests for anything but the next new item
+  std::size_t out_of_order = 0;  ///< requests for anything but the next new item
   double elapsed_s = 0.0;
 };
 
@@ -86,11 +86,11 @@ class Vehicle {
   struct Stats {
     std::size_t uploads_accepted = 0;
     std::size_t requests_sent = 0;
-    std::size_t rerequests = 0;        ///< after a timeout or an out-of-sequence item
-    std::size_t out_of_sequence = 0;   ///< items ahead of the expected one: dropped, expected re-requested
-    std::size_t duplicates = 0;        ///< items already received: dropped (the expected one is requested)
-    std::size_t cancelled = 0;         ///< transfers abandoned after the retries
-    std::size_t acks_resent = 0;       ///< final item seen again after the ACK: ACK repeated
+    std::size_t rerequests = 0;       ///< after a timeout or an out-of-sequence item
+    std::size_t out_of_sequence = 0;  ///< items ahead of the expected one: dropped, expected re-requested
+    std::size_t duplicates = 0;       ///< items already received: dropped (the expected one is requested)
+    std::size_t cancelled = 0;        ///< transfers abandoned after the retries
+    std::size_t acks_resent = 0;      ///< final item seen again after the ACK: ACK repeated
   };
 
   /// The link's sysid/compid are the vehicle's; replies go to whoever sent last.
@@ -98,7 +98,8 @@ class Vehicle {
 
   /// Handles messages and timeouts for at most `limit`, or until `stop` becomes true, or (when
   /// `until_accepted`) until an upload completes.
-  void run(std::chrono::milliseconds limit, const std::atomic<bool>* stop = nullptr, bool until_accepted = false);
+  void run(std::chrono::milliseconds limit, const std::atomic<bool>* stop = nullptr,
+           bool until_accepted = false);
 
   /// Flies the stored mission from `first_seq`: for each item, MISSION_CURRENT(seq) then, after
   /// `per_item`, MISSION_ITEM_REACHED(seq); finally MISSION_CURRENT with mission_state COMPLETE.

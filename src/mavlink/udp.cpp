@@ -92,7 +92,8 @@ bool UdpLink::send_raw(const std::vector<std::uint8_t>& bytes) {
                              sizeof(sockaddr_in));
   if (n < 0) {
     // ECONNREFUSED & co. (nobody listening yet) behave like a lost datagram.
-    if (errno == ECONNREFUSED || errno == EAGAIN || errno == EHOSTUNREACH || errno == ENETUNREACH) return true;
+    if (errno == ECONNREFUSED || errno == EAGAIN || errno == EHOSTUNREACH || errno == ENETUNREACH)
+      return true;
     throw std::runtime_error(sys_error("sendto"));
   }
   ++stats_.sent;

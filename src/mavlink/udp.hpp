@@ -37,8 +37,8 @@ struct Received {
 class UdpLink {
  public:
   struct Stats {
-    std::size_t sent = 0, received = 0;             ///< datagrams actually sent / accepted
-    std::size_t dropped_tx = 0, dropped_rx = 0;     ///< dropped by loss injection
+    std::size_t sent = 0, received = 0;          ///< datagrams actually sent / accepted
+    std::size_t dropped_tx = 0, dropped_rx = 0;  ///< dropped by loss injection
   };
 
   /// Binds to `local` (port 0: any free port). Throws std::runtime_error on socket errors.

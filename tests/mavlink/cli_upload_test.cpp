@@ -27,8 +27,8 @@ struct CliResult {
 
 CliResult run_cli(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + UAVCOVER_CLI + "' " + args + " > '" + out.string() + "' 2> '" +
-                          err.string() + "'";
+  const std::string cmd =
+      std::string("'") + UAVCOVER_CLI + "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -46,8 +46,8 @@ class CliUpload : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("uavcover-upload-" + std::to_string(::getpid()));
     fs::create_directories(dir_);
     plan_dir_ = dir_ / "plan";
-    const auto r = run_cli("-q plan '" + std::string(UAVCOVER_SOURCE_DIR) + "/examples/olive-grove.json' -o '" +
-                               plan_dir_.string() + "'",
+    const auto r = run_cli("-q plan '" + std::string(UAVCOVER_SOURCE_DIR) +
+                               "/examples/olive-grove.json' -o '" + plan_dir_.string() + "'",
                            dir_);
     ASSERT_EQ(r.code, 0) << r.err;
   }
@@ -133,8 +133,8 @@ TEST_F(CliUpload, BadInputIsExitCode2AndSilenceIs1) {
   EXPECT_EQ(r.code, 2);
   // Nobody answers: gives up after the retries, exit 1.
   UdpLink silent(Endpoint{"127.0.0.1", 0}, 1, 1);
-  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:" + std::to_string(silent.local_port()) +
-                  " --timeout 0.05 --retries 2",
+  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:" +
+                  std::to_string(silent.local_port()) + " --timeout 0.05 --retries 2",
               dir_);
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("no answer from the vehicle after 2 retries"), std::string::npos) << r.err;

@@ -76,16 +76,27 @@ TEST(MavlinkCrc, CrcExtraDerivedFromFieldDefinitions) {
   // Field lists transcribed from minimal.xml/common.xml, already in wire order (sorted by size,
   // stable), extensions left out: CRC_EXTRA covers base fields only.
   using F = FieldDef;
-  const std::array heartbeat{F{"uint32_t", "custom_mode"}, F{"uint8_t", "type"},        F{"uint8_t", "autopilot"},
-                             F{"uint8_t", "base_mode"},    F{"uint8_t", "system_status"},
-                             F{"uint8_t", "mavlink_version"}};
-  const std::array count{F{"uint16_t", "count"}, F{"uint8_t", "target_system"}, F{"uint8_t", "target_component"}};
-  const std::array request{F{"uint16_t", "seq"}, F{"uint8_t", "target_system"}, F{"uint8_t", "target_component"}};
-  const std::array item{F{"float", "param1"},         F{"float", "param2"},           F{"float", "param3"},
-                        F{"float", "param4"},         F{"int32_t", "x"},              F{"int32_t", "y"},
-                        F{"float", "z"},              F{"uint16_t", "seq"},           F{"uint16_t", "command"},
-                        F{"uint8_t", "target_system"}, F{"uint8_t", "target_component"}, F{"uint8_t", "frame"},
-                        F{"uint8_t", "current"},      F{"uint8_t", "autocontinue"}};
+  const std::array heartbeat{F{"uint32_t", "custom_mode"},  F{"uint8_t", "type"},
+                             F{"uint8_t", "autopilot"},     F{"uint8_t", "base_mode"},
+                             F{"uint8_t", "system_status"}, F{"uint8_t", "mavlink_version"}};
+  const std::array count{F{"uint16_t", "count"}, F{"uint8_t", "target_system"},
+                         F{"uint8_t", "target_component"}};
+  const std::array request{F{"uint16_t", "seq"}, F{"uint8_t", "target_system"},
+                           F{"uint8_t", "target_component"}};
+  const std::array item{F{"float", "param1"},
+                        F{"float", "param2"},
+                        F{"float", "param3"},
+                        F{"float", "param4"},
+                        F{"int32_t", "x"},
+                        F{"int32_t", "y"},
+                        F{"float", "z"},
+                        F{"uint16_t", "seq"},
+                        F{"uint16_t", "command"},
+                        F{"uint8_t", "target_system"},
+                        F{"uint8_t", "target_component"},
+                        F{"uint8_t", "frame"},
+                        F{"uint8_t", "current"},
+                        F{"uint8_t", "autocontinue"}};
   const std::array ack{F{"uint8_t", "target_system"}, F{"uint8_t", "target_component"}, F{"uint8_t", "type"}};
   const std::array clear{F{"uint8_t", "target_system"}, F{"uint8_t", "target_component"}};
   const std::array seq_only{F{"uint16_t", "seq"}};
@@ -165,9 +176,10 @@ TEST(MavlinkCodec, RoundTripEveryMessage) {
 
 TEST(MavlinkCodec, RoundTripDefaultsAndTruncation) {
   // All-zero payloads keep one byte (MAVLink 2 never truncates the first payload byte).
-  for (const Message& m : std::vector<Message>{Heartbeat{0, 0, 0, 0, 0, 0}, MissionCount{}, MissionRequestInt{},
-                                               MissionItemInt{0, 0, 0, 0, 0, 0, 0}, MissionAck{}, MissionClearAll{},
-                                               MissionCurrent{}, MissionItemReached{}}) {
+  for (const Message& m :
+       std::vector<Message>{Heartbeat{0, 0, 0, 0, 0, 0}, MissionCount{}, MissionRequestInt{},
+                            MissionItemInt{0, 0, 0, 0, 0, 0, 0}, MissionAck{}, MissionClearAll{},
+                            MissionCurrent{}, MissionItemReached{}}) {
     const MessageInfo& info = message_info(m);
     SCOPED_TRACE(std::string(info.name));
     const auto bytes = encode(m, Header{});
