@@ -30,8 +30,8 @@ struct CoverageStats {
 };
 
 struct UavCoverage {
-  CoverageStats stats;             ///< coverage by this UAV's legs alone
-  double area_share = 0.0;         ///< share of samples this UAV scans first / is nearest to
+  CoverageStats stats;             ///< coverage by this UAV's legs alone (shares of the whole free area)
+  double area_share = 0.0;         ///< share of the scanned samples this UAV scans (shared ones split equally)
 };
 
 struct CoverageResult {

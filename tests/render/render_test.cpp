@@ -14,6 +14,7 @@
 #include "geodesy/local_frame.hpp"
 #include "render/render.hpp"
 #include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
 
 using namespace uavcover;
 namespace fs = std::filesystem;
@@ -134,4 +135,29 @@ TEST(Render, RefusesBadSizesAndPaths) {
   const Plan p = sample_plan();
   EXPECT_THROW(render::write_plan_png(p, out_dir() / "x.png", 10, 10), InputError);
   EXPECT_THROW(render::write_plan_png(p, "/proc/definitely/not/writable.png", 400, 300), InputError);
+}
+
+TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
+  std::ifstream in(std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi09.json");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  Mission m = parse_mission(ss.str());
+  const Uav base = m.uavs.at(0);
+  m.uavs.clear();
+  for (int i = 0; i < 3; ++i) {
+    Uav u = base;
+    u.id = "uav-" + std::to_string(i + 1);
+    u.share = 1.0 / 3;
+    u.start.reset();
+    m.uavs.push_back(u);
+  }
+  const Plan p = plan(m);
+  ASSERT_EQ(p.uavs.size(), 3u);
+  const auto dir = out_dir();
+  render::write_plan_png(p, dir / "plan3.png", 1400, 1000);
+  EXPECT_EQ(png_size(dir / "plan3.png"), std::make_pair(1400u, 1000u));
+  const auto ev = evaluation::evaluate_plan(p);
+  render::write_heatmap_png(ev.coverage, dir / "heatmap3.png", 1200, 900);
+  EXPECT_EQ(png_size(dir / "heatmap3.png"), std::make_pair(1200u, 900u));
+  if (!std::getenv("UAVCOVER_RENDER_KEEP")) fs::remove_all(dir);
 }
