@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -89,4 +90,22 @@ TEST(StudyCommand, RefusesBadCounts) {
     EXPECT_EQ(WEXITSTATUS(rc), 2) << bad;
   }
   EXPECT_FALSE(fs::exists("/tmp/uavcover_never_written/study.json"));
+}
+
+TEST(Footprint, FromCameraElseOneAndAHalfSpacing) {
+  Mission m;
+  m.spacing_m = 40;
+  EXPECT_DOUBLE_EQ(evaluation::footprint_for(m), 60.0);
+  Camera c;
+  c.altitude_m = 40;
+  c.hfov_deg = 73.4;
+  m.camera = c;
+  EXPECT_NEAR(evaluation::footprint_for(m), 2 * 40 * std::tan(36.7 * M_PI / 180), 1e-9);  // paper eq. 12
+  c.hfov_deg.reset();
+  c.image_width_px = 4000;
+  m.camera = c;
+  m.gsd_m = 0.01;
+  EXPECT_DOUBLE_EQ(evaluation::footprint_for(m), 40.0);  // imgW * GSD
+  m.footprint_m = 55.0;
+  EXPECT_DOUBLE_EQ(evaluation::footprint_for(m), 55.0);  // the parser's value wins
 }
