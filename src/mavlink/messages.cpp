@@ -101,6 +101,19 @@ void read(Reader& r, MissionRequestInt& m) {
   m.mission_type = r.u8();
 }
 
+void write(Writer& w, const MissionRequest& m) {
+  w.u16(m.seq);
+  w.u8(m.target_system);
+  w.u8(m.target_component);
+  w.u8(m.mission_type);
+}
+void read(Reader& r, MissionRequest& m) {
+  m.seq = r.u16();
+  m.target_system = r.u8();
+  m.target_component = r.u8();
+  m.mission_type = r.u8();
+}
+
 void write(Writer& w, const MissionItemInt& m) {
   w.f32(m.param1);
   w.f32(m.param2);
@@ -241,6 +254,8 @@ std::optional<MessageInfo> message_info(std::uint32_t msgid) {
       return MissionCount::info;
     case MissionRequestInt::info.id:
       return MissionRequestInt::info;
+    case MissionRequest::info.id:
+      return MissionRequest::info;
     case MissionItemInt::info.id:
       return MissionItemInt::info;
     case MissionAck::info.id:
@@ -275,6 +290,8 @@ std::optional<Message> decode_payload(std::uint32_t msgid, std::span<const std::
       return decode_as<MissionCount>(payload);
     case MissionRequestInt::info.id:
       return decode_as<MissionRequestInt>(payload);
+    case MissionRequest::info.id:
+      return decode_as<MissionRequest>(payload);
     case MissionItemInt::info.id:
       return decode_as<MissionItemInt>(payload);
     case MissionAck::info.id:

@@ -70,6 +70,17 @@ struct MissionRequestInt {
   friend bool operator==(const MissionRequestInt&, const MissionRequestInt&) = default;
 };
 
+/// Deprecated MISSION_REQUEST (float items): some autopilots still send it during an upload; the guide
+/// says to answer it like MISSION_REQUEST_INT, with MISSION_ITEM_INT.
+struct MissionRequest {
+  static constexpr MessageInfo info{40, "MISSION_REQUEST", 230, 4, 5};
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint16_t seq = 0;
+  std::uint8_t mission_type = kMissionTypeMission;  // extension
+  friend bool operator==(const MissionRequest&, const MissionRequest&) = default;
+};
+
 struct MissionItemInt {
   static constexpr MessageInfo info{73, "MISSION_ITEM_INT", 38, 37, 38};
   std::uint8_t target_system = 0;
@@ -123,8 +134,8 @@ struct MissionItemReached {
   friend bool operator==(const MissionItemReached&, const MissionItemReached&) = default;
 };
 
-using Message = std::variant<Heartbeat, MissionCount, MissionRequestInt, MissionItemInt, MissionAck,
-                             MissionClearAll, MissionCurrent, MissionItemReached>;
+using Message = std::variant<Heartbeat, MissionCount, MissionRequestInt, MissionRequest, MissionItemInt,
+                             MissionAck, MissionClearAll, MissionCurrent, MissionItemReached>;
 
 /// The messages this codec knows, or nullopt.
 std::optional<MessageInfo> message_info(std::uint32_t msgid);

@@ -142,7 +142,13 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
       continue;
     }
     if (options.target_system != 0 && r->header.sysid != options.target_system) continue;
-    if (const auto* req = std::get_if<MissionRequestInt>(&r->message)) {
+    // MISSION_REQUEST_INT, or the deprecated MISSION_REQUEST answered the same way (with MISSION_ITEM_INT)
+    std::optional<MissionRequestInt> request;
+    if (const auto* ri = std::get_if<MissionRequestInt>(&r->message)) request = *ri;
+    if (const auto* rf = std::get_if<MissionRequest>(&r->message))
+      request = MissionRequestInt{rf->target_system, rf->target_component, rf->seq, rf->mission_type};
+    if (request) {
+      const MissionRequestInt* req = &*request;
       if (!for_me(req->target_system, link.sysid()) || req->mission_type != options.mission_type) continue;
       if (req->seq >= count)
         return finish(false, "the vehicle requested item " + std::to_string(req->seq) + " of a " +

@@ -57,6 +57,7 @@ std::vector<Message> samples() {
       Heartbeat{0xDEADBEEF, 2, 3, 0x81, 4, 3},
       MissionCount{1, 1, 0xBEEF, 1, 0x01020304},
       MissionRequestInt{255, 190, 65535, 2},
+      MissionRequest{255, 190, 258, 1},
       item,
       MissionAck{255, 190, kMissionNoSpace, 1, 0xCAFEBABE},
       MissionClearAll{1, 1, 2},
@@ -104,6 +105,7 @@ TEST(MavlinkCrc, CrcExtraDerivedFromFieldDefinitions) {
   EXPECT_EQ(derive_crc_extra("HEARTBEAT", heartbeat), Heartbeat::info.crc_extra);
   EXPECT_EQ(derive_crc_extra("MISSION_COUNT", count), MissionCount::info.crc_extra);
   EXPECT_EQ(derive_crc_extra("MISSION_REQUEST_INT", request), MissionRequestInt::info.crc_extra);
+  EXPECT_EQ(derive_crc_extra("MISSION_REQUEST", request), MissionRequest::info.crc_extra);
   EXPECT_EQ(derive_crc_extra("MISSION_ITEM_INT", item), MissionItemInt::info.crc_extra);
   EXPECT_EQ(derive_crc_extra("MISSION_ACK", ack), MissionAck::info.crc_extra);
   EXPECT_EQ(derive_crc_extra("MISSION_CLEAR_ALL", clear), MissionClearAll::info.crc_extra);
@@ -117,6 +119,7 @@ TEST(MavlinkCrc, CrcExtraDerivedFromFieldDefinitions) {
   EXPECT_EQ(MissionItemReached::info.crc_extra, 11);
   EXPECT_EQ(MissionAck::info.crc_extra, 153);
   EXPECT_EQ(MissionRequestInt::info.crc_extra, 196);
+  EXPECT_EQ(MissionRequest::info.crc_extra, 230);
   EXPECT_EQ(MissionItemInt::info.crc_extra, 38);
 }
 
@@ -178,8 +181,8 @@ TEST(MavlinkCodec, RoundTripDefaultsAndTruncation) {
   // All-zero payloads keep one byte (MAVLink 2 never truncates the first payload byte).
   for (const Message& m :
        std::vector<Message>{Heartbeat{0, 0, 0, 0, 0, 0}, MissionCount{}, MissionRequestInt{},
-                            MissionItemInt{0, 0, 0, 0, 0, 0, 0}, MissionAck{}, MissionClearAll{},
-                            MissionCurrent{}, MissionItemReached{}}) {
+                            MissionRequest{}, MissionItemInt{0, 0, 0, 0, 0, 0, 0}, MissionAck{},
+                            MissionClearAll{}, MissionCurrent{}, MissionItemReached{}}) {
     const MessageInfo& info = message_info(m);
     SCOPED_TRACE(std::string(info.name));
     const auto bytes = encode(m, Header{});

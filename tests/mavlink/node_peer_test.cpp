@@ -84,6 +84,11 @@ void expect_fields(const json& f, const Message& m) {
     EXPECT_EQ(at(f, "targetComponent"), r->target_component);
     EXPECT_EQ(at(f, "seq"), r->seq);
     EXPECT_EQ(at(f, "missionType"), r->mission_type);
+  } else if (const auto* rq = std::get_if<MissionRequest>(&m)) {
+    EXPECT_EQ(at(f, "targetSystem"), rq->target_system);
+    EXPECT_EQ(at(f, "targetComponent"), rq->target_component);
+    EXPECT_EQ(at(f, "seq"), rq->seq);
+    EXPECT_EQ(at(f, "missionType"), rq->mission_type);
   } else if (const auto* i = std::get_if<MissionItemInt>(&m)) {
     EXPECT_EQ(at(f, "targetSystem"), i->target_system);
     EXPECT_EQ(at(f, "targetComponent"), i->target_component);
@@ -148,6 +153,7 @@ std::vector<Message> our_messages() {
           MissionCount{2, 3, 7, 1, 0xA1B2C3D4},
           MissionRequestInt{255, 190, 0, 0},
           MissionRequestInt{255, 190, 4097, 2},
+          MissionRequest{255, 190, 12, 0},
           item,
           speed,
           MissionAck{255, 190, kMissionAccepted, 0, 0},
@@ -211,6 +217,8 @@ TEST(NodeMavlinkPeer, WeDecodeItsFrames) {
      "fields": {"targetSystem": 1, "targetComponent": 1, "count": 300, "missionType": 0}},
     {"message": "MissionRequestInt", "sysid": 1, "compid": 1, "seq": 2,
      "fields": {"targetSystem": 255, "targetComponent": 190, "seq": 299, "missionType": 0}},
+    {"message": "MissionRequest", "sysid": 1, "compid": 1, "seq": 2,
+     "fields": {"targetSystem": 255, "targetComponent": 190, "seq": 7, "missionType": 0}},
     {"message": "MissionItemInt", "sysid": 255, "compid": 190, "seq": 3,
      "fields": {"targetSystem": 1, "targetComponent": 1, "seq": 1, "frame": 3, "command": 16,
                 "current": 0, "autocontinue": 1, "param1": 0, "param2": 0, "param3": 0, "param4": 0,

@@ -183,6 +183,7 @@ TEST(MissionUpload, CompletesDespitePacketLossBothWays) {
 
 TEST(MissionUpload, ServesOutOfOrderAndRepeatedRequests) {
   // A scripted vehicle asks for items in a scrambled order, with repeats, then acks.
+  // Half of its requests are the deprecated MISSION_REQUEST, answered with MISSION_ITEM_INT too.
   UdpLink vehicle(kLoopback, 3, 1);
   vehicle.learn_peer(true);
   const auto items = make_items(8);
@@ -195,8 +196,13 @@ TEST(MissionUpload, ServesOutOfOrderAndRepeatedRequests) {
     }
     if (!r) return;
     EXPECT_EQ(std::get<MissionCount>(r->message).count, items.size());
+    bool deprecated = false;  // every other request is the deprecated MISSION_REQUEST
     for (std::uint16_t s : order) {
-      vehicle.send(MissionRequestInt{r->header.sysid, r->header.compid, s, 0});
+      if (deprecated)
+        vehicle.send(MissionRequest{r->header.sysid, r->header.compid, s, 0});
+      else
+        vehicle.send(MissionRequestInt{r->header.sysid, r->header.compid, s, 0});
+      deprecated = !deprecated;
       std::optional<Received> it;
       while ((it = vehicle.receive(3s)) && !std::holds_alternative<MissionItemInt>(it->message)) {
       }
