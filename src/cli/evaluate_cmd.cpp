@@ -65,6 +65,24 @@ void run_evaluate(const EvaluateArgs& a) {
     render::write_heatmap_png(ev.coverage, dir / "heatmap.png", 1200, 900,
                               "Coverage heatmap" + (mission.name.empty() ? "" : " - " + mission.name));
     render::write_histogram_png(ev.coverage.total, dir / "histogram.png");
+    // the evaluated paths drawn like a plan (no regions: other tools do not give them)
+    Plan shown;
+    shown.mission = mission;
+    shown.origin = frame.origin();
+    shown.free_area_m2 = ev.coverage.total.area_m2;
+    shown.mission.uavs = uavs;
+    for (std::size_t i = 0; i < paths.flights.size(); ++i) {
+      UavPlan up;
+      up.id = paths.uav_ids[i];
+      up.share_actual = ev.coverage.uavs[i].area_share;
+      up.parts = paths.flights[i];
+      if (!up.parts.empty() && !up.parts.front().wgs84.empty()) {
+        shown.mission.uavs[i].start_resolved = up.parts.front().wgs84.front();
+        shown.mission.uavs[i].start.reset();
+      }
+      shown.uavs.push_back(std::move(up));
+    }
+    render::write_plan_png(shown, dir / "paths.png");
   }
   if (global_flags().quiet) return;
   const auto& t = ev.coverage.total;
@@ -91,7 +109,7 @@ void run_evaluate(const EvaluateArgs& a) {
       c.flight_time_min, c.deployment_time_min, c.change_battery_delay_min, c.total_time_min,
       c.flight_cost_eur);
   std::cout << "wrote " << (dir / "evaluation.json").string()
-            << (a.no_images ? "" : ", heatmap.png and histogram.png") << "\n";
+            << (a.no_images ? "" : ", heatmap.png, histogram.png and paths.png") << "\n";
 }
 
 const bool registered = CommandRegistry::add(30, [](CLI::App& app) {
@@ -105,14 +123,15 @@ const bool registered = CommandRegistry::add(30, [](CLI::App& app) {
                   "GeoJSON LineStrings: properties.uav names the UAV (else one UAV per line), "
                   "properties.kind = transit marks transit legs")
       ->required();
-  cmd->add_option("--out,-o", a->out, "Output folder for evaluation.json, heatmap.png, histogram.png")
+  cmd->add_option("--out,-o", a->out,
+                  "Output folder for evaluation.json, heatmap.png, histogram.png, paths.png")
       ->capture_default_str();
   cmd->add_option("--footprint", a->footprint_m,
                   "Footprint width w in metres (default: camera, else 1.5 x spacing)");
   cmd->add_option("--lattice", a->lattice_m, "Sample spacing in metres (default: adaptive, 0.5-2 m)");
   cmd->add_option("--max-samples", a->max_samples, "Cap on lattice samples")->capture_default_str();
   cmd->add_flag("--count-transit", a->count_transit, "Transit legs scan too");
-  cmd->add_flag("--no-images", a->no_images, "Do not write heatmap.png and histogram.png");
+  cmd->add_flag("--no-images", a->no_images, "Do not write the pictures");
   cmd->add_option("--fcm", a->cost.fcm_eur_per_min, "Flight cost per minute (EUR), eq. 21")
       ->capture_default_str();
   cmd->add_option("--deploy-base", a->cost.deployment_base_min, "Deployment time base (min), eq. 18")

@@ -176,7 +176,13 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   const MultiPolygon area = geometry::unite(geometry::to_local(plan.mission.area, frame));
   const MultiPolygon nfz = geometry::unite(geometry::to_local(plan.mission.no_fly_zones, frame));
   std::vector<Point> starts;
-  for (const auto& u : plan.mission.uavs) starts.push_back(frame.to_local(u.start_resolved));
+  std::vector<std::size_t> start_uav;
+  for (std::size_t i = 0; i < plan.mission.uavs.size(); ++i) {
+    const auto& u = plan.mission.uavs[i];
+    if (u.start_resolved == LonLat{} && !u.start) continue;  // never resolved
+    starts.push_back(frame.to_local(u.start_resolved));
+    start_uav.push_back(i);
+  }
 
   bg::model::box<Point> box;
   bg::envelope(area, box);
@@ -284,7 +290,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
     const double x = v.px(starts[i].x()), y = v.py(starts[i].y());
     cairo_new_path(cr);
     cairo_arc(cr, x, y, 7, 0, 2 * std::numbers::pi);
-    set(cr, uav_colour(i));
+    set(cr, uav_colour(start_uav[i]));
     cairo_fill_preserve(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 2);

@@ -113,6 +113,7 @@ TEST(EvaluateCommand, WritesEvaluationJsonAndPictures) {
   EXPECT_EQ(j["uavs"][0]["id"], "uav-1");
   EXPECT_GT(fs::file_size(dir / "heatmap.png"), 1000u);
   EXPECT_GT(fs::file_size(dir / "histogram.png"), 1000u);
+  EXPECT_GT(fs::file_size(dir / "paths.png"), 1000u);
   fs::remove_all(dir);
 }
 
