@@ -542,7 +542,9 @@ void draw_chart(cairo_t* cr, const std::vector<int>& xs, const std::vector<Serie
     cairo_line_to(cr, px(recommended), bottom);
     cairo_stroke(cr);
     cairo_set_dash(cr, nullptr, 0, 0);
-    text(cr, px(recommended) + 4, top + 12, fmt::format("recommended: {}", recommended), 12);
+    const bool right_half = px(recommended) > 0.5 * (left + right);
+    text(cr, px(recommended) + (right_half ? -4 : 4), bottom - 8, fmt::format("recommended: {}", recommended),
+         12, right_half ? 1.0 : 0.0);
   }
   for (const auto& s : series) {
     set(cr, s.colour);
@@ -598,7 +600,7 @@ void draw_study(cairo_t* cr, const std::vector<StudyPoint>& pts, int width, int 
     flight.values.push_back(p.flight_time_min);
     cost.values.push_back(p.cost_eur);
   }
-  const double left = margin + 70, right = width - margin;
+  const double left = margin + 70, right = width - margin - 20;
   const double mid = margin + 30 + (height - 2 * margin - 30) * 0.62;
   draw_chart(cr, xs, {total, flight}, left, margin + 30, right, mid - 30, "time (min)", recommended);
   draw_chart(cr, xs, {cost}, left, mid + 20, right, height - margin - 30, "cost (EUR)", recommended);
