@@ -12,6 +12,7 @@
 
 #include "mavlink/frame.hpp"
 #include "mavlink/messages.hpp"
+#include "mavlink/mission_protocol.hpp"
 #include "mavlink/test_util.hpp"
 
 using namespace uavcover::mavlink;
@@ -265,5 +266,63 @@ TEST(NodeMavlinkPeer, WeDecodeItsFrames) {
     EXPECT_EQ(frames[i].msgid, message_info(*msg).id);
     // Every field node-mavlink was given comes back; the others are zero (node's defaults).
     expect_fields(s["fields"], *msg);
+  }
+}
+
+namespace {
+
+// Reads one line from a pipe (empty at EOF).
+std::string read_line(FILE* f) {
+  std::string line;
+  int c;
+  while ((c = std::fgetc(f)) != EOF && c != '\n') line += static_cast<char>(c);
+  return line;
+}
+
+}  // namespace
+
+TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
+  SKIP_WITHOUT_NODE();
+  std::vector<MissionItemInt> items;
+  for (std::uint16_t i = 0; i < 12; ++i) {
+    MissionItemInt m;
+    m.frame = i == 0 ? 0 : 3;
+    m.command = i == 1 ? 22 : 16;
+    m.x = 406000000 + 1234 * i;
+    m.y = 229000000 - 4321 * i;
+    m.z = i == 0 ? 0.0F : 40.0F + 0.5F * i;
+    m.param4 = static_cast<float>(i) * 0.25F;
+    m.autocontinue = 1;
+    items.push_back(m);
+  }
+  for (const std::string order : {"sequential", "reverse"}) {
+    SCOPED_TRACE(order);
+    const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' " + order + " 9";
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    const json hello = json::parse(read_line(pipe));
+    const auto port = hello.at("port").get<std::uint16_t>();
+    UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
+    gcs.set_peer(Endpoint{"127.0.0.1", port});
+    UploadOptions opt;
+    opt.target_system = 9;
+    const UploadResult res = upload_mission(gcs, items, opt);
+    const std::string report = read_line(pipe);
+    const int status = ::pclose(pipe);
+    ASSERT_TRUE(res.ok) << res.error;
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(res.unique_items, items.size());
+    if (order == "reverse") {
+      EXPECT_EQ(res.out_of_order, items.size() - 1);
+    }
+    const json got = json::parse(report).at("items");
+    ASSERT_EQ(got.size(), items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      MissionItemInt want = items[i];
+      want.seq = static_cast<std::uint16_t>(i);
+      want.target_system = 9;
+      want.target_component = 1;
+      expect_fields(got[i], want);
+    }
   }
 }
