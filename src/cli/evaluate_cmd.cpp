@@ -108,6 +108,8 @@ void run_evaluate(const EvaluateArgs& a) {
       "{:.2f} EUR\n",
       c.flight_time_min, c.deployment_time_min, c.change_battery_delay_min, c.total_time_min,
       c.flight_cost_eur);
+  if (t.poc == 0.0 && t.length_m > 0.0)
+    std::cout << "warning: the paths scan none of the area: do they belong to this mission?\n";
   std::cout << "wrote " << (dir / "evaluation.json").string()
             << (a.no_images ? "" : ", heatmap.png, histogram.png and paths.png") << "\n";
 }
