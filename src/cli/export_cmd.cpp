@@ -35,7 +35,10 @@ void run_export(ExportArgs& a) {
   const Plan plan = io::load_plan_dir(a.plan_dir);
   const std::filesystem::path out =
       a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
+  std::vector<std::string> warnings;
+  a.opt.warnings = &warnings;
   const auto files = exporting::export_plan(plan, a.formats, out, a.opt);
+  for (const auto& w : warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (global_flags().quiet) return;
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",

@@ -574,6 +574,10 @@ std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::strin
     const auto problems = check_separation(plan, opt.altitude);
     if (!problems.empty()) throw InputError("separation", problems.front());
   }
+  if (opt.warnings != nullptr) {
+    const auto w = separation_warnings(plan);
+    opt.warnings->insert(opt.warnings->end(), w.begin(), w.end());
+  }
   // distinct file names per UAV
   std::vector<std::string> names;
   std::set<std::string> used;

@@ -23,7 +23,8 @@ struct ExportOptions {
   std::string kml_altitude_mode = "relativeToGround";
   int dji_drone_enum = 77;  ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
   int dji_drone_sub_enum = 0;
-  bool check_separation = true;  ///< refuse to export when check_separation() finds problems
+  bool check_separation = true;                  ///< refuse to export when check_separation() finds problems
+  std::vector<std::string>* warnings = nullptr;  ///< when set, receives separation_warnings()
 };
 
 /// The formats export_plan() knows, in a fixed order.

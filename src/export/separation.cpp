@@ -133,4 +133,20 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
   return problems;
 }
 
+std::vector<std::string> separation_warnings(const Plan& plan) {
+  std::vector<std::string> warnings;
+  const RegionMap regions(plan);
+  const geodesy::LocalFrame frame(plan.origin);
+  for (std::size_t u = 0; u < plan.uavs.size() && u < plan.mission.uavs.size(); ++u) {
+    // take-off and landing cross the mission altitude vertically above home
+    const int o = regions.owner(frame.to_local(plan.mission.uavs[u].start_resolved));
+    if (o >= 0 && o != static_cast<int>(u))
+      warnings.push_back(
+          fmt::format("uav '{}': take-off and landing at home cross the mission altitude inside the "
+                      "region of uav '{}'",
+                      plan.uavs[u].id, plan.uavs[static_cast<std::size_t>(o)].id));
+  }
+  return warnings;
+}
+
 }  // namespace uavcover::exporting

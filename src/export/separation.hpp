@@ -39,4 +39,8 @@ struct SeparationOptions {
 std::vector<std::string> check_separation(const Plan& plan, const AltitudeOptions& opt,
                                           const SeparationOptions& sep = {});
 
+/// Hazards that do not block an export: a UAV's home inside another UAV's region (its take-off and
+/// landing cross the coverage layer there; common when all UAVs launch from one depot).
+std::vector<std::string> separation_warnings(const Plan& plan);
+
 }  // namespace uavcover::exporting

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
+#include "export/export.hpp"
 #include "export/fixture.hpp"
 #include "export/mission_items.hpp"
 #include "export/separation.hpp"
@@ -161,4 +164,30 @@ TEST(Separation, FallsBackToLoopsWithoutAGrid) {
   EXPECT_EQ(regions.owner({-30, -20}), 0);
   EXPECT_EQ(regions.owner({70, 20}), 1);
   EXPECT_EQ(regions.owner({0, 45}), -1);
+}
+
+TEST(Separation, HomeInsideAnotherRegionIsReported) {
+  Plan plan = fixture::two_uav_plan();
+  const geodesy::LocalFrame frame(plan.origin);
+  // bravo takes off inside alpha's half
+  plan.mission.uavs[1].start_resolved = frame.to_wgs84({-30, 20});
+  plan.uavs[1].parts.front() = fixture::make_part(frame, PartKind::Transit, {{-30, 20}, {90, -40}});
+  plan.uavs[1].parts.back() = fixture::make_part(frame, PartKind::Transit, {{90, -40}, {-30, 20}});
+  EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());  // a warning, not a blocking problem
+  EXPECT_TRUE(separation_warnings(fixture::two_uav_plan()).empty());
+  const auto problems = separation_warnings(plan);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(
+      problems[0].find("take-off and landing at home cross the mission altitude inside the region of uav "
+                       "'alpha'"),
+      std::string::npos);
+  // export_plan still writes the files and hands the warning back
+  std::vector<std::string> warnings;
+  ExportOptions eo;
+  eo.warnings = &warnings;
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uavcover_sep_warn_" + std::to_string(::getpid()));
+  EXPECT_EQ(export_plan(plan, {"csv"}, dir, eo).size(), 2u);
+  EXPECT_EQ(warnings, problems);
+  std::filesystem::remove_all(dir);
 }
