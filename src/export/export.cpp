@@ -237,7 +237,10 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
     j["doJumpId"] = seq++;
     j["frame"] = it.frame;
     if (has_position(it)) {
-      j["params"] = {it.param1, it.param2, it.param3, it.param4, it.lat, it.lon, it.alt};
+      // yaw (param 4) 0 on a position item means "unset" here: QGC writes it as null (NaN, keep the
+      // vehicle's heading mode) rather than pointing the vehicle north
+      j["params"] = {it.param1, it.param2, it.param3, nullptr, it.lat, it.lon, it.alt};
+      if (it.param4 != 0.0f) j["params"][3] = it.param4;
       j["Altitude"] = it.alt;
       j["AltitudeMode"] = 1;  // relative to home
       j["AMSLAltAboveTerrain"] = nullptr;

@@ -147,6 +147,7 @@ TEST(Formats, QgcPlanRoundTrip) {
         EXPECT_NEAR(ji[k]["params"][4].get<double>(), items[k].lat, 1e-12);
         EXPECT_NEAR(ji[k]["params"][5].get<double>(), items[k].lon, 1e-12);
         EXPECT_NEAR(ji[k]["params"][6].get<double>(), items[k].alt, 1e-6);
+        EXPECT_TRUE(ji[k]["params"][3].is_null());  // yaw: keep the vehicle's heading mode
       } else {
         EXPECT_NEAR(ji[k]["params"][0].get<double>(), items[k].param1, 1e-6);
       }
