@@ -340,3 +340,23 @@ TEST(MavlinkParser, AcceptsMavlink1AndSignedFramesRejectsUnknownFlags) {
   EXPECT_EQ(frames[0].msgid, MissionItemReached::info.id);
   EXPECT_GE(p.stats().unknown_msgid, 1U);
 }
+
+TEST(MavlinkParser, RandomBytesYieldNoFrames) {
+  // 1 MB of noise rich in start bytes: every candidate fails its checksum (or is unknown), nothing
+  // is accepted, and nothing stays buffered at the end of input.
+  std::mt19937_64 rng(99);
+  std::vector<std::uint8_t> noise(1 << 20);
+  for (auto& b : noise) {
+    const auto r = rng();
+    b = r % 9 == 0 ? kStxV2 : r % 11 == 0 ? kStxV1 : static_cast<std::uint8_t>(r >> 32);
+  }
+  Parser p;
+  std::vector<Frame> frames;
+  for (std::size_t pos = 0; pos < noise.size(); pos += 1000)
+    p.push(std::span(noise).subspan(pos, std::min<std::size_t>(1000, noise.size() - pos)), frames, false);
+  p.push({}, frames, true);
+  EXPECT_TRUE(frames.empty());
+  EXPECT_EQ(p.buffered(), 0U);
+  EXPECT_EQ(p.stats().bytes_skipped, noise.size());
+  EXPECT_GT(p.stats().crc_errors, 0U);
+}
