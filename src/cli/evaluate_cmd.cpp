@@ -53,8 +53,8 @@ void run_evaluate(const EvaluateArgs& a) {
   opt.coverage.count_transit = a.count_transit;
   opt.cost = a.cost;
   const double w = a.footprint_m > 0.0 ? a.footprint_m : evaluation::footprint_for(mission);
-  const auto ev =
-      evaluation::evaluate_flights(evaluation::free_area(mission, frame), paths.flights, uavs, w, opt);
+  const MultiPolygon free = evaluation::free_area(mission, frame);
+  const auto ev = evaluation::evaluate_flights(free, paths.flights, uavs, w, opt);
 
   const std::filesystem::path dir(a.out);
   nlohmann::json j = evaluation::evaluation_json(ev);
@@ -62,7 +62,7 @@ void run_evaluate(const EvaluateArgs& a) {
   j["paths"] = a.paths;
   io::write_file_atomic(dir / "evaluation.json", j.dump(1) + "\n");
   if (!a.no_images) {
-    render::write_heatmap_png(ev.coverage, dir / "heatmap.png", 1200, 900,
+    render::write_heatmap_png(ev.coverage, free, dir / "heatmap.png", 1200, 900,
                               "Coverage heatmap" + (mission.name.empty() ? "" : " - " + mission.name));
     render::write_histogram_png(ev.coverage.total, dir / "histogram.png");
     // the evaluated paths drawn like a plan (no regions: other tools do not give them)

@@ -386,7 +386,7 @@ Rgb scan_colour(int k, int max_k) {
 }
 
 void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width, int height,
-                  const std::string& title) {
+                  const std::string& title, const MultiPolygon* outline = nullptr) {
   const double margin = 40;
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, margin, margin, title, 20, 0.0, true);
@@ -432,6 +432,18 @@ void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width,
   cairo_pattern_set_filter(cairo_get_source(cr), s >= 1 ? CAIRO_FILTER_NEAREST : CAIRO_FILTER_GOOD);
   cairo_paint(cr);
   cairo_restore(cr);
+  if (outline && !outline->empty()) {
+    // sample (c, r) is image pixel (c, rows-1-r): local x = x0 + c*L maps to ox + (c + 0.5)*s
+    View ov;
+    const double L = std::max(cov.lattice_m, 1e-9);
+    ov.scale = s / L;
+    ov.ox = ox + 0.5 * s - ov.scale * cov.lattice_origin.x();
+    ov.oy = oy + (cov.lattice_rows - 0.5) * s + ov.scale * cov.lattice_origin.y();
+    path_multipolygon(cr, ov, *outline);
+    cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+    cairo_set_line_width(cr, 1.5);
+    cairo_stroke(cr);
+  }
 
   // legend: one box per count (or a ramp beyond 12)
   const double lx = width - legend_w - 10;
@@ -631,6 +643,11 @@ void write_plan_svg(const Plan& plan, const std::filesystem::path& path, int wid
 void write_heatmap_png(const evaluation::CoverageResult& coverage, const std::filesystem::path& path,
                        int width, int height, const std::string& title) {
   png(path, width, height, [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title); });
+}
+
+void write_heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon& free,
+                       const std::filesystem::path& path, int width, int height, const std::string& title) {
+  png(path, width, height, [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title, &free); });
 }
 
 void write_histogram_png(const evaluation::CoverageStats& stats, const std::filesystem::path& path, int width,

@@ -20,6 +20,11 @@ void write_plan_svg(const Plan& plan, const std::filesystem::path& path, int wid
 void write_heatmap_png(const evaluation::CoverageResult& coverage, const std::filesystem::path& path,
                        int width = 1200, int height = 900, const std::string& title = "Coverage heatmap");
 
+/// The same with the free area's boundary (local metres, the frame of the evaluation) drawn over it.
+void write_heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon& free,
+                       const std::filesystem::path& path, int width = 1200, int height = 900,
+                       const std::string& title = "Coverage heatmap");
+
 /// Normalised histogram of scans (0, 1, 2, ...).
 void write_histogram_png(const evaluation::CoverageStats& stats, const std::filesystem::path& path,
                          int width = 900, int height = 600,

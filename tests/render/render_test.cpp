@@ -157,7 +157,8 @@ TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
   render::write_plan_png(p, dir / "plan3.png", 1400, 1000);
   EXPECT_EQ(png_size(dir / "plan3.png"), std::make_pair(1400u, 1000u));
   const auto ev = evaluation::evaluate_plan(p);
-  render::write_heatmap_png(ev.coverage, dir / "heatmap3.png", 1200, 900);
+  render::write_heatmap_png(ev.coverage, evaluation::free_area(p.mission, geodesy::LocalFrame(p.origin)),
+                            dir / "heatmap3.png", 1200, 900);
   EXPECT_EQ(png_size(dir / "heatmap3.png"), std::make_pair(1200u, 900u));
   if (!std::getenv("UAVCOVER_RENDER_KEEP")) fs::remove_all(dir);
 }
