@@ -191,3 +191,14 @@ TEST(Separation, HomeInsideAnotherRegionIsReported) {
   EXPECT_EQ(warnings, problems);
   std::filesystem::remove_all(dir);
 }
+
+TEST(MissionItems, UavWithoutCellsTakesOffAndReturns) {
+  Plan plan = fixture::two_uav_plan();
+  plan.uavs[1].parts.clear();
+  const auto items = mission_items(plan, 1);
+  ASSERT_EQ(items.size(), 3u);
+  EXPECT_EQ(items[0].command, kNavTakeoff);
+  EXPECT_EQ(items[1].command, kDoChangeSpeed);
+  EXPECT_EQ(items[2].command, kNavReturnToLaunch);
+  EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
+}
