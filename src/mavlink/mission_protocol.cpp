@@ -167,6 +167,8 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
       timeout_at = clock::now() + options.timeout;
     } else if (const auto* ack = std::get_if<MissionAck>(&r->message)) {
       if (!for_me(ack->target_system, link.sysid()) || ack->mission_type != options.mission_type) continue;
+      // An acceptance before anything was requested belongs to an earlier transfer (a repeated ack).
+      if (ack->type == kMissionAccepted && count > 0 && !last_served) continue;
       res.ack = ack->type;
       if (ack->type != kMissionAccepted)
         return finish(false,

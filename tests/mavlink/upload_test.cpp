@@ -359,16 +359,29 @@ TEST(MissionUpload, ErrorsAreReported) {
   }
 }
 
-TEST(MissionUpload, EmptyMissionClears) {
+TEST(MissionUpload, StaleAckIgnoredAndEmptyMissionClears) {
   VehicleThread v(1, quiet_vehicle());
   UdpLink gcs(kLoopback, 255, 190);
   gcs.set_peer(v.endpoint());
-  ASSERT_TRUE(upload_mission(gcs, make_items(5), UploadOptions{}).ok);
+  const auto items = make_items(5);
+  ASSERT_TRUE(upload_mission(gcs, items, UploadOptions{}).ok);
+  // A stale acceptance (the vehicle repeating its ack for a repeated final item) arriving at the start
+  // of the next upload is not taken for that upload's result.
+  auto last = items.back();
+  last.seq = 4;
+  last.target_system = 1;
+  last.target_component = 1;
+  gcs.send(last);
+  std::this_thread::sleep_for(100ms);
+  const auto again = upload_mission(gcs, items, UploadOptions{});
+  EXPECT_TRUE(again.ok) << again.error;
+  EXPECT_EQ(again.unique_items, items.size());
   const auto res = upload_mission(gcs, {}, UploadOptions{});
   v.join();
   EXPECT_TRUE(res.ok) << res.error;
   EXPECT_TRUE(v.vehicle.mission().empty());
-  EXPECT_EQ(v.vehicle.stats().uploads_accepted, 2U);
+  EXPECT_EQ(v.vehicle.stats().uploads_accepted, 3U);
+  EXPECT_EQ(v.vehicle.stats().acks_resent, 1U);
 }
 
 TEST(SimulatedFleet, UploadThenFlyReportsProgress) {
