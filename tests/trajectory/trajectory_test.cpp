@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "export/fixture.hpp"
 
@@ -246,4 +247,27 @@ TEST(Trajectory, CsvHasTheExactHeaderAndOneRowPerSample) {
   EXPECT_NEAR(f[5], plan.mission.uavs[0].start_resolved.lon, 1e-8);
   EXPECT_EQ(f[3], 0.0);
   EXPECT_EQ(f[6], 0.0);
+}
+
+TEST(Trajectory, RandomPolylinesKeepEveryProperty) {
+  // seeded random 3D polylines: short and long legs, acute turns, reversals, both corner modes
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> coord(-30, 30), len(0.05, 1.0), speed(1, 12), accel(0.5, 5),
+      radius(0, 6);
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<Vec3> w{{0, 0, 0}};
+    const int n = 2 + trial % 9;
+    for (int i = 0; i < n; ++i) {
+      const double f = trial % 3 == 0 ? len(rng) : 1.0;  // some polylines have very short legs
+      w.push_back({w.back()[0] + f * coord(rng), w.back()[1] + f * coord(rng),
+                   std::max(0.0, w.back()[2] + f * coord(rng) / 3)});
+    }
+    Options opt;
+    opt.corners = trial % 4 == 3 ? CornerMode::Stop : CornerMode::Fillet;
+    opt.fillet_radius_m = radius(rng);
+    opt.densify_m = trial % 2 == 0 ? 10.0 : 0.0;
+    const Trajectory t(w, {speed(rng), accel(rng)}, opt);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    check_all(t, 0.05, opt.corners == CornerMode::Stop ? 0.0 : opt.fillet_radius_m);
+  }
 }
