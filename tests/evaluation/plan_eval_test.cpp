@@ -109,3 +109,24 @@ TEST(Footprint, FromCameraElseOneAndAHalfSpacing) {
   m.footprint_m = 55.0;
   EXPECT_DOUBLE_EQ(evaluation::footprint_for(m), 55.0);  // the parser's value wins
 }
+
+TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
+  const fs::path dir = fs::temp_directory_path() / ("uavcover_eval_own_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi09.json";
+  const std::string cli = UAVCOVER_CLI;
+  ASSERT_EQ(std::system((cli + " -q plan " + mission + " --out " + dir.string()).c_str()), 0);
+  ASSERT_EQ(std::system((cli + " -q evaluate " + mission + " " + (dir / "paths.geojson").string() +
+                         " --out " + dir.string() + " --no-images")
+                            .c_str()),
+            0);
+  std::ifstream in(dir / "evaluation.json");
+  const auto j = nlohmann::json::parse(in);
+  const auto ev = evaluation::evaluate_plan(plan(parse_mission(roi("roi09.json"))));
+  EXPECT_NEAR(j["poc"].get<double>(), ev.coverage.total.poc, 0.002);
+  EXPECT_NEAR(j["pooc"].get<double>(), ev.coverage.total.pooc, 0.002);
+  EXPECT_EQ(j["turns"].get<int>(), ev.coverage.total.turns);
+  EXPECT_NEAR(j["length_m"].get<double>(), ev.coverage.total.length_m, 0.5);
+  EXPECT_NEAR(j["total_time_min"].get<double>(), ev.cost.total_time_min, 0.01);
+  fs::remove_all(dir);
+}
