@@ -159,17 +159,72 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     extra[best] += static_cast<double>(comp_cells[c].size());
   }
 
+  // demand[c]: (UAV, wanted cells, start cell) of the UAVs dividing component c
+  struct Part {
+    int uav;
+    double want;
+    int start;
+  };
+  std::vector<std::vector<Part>> demand(C);
+  for (int c = 0; c < C; ++c)
+    for (int i : participants[c]) demand[c].push_back({i, std::max(1.0, target[i] - extra[i]), scell[i]});
+  // UAVs that their own component cannot feed (too small, or crowded) join the component with
+  // the largest surplus, entering at its cell nearest to their start
+  const double tol_cells = tolerance(g.free_cells);
+  auto expected = [&](std::vector<double>& load) {
+    load.assign(U, 0.0);
+    for (int i = 0; i < U; ++i) load[i] = extra[i];
+    for (int c = 0; c < C; ++c) {
+      double sum = 0;
+      for (const auto& p : demand[c]) sum += p.want;
+      for (const auto& p : demand[c]) load[p.uav] += comp_cells[c].size() * p.want / sum;
+    }
+  };
+  for (int round = 0; round < U && C > 1; ++round) {
+    std::vector<double> load;
+    expected(load);
+    int worst = -1;
+    double wd = tol_cells;
+    for (int i = 0; i < U; ++i)
+      if (target[i] - load[i] > wd) wd = target[i] - load[i], worst = i;
+    if (worst < 0) break;
+    int best_c = -1;
+    double best_surplus = tol_cells;
+    for (int c = 0; c < C; ++c) {
+      bool in = false;
+      double want = 0;
+      for (const auto& p : demand[c]) in |= p.uav == worst, want += p.want;
+      const double surplus = comp_cells[c].size() - (demand[c].empty() ? 0.0 : want);
+      if (!in && !demand[c].empty() && surplus > best_surplus &&
+          comp_cells[c].size() > demand[c].size() + 1)
+        best_surplus = surplus, best_c = c;
+    }
+    if (best_c < 0) break;
+    int entry = -1;
+    double bd = std::numeric_limits<double>::infinity();
+    for (int k : comp_cells[best_c]) {
+      if (taken[k]) continue;
+      const double d = dist2(g.cell_centre(k / g.cols, k % g.cols), input.starts[worst]);
+      if (d < bd) bd = d, entry = k;
+    }
+    if (entry < 0) break;
+    taken[entry] = 1;
+    // the joining UAV asks for its deficit (at most the surplus); the others keep their demand
+    demand[best_c].push_back({worst, std::min(wd, best_surplus), entry});
+  }
+
   // ---- 3. DARP per shared component ----
   std::vector<std::vector<std::vector<int>>> regions(U);  // per UAV: list of regions (cell lists)
   out.converged = true;
   int done_cells = 0;
   for (int c = 0; c < C; ++c) {
     const auto& cells = comp_cells[c];
-    if (participants[c].empty()) {
+    if (demand[c].empty()) {
       regions[orphan_owner[c]].push_back(cells);
       continue;
     }
-    const auto& P = participants[c];
+    std::vector<int> P;
+    for (const auto& p : demand[c]) P.push_back(p.uav);
     if (P.size() == 1) {
       regions[P[0]].push_back(cells);
       continue;
@@ -179,10 +234,10 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     din.max_iterations = options.darp_max_iterations;
     din.seed = input.seed + static_cast<std::uint64_t>(c) * 7919;
     double want = 0;
-    for (int i : P) want += std::max(1.0, target[i] - extra[i]);
-    for (int i : P) {
-      din.starts.push_back(scell[i]);
-      din.targets.push_back(std::max(1.0, target[i] - extra[i]) / want * static_cast<double>(cells.size()));
+    for (const auto& p : demand[c]) want += std::max(1.0, p.want);
+    for (const auto& p : demand[c]) {
+      din.starts.push_back(p.start);
+      din.targets.push_back(std::max(1.0, p.want) / want * static_cast<double>(cells.size()));
     }
     const double frac0 = static_cast<double>(done_cells) / L, frac1 = (done_cells + cells.size()) / L;
     DivisionResult dr = divide(g, din, [&](double f) {

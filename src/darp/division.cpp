@@ -123,6 +123,158 @@ void repair(const Graph& G, std::vector<int>& owner, const std::vector<int>& sta
   }
 }
 
+
+/// Moves boundary cells along chains of neighbouring regions, from over- to under-allocated ones,
+/// keeping every region connected and its start; stops when all are within `tol` or no move helps.
+void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st, const std::vector<double>& targets,
+            const std::vector<std::vector<double>>& D, double tol, int max_moves) {
+  const int n = G.n, P = static_cast<int>(st.size());
+  std::vector<int> counts(P, 0);
+  for (int x = 0; x < n; ++x) ++counts[owner[x]];
+  std::vector<char> is_start(n, 0);
+  for (int s : st) is_start[s] = 1;
+  std::vector<int> mark(n, -1), stack;
+  int stamp = 0;
+  // can cell x leave region a without disconnecting it?
+  auto removable = [&](int x, int a) {
+    if (is_start[x]) return false;
+    owner[x] = -2;
+    ++stamp;
+    const int c = main_piece(G, owner, a, st[a], mark, stamp, stack);
+    owner[x] = a;
+    return c == counts[a] - 1;
+  };
+  for (int move = 0; move < max_moves; ++move) {
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return counts[a] - targets[a] > counts[b] - targets[b]; });
+    double worst = 0;
+    for (int i = 0; i < P; ++i) worst = std::max(worst, std::fabs(counts[i] - targets[i]));
+    if (worst <= tol) return;
+    // region adjacency
+    std::vector<std::vector<char>> adj(P, std::vector<char>(P, 0));
+    for (int x = 0; x < n; ++x)
+      for (int v : G.nb[x])
+        if (v >= 0 && owner[v] != owner[x]) adj[owner[x]][owner[v]] = 1;
+    bool moved = false;
+    for (int donor : order) {
+      if (counts[donor] - targets[donor] <= 0.5) break;
+      // BFS over regions to the nearest under-allocated one
+      std::vector<int> prev(P, -1);
+      std::vector<int> q{donor};
+      prev[donor] = donor;
+      int recv = -1;
+      for (std::size_t h = 0; h < q.size() && recv < 0; ++h)
+        for (int j = 0; j < P; ++j)
+          if (adj[q[h]][j] && prev[j] < 0) {
+            prev[j] = q[h];
+            if (counts[j] - targets[j] < -0.5) {
+              recv = j;
+              break;
+            }
+            q.push_back(j);
+          }
+      if (recv < 0) continue;
+      std::vector<int> chain{recv};
+      while (chain.back() != donor) chain.push_back(prev[chain.back()]);
+      std::reverse(chain.begin(), chain.end());  // donor ... recv
+      // move one cell along every link of the chain, from the receiving end backwards
+      bool ok = true;
+      for (std::size_t k = chain.size() - 1; k > 0 && ok; --k) {
+        const int a = chain[k - 1], b = chain[k];
+        std::vector<int> cand;
+        for (int x = 0; x < n; ++x) {
+          if (owner[x] != a) continue;
+          for (int v : G.nb[x])
+            if (v >= 0 && owner[v] == b) {
+              cand.push_back(x);
+              break;
+            }
+        }
+        std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
+        ok = false;
+        for (std::size_t c = 0; c < cand.size() && c < 24 && !ok; ++c) {
+          const int x = cand[c];
+          if (is_start[x]) continue;
+          if (removable(x, a)) {
+            owner[x] = b;
+            --counts[a];
+            ++counts[b];
+            ok = true;
+          } else if (chain.size() == 2) {
+            // x is a cut cell of a: hand over x with everything it cuts off from a's start, when
+            // that brings both regions closer to their targets
+            owner[x] = -2;
+            ++stamp;
+            main_piece(G, owner, a, st[a], mark, stamp, stack);
+            owner[x] = a;
+            std::vector<int> cut;
+            for (int y = 0; y < n; ++y)
+              if (owner[y] == a && mark[y] != stamp) cut.push_back(y);
+            const double m = static_cast<double>(cut.size());
+            const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
+            const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+            bool has_start = false;
+            for (int y : cut) has_start |= is_start[y] != 0;
+            if (after < before && !has_start) {
+              for (int y : cut) owner[y] = b;
+              counts[a] -= static_cast<int>(m);
+              counts[b] += static_cast<int>(m);
+              ok = true;
+            }
+          }
+        }
+      }
+      if (ok) {
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) {
+      // pull: an under-allocated region takes a boundary cell (with what it cuts off) from a
+      // neighbour when that lowers the total squared deviation
+      std::vector<int> recvs(order.rbegin(), order.rend());
+      for (int b : recvs) {
+        if (counts[b] - targets[b] >= -0.5) break;
+        std::vector<int> cand;
+        for (int x = 0; x < n; ++x) {
+          if (owner[x] == b || is_start[x]) continue;
+          for (int v : G.nb[x])
+            if (v >= 0 && owner[v] == b) {
+              cand.push_back(x);
+              break;
+            }
+        }
+        std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
+        for (std::size_t c = 0; c < cand.size() && c < 48 && !moved; ++c) {
+          const int x = cand[c], a = owner[x];
+          owner[x] = -2;
+          ++stamp;
+          main_piece(G, owner, a, st[a], mark, stamp, stack);
+          owner[x] = a;
+          std::vector<int> cut;
+          bool has_start = false;
+          for (int y = 0; y < n; ++y)
+            if (owner[y] == a && mark[y] != stamp) cut.push_back(y), has_start |= is_start[y] != 0;
+          if (has_start) continue;
+          const double m = static_cast<double>(cut.size());
+          const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
+          const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+          if (after + 1e-9 < before) {
+            for (int y : cut) owner[y] = b;
+            counts[a] -= static_cast<int>(m);
+            counts[b] += static_cast<int>(m);
+            moved = true;
+          }
+        }
+        if (moved) break;
+      }
+    }
+    if (!moved) return;
+  }
+}
+
 }  // namespace
 
 double tolerance(std::size_t cells) { return std::max(2.0, 0.01 * static_cast<double>(cells)); }
@@ -171,6 +323,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
       for (int x = 0; x < n; ++x) M[static_cast<std::size_t>(i) * n + x] = D[i][x] * (1.0 + rand_level * (u01(rng) - 0.5));
     std::vector<double> lm(P, 0.0), step(P, 0.02);
     std::vector<int> last_sign(P, 0);
+    int last_gain = 0;
 
     for (int it = 0; it < in.max_iterations; ++it) {
       ++out.iterations;
@@ -234,7 +387,9 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
       if (dev < best_dev) {
         best_dev = dev;
         best_owner = cand;
+        last_gain = it;
       }
+      if (it - last_gain > std::max(400, in.max_iterations / 8)) break;  // stagnating: next attempt
       if (dev <= tol) {
         out.converged = dev <= final_tol;
         break;
@@ -256,10 +411,12 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
   }
 
   out.owner = best_owner;
+  if (best_dev > final_tol) polish(G, out.owner, st, in.targets, D, final_tol, 4 * n);
   std::fill(out.counts.begin(), out.counts.end(), 0);
   for (int x = 0; x < n; ++x) ++out.counts[out.owner[x]];
-  out.max_deviation = best_dev;
-  out.converged = best_dev <= final_tol;
+  out.max_deviation = 0;
+  for (int i = 0; i < P; ++i) out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - in.targets[i]));
+  out.converged = out.max_deviation <= final_tol;
   return out;
 }
 

@@ -96,13 +96,13 @@ TEST(Darp, NoFlyZoneCuttingTheArea) {
   MultiPolygon nfz{rect(480, -10, 530, 510)};
   const darp::Input in = make_input(area, nfz, {{50, 50}, {950, 450}}, {0.5, 0.5}, 25, Mode::Strict, 3);
   const darp::Output out = darp::run(in, PlanOptions{}, {});
-  check_plan(in, out, false);
+  // the parts differ by more than the tolerance: the UAV of the smaller part also takes a piece
+  // of the larger one, so the shares hold
+  check_plan(in, out, true);
   EXPECT_EQ(out.uavs[0].loops.size(), 1u);
-  EXPECT_EQ(out.uavs[1].loops.size(), 1u);
-  // each UAV flies the part it starts in; the parts are nearly equal
-  EXPECT_NEAR(out.uavs[0].share_actual, 0.5, 0.05);
+  EXPECT_GE(out.uavs[1].loops.size(), 1u);
   EXPECT_LT(out.uavs[0].loops[0].front().x(), 480);
-  EXPECT_GT(out.uavs[1].loops[0].front().x(), 530);
+  EXPECT_GT(out.uavs[1].loops[0].front().x(), 530);  // its own part first
 }
 
 TEST(Darp, StartOutsideTheArea) {
