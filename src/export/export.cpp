@@ -26,6 +26,8 @@ const std::vector<std::string>& known_formats() {
 
 namespace {
 
+constexpr std::size_t kLitchiMaxWaypoints = 99;  // Litchi missions hold at most 99 waypoints
+
 bool has_position(const MissionItem& it) {
   return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
 }
@@ -322,6 +324,11 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n";
   s += "  <Document>\n    <name>" +
        xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) + "</name>\n";
+  s += fmt::format(
+      "    <description>uav {}: mission altitude {} m ({}), transition altitude {} m, heights relative to "
+      "take-off</description>\n",
+      xml_escape(up.id), num(plan.mission.altitude_m), xml_escape(plan.mission.altitude_source),
+      num(transition_altitude(opt.altitude, index)));
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";
   s += "    <Style id=\"nfz\"><LineStyle><color>ff0000ff</color><width>2</width></LineStyle>"
@@ -621,7 +628,13 @@ std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::strin
         write_zip(dir / (id + ".wpml.kmz"), dji_wpml(plan, i, opt));
         written.push_back(dir / (id + ".wpml.kmz"));
       } else if (f == "litchi") {
-        put(dir / (id + ".litchi.csv"), litchi_csv(plan, i, opt));
+        const std::string text = litchi_csv(plan, i, opt);
+        put(dir / (id + ".litchi.csv"), text);
+        const auto rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) - 1;
+        if (opt.warnings != nullptr && rows > kLitchiMaxWaypoints)
+          opt.warnings->push_back(
+              fmt::format("uav '{}': {} Litchi waypoints, more than the {} one Litchi mission holds",
+                          plan.uavs[i].id, rows, kLitchiMaxWaypoints));
       } else if (f == "csv") {
         put(dir / (id + ".csv"), waypoints_csv(plan, i, opt));
       } else if (f == "trajectory") {

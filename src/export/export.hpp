@@ -23,8 +23,9 @@ struct ExportOptions {
   std::string kml_altitude_mode = "relativeToGround";
   int dji_drone_enum = 77;  ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
   int dji_drone_sub_enum = 0;
-  bool check_separation = true;                  ///< refuse to export when check_separation() finds problems
-  std::vector<std::string>* warnings = nullptr;  ///< when set, receives separation_warnings()
+  bool check_separation = true;  ///< refuse to export when check_separation() finds problems
+  std::vector<std::string>* warnings =
+      nullptr;  ///< when set, receives separation_warnings() and format limits
 };
 
 /// The formats export_plan() knows, in a fixed order.
@@ -45,7 +46,7 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
 /// DJI WPML: {"wpmz/template.kml", "wpmz/waylines.wpml"} contents.
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
                                             const ExportOptions& opt = {});
-/// Litchi mission CSV.
+/// Litchi mission CSV (export_plan() warns when it holds more than the 99 waypoints Litchi accepts).
 std::string litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// Plain CSV of the mission items (seq,role,command,frame,lat,lon,alt_m,param1..param4).
 std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});

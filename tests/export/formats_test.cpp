@@ -218,6 +218,8 @@ TEST(Formats, KmlAndKmzRoundTrip) {
     EXPECT_EQ(kmz.at("doc.kml"), text);
     pugi::xml_document doc;
     ASSERT_TRUE(doc.load_string(text.c_str()));
+    const std::string desc = doc.select_node("/kml/Document/description").node().text().get();
+    EXPECT_NE(desc.find("mission altitude 40 m (default)"), std::string::npos) << desc;
     const auto placemarks = doc.select_nodes("/kml/Document/Placemark");
     ASSERT_EQ(placemarks.size(), 3u);  // area, no-fly zone, path
     // area polygon: lon,lat order, matches the mission ring
@@ -419,5 +421,26 @@ TEST(Formats, ExportPlanWritesEveryFormatAndRejectsUnknownOnes) {
   ExportOptions same;
   same.altitude.transition_step_m = 0;
   EXPECT_THROW(export_plan(plan, {"qgc"}, dir, same), InputError);
+  fs::remove_all(dir);
+}
+
+TEST(Formats, LitchiWarnsBeyond99Waypoints) {
+  Plan plan = fixture::two_uav_plan();
+  const geodesy::LocalFrame frame(plan.origin);
+  std::vector<Point> loop;
+  for (int k = 0; k <= 60; ++k) loop.emplace_back(-90 + k, -40);
+  for (int k = 1; k <= 60; ++k) loop.emplace_back(-30, -40 + k);
+  loop.emplace_back(-90, 20);
+  loop.push_back(loop.front());
+  plan.uavs[0].parts[1] = fixture::make_part(frame, PartKind::Coverage, loop);
+  plan.uavs[0].parts[2] = fixture::make_part(frame, PartKind::Transit, {{-90, -40}, {-120, -60}});
+  std::vector<std::string> warnings;
+  ExportOptions opt;
+  opt.warnings = &warnings;
+  const fs::path dir = temp_dir("litchi99");
+  export_plan(plan, {"litchi"}, dir, opt);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("uav 'alpha'"), std::string::npos);
+  EXPECT_NE(warnings[0].find("99"), std::string::npos);
   fs::remove_all(dir);
 }
