@@ -80,13 +80,15 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
     const double ti = transition_altitude(opt, i);
     if (ti < mission_alt + sep.min_vertical_m)
       problems.push_back(
-          fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m",
+          fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m (raise the "
+                      "transition base)",
                       plan.uavs[i].id, ti, mission_alt));
     for (std::size_t j = i + 1; j < n; ++j) {
       const double tj = transition_altitude(opt, j);
       if (std::abs(ti - tj) < sep.min_vertical_m)
-        problems.push_back(fmt::format("uavs '{}' and '{}' share the transition altitude {} m",
-                                       plan.uavs[i].id, plan.uavs[j].id, ti));
+        problems.push_back(fmt::format(
+            "uavs '{}' and '{}' share the transition altitude {} m (use a non-zero transition step)",
+            plan.uavs[i].id, plan.uavs[j].id, ti));
     }
   }
 
