@@ -44,9 +44,14 @@ std::vector<int> fill_free(const MultiPolygon& free, const Lattice& l) {
   std::vector<int> scans(static_cast<std::size_t>(l.cols) * static_cast<std::size_t>(l.rows), -1);
   std::vector<std::vector<double>> xs(static_cast<std::size_t>(l.rows));
   auto add_ring = [&](const auto& ring) {
-    for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
+    const std::size_t n = ring.size();
+    if (n < 3) return;
+    // closed rings repeat the first vertex; an open ring gets its closing edge
+    const bool closed = bg::equals(ring.front(), ring.back());
+    const std::size_t edges = closed ? n - 1 : n;
+    for (std::size_t k = 0; k < edges; ++k) {
       const Point& p = ring[k];
-      const Point& q = ring[k + 1];
+      const Point& q = ring[(k + 1) % n];
       const double ylo = std::min(p.y(), q.y()), yhi = std::max(p.y(), q.y());
       if (yhi == ylo) continue;
       // rows whose centre y satisfies ylo <= y < yhi
