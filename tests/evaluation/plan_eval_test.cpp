@@ -130,3 +130,30 @@ TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
   EXPECT_NEAR(j["total_time_min"].get<double>(), ev.cost.total_time_min, 0.01);
   fs::remove_all(dir);
 }
+
+TEST(EvaluatePlan, LatticeSharesFollowTheDivision) {
+  Mission m = parse_mission(roi("roi09.json"));
+  const Uav base = m.uavs.at(0);
+  m.uavs.clear();
+  for (int i = 0; i < 3; ++i) {
+    Uav u = base;
+    u.id = "uav-" + std::to_string(i + 1);
+    u.share = 1.0 / 3;
+    u.start.reset();
+    m.uavs.push_back(u);
+  }
+  const Plan p = plan(m);
+  const auto ev = evaluation::evaluate_plan(p);
+  ASSERT_EQ(ev.coverage.uavs.size(), 3u);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(ev.coverage.uavs[i].area_share, p.uavs[i].share_actual, 0.05) << i;
+    sum += ev.coverage.uavs[i].area_share;
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-9);
+  ASSERT_EQ(ev.cost.n_uavs, 3);
+  EXPECT_DOUBLE_EQ(ev.cost.deployment_time_min, 14.0);
+  double longest = 0.0;
+  for (const auto& u : ev.cost.uavs) longest = std::max(longest, u.flight_duration_min);
+  EXPECT_DOUBLE_EQ(ev.cost.flight_time_min, longest);
+}
