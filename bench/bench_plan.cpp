@@ -1,5 +1,5 @@
 // Benchmarks of the DARP planner.
-//   bench_plan paper [strict|coverage] [dir]   the 20 regions of Apostolidis et al. 2022: PoC, turns,
+//   bench_plan paper [strict|coverage] [dir|-] [seed]  the 20 regions of Apostolidis et al. 2022: PoC, turns,
 //                                              length and time per region, means over the paper's 18
 //   bench_plan scaling [max_cells]             mega-cells x UAVs -> time and peak RSS (one process per
 //                                              row, so peak RSS is that row's)
@@ -54,7 +54,7 @@ std::vector<double> paper_row(const std::string& dir, const std::string& metric)
   return {};
 }
 
-int paper(Mode mode, const std::string& dir) {
+int paper(Mode mode, const std::string& dir, std::uint64_t seed) {
   const auto ppoc = paper_row(dir, "PoC"), pturns = paper_row(dir, "# WP (turns)"),
              plen = paper_row(dir, "Path Length (m)");
   std::printf("mode %s\n%-5s %7s %7s %6s %6s %9s %9s %7s %5s\n", mode == Mode::Strict ? "strict" : "coverage",
@@ -72,6 +72,7 @@ int paper(Mode mode, const std::string& dir) {
       continue;
     }
     m.mode = mode;
+    m.seed = seed;
     const auto t0 = std::chrono::steady_clock::now();
     const Plan p = plan(m);
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -185,7 +186,9 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "paper") {
       const Mode mode = argc > 2 && std::string(argv[2]) == "coverage" ? Mode::Coverage : Mode::Strict;
-      return paper(mode, argc > 3 ? argv[3] : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022");
+      const std::string dir = argc > 3 && std::string(argv[3]) != "-" ? argv[3]
+                                                                       : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022";
+      return paper(mode, dir, argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 0);
     }
     if (cmd == "scaling") return scaling(argc > 2 ? std::atol(argv[2]) : 100000L);
 #ifdef UAVCOVER_HAVE_GBENCH

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <fmt/format.h>
 #include <limits>
 #include <numeric>
@@ -76,10 +75,6 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     popt.weights.coverage_weight = 40.0;
     popt.weights.length_weight = 0.0;
   }
-  if (const char* e = std::getenv("UAVCOVER_EVALS")) popt.evaluations = std::atoi(e);
-  if (const char* e = std::getenv("UAVCOVER_RERANK")) popt.rerank = std::atoi(e);
-  if (const char* e = std::getenv("UAVCOVER_LENW")) popt.weights.length_weight = std::atof(e);
-  if (const char* e = std::getenv("UAVCOVER_COVW")) popt.weights.coverage_weight = std::atof(e);
   grid::PlacementResult pr = grid::optimise_placement(prep, popt, [&](double f) {
     if (progress) progress("placement", f);
   });

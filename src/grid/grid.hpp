@@ -89,7 +89,7 @@ struct Weights {
   /// Weight of the swept-footprint coverage estimate added to J in the search (0: the paper's J).
   double coverage_weight = 9.0;
   /// Weight of J1 (the path length, proportional to the free cells) subtracted in the search.
-  double length_weight = 3.4;
+  double length_weight = 3.6;
 };
 
 /// Placement index of eq. 7-10 for a rasterised grid. J1 = s*dn^2/Ap; J2 = Ap / area of the free
