@@ -18,4 +18,11 @@ class InputError : public std::runtime_error {
   std::string field_;
 };
 
+/// An operation that could not be completed for a reason outside the program (a vehicle that does
+/// not answer, a file that cannot be written). The CLI prints "error: ..." and exits with 1.
+class OperationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace uavcover

@@ -33,7 +33,7 @@ struct Placement {
 struct GridInfo {
   double cell_m = 0.0;            ///< mega-cell size dn = 2*ds
   double rotation_deg = 0.0;
-  Point origin;                   ///< local position of mega-cell (0,0)'s lower-left corner, rotated frame
+  Point origin;                   ///< local ENU position of mega-cell (0,0)'s lower-left corner
   int rows = 0, cols = 0;
   std::vector<int> owner;         ///< rows*cols; -1 blocked, else UAV index
 };

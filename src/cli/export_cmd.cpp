@@ -42,7 +42,7 @@ void run_export(ExportArgs& a) {
   if (global_flags().quiet) return;
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",
-                             plan.uavs[i].id, exporting::transition_altitude(a.opt.altitude, i),
+                             plan.uavs[i].id, exporting::transition_altitude(a.opt.altitude, i, plan.mission.altitude_m),
                              trajectory::flight_time_s(plan, i, a.opt.trajectory, a.opt.altitude));
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
 }
@@ -62,7 +62,7 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   cmd->add_option("--out,-o", args->out,
                   "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/");
   cmd->add_option("--transition-base", args->opt.altitude.transition_base_m,
-                  "Transition altitude of the first UAV (m)")
+                  "Transition altitude of the first UAV (m); 0 = max(60, mission altitude + 20)")
       ->capture_default_str();
   cmd->add_option("--transition-step", args->opt.altitude.transition_step_m,
                   "Transition altitude added per UAV (m)")

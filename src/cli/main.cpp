@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "uavcover: error: " << e.what() << "\n";
     return 2;
+  } catch (const OperationError& e) {
+    std::cerr << "uavcover: error: " << e.what() << "\n";
+    return 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "uavcover: internal error: out of memory\n";
     return 1;

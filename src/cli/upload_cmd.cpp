@@ -69,7 +69,7 @@ void run_upload(const UploadArgs& a) {
     if (!quiet) std::cerr << fmt::format("\r  {}/{} items", done, total) << std::flush;
   });
   if (!quiet && res.unique_items > 0) std::cerr << "\n";
-  if (!res.ok) throw std::runtime_error("upload failed: " + res.error);
+  if (!res.ok) throw OperationError("upload failed: " + res.error);
   if (!quiet)
     std::cout << fmt::format(
         "{}: {} items accepted by system {} in {:.2f} s ({} item messages sent, {} timeouts, {} out-of-order "
@@ -100,7 +100,7 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
   cmd->add_flag("--no-home", args->no_home,
                 "Do not send the home position as item 0 (ArduPilot expects it there; PX4 does not)");
   cmd->add_option("--transition-base", args->altitude.transition_base_m,
-                  "Transition altitude of the first UAV (m)")
+                  "Transition altitude of the first UAV (m); 0 = max(60, mission altitude + 20)")
       ->capture_default_str();
   cmd->add_option("--transition-step", args->altitude.transition_step_m,
                   "Transition altitude added per UAV (m)")

@@ -43,6 +43,15 @@ struct Output {
 
 /// Runs the whole DARP pipeline. Deterministic for a given input (seed included).
 /// Throws InputError when no free cell exists at this spacing.
+///
+/// Output::grid: mega-cell (r, c) has its lower-left corner at
+///   origin + R(rotation_deg) * (c * cell_m, r * cell_m)   (local ENU metres, R = rotation CCW),
+/// owner is row-major. Output::placement holds the paper's J = 0.68 J1 + 0.32 J2 - 0.25 J3 (-0.5 when
+/// the free grid has more components than the free space) of the chosen placement; the search
+/// itself maximises J plus a swept-footprint coverage estimate minus a path-length term (see
+/// grid/grid.hpp, grid::Weights). Warnings: starts outside the free grid, DARP not meeting the
+/// share tolerance max(2 cells, 1 %) (converged = false, best connected division used), UAVs
+/// without cells, shares that a split free space cannot honour.
 Output run(const Input& input, const PlanOptions& options, const Progress& progress);
 
 }  // namespace uavcover::darp

@@ -313,19 +313,25 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
   std::vector<int> owner(n), cand(n), counts(P), mark(n, -1), stack, dist_r, dist_q, queue, piece_r, piece_q;
   std::vector<double> M(static_cast<std::size_t>(P) * n);
   const int attempts = std::max(1, in.attempts);
-  const long total_iters = static_cast<long>(attempts) * std::max(1, in.max_iterations);
+  // large grids: cap the iterations so that one division stays within ~4e8 cell evaluations
+  // (deterministic; the boundary polish below finishes the balance)
+  const double per_iter = static_cast<double>(n) * P;
+  const int max_iter = static_cast<int>(
+      std::min<double>(std::max(1, in.max_iterations), std::max(100.0, 4e8 / (per_iter * attempts))));
+  const long total_iters = static_cast<long>(attempts) * max_iter;
   int stamp = 0;
 
   for (int attempt = 0; attempt < attempts && !out.converged; ++attempt) {
     const double tol = std::max(1.0, final_tol * (attempt + 1) / attempts);
     const double rand_level = 0.002 * (attempt + 1);
     for (int i = 0; i < P; ++i)
-      for (int x = 0; x < n; ++x) M[static_cast<std::size_t>(i) * n + x] = D[i][x] * (1.0 + rand_level * (u01(rng) - 0.5));
+      for (int x = 0; x < n; ++x)
+        M[static_cast<std::size_t>(x) * P + i] = D[i][x] * (1.0 + rand_level * (u01(rng) - 0.5));
     std::vector<double> lm(P, 0.0), step(P, 0.02);
     std::vector<int> last_sign(P, 0);
     int last_gain = 0;
 
-    for (int it = 0; it < in.max_iterations; ++it) {
+    for (int it = 0; it < max_iter; ++it) {
       ++out.iterations;
       if (progress && out.iterations % 32 == 0) progress(static_cast<double>(out.iterations) / total_iters);
       // assignment: argmin over the corrected evaluation matrices
@@ -333,9 +339,10 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
       for (int i = 0; i < P; ++i) m[i] = std::exp(lm[i]);
       for (int x = 0; x < n; ++x) {
         int bi = 0;
-        double bv = m[0] * M[x];
+        const double* Mx = M.data() + static_cast<std::size_t>(x) * P;  // x-major: one cache line
+        double bv = m[0] * Mx[0];
         for (int i = 1; i < P; ++i) {
-          const double v = m[i] * M[static_cast<std::size_t>(i) * n + x];
+          const double v = m[i] * Mx[i];
           if (v < bv) bv = v, bi = i;
         }
         owner[x] = bi;
@@ -368,10 +375,10 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
             lo = std::min(lo, c2), hi = std::max(hi, c2);
           }
           if (hi > lo) {
-            double* Mi = M.data() + static_cast<std::size_t>(i) * n;
+            double* Mi = M.data() + i;
             for (int x = 0; x < n; ++x) {
               const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
-              Mi[x] *= (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
+              Mi[static_cast<std::size_t>(x) * P] *= (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
             }
           }
         }
@@ -389,7 +396,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
         best_owner = cand;
         last_gain = it;
       }
-      if (it - last_gain > std::max(400, in.max_iterations / 8)) break;  // stagnating: next attempt
+      if (it - last_gain > std::max(std::min(400, max_iter / 2), max_iter / 8)) break;  // stagnating: next attempt
       if (dev <= tol) {
         out.converged = dev <= final_tol;
         break;

@@ -328,7 +328,7 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
       "    <description>uav {}: mission altitude {} m ({}), transition altitude {} m, heights relative to "
       "take-off</description>\n",
       xml_escape(up.id), num(plan.mission.altitude_m), xml_escape(plan.mission.altitude_source),
-      num(transition_altitude(opt.altitude, index)));
+      num(transition_altitude(opt.altitude, index, plan.mission.altitude_m)));
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";
   s += "    <Style id=\"nfz\"><LineStyle><color>ff0000ff</color><width>2</width></LineStyle>"
@@ -356,7 +356,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
   const Uav& uav = plan.mission.uavs.at(index);
   const double speed = uav.speed_mps;
   const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
-  const double transit_alt = transition_altitude(opt.altitude, index);
+  const double transit_alt = transition_altitude(opt.altitude, index, plan.mission.altitude_m);
 
   const std::string header =
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"

@@ -2,13 +2,15 @@
 // transition altitude, transit legs at it, coverage at mission altitude, climb back, return, RTL/land.
 #include "export/mission_items.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace uavcover::exporting {
 
-double transition_altitude(const AltitudeOptions& opt, std::size_t index) {
-  return opt.transition_base_m + static_cast<double>(index) * opt.transition_step_m;
+double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m) {
+  const double base = opt.transition_base_m > 0.0 ? opt.transition_base_m : std::max(60.0, mission_altitude_m + 20.0);
+  return base + static_cast<double>(index) * opt.transition_step_m;
 }
 
 namespace {
@@ -48,7 +50,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   const UavPlan& up = plan.uavs[index];
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;
-  const double transit_alt = transition_altitude(opt, index);
+  const double transit_alt = transition_altitude(opt, index, mission_alt);
   const LonLat home = uav.start_resolved;
   const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0.0;
 

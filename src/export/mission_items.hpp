@@ -36,13 +36,15 @@ struct MissionItem {
 };
 
 struct AltitudeOptions {
-  double transition_base_m = 60.0;   ///< first UAV's transition altitude
+  /// First UAV's transition altitude; 0 = automatic: the larger of 60 m and mission altitude + 20 m.
+  double transition_base_m = 0.0;
   double transition_step_m = 10.0;   ///< added per UAV index
   bool land_instead_of_rtl = false;
 };
 
-/// Transition altitude of UAV `index` (base + index * step).
-double transition_altitude(const AltitudeOptions& opt, std::size_t index);
+/// Transition altitude of UAV `index` (base + index * step) for a mission flown at
+/// `mission_altitude_m` (which sets the automatic base).
+double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m);
 
 /// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item).
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});

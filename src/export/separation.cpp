@@ -77,14 +77,14 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
   const std::size_t n = plan.uavs.size();
   const double mission_alt = plan.mission.altitude_m;
   for (std::size_t i = 0; i < n; ++i) {
-    const double ti = transition_altitude(opt, i);
+    const double ti = transition_altitude(opt, i, mission_alt);
     if (ti < mission_alt + sep.min_vertical_m)
       problems.push_back(
           fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m (raise the "
                       "transition base)",
                       plan.uavs[i].id, ti, mission_alt));
     for (std::size_t j = i + 1; j < n; ++j) {
-      const double tj = transition_altitude(opt, j);
+      const double tj = transition_altitude(opt, j, mission_alt);
       if (std::abs(ti - tj) < sep.min_vertical_m)
         problems.push_back(fmt::format(
             "uavs '{}' and '{}' share the transition altitude {} m (use a non-zero transition step)",

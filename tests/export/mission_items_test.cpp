@@ -25,15 +25,20 @@ TEST(MissionItems, TransitionAltitudePerUav) {
   AltitudeOptions opt;
   opt.transition_base_m = 50;
   opt.transition_step_m = 7;
-  EXPECT_DOUBLE_EQ(transition_altitude(opt, 0), 50);
-  EXPECT_DOUBLE_EQ(transition_altitude(opt, 3), 71);
+  EXPECT_DOUBLE_EQ(transition_altitude(opt, 0, 40), 50);
+  EXPECT_DOUBLE_EQ(transition_altitude(opt, 3, 40), 71);
+  // automatic base: 60 m, or 20 m above a higher mission altitude
+  const AltitudeOptions automatic;
+  EXPECT_DOUBLE_EQ(transition_altitude(automatic, 0, 40), 60);
+  EXPECT_DOUBLE_EQ(transition_altitude(automatic, 1, 40), 70);
+  EXPECT_DOUBLE_EQ(transition_altitude(automatic, 0, 100), 120);
 }
 
 TEST(MissionItems, SequenceFollowsHongTransitionScheme) {
   const Plan plan = fixture::two_uav_plan();
   for (std::size_t u = 0; u < 2; ++u) {
     const AltitudeOptions opt;
-    const double T = transition_altitude(opt, u);
+    const double T = transition_altitude(opt, u, plan.mission.altitude_m);
     const auto items = mission_items(plan, u, opt);
     ASSERT_GE(items.size(), 5u);
     const LonLat home = plan.mission.uavs[u].start_resolved;
