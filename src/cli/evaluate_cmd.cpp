@@ -7,6 +7,7 @@
 #include <map>
 
 #include "cli/command.hpp"
+#include "cli/cost_options.hpp"
 #include "evaluation/evaluate.hpp"
 #include "io/plan_io.hpp"
 #include "render/render.hpp"
@@ -134,12 +135,7 @@ const bool registered = CommandRegistry::add(30, [](CLI::App& app) {
   cmd->add_option("--max-samples", a->max_samples, "Cap on lattice samples")->capture_default_str();
   cmd->add_flag("--count-transit", a->count_transit, "Transit legs scan too");
   cmd->add_flag("--no-images", a->no_images, "Do not write the pictures");
-  cmd->add_option("--fcm", a->cost.fcm_eur_per_min, "Flight cost per minute (EUR), eq. 21")
-      ->capture_default_str();
-  cmd->add_option("--deploy-base", a->cost.deployment_base_min, "Deployment time base (min), eq. 18")
-      ->capture_default_str();
-  cmd->add_option("--deploy-per-uav", a->cost.deployment_per_uav_min, "Deployment time per UAV (min), eq. 18")
-      ->capture_default_str();
+  add_cost_options(cmd, a->cost);
   cmd->footer(
       "evaluation.json: totals at top level (poc, pooc, max_scans, histogram, turns, length_m, "
       "flight_time_min,\n"

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "cli/command.hpp"
+#include "cli/cost_options.hpp"
 #include "cli/progress.hpp"
 #include "evaluation/evaluate.hpp"
 #include "io/plan_io.hpp"
@@ -214,12 +215,7 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   cmd->add_option("--out,-o", a->out, "Output folder for study.json and study.png")->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed (overrides the mission's seed)");
   cmd->add_flag("--no-images", a->no_images, "Do not write study.png");
-  cmd->add_option("--fcm", a->cost.fcm_eur_per_min, "Flight cost per minute (EUR), eq. 21")
-      ->capture_default_str();
-  cmd->add_option("--deploy-base", a->cost.deployment_base_min, "Deployment time base (min), eq. 18")
-      ->capture_default_str();
-  cmd->add_option("--deploy-per-uav", a->cost.deployment_per_uav_min, "Deployment time per UAV (min), eq. 18")
-      ->capture_default_str();
+  add_cost_options(cmd, a->cost);
   cmd->footer(
       "UAVs beyond those the mission lists copy the first UAV's parameters and get seeded random starts;\n"
       "shares are equal. Exit codes: 0 ok, 1 internal error, 2 bad input.");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "evaluation/coverage.hpp"
+#include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 
 using namespace uavcover;
@@ -12,14 +13,7 @@ using namespace uavcover::evaluation;
 namespace {
 
 MultiPolygon rect(double x0, double y0, double x1, double y1) {
-  Polygon p;
-  bg::append(p.outer(), Point{x0, y0});
-  bg::append(p.outer(), Point{x0, y1});
-  bg::append(p.outer(), Point{x1, y1});
-  bg::append(p.outer(), Point{x1, y0});
-  bg::append(p.outer(), Point{x0, y0});
-  bg::correct(p);
-  return MultiPolygon{p};
+  return MultiPolygon{uavcover::testing::rect(x0, y0, x1, y1)};
 }
 
 PathPart part(std::vector<Point> pts, PartKind kind = PartKind::Coverage) {

@@ -1,21 +1,11 @@
 #include <gtest/gtest.h>
 
 #include "geometry/geometry.hpp"
+#include "support/shapes.hpp"
 
 using namespace uavcover;
 
-namespace {
-Polygon rect(double x0, double y0, double x1, double y1) {
-  Polygon p;
-  bg::append(p.outer(), Point{x0, y0});
-  bg::append(p.outer(), Point{x0, y1});
-  bg::append(p.outer(), Point{x1, y1});
-  bg::append(p.outer(), Point{x1, y0});
-  bg::append(p.outer(), Point{x0, y0});
-  bg::correct(p);
-  return p;
-}
-}  // namespace
+using uavcover::testing::rect;
 
 TEST(Geometry, FreeSpaceSubtractsNoFlyZones) {
   const MultiPolygon area{rect(0, 0, 100, 100)};
