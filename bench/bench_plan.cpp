@@ -1,7 +1,7 @@
 // Benchmarks of the DARP planner.
 //   bench_plan paper [strict|coverage] [dir|-] [seed]  the 20 regions of Apostolidis et al. 2022: PoC, turns,
 //                                              length and time per region, means over the paper's 18
-//   bench_plan scaling [max_cells]             mega-cells x UAVs -> time and peak RSS (one process per
+//   bench_plan scaling|scaling-hard [max_cells] mega-cells x UAVs -> time and peak RSS (one process per
 //                                              row, so peak RSS is that row's)
 //   bench_plan gbench [google benchmark flags]  Google Benchmark timings (when built with it)
 #include <sys/resource.h>
@@ -106,7 +106,7 @@ int paper(Mode mode, const std::string& dir, std::uint64_t seed) {
 }
 
 /// A square field of about `cells` mega-cells (ds = 10 m) with two no-fly zones, `uavs` UAVs.
-Mission synthetic(long cells, int uavs) {
+Mission synthetic(long cells, int uavs, bool hard = false) {
   Mission m;
   m.name = "scaling";
   m.spacing_m = 10.0;
@@ -122,27 +122,36 @@ Mission synthetic(long cells, int uavs) {
   m.area.push_back(rect(0, 0, 1, 1));
   m.no_fly_zones.push_back(rect(0.3, 0.3, 0.35, 0.4));
   m.no_fly_zones.push_back(rect(0.6, 0.55, 0.7, 0.62));
+  // hard: unequal shares 1..n and scattered starts (a fixed pseudo-random pattern)
+  std::uint64_t h = 88172645463325252ULL;
+  auto next = [&] {
+    h ^= h << 13, h ^= h >> 7, h ^= h << 17;
+    return static_cast<double>(h % 1000003) / 1000003.0;
+  };
   for (int i = 0; i < uavs; ++i) {
     Uav u;
     u.id = "uav" + std::to_string(i);
-    u.share = 1.0 / uavs;
+    u.share = hard ? 2.0 * (i + 1) / (uavs * (uavs + 1.0)) : 1.0 / uavs;
     const double f = (i + 0.5) / uavs;
-    u.start = LonLat{lon0 + f * dlon, lat0 + (i % 2 ? 0.1 : 0.9) * dlat};
+    u.start = hard ? LonLat{lon0 + (0.05 + 0.9 * next()) * dlon, lat0 + (0.05 + 0.9 * next()) * dlat}
+                   : LonLat{lon0 + f * dlon, lat0 + (i % 2 ? 0.1 : 0.9) * dlat};
     m.uavs.push_back(u);
   }
   m.seed = 7;
   return m;
 }
 
-int scaling(long max_cells) {
-  std::printf("%10s %5s %9s %10s %9s %5s\n", "megacells", "uavs", "time_s", "peak_MiB", "converged", "iters");
+int scaling(long max_cells, bool hard) {
+  std::printf("%s\n%10s %5s %9s %10s %9s %5s %9s\n",
+              hard ? "unequal shares 1..n, scattered starts" : "equal shares, starts along two edges", "megacells",
+              "uavs", "time_s", "peak_MiB", "converged", "iters", "max_dev");
   for (long cells : {1000L, 10000L, 100000L, 300000L}) {
     if (cells > max_cells) break;
     for (int uavs : {1, 5, 20}) {
       std::fflush(stdout);
       const pid_t pid = fork();
       if (pid == 0) {
-        const Mission m = synthetic(cells, uavs);
+        const Mission m = synthetic(cells, uavs, hard);
         PlanOptions o;
         const auto t0 = std::chrono::steady_clock::now();
         const Plan p = plan(m, o);
@@ -151,8 +160,15 @@ int scaling(long max_cells) {
         getrusage(RUSAGE_SELF, &ru);
         int free_cells = 0;
         for (int o2 : p.grid.owner) free_cells += o2 >= 0;
-        std::printf("%10d %5d %9.2f %10.1f %9s %5d\n", free_cells, uavs, t, ru.ru_maxrss / 1024.0,
-                    p.darp_converged ? "yes" : "no", p.darp_iterations);
+        double dev = 0;
+        for (const auto& u : p.uavs) dev = std::max(dev, std::fabs(u.share_actual - u.share_requested) * free_cells);
+        std::printf("%10d %5d %9.2f %10.1f %9s %5d %9.0f\n", free_cells, uavs, t, ru.ru_maxrss / 1024.0,
+                    p.darp_converged ? "yes" : "no", p.darp_iterations, dev);
+        if (!p.darp_converged) {
+          std::printf("           cells - target per UAV:");
+          for (const auto& u : p.uavs) std::printf(" %+.0f", (u.share_actual - u.share_requested) * free_cells);
+          std::printf("\n");
+        }
         std::fflush(stdout);
         _exit(0);
       }
@@ -190,7 +206,8 @@ int main(int argc, char** argv) {
                                                                        : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022";
       return paper(mode, dir, argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 0);
     }
-    if (cmd == "scaling") return scaling(argc > 2 ? std::atol(argv[2]) : 100000L);
+    if (cmd == "scaling" || cmd == "scaling-hard")
+      return scaling(argc > 2 ? std::atol(argv[2]) : 100000L, cmd == "scaling-hard");
 #ifdef UAVCOVER_HAVE_GBENCH
     if (cmd == "gbench") {
       --argc, ++argv;
@@ -203,6 +220,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: bench_plan paper [strict|coverage] [dir] | scaling [max_cells] | gbench\n");
+  std::fprintf(stderr, "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] | gbench\n");
   return 2;
 }

@@ -135,16 +135,21 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
   for (int s : st) is_start[s] = 1;
   std::vector<int> mark(n, -1), stack;
   int stamp = 0;
+  // deterministic work budget (cell visits) so that huge grids stay fast
+  double work = 0;
+  const double budget = 1e9;
   // can cell x leave region a without disconnecting it?
   auto removable = [&](int x, int a) {
     if (is_start[x]) return false;
+    work += counts[a];
     owner[x] = -2;
     ++stamp;
     const int c = main_piece(G, owner, a, st[a], mark, stamp, stack);
     owner[x] = a;
     return c == counts[a] - 1;
   };
-  for (int move = 0; move < max_moves; ++move) {
+  for (int move = 0; move < max_moves && work < budget; ++move) {
+    work += n;
     std::vector<int> order(P);
     for (int i = 0; i < P; ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(),
@@ -183,6 +188,7 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
       bool ok = true;
       for (std::size_t k = chain.size() - 1; k > 0 && ok; --k) {
         const int a = chain[k - 1], b = chain[k];
+        work += n;
         std::vector<int> cand;
         for (int x = 0; x < n; ++x) {
           if (owner[x] != a) continue;
@@ -205,6 +211,7 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
           } else if (chain.size() == 2) {
             // x is a cut cell of a: hand over x with everything it cuts off from a's start, when
             // that brings both regions closer to their targets
+            work += n;
             owner[x] = -2;
             ++stamp;
             main_piece(G, owner, a, st[a], mark, stamp, stack);
@@ -236,7 +243,8 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
       // neighbour when that lowers the total squared deviation
       std::vector<int> recvs(order.rbegin(), order.rend());
       for (int b : recvs) {
-        if (counts[b] - targets[b] >= -0.5) break;
+        if (counts[b] - targets[b] >= -0.5 || work > budget) break;
+        work += n;
         std::vector<int> cand;
         for (int x = 0; x < n; ++x) {
           if (owner[x] == b || is_start[x]) continue;
@@ -249,6 +257,7 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
         std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
         for (std::size_t c = 0; c < cand.size() && c < 48 && !moved; ++c) {
           const int x = cand[c], a = owner[x];
+          work += n;
           owner[x] = -2;
           ++stamp;
           main_piece(G, owner, a, st[a], mark, stamp, stack);
@@ -313,11 +322,11 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
   std::vector<int> owner(n), cand(n), counts(P), mark(n, -1), stack, dist_r, dist_q, queue, piece_r, piece_q;
   std::vector<double> M(static_cast<std::size_t>(P) * n);
   const int attempts = std::max(1, in.attempts);
-  // large grids: cap the iterations so that one division stays within ~4e8 cell evaluations
+  // large grids: cap the iterations so that one division stays within ~1e9 cell evaluations
   // (deterministic; the boundary polish below finishes the balance)
   const double per_iter = static_cast<double>(n) * P;
   const int max_iter = static_cast<int>(
-      std::min<double>(std::max(1, in.max_iterations), std::max(100.0, 4e8 / (per_iter * attempts))));
+      std::min<double>(std::max(1, in.max_iterations), std::max(50.0, 1e9 / (per_iter * attempts))));
   const long total_iters = static_cast<long>(attempts) * max_iter;
   int stamp = 0;
 
