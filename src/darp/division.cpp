@@ -420,8 +420,13 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
         else if (sign != 0)
           step[i] = std::min(0.1, step[i] * 1.15);
         if (sign != 0) last_sign[i] = sign;
-        const double scale = std::max(1.0, 0.05 * in.targets[i]);
-        lm[i] += step[i] * std::clamp(err / scale, -1.0, 1.0);
+        if (std::fabs(err) > 4 * tol) {
+          // coarse phase: damped Newton step (a region's size goes roughly with m^-2)
+          lm[i] += 0.25 * std::log((counts[i] + 1.0) / (in.targets[i] + 1.0));
+        } else {
+          const double scale = std::max(1.0, 0.05 * in.targets[i]);
+          lm[i] += step[i] * std::clamp(err / scale, -1.0, 1.0);
+        }
       }
     }
   }
