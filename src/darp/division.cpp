@@ -413,7 +413,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
 
       // multiplicative correction toward the share (sign-adaptive step per participant)
       for (int i = 0; i < P; ++i) {
-        const double err = counts[i] - in.targets[i];
+        const double err = cc[i] - in.targets[i];  // as repaired: what the UAV would fly
         const int sign = err > 0.5 ? 1 : (err < -0.5 ? -1 : 0);
         if (sign != 0 && last_sign[i] != 0 && sign != last_sign[i])
           step[i] = std::max(1e-6, step[i] * 0.5);
@@ -422,7 +422,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
         if (sign != 0) last_sign[i] = sign;
         if (std::fabs(err) > 4 * tol) {
           // coarse phase: damped Newton step (a region's size goes roughly with m^-2)
-          lm[i] += 0.25 * std::log((counts[i] + 1.0) / (in.targets[i] + 1.0));
+          lm[i] += std::clamp(0.25 * std::log((cc[i] + 1.0) / (in.targets[i] + 1.0)), -0.05, 0.05);
         } else {
           const double scale = std::max(1.0, 0.05 * in.targets[i]);
           lm[i] += step[i] * std::clamp(err / scale, -1.0, 1.0);
