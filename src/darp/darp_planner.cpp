@@ -65,7 +65,8 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
   if (!(input.ds > 0)) throw InputError("spacing_m", "must be positive");
 
   // ---- 1-2. grid and placement ----
-  const grid::Prepared prep = grid::prepare(input.free, input.no_fly, input.ds, input.mode);
+  grid::Prepared prep = grid::prepare(input.free, input.no_fly, input.ds, input.mode);
+  if (input.mode == Mode::Coverage) prep.estimate_samples = 16;  // coverage is the main objective there
   grid::PlacementOptions popt;
   popt.evaluations = options.placement_evaluations;
   popt.optimise = options.optimise_placement;
@@ -74,6 +75,7 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     // coverage mode: the path may leave the area, so reward coverage and do not hold back cells
     popt.weights.coverage_weight = 40.0;
     popt.weights.length_weight = 0.0;
+    popt.rerank = 64;
   }
   grid::PlacementResult pr = grid::optimise_placement(prep, popt, [&](double f) {
     if (progress) progress("placement", f);

@@ -280,7 +280,7 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
       if (c + 1 < cols && g.free[k + 1] && !(no_link[k] & 1)) g.link[k] |= 1;
       if (r + 1 < rows && g.free[k + cols] && !(no_link[k] & 2)) g.link[k] |= 2;
     }
-  if (prep.estimate_coverage) g.coverage_estimate = estimate_coverage(g, fe, 8);
+  if (prep.estimate_coverage) g.coverage_estimate = estimate_coverage(g, fe, std::clamp(prep.estimate_samples, 1, 16));
   return g;
 }
 

@@ -31,6 +31,7 @@ struct Prepared {
   double ds = 0.0;
   Mode mode = Mode::Strict;
   bool estimate_coverage = true;  ///< rasterize() also fills Grid::coverage_estimate
+  int estimate_samples = 8;       ///< samples per mega-cell side for that estimate (<= 16)
 };
 
 Prepared prepare(const MultiPolygon& free, const MultiPolygon& no_fly, double ds, Mode mode);
@@ -49,7 +50,7 @@ struct Grid {
   std::vector<std::uint8_t> link;
   int free_cells = 0;
   /// Share of the free area a w = 1.5 ds footprint swept along the STC path would cover, sampled
-  /// on 8x8 points per mega-cell (coverage_proxy gives finer versions).
+  /// on Prepared::estimate_samples^2 points per mega-cell (coverage_proxy gives finer versions).
   double coverage_estimate = 0.0;
 
   [[nodiscard]] int idx(int r, int c) const { return r * cols + c; }
