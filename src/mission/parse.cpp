@@ -21,6 +21,13 @@ std::string idx(const std::string& base, std::size_t i) { return base + "[" + st
 
 const char* type_name(const json& j) { return j.type_name(); }
 
+// The "type" member of a GeoJSON object, or "" when it is missing or not a string.
+std::string geojson_type(const json& j) {
+  if (!j.is_object()) return "";
+  const auto it = j.find("type");
+  return it != j.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
 double number(const json& j, const std::string& field) {
   if (!j.is_number()) throw InputError(field, std::string("expected a number, got ") + type_name(j));
   const double v = j.get<double>();
@@ -86,7 +93,7 @@ GeoPolygon polygon_coords(const json& j, const std::string& field) {
 std::vector<GeoPolygon> polygons_of(const json& j, const std::string& field) {
   if (!j.is_object()) throw InputError(field, std::string("expected a GeoJSON Polygon or MultiPolygon object, got ") +
                                                   type_name(j));
-  if (j.value("type", "") == "Feature") {
+  if (geojson_type(j) == "Feature") {
     if (!j.contains("geometry")) throw InputError(field + ".geometry", "missing");
     return polygons_of(j["geometry"], field + ".geometry");
   }
@@ -281,7 +288,7 @@ Raw parse_v1(const json& j) {
   if (j.contains("name")) raw.name = str(j["name"], "name");
   if (!j.contains("area")) throw InputError("area", "missing");
   for (auto& p : polygons_of(j["area"], "area"))
-    raw.area.push_back({std::move(p), raw.area.empty() && j["area"].value("type", "") != "MultiPolygon"
+    raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
                                           ? "area.coordinates"
                                           : idx("area.coordinates", raw.area.size())});
   if (j.contains("no_fly_zones")) {
@@ -313,8 +320,8 @@ Raw parse_v1(const json& j) {
     if (raw.planner != "darp") throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: darp)");
   }
   if (j.contains("seed")) {
-    if (!j["seed"].is_number_integer() || j["seed"].get<long long>() < 0)
-      if (!j["seed"].is_number_unsigned()) throw InputError("seed", "expected a non-negative integer");
+    // nlohmann stores every non-negative JSON integer as unsigned
+    if (!j["seed"].is_number_unsigned()) throw InputError("seed", "expected a non-negative integer");
     raw.seed = j["seed"].get<std::uint64_t>();
   }
   return raw;
@@ -383,7 +390,13 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   }
   if (!j.is_object()) throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
   const bool mcpp = j.contains("droneNo") || (j.contains("polygon") && !j.contains("area"));
-  Raw raw = mcpp ? parse_mcpp(j) : parse_v1(j);
+  Raw raw;
+  try {
+    raw = mcpp ? parse_mcpp(j) : parse_v1(j);
+  } catch (const json::exception& e) {
+    // every field is type-checked above; this is a safety net so that no input can escape as a crash
+    throw InputError("mission", std::string("unexpected structure: ") + e.what());
+  }
   resolve_shares(raw);
 
   // normalise rings; holes of the area become no-fly zones

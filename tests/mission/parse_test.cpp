@@ -111,6 +111,19 @@ TEST(MissionParse, WrongTypes) {
   expect_error(j, "area.type", "Polygon");
 }
 
+TEST(MissionParse, FuzzFoundNonStringTypeMember) {
+  // found by fuzz_mission: {"type": 30} inside no_fly_zones used to escape as a json type_error
+  auto j = base();
+  j["no_fly_zones"] = json::parse(R"([{"type": 30}])");
+  expect_error(j, "no_fly_zones[0].type", "missing");
+  j = base();
+  j["area"]["type"] = 30;
+  expect_error(j, "area.type", "missing");
+  j = base();
+  j["seed"] = "x";
+  expect_error(j, "seed", "non-negative integer");
+}
+
 TEST(MissionParse, UnknownFieldsAreNamed) {
   auto j = base();
   j["spacing"] = 40;
