@@ -91,17 +91,18 @@ int paper(Mode mode, const std::string& dir, std::uint64_t seed) {
     const double pt = r - 1 < static_cast<int>(pturns.size()) ? pturns[r - 1] : NAN;
     const double pl = r - 1 < static_cast<int>(plen.size()) ? plen[r - 1] : NAN;
     const bool w = mode == Mode::Strict && cov.total.poc * 100 < pp - 1e-9;
-    std::printf("%-5d %7.2f %7.2f %6d %6.0f %9.0f %9.0f %7.3f %5d%s%s\n", r, cov.total.poc * 100, pp, turns, pt, len,
-                pl, t, cells, counted ? "" : "  (not averaged)", w && counted ? "  lower PoC" : "");
+    std::printf("%-5d %7.2f %7.2f %6d %6.0f %9.0f %9.0f %7.3f %5d%s%s\n", r, cov.total.poc * 100, pp, turns,
+                pt, len, pl, t, cells, counted ? "" : "  (not averaged)", w && counted ? "  lower PoC" : "");
     if (counted) {
       s_poc += cov.total.poc * 100, s_turns += turns, s_len += len, s_t += t, ++n;
       if (w) ++worse;
     }
     max_t = std::max(max_t, t);
   }
-  std::printf("mean over %d regions: PoC %.2f %%  turns %.2f  length %.3f km  time %.3f s (max %.3f s)  "
-              "PoC below the paper on %d\n",
-              n, s_poc / n, s_turns / n, s_len / n / 1000, s_t / n, max_t, worse);
+  std::printf(
+      "mean over %d regions: PoC %.2f %%  turns %.2f  length %.3f km  time %.3f s (max %.3f s)  "
+      "PoC below the paper on %d\n",
+      n, s_poc / n, s_turns / n, s_len / n / 1000, s_t / n, max_t, worse);
   return 0;
 }
 
@@ -114,8 +115,10 @@ Mission synthetic(long cells, int uavs, bool hard = false) {
   const double lat0 = 45.0, lon0 = 9.0;
   const double dlat = side_m / 111320.0, dlon = side_m / (111320.0 * std::cos(lat0 * M_PI / 180));
   auto rect = [&](double a, double b, double c, double d) {  // fractions of the side
-    GeoRing ring{{lon0 + a * dlon, lat0 + b * dlat}, {lon0 + c * dlon, lat0 + b * dlat},
-                 {lon0 + c * dlon, lat0 + d * dlat}, {lon0 + a * dlon, lat0 + d * dlat},
+    GeoRing ring{{lon0 + a * dlon, lat0 + b * dlat},
+                 {lon0 + c * dlon, lat0 + b * dlat},
+                 {lon0 + c * dlon, lat0 + d * dlat},
+                 {lon0 + a * dlon, lat0 + d * dlat},
                  {lon0 + a * dlon, lat0 + b * dlat}};
     return GeoPolygon{ring};
   };
@@ -143,8 +146,8 @@ Mission synthetic(long cells, int uavs, bool hard = false) {
 
 int scaling(long max_cells, bool hard) {
   std::printf("%s\n%10s %5s %9s %10s %9s %5s %9s\n",
-              hard ? "unequal shares 1..n, scattered starts" : "equal shares, starts along two edges", "megacells",
-              "uavs", "time_s", "peak_MiB", "converged", "iters", "max_dev");
+              hard ? "unequal shares 1..n, scattered starts" : "equal shares, starts along two edges",
+              "megacells", "uavs", "time_s", "peak_MiB", "converged", "iters", "max_dev");
   for (long cells : {1000L, 10000L, 100000L, 300000L}) {
     if (cells > max_cells) break;
     for (int uavs : {1, 5, 20}) {
@@ -161,12 +164,14 @@ int scaling(long max_cells, bool hard) {
         int free_cells = 0;
         for (int o2 : p.grid.owner) free_cells += o2 >= 0;
         double dev = 0;
-        for (const auto& u : p.uavs) dev = std::max(dev, std::fabs(u.share_actual - u.share_requested) * free_cells);
+        for (const auto& u : p.uavs)
+          dev = std::max(dev, std::fabs(u.share_actual - u.share_requested) * free_cells);
         std::printf("%10d %5d %9.2f %10.1f %9s %5d %9.0f\n", free_cells, uavs, t, ru.ru_maxrss / 1024.0,
                     p.darp_converged ? "yes" : "no", p.darp_iterations, dev);
         if (!p.darp_converged) {
           std::printf("           cells - target per UAV:");
-          for (const auto& u : p.uavs) std::printf(" %+.0f", (u.share_actual - u.share_requested) * free_cells);
+          for (const auto& u : p.uavs)
+            std::printf(" %+.0f", (u.share_actual - u.share_requested) * free_cells);
           std::printf("\n");
         }
         std::fflush(stdout);
@@ -202,8 +207,9 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "paper") {
       const Mode mode = argc > 2 && std::string(argv[2]) == "coverage" ? Mode::Coverage : Mode::Strict;
-      const std::string dir = argc > 3 && std::string(argv[3]) != "-" ? argv[3]
-                                                                       : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022";
+      const std::string dir = argc > 3 && std::string(argv[3]) != "-"
+                                  ? argv[3]
+                                  : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022";
       return paper(mode, dir, argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 0);
     }
     if (cmd == "scaling" || cmd == "scaling-hard")
@@ -220,6 +226,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] | gbench\n");
+  std::fprintf(stderr,
+               "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] "
+               "| gbench\n");
   return 2;
 }

@@ -1,8 +1,8 @@
 #include "darp/darp_planner.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <limits>
 #include <numeric>
 
@@ -114,9 +114,10 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     bool inside = false;
     int k = start_cell(g, input.starts[i], inside);
     if (!inside)
-      out.warnings.push_back(fmt::format("UAV {}: start is outside the free grid; its region starts at the "
-                                         "nearest free cell",
-                                         i));
+      out.warnings.push_back(
+          fmt::format("UAV {}: start is outside the free grid; its region starts at the "
+                      "nearest free cell",
+                      i));
     if (taken[k]) k = nearest_untaken(g, k, taken);  // shared start cells: the next free one
     scell[i] = k;
     if (k >= 0) taken[k] = 1;
@@ -132,8 +133,7 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
   for (int c = 0; c < C; ++c) {
     double tsum = 0;
     for (int i : participants[c]) tsum += target[i];
-    for (int i : participants[c])
-      home_load[i] = tsum > 0 ? comp_cells[c].size() * target[i] / tsum : 0.0;
+    for (int i : participants[c]) home_load[i] = tsum > 0 ? comp_cells[c].size() * target[i] / tsum : 0.0;
   }
   // orphan components (no start inside), largest first, to the UAV with the largest deficit
   std::vector<int> orphans;
@@ -192,8 +192,7 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
       double want = 0;
       for (const auto& p : demand[c]) in |= p.uav == worst, want += p.want;
       const double surplus = comp_cells[c].size() - (demand[c].empty() ? 0.0 : want);
-      if (!in && !demand[c].empty() && surplus > best_surplus &&
-          comp_cells[c].size() > demand[c].size() + 1)
+      if (!in && !demand[c].empty() && surplus > best_surplus && comp_cells[c].size() > demand[c].size() + 1)
         best_surplus = surplus, best_c = c;
     }
     if (best_c < 0) break;
@@ -267,9 +266,10 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
     }
     ur.share_actual = ur.cells / L;
     if (ur.cells == 0)
-      out.warnings.push_back(fmt::format("UAV {} has no cell to cover (its share is too small or its start "
-                                         "lies in a component shared by more UAVs than cells)",
-                                         i));
+      out.warnings.push_back(
+          fmt::format("UAV {} has no cell to cover (its share is too small or its start "
+                      "lies in a component shared by more UAVs than cells)",
+                      i));
     Point here = input.starts[i];
     std::vector<char> flown(regions[i].size(), 0);
     for (std::size_t n = 0; n < regions[i].size(); ++n) {
@@ -294,9 +294,10 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
   for (int i = 0; i < U; ++i) worst = std::max(worst, std::fabs(out.uavs[i].cells - target[i]));
   if (out.converged && worst > tolerance(g.free_cells)) {
     out.converged = false;
-    out.warnings.push_back(fmt::format("the free space is split into {} parts that cannot be shared as "
-                                       "requested (max deviation {:.0f} cells of {})",
-                                       C, worst, g.free_cells));
+    out.warnings.push_back(
+        fmt::format("the free space is split into {} parts that cannot be shared as "
+                    "requested (max deviation {:.0f} cells of {})",
+                    C, worst, g.free_cells));
   }
   if (progress) progress("stc", 1.0);
   return out;

@@ -15,11 +15,11 @@
 namespace uavcover::darp {
 
 struct Input {
-  MultiPolygon free;          ///< area minus no-fly zones (corrected)
-  MultiPolygon no_fly;        ///< union of no-fly zones, including holes of the area
-  std::vector<Point> starts;  ///< one per UAV (may lie outside the area)
-  std::vector<double> shares; ///< one per UAV, sum 1
-  double ds = 0.0;            ///< scanning density; mega-cells are 2*ds
+  MultiPolygon free;           ///< area minus no-fly zones (corrected)
+  MultiPolygon no_fly;         ///< union of no-fly zones, including holes of the area
+  std::vector<Point> starts;   ///< one per UAV (may lie outside the area)
+  std::vector<double> shares;  ///< one per UAV, sum 1
+  double ds = 0.0;             ///< scanning density; mega-cells are 2*ds
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };
@@ -28,8 +28,8 @@ struct UavResult {
   /// Closed coverage loops (last == first) of turning waypoints, in flight order; one per
   /// connected region the UAV flies. Each loop starts at its region's cell nearest the entry.
   std::vector<std::vector<Point>> loops;
-  int cells = 0;               ///< mega-cells assigned
-  double share_actual = 0.0;   ///< cells / all free cells
+  int cells = 0;              ///< mega-cells assigned
+  double share_actual = 0.0;  ///< cells / all free cells
 };
 
 struct Output {

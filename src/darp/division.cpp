@@ -123,11 +123,11 @@ void repair(const Graph& G, std::vector<int>& owner, const std::vector<int>& sta
   }
 }
 
-
 /// Moves boundary cells along chains of neighbouring regions, from over- to under-allocated ones,
 /// keeping every region connected and its start; stops when all are within `tol` or no move helps.
-void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st, const std::vector<double>& targets,
-            const std::vector<std::vector<double>>& D, double tol, int max_moves) {
+void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
+            const std::vector<double>& targets, const std::vector<std::vector<double>>& D, double tol,
+            int max_moves) {
   const int n = G.n, P = static_cast<int>(st.size());
   std::vector<int> counts(P, 0);
   for (int x = 0; x < n; ++x) ++counts[owner[x]];
@@ -221,7 +221,8 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
               if (owner[y] == a && mark[y] != stamp) cut.push_back(y);
             const double m = static_cast<double>(cut.size());
             const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
-            const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+            const double after =
+                std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
             bool has_start = false;
             for (int y : cut) has_start |= is_start[y] != 0;
             if (after < before && !has_start) {
@@ -269,7 +270,8 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
           if (has_start) continue;
           const double m = static_cast<double>(cut.size());
           const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
-          const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+          const double after =
+              std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
           if (after + 1e-9 < before) {
             for (int y : cut) owner[y] = b;
             counts[a] -= static_cast<int>(m);
@@ -288,7 +290,8 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
 
 double tolerance(std::size_t cells) { return std::max(2.0, 0.01 * static_cast<double>(cells)); }
 
-DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::function<void(double)>& progress) {
+DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
+                      const std::function<void(double)>& progress) {
   DivisionResult out;
   std::vector<int> lid;
   const Graph G = build_graph(g, in.cells, lid);
@@ -387,7 +390,8 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
             double* Mi = M.data() + i;
             for (int x = 0; x < n; ++x) {
               const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
-              Mi[static_cast<std::size_t>(x) * P] *= (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
+              Mi[static_cast<std::size_t>(x) * P] *=
+                  (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
             }
           }
         }
@@ -405,7 +409,8 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
         best_owner = cand;
         last_gain = it;
       }
-      if (it - last_gain > std::max(std::min(400, max_iter / 2), max_iter / 8)) break;  // stagnating: next attempt
+      if (it - last_gain > std::max(std::min(400, max_iter / 2), max_iter / 8))
+        break;  // stagnating: next attempt
       if (dev <= tol) {
         out.converged = dev <= final_tol;
         break;
@@ -436,7 +441,8 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in, const std::f
   std::fill(out.counts.begin(), out.counts.end(), 0);
   for (int x = 0; x < n; ++x) ++out.counts[out.owner[x]];
   out.max_deviation = 0;
-  for (int i = 0; i < P; ++i) out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - in.targets[i]));
+  for (int i = 0; i < P; ++i)
+    out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - in.targets[i]));
   out.converged = out.max_deviation <= final_tol;
   return out;
 }

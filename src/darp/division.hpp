@@ -13,20 +13,20 @@
 namespace uavcover::darp {
 
 struct DivisionInput {
-  std::vector<int> cells;        ///< grid cell indices of one connected component
-  std::vector<int> starts;       ///< per participant: distinct cells of the component
-  std::vector<double> targets;   ///< per participant: wanted cell count (sums to cells.size())
-  int max_iterations = 4000;     ///< per attempt
-  int attempts = 3;              ///< tolerance relaxes from attempt to attempt
+  std::vector<int> cells;       ///< grid cell indices of one connected component
+  std::vector<int> starts;      ///< per participant: distinct cells of the component
+  std::vector<double> targets;  ///< per participant: wanted cell count (sums to cells.size())
+  int max_iterations = 4000;    ///< per attempt
+  int attempts = 3;             ///< tolerance relaxes from attempt to attempt
   std::uint64_t seed = 0;
 };
 
 struct DivisionResult {
-  std::vector<int> owner;   ///< per entry of `cells`: participant index
-  std::vector<int> counts;  ///< cells per participant
-  bool converged = false;   ///< within max(2 cells, 1 %) of every target
-  int iterations = 0;       ///< in total, over all attempts
-  double max_deviation = 0; ///< max |count - target| in cells
+  std::vector<int> owner;    ///< per entry of `cells`: participant index
+  std::vector<int> counts;   ///< cells per participant
+  bool converged = false;    ///< within max(2 cells, 1 %) of every target
+  int iterations = 0;        ///< in total, over all attempts
+  double max_deviation = 0;  ///< max |count - target| in cells
 };
 
 /// Every returned region is 4-connected over the grid's links and contains its start cell.

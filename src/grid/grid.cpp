@@ -31,8 +31,8 @@ void add_multi(const MultiPolygon& mp, std::vector<Edge>& out) {
 /// (xfirst + col*step, yfirst + row*step) lies inside the rings formed by `edges`
 /// (sorted by ya).
 template <typename RowFn>
-void scan_rows(const std::vector<QEdge>& edges, double xfirst, double yfirst, double step, int ncols, int nrows,
-               RowFn&& fn) {
+void scan_rows(const std::vector<QEdge>& edges, double xfirst, double yfirst, double step, int ncols,
+               int nrows, RowFn&& fn) {
   std::vector<int> active;
   std::vector<double> xs;
   std::size_t next = 0;
@@ -136,17 +136,18 @@ double estimate_coverage(const Grid& g, const std::vector<QEdge>& fe_sorted, int
     }
   const double step = g.dn / K;
   long inside = 0, covered = 0;
-  scan_rows(fe_sorted, g.x0 + 0.5 * step, g.y0 + 0.5 * step, step, K * cols, K * rows, [&](int row, int lo, int hi) {
-    inside += hi - lo + 1;
-    const int r = row / K, a = row % K;
-    const std::uint16_t* brow = bits.data() + static_cast<std::size_t>(r) * cols * K + a;
-    for (int c = lo / K; c <= hi / K; ++c) {
-      unsigned v = brow[static_cast<std::size_t>(c) * K];
-      const int x0 = std::max(lo, K * c) - K * c, x1 = std::min(hi, K * c + K - 1) - K * c;
-      v &= ((1u << (x1 + 1)) - 1) & ~((1u << x0) - 1);
-      covered += popcount16[v];
-    }
-  });
+  scan_rows(fe_sorted, g.x0 + 0.5 * step, g.y0 + 0.5 * step, step, K * cols, K * rows,
+            [&](int row, int lo, int hi) {
+              inside += hi - lo + 1;
+              const int r = row / K, a = row % K;
+              const std::uint16_t* brow = bits.data() + static_cast<std::size_t>(r) * cols * K + a;
+              for (int c = lo / K; c <= hi / K; ++c) {
+                unsigned v = brow[static_cast<std::size_t>(c) * K];
+                const int x0 = std::max(lo, K * c) - K * c, x1 = std::min(hi, K * c + K - 1) - K * c;
+                v &= ((1u << (x1 + 1)) - 1) & ~((1u << x0) - 1);
+                covered += popcount16[v];
+              }
+            });
   return inside ? static_cast<double>(covered) / inside : 0.0;
 }
 
@@ -245,7 +246,8 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
       const double t0 = static_cast<double>(p) / pieces, t1 = static_cast<double>(p + 1) / pieces;
       const double ax = e.xa + t0 * (e.xb - e.xa), ay = e.ya + t0 * (e.yb - e.ya);
       const double bx = e.xa + t1 * (e.xb - e.xa), by = e.ya + t1 * (e.yb - e.ya);
-      const double bx0 = std::min(ax, bx), bx1 = std::max(ax, bx), by0 = std::min(ay, by), by1 = std::max(ay, by);
+      const double bx0 = std::min(ax, bx), bx1 = std::max(ax, bx), by0 = std::min(ay, by),
+                   by1 = std::max(ay, by);
       const int c0 = std::max(0, static_cast<int>(std::ceil((bx0 - g.x0 - h) / dn - 1.0)));
       const int c1 = std::min(cols - 1, static_cast<int>(std::floor((bx1 - g.x0 - h) / dn)));
       const int r0 = std::max(0, static_cast<int>(std::ceil((by0 - g.y0 - h) / dn - 1.0)));
@@ -280,7 +282,8 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
       if (c + 1 < cols && g.free[k + 1] && !(no_link[k] & 1)) g.link[k] |= 1;
       if (r + 1 < rows && g.free[k + cols] && !(no_link[k] & 2)) g.link[k] |= 2;
     }
-  if (prep.estimate_coverage) g.coverage_estimate = estimate_coverage(g, fe, std::clamp(prep.estimate_samples, 1, 16));
+  if (prep.estimate_coverage)
+    g.coverage_estimate = estimate_coverage(g, fe, std::clamp(prep.estimate_samples, 1, 16));
   return g;
 }
 
@@ -329,7 +332,8 @@ Score score(const Prepared& prep, const Grid& g, const Weights& w) {
     const double ey0 = g.y0 + g.fr0 * dn, ey1 = g.y0 + (g.fr1 + 1) * dn;
     const double bx = std::max(ex1, g.px1) - std::min(ex0, g.px0);
     const double by = std::max(ey1, g.py1) - std::min(ey0, g.py0);
-    s.J3 = std::fabs((ex1 - g.px1) - (g.px0 - ex0)) / (2 * bx) + std::fabs((ey1 - g.py1) - (g.py0 - ey0)) / (2 * by);
+    s.J3 = std::fabs((ex1 - g.px1) - (g.px0 - ex0)) / (2 * bx) +
+           std::fabs((ey1 - g.py1) - (g.py0 - ey0)) / (2 * by);
   }
   std::vector<int> label;
   s.components = components(g, label);

@@ -27,7 +27,7 @@ struct Prepared {
   std::vector<Edge> free_edges;  ///< all ring edges of the free space (local frame)
   std::vector<Edge> nfz_edges;   ///< all ring edges of the no-fly zones (local frame)
   double free_area = 0.0;
-  int free_parts = 0;            ///< polygons in the free multipolygon
+  int free_parts = 0;  ///< polygons in the free multipolygon
   double ds = 0.0;
   Mode mode = Mode::Strict;
   bool estimate_coverage = true;  ///< rasterize() also fills Grid::coverage_estimate
@@ -40,11 +40,11 @@ struct Grid {
   double ds = 0.0, dn = 0.0;
   double sx = 0.0, sy = 0.0, theta_deg = 0.0;
   double cos_t = 1.0, sin_t = 0.0;
-  double x0 = 0.0, y0 = 0.0;       ///< q-frame lower-left corner of mega-cell (0,0)
+  double x0 = 0.0, y0 = 0.0;  ///< q-frame lower-left corner of mega-cell (0,0)
   int rows = 0, cols = 0;
   double px0 = 0.0, px1 = 0.0, py0 = 0.0, py1 = 0.0;  ///< q-frame bounding box of the free space
-  int fr0 = 0, fr1 = -1, fc0 = 0, fc1 = -1;            ///< rows/cols spanned by the free cells
-  std::vector<std::uint8_t> free;  ///< rows*cols, row-major
+  int fr0 = 0, fr1 = -1, fc0 = 0, fc1 = -1;           ///< rows/cols spanned by the free cells
+  std::vector<std::uint8_t> free;                     ///< rows*cols, row-major
   /// bit 0: linked to the right neighbour (c+1), bit 1: linked to the upper neighbour (r+1).
   /// A link exists when both cells are free and the path segments joining them are clear.
   std::vector<std::uint8_t> link;

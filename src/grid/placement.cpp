@@ -44,7 +44,8 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
   auto offer = [&](const Candidate& c) {
     for (auto& p : pool) {
       // the same grid seen twice (equal cell count and coverage) counts once
-      if (p.s.free_cells == c.s.free_cells && p.s.coverage == c.s.coverage && p.s.components == c.s.components) {
+      if (p.s.free_cells == c.s.free_cells && p.s.coverage == c.s.coverage &&
+          p.s.components == c.s.components) {
         if (better(c, p)) p = c;
         return;
       }
@@ -52,9 +53,8 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
     if (pool.size() < pool_size) {
       pool.push_back(c);
     } else {
-      auto worst = std::min_element(pool.begin(), pool.end(), [&](const Candidate& a, const Candidate& b) {
-        return better(b, a);
-      });
+      auto worst = std::min_element(pool.begin(), pool.end(),
+                                    [&](const Candidate& a, const Candidate& b) { return better(b, a); });
       if (better(c, *worst)) *worst = c;
     }
   };
@@ -107,7 +107,7 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
       Candidate cur = s0;
       for (long k = 0; k < per && evals < budget; ++k) {
         const double f = static_cast<double>(k) / per;  // annealing progress
-        const double T = 0.01 * std::pow(1e-3, f);     // temperature on J (J in [0, 1))
+        const double T = 0.01 * std::pow(1e-3, f);      // temperature on J (J in [0, 1))
         const double scale = 1.0 - 0.9 * f;
         double sx = cur.sx, sy = cur.sy, th = cur.th;
         const double pick = u01(rng);

@@ -22,9 +22,9 @@ struct PlacementOptions {
 };
 
 struct PlacementResult {
-  Placement placement;  ///< sx, sy, theta, J and its terms, evaluations used
+  Placement placement;    ///< sx, sy, theta, J and its terms, evaluations used
   double coverage = 0.0;  ///< coverage_proxy of the chosen grid
-  Grid grid;            ///< the grid at the best placement
+  Grid grid;              ///< the grid at the best placement
 };
 
 /// `progress(fraction)` is called now and then.

@@ -25,7 +25,7 @@ struct Dsu {
 };
 
 struct TreeEdge {
-  int a, b;   // local cell ids, b is right of / above a
+  int a, b;  // local cell ids, b is right of / above a
   bool horizontal;
   int row, col;  // local row/col of a
 };
@@ -102,7 +102,8 @@ Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry) 
     const int lr = lk / loc.w, lc = lk % loc.w;
     const int k = g.idx(lr + loc.r0, lc + loc.c0);
     if ((g.link[k] & 1) && lc + 1 < loc.w && in[lk + 1]) loc.edges.push_back({lk, lk + 1, true, lr, lc});
-    if ((g.link[k] & 2) && lr + 1 < loc.h && in[lk + loc.w]) loc.edges.push_back({lk, lk + loc.w, false, lr, lc});
+    if ((g.link[k] & 2) && lr + 1 < loc.h && in[lk + loc.w])
+      loc.edges.push_back({lk, lk + loc.w, false, lr, lc});
   }
 
   std::vector<int> best;
@@ -154,7 +155,8 @@ Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry) 
     if (d < bd) bd = d, first = i;
   }
   out.points.reserve(best.size() + 1);
-  for (std::size_t i = 0; i <= best.size(); ++i) out.points.push_back(to_local(best[(first + i) % best.size()]));
+  for (std::size_t i = 0; i <= best.size(); ++i)
+    out.points.push_back(to_local(best[(first + i) % best.size()]));
   out.turns = static_cast<int>(best.size());
   return out;
 }

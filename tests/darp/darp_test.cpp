@@ -20,8 +20,10 @@ Scenario proportional_three() {
 }
 Scenario pair_60_40() {
   // L-shaped field
-  return {"60/40 L", {poly({{0, 0}, {1000, 0}, {1000, 400}, {450, 400}, {450, 900}, {0, 900}})},
-          {},        {{100, 100}, {900, 300}},
+  return {"60/40 L",
+          {poly({{0, 0}, {1000, 0}, {1000, 400}, {450, 400}, {450, 900}, {0, 900}})},
+          {},
+          {{100, 100}, {900, 300}},
           {0.6, 0.4}};
 }
 Scenario two_pylons() {
@@ -32,7 +34,11 @@ Scenario two_pylons() {
           {1.0 / 3, 1.0 / 3, 1.0 / 3}};
 }
 Scenario ten_uavs() {
-  Scenario s{"10 UAVs, 2 NFZs", {rect(0, 0, 1500, 1000)}, {rect(300, 300, 500, 420), rect(950, 600, 1100, 800)}, {}, {},
+  Scenario s{"10 UAVs, 2 NFZs",
+             {rect(0, 0, 1500, 1000)},
+             {rect(300, 300, 500, 420), rect(950, 600, 1100, 800)},
+             {},
+             {},
              25};
   for (int i = 0; i < 10; ++i) {
     s.starts.push_back({75.0 + 150.0 * i, i % 2 ? 950.0 : 50.0});
@@ -53,7 +59,8 @@ class DarpScenario : public ::testing::TestWithParam<std::tuple<int, int, int>> 
 
 TEST_P(DarpScenario, PropertiesHold) {
   const auto [which, seed, mode_i] = GetParam();
-  const Scenario sc = std::vector<Scenario (*)()>{proportional_three, pair_60_40, two_pylons, ten_uavs, concave}[which]();
+  const Scenario sc =
+      std::vector<Scenario (*)()>{proportional_three, pair_60_40, two_pylons, ten_uavs, concave}[which]();
   const Mode mode = mode_i ? Mode::Coverage : Mode::Strict;
   const darp::Input in = make_input(sc.area, sc.nfz, sc.starts, sc.shares, sc.ds, mode, seed);
   const darp::Output out = darp::run(in, PlanOptions{}, {});
@@ -78,8 +85,8 @@ TEST(Darp, DisconnectedAreaIsShared) {
   // two fields 200 m apart, all three UAVs start in the first one
   MultiPolygon area{rect(0, 0, 600, 600), rect(800, 0, 1200, 400)};
   for (int seed : {1, 2, 3}) {
-    const darp::Input in =
-        make_input(area, {}, {{50, 50}, {550, 50}, {300, 550}}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, 25, Mode::Strict, seed);
+    const darp::Input in = make_input(area, {}, {{50, 50}, {550, 50}, {300, 550}},
+                                      {1.0 / 3, 1.0 / 3, 1.0 / 3}, 25, Mode::Strict, seed);
     const darp::Output out = darp::run(in, PlanOptions{}, {});
     check_plan(in, out, false);
     int loops = 0;
