@@ -189,7 +189,7 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     throw InputError("paths", std::string("not valid JSON: ") + e.what());
   }
   if (!doc.is_object()) throw InputError("type", "GeoJSON must be an object");

@@ -35,7 +35,7 @@ std::string slurp(const std::filesystem::path& p, const std::string& field) {
 json parse_file(const std::filesystem::path& p, const std::string& field) {
   try {
     return json::parse(slurp(p, field));
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception&) {
     throw InputError(field, "malformed JSON in " + p.string());
   }
 }

@@ -136,3 +136,8 @@ TEST(EvaluateCommand, RefusesBadGeoJsonWithExitCode2) {
   EXPECT_FALSE(fs::exists(dir / "out" / "evaluation.json"));
   fs::remove_all(dir);
 }
+
+TEST(PathsGeoJson, FuzzFoundNumberOverflowIsRefused) {
+  // found by fuzz_paths_geojson: a number too large for a double escaped as json out_of_range
+  EXPECT_EQ(field_of(R"({"type": "FeatureCollection", "x": 0.5E3821, "features": []})"), "paths");
+}

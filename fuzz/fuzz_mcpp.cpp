@@ -1,5 +1,5 @@
-// libFuzzer target: GeoJSON/plan reading paths share the mission parser; this one fuzzes the
-// mission parser on the mCPP-optimized-DARP input format by prefixing the detection key.
+// libFuzzer target: the mission parser on the mCPP-optimized-DARP input format (the input is
+// prefixed with its detection key so that the fuzzer stays on that path).
 #include <cstddef>
 #include <cstdint>
 #include <string>
