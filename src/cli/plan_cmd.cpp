@@ -55,10 +55,10 @@ void run_plan(const PlanArgs& a) {
                              u.share_actual, u.cells, u.turns, u.length_m / 1000.0);
   for (const auto& w : result.warnings) std::cout << "warning: " << w << "\n";
   if (written.poc >= 0)
-    std::cout << fmt::format("coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min, total {:.1f} min, "
-                             "cost {:.2f} EUR\n",
+    std::cout << fmt::format("coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min (trajectories: "
+                             "{:.1f} min), total {:.1f} min, cost {:.2f} EUR\n",
                              written.poc * 100, written.pooc * 100, written.flight_time_min,
-                             written.total_time_min, written.cost_eur);
+                             written.trajectory_flight_time_min, written.total_time_min, written.cost_eur);
   std::cout << fmt::format("planned in {:.3f} s; wrote {} files to {}\n", result.compute_time_s,
                            written.files.size(), dir.string());
 }

@@ -6,6 +6,7 @@
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
 #include "render/render.hpp"
+#include "trajectory/trajectory.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::io {
@@ -28,6 +29,15 @@ PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
   if (options.evaluate) {
     ev = evaluation::evaluate_plan(plan);
     extra = evaluation::to_json(ev);
+    // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
+    // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
+    std::vector<double> durations_min;
+    for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+      durations_min.push_back(trajectory::flight_time_s(plan, i) / 60.0);
+    const auto traj_cost = evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs,
+                                                                     ev.coverage.total.area_m2);
+    extra["cost_trajectory"] = evaluation::to_json(traj_cost);
+    out.trajectory_flight_time_min = traj_cost.flight_time_min;
     out.poc = ev.coverage.total.poc;
     out.pooc = ev.coverage.total.pooc;
     out.flight_time_min = ev.cost.flight_time_min;

@@ -11,7 +11,7 @@
 namespace uavcover::io {
 
 struct PlanDirOptions {
-  bool evaluate = true;              ///< coverage simulation + time/cost model into plan.json
+  bool evaluate = true;  ///< coverage simulation + time/cost model (eq. 15 and trajectories) into plan.json
   bool images = true;                ///< plan.png, plan.svg, heatmap.png, histogram.png
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
 };
@@ -20,6 +20,7 @@ struct PlanDirResult {
   std::vector<std::filesystem::path> files;
   double poc = -1, pooc = -1;        ///< when evaluated
   double flight_time_min = -1, total_time_min = -1, cost_eur = -1;
+  double trajectory_flight_time_min = -1;  ///< the same from the time-parameterised trajectories
 };
 
 /// Checks export format names up front (InputError naming --export).

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "support/files.hpp"
+
 namespace uavcover::testing {
 
 struct RunResult {
@@ -30,12 +32,6 @@ inline RunResult run_cli(const std::string& args) {
   return r;
 }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 inline nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json::parse(slurp(p)); }
 

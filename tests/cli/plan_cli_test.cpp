@@ -73,6 +73,12 @@ TEST(PlanCli, WritesPathsAndPlan) {
   // coverage and cost are in plan.json at planning time
   ASSERT_TRUE(pj.contains("coverage")) << pj.dump().substr(0, 500);
   ASSERT_TRUE(pj.contains("cost"));
+  // the trajectory-based alternative to eq. 15: slower than constant speed, same order of magnitude
+  ASSERT_TRUE(pj.contains("cost_trajectory"));
+  const double ft_eq15 = pj["cost"]["flight_time_min"].get<double>();
+  const double ft_traj = pj["cost_trajectory"]["flight_time_min"].get<double>();
+  EXPECT_GT(ft_traj, 0.5 * ft_eq15);
+  EXPECT_LT(ft_traj, 2.0 * ft_eq15);
   const double poc = pj["coverage"]["poc"].get<double>();
   EXPECT_GT(poc, 0.85);
   EXPECT_LE(poc, 1.0);

@@ -7,21 +7,17 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
 #include "uavcover/mission.hpp"
 
 using namespace uavcover;
 namespace fs = std::filesystem;
+using uavcover::testing::slurp;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 }  // namespace
 

@@ -10,25 +10,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
 #include "uavcover/uavcover.hpp"
 
 using namespace uavcover;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string roi(const std::string& name) {
-  std::ifstream in(std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/" + name);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-}  // namespace
 
 TEST(EvaluatePlan, PlannedRegionIsCoveredAndCosted) {
-  Mission m = parse_mission(roi("roi01.json"));
+  Mission m = parse_mission(uavcover::testing::roi_text("roi01.json"));
   m.mode = Mode::Coverage;
   const Plan p = plan(m);
   const auto ev = evaluation::evaluate_plan(p);
@@ -122,7 +113,7 @@ TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
             0);
   std::ifstream in(dir / "evaluation.json");
   const auto j = nlohmann::json::parse(in);
-  const auto ev = evaluation::evaluate_plan(plan(parse_mission(roi("roi09.json"))));
+  const auto ev = evaluation::evaluate_plan(plan(parse_mission(uavcover::testing::roi_text("roi09.json"))));
   EXPECT_NEAR(j["poc"].get<double>(), ev.coverage.total.poc, 0.002);
   EXPECT_NEAR(j["pooc"].get<double>(), ev.coverage.total.pooc, 0.002);
   EXPECT_EQ(j["turns"].get<int>(), ev.coverage.total.turns);
@@ -132,16 +123,7 @@ TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
 }
 
 TEST(EvaluatePlan, LatticeSharesFollowTheDivision) {
-  Mission m = parse_mission(roi("roi09.json"));
-  const Uav base = m.uavs.at(0);
-  m.uavs.clear();
-  for (int i = 0; i < 3; ++i) {
-    Uav u = base;
-    u.id = "uav-" + std::to_string(i + 1);
-    u.share = 1.0 / 3;
-    u.start.reset();
-    m.uavs.push_back(u);
-  }
+  const Mission m = uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
   const Plan p = plan(m);
   const auto ev = evaluation::evaluate_plan(p);
   ASSERT_EQ(ev.coverage.uavs.size(), 3u);

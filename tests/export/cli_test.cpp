@@ -7,7 +7,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/files.hpp"
+
 namespace fs = std::filesystem;
+using uavcover::testing::slurp;
 
 namespace {
 
@@ -16,12 +19,6 @@ int run(const std::string& cmd) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 }  // namespace
 

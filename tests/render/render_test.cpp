@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
 #include "render/render.hpp"
@@ -138,19 +139,7 @@ TEST(Render, RefusesBadSizesAndPaths) {
 }
 
 TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
-  std::ifstream in(std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi09.json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  Mission m = parse_mission(ss.str());
-  const Uav base = m.uavs.at(0);
-  m.uavs.clear();
-  for (int i = 0; i < 3; ++i) {
-    Uav u = base;
-    u.id = "uav-" + std::to_string(i + 1);
-    u.share = 1.0 / 3;
-    u.start.reset();
-    m.uavs.push_back(u);
-  }
+  const Mission m = uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
   const Plan p = plan(m);
   ASSERT_EQ(p.uavs.size(), 3u);
   const auto dir = out_dir();

@@ -1,0 +1,39 @@
+// File fixtures shared by the tests.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "uavcover/mission.hpp"
+
+namespace uavcover::testing {
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Text of a region of the paper's evaluation, e.g. roi_text("roi09.json").
+inline std::string roi_text(const std::string& file) {
+  return slurp(std::filesystem::path(UAVCOVER_SHARED_DIR) / "bench" / "apostolidis2022" / file);
+}
+
+/// The mission with its first UAV copied `n` times: ids uav-1.., equal shares, seeded random starts.
+inline Mission with_equal_uavs(Mission m, int n) {
+  const Uav base = m.uavs.at(0);
+  m.uavs.clear();
+  for (int i = 0; i < n; ++i) {
+    Uav u = base;
+    u.id = "uav-" + std::to_string(i + 1);
+    u.share = 1.0 / n;
+    u.start.reset();
+    m.uavs.push_back(u);
+  }
+  return m;
+}
+
+}  // namespace uavcover::testing
