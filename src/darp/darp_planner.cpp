@@ -113,11 +113,13 @@ Output run(const Input& input, const PlanOptions& options, const Progress& progr
   for (int i = 0; i < U; ++i) {
     bool inside = false;
     int k = start_cell(g, input.starts[i], inside);
-    if (!inside)
+    // a take-off point beside the field is normal; one inside the free area that misses every free
+    // cell (a narrow strip, a corner) is worth telling the operator
+    if (!inside && bg::within(input.starts[i], input.free))
       out.warnings.push_back(
-          fmt::format("UAV {}: start is outside the free grid; its region starts at the "
-                      "nearest free cell",
-                      i));
+          fmt::format("UAV {}: the start lies in the area but on no free grid cell; its region starts at "
+                      "the nearest free cell",
+                      i + 1));
     if (taken[k]) k = nearest_untaken(g, k, taken);  // shared start cells: the next free one
     scell[i] = k;
     if (k >= 0) taken[k] = 1;
