@@ -29,15 +29,15 @@ struct UavDefaults {
   static constexpr double speed_mps = 5.0;
   static constexpr double max_accel_mps2 = 2.0;
   static constexpr double endurance_min = 25.0;
-  static constexpr double turn_c1 = 3.0;   // eq. 15 turn-delay constant c1 (s)
-  static constexpr double turn_c2 = 1.0;   // eq. 15 turn-delay constant c2 (m/s)
+  static constexpr double turn_c1 = 3.0;  // eq. 15 turn-delay constant c1 (s)
+  static constexpr double turn_c2 = 1.0;  // eq. 15 turn-delay constant c2 (m/s)
 };
 
 struct Uav {
   std::string id;
-  std::optional<LonLat> start;     ///< given by the user; empty -> seeded random start
-  LonLat start_resolved{};         ///< the start actually used (given or drawn)
-  double share = 0.0;              ///< normalised, sums to 1 over all UAVs
+  std::optional<LonLat> start;  ///< given by the user; empty -> seeded random start
+  LonLat start_resolved{};      ///< the start actually used (given or drawn)
+  double share = 0.0;           ///< normalised, sums to 1 over all UAVs
   double speed_mps = UavDefaults::speed_mps;
   double max_accel_mps2 = UavDefaults::max_accel_mps2;
   double endurance_min = UavDefaults::endurance_min;
@@ -51,10 +51,10 @@ struct Mission {
   std::vector<GeoPolygon> area;          ///< normalised: closed rings, outer CCW, holes CW
   std::vector<GeoPolygon> no_fly_zones;  ///< normalised likewise (holes of `area` are moved here)
   std::optional<Camera> camera;
-  double spacing_m = 0.0;                ///< scanning density ds (given or from the camera)
-  std::optional<double> gsd_m;           ///< ground sample distance (QGC camera convention)
-  std::optional<double> footprint_m;     ///< camera footprint width on the ground
-  double altitude_m = 40.0;              ///< mission altitude
+  double spacing_m = 0.0;                   ///< scanning density ds (given or from the camera)
+  std::optional<double> gsd_m;              ///< ground sample distance (QGC camera convention)
+  std::optional<double> footprint_m;        ///< camera footprint width on the ground
+  double altitude_m = 40.0;                 ///< mission altitude
   std::string altitude_source = "default";  ///< "camera", "altitude_m" or "default"
   std::vector<Uav> uavs;
   Mode mode = Mode::Strict;

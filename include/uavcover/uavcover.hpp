@@ -16,9 +16,9 @@ namespace uavcover {
 using Progress = std::function<void(std::string_view stage, double fraction)>;
 
 struct PlanOptions {
-  std::optional<std::uint64_t> seed;   ///< overrides mission.seed
-  int darp_max_iterations = 4000;      ///< per DARP attempt
-  int placement_evaluations = 1500;    ///< grid placement budget (annealing steps in total)
+  std::optional<std::uint64_t> seed;  ///< overrides mission.seed
+  int darp_max_iterations = 4000;     ///< per DARP attempt
+  int placement_evaluations = 1500;   ///< grid placement budget (annealing steps in total)
   bool optimise_placement = true;
 };
 

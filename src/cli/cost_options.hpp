@@ -8,7 +8,8 @@
 namespace uavcover::cli {
 
 inline void add_cost_options(CLI::App* cmd, evaluation::CostOptions& cost) {
-  cmd->add_option("--fcm", cost.fcm_eur_per_min, "Flight cost per minute (EUR), eq. 21")->capture_default_str();
+  cmd->add_option("--fcm", cost.fcm_eur_per_min, "Flight cost per minute (EUR), eq. 21")
+      ->capture_default_str();
   cmd->add_option("--deploy-base", cost.deployment_base_min, "Deployment time base (min), eq. 18")
       ->capture_default_str();
   cmd->add_option("--deploy-per-uav", cost.deployment_per_uav_min, "Deployment time per UAV (min), eq. 18")

@@ -42,7 +42,8 @@ void run_export(ExportArgs& a) {
   if (global_flags().quiet) return;
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",
-                             plan.uavs[i].id, exporting::transition_altitude(a.opt.altitude, i, plan.mission.altitude_m),
+                             plan.uavs[i].id,
+                             exporting::transition_altitude(a.opt.altitude, i, plan.mission.altitude_m),
                              trajectory::flight_time_s(plan, i, a.opt.trajectory, a.opt.altitude));
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
 }

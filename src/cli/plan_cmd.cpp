@@ -48,27 +48,30 @@ void run_plan(const PlanArgs& a) {
   std::cout << fmt::format("{} — {} UAV(s), spacing {:.1f} m, mode {}, seed {}\n", result.mission.name,
                            result.uavs.size(), result.mission.spacing_m,
                            result.mission.mode == Mode::Strict ? "strict" : "coverage", result.mission.seed);
-  std::cout << fmt::format("{:<12} {:>8} {:>8} {:>7} {:>7} {:>11}\n", "uav", "share", "actual", "cells", "turns",
-                           "length_km");
+  std::cout << fmt::format("{:<12} {:>8} {:>8} {:>7} {:>7} {:>11}\n", "uav", "share", "actual", "cells",
+                           "turns", "length_km");
   for (const auto& u : result.uavs)
     std::cout << fmt::format("{:<12} {:>8.3f} {:>8.3f} {:>7} {:>7} {:>11.3f}\n", u.id, u.share_requested,
                              u.share_actual, u.cells, u.turns, u.length_m / 1000.0);
   for (const auto& w : result.warnings) std::cout << "warning: " << w << "\n";
   if (written.poc >= 0)
-    std::cout << fmt::format("coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min (trajectories: "
-                             "{:.1f} min), total {:.1f} min, cost {:.2f} EUR\n",
-                             written.poc * 100, written.pooc * 100, written.flight_time_min,
-                             written.trajectory_flight_time_min, written.total_time_min, written.cost_eur);
+    std::cout << fmt::format(
+        "coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min (trajectories: "
+        "{:.1f} min), total {:.1f} min, cost {:.2f} EUR\n",
+        written.poc * 100, written.pooc * 100, written.flight_time_min, written.trajectory_flight_time_min,
+        written.total_time_min, written.cost_eur);
   std::cout << fmt::format("planned in {:.3f} s; wrote {} files to {}\n", result.compute_time_s,
                            written.files.size(), dir.string());
 }
 
 const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   auto args = std::make_shared<PlanArgs>();
-  auto* cmd = app.add_subcommand("plan", "Plan a coverage mission: divide the area among the UAVs and build their paths");
+  auto* cmd = app.add_subcommand(
+      "plan", "Plan a coverage mission: divide the area among the UAVs and build their paths");
   cmd->add_option("MISSION", args->mission, "Mission file (uavcover v1 JSON, or mCPP-optimized-DARP input)")
       ->required();
-  cmd->add_option("--out,-o", args->out, "Output folder: paths.geojson and plan.json are written there")->required();
+  cmd->add_option("--out,-o", args->out, "Output folder: paths.geojson and plan.json are written there")
+      ->required();
   cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan");
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
       ->capture_default_str();
@@ -79,9 +82,12 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(
       "Outputs:\n"
-      "  DIR/paths.geojson  FeatureCollection: per UAV LineStrings (kind coverage|transit, uav, share_requested,\n"
-      "                     share_actual, length_m, turns) and Polygons for the area and no-fly zones (role).\n"
-      "  DIR/plan.json      normalised mission, spacing, GSD/footprint, grid placement (J, J1-J3), per-UAV and\n"
+      "  DIR/paths.geojson  FeatureCollection: per UAV LineStrings (kind coverage|transit, uav, "
+      "share_requested,\n"
+      "                     share_actual, length_m, turns) and Polygons for the area and no-fly zones "
+      "(role).\n"
+      "  DIR/plan.json      normalised mission, spacing, GSD/footprint, grid placement (J, J1-J3), per-UAV "
+      "and\n"
       "                     total metrics, coverage (PoC, PoOC, histogram) and time/cost (eq. 15-22).\n"
       "  DIR/plan.png, plan.svg, heatmap.png, histogram.png   pictures for the report.\n"
       "  DIR/export/, DIR/trajectory/   with --export.\n"

@@ -11,27 +11,27 @@
 namespace uavcover::evaluation {
 
 struct CoverageOptions {
-  double footprint_m = 0.0;        ///< w; required (> 0)
-  double lattice_m = 0.0;          ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
+  double footprint_m = 0.0;  ///< w; required (> 0)
+  double lattice_m = 0.0;    ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
   std::size_t max_samples = 20'000'000;
-  bool count_transit = false;      ///< transit legs scan too
+  bool count_transit = false;  ///< transit legs scan too
 };
 
 struct CoverageStats {
-  double poc = 0.0;                ///< share of samples scanned >= 1 time
-  double pooc = 0.0;               ///< share of samples scanned >= 2 times
+  double poc = 0.0;   ///< share of samples scanned >= 1 time
+  double pooc = 0.0;  ///< share of samples scanned >= 2 times
   int max_scans = 0;
-  std::vector<double> histogram;   ///< normalised: histogram[k] = share of samples scanned k times
-  int turns = 0;                   ///< waypoints of the coverage loops, start counted twice (paper)
-  double length_m = 0.0;           ///< all legs flown (coverage + transit)
-  double area_m2 = 0.0;            ///< free area
+  std::vector<double> histogram;  ///< normalised: histogram[k] = share of samples scanned k times
+  int turns = 0;                  ///< waypoints of the coverage loops, start counted twice (paper)
+  double length_m = 0.0;          ///< all legs flown (coverage + transit)
+  double area_m2 = 0.0;           ///< free area
   double turns_per_1000m2 = 0.0;
   double length_per_1000m2 = 0.0;  ///< metres per 1000 m^2
 };
 
 struct UavCoverage {
-  CoverageStats stats;             ///< coverage by this UAV's legs alone (shares of the whole free area)
-  double area_share = 0.0;         ///< share of the scanned samples this UAV scans (shared ones split equally)
+  CoverageStats stats;      ///< coverage by this UAV's legs alone (shares of the whole free area)
+  double area_share = 0.0;  ///< share of the scanned samples this UAV scans (shared ones split equally)
 };
 
 struct CoverageResult {
@@ -40,7 +40,7 @@ struct CoverageResult {
   CoverageStats total;
   std::vector<UavCoverage> uavs;
   // scan counts on the lattice, for heatmaps: row-major, -1 outside the free area
-  Point lattice_origin;            ///< local position of sample (0,0)
+  Point lattice_origin;  ///< local position of sample (0,0)
   int lattice_cols = 0, lattice_rows = 0;
   std::vector<int> scans;
 };

@@ -9,7 +9,8 @@
 namespace uavcover::exporting {
 
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m) {
-  const double base = opt.transition_base_m > 0.0 ? opt.transition_base_m : std::max(60.0, mission_altitude_m + 20.0);
+  const double base =
+      opt.transition_base_m > 0.0 ? opt.transition_base_m : std::max(60.0, mission_altitude_m + 20.0);
   return base + static_cast<double>(index) * opt.transition_step_m;
 }
 

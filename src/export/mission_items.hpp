@@ -28,17 +28,17 @@ struct MissionItem {
   std::uint16_t command = kNavWaypoint;
   std::uint8_t frame = kFrameGlobalRelativeAlt;
   float param1 = 0, param2 = 0, param3 = 0, param4 = 0;
-  double lat = 0, lon = 0;   ///< degrees (0 for commands without a position)
-  float alt = 0;             ///< metres, relative to home in frame 3
+  double lat = 0, lon = 0;  ///< degrees (0 for commands without a position)
+  float alt = 0;            ///< metres, relative to home in frame 3
   bool autocontinue = true;
-  std::string role;          ///< "takeoff", "transition", "coverage", "transit", "speed", "camera", "rtl", "land"
-  int part = -1;             ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
+  std::string role;  ///< "takeoff", "transition", "coverage", "transit", "speed", "camera", "rtl", "land"
+  int part = -1;     ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
 };
 
 struct AltitudeOptions {
   /// First UAV's transition altitude; 0 = automatic: the larger of 60 m and mission altitude + 20 m.
   double transition_base_m = 0.0;
-  double transition_step_m = 10.0;   ///< added per UAV index
+  double transition_step_m = 10.0;  ///< added per UAV index
   bool land_instead_of_rtl = false;
 };
 

@@ -112,7 +112,8 @@ std::vector<Point> route_around(const MultiPolygon& obstacles, Point a, Point b,
       bg::intersection(line, poly, inside);
       for (const auto& piece : inside) {
         if (bg::length(piece) < 1e-6) continue;
-        const Point mid{(piece.front().x() + piece.back().x()) / 2, (piece.front().y() + piece.back().y()) / 2};
+        const Point mid{(piece.front().x() + piece.back().x()) / 2,
+                        (piece.front().y() + piece.back().y()) / 2};
         if (bg::within(mid, poly)) return false;
       }
     }

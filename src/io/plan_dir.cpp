@@ -21,7 +21,8 @@ void check_export_formats(const std::vector<std::string>& formats) {
     }
 }
 
-PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir, const PlanDirOptions& options) {
+PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
+                             const PlanDirOptions& options) {
   check_export_formats(options.exports);
   PlanDirResult out;
   nlohmann::json extra = nlohmann::json::object();
@@ -34,8 +35,8 @@ PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
     std::vector<double> durations_min;
     for (std::size_t i = 0; i < plan.uavs.size(); ++i)
       durations_min.push_back(trajectory::flight_time_s(plan, i) / 60.0);
-    const auto traj_cost = evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs,
-                                                                     ev.coverage.total.area_m2);
+    const auto traj_cost =
+        evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs, ev.coverage.total.area_m2);
     extra["cost_trajectory"] = evaluation::to_json(traj_cost);
     out.trajectory_flight_time_min = traj_cost.flight_time_min;
     out.poc = ev.coverage.total.poc;

@@ -1,9 +1,9 @@
 #include "io/plan_io.hpp"
 
+#include <unistd.h>
 #include <fstream>
 #include <sstream>
 #include <system_error>
-#include <unistd.h>
 
 #include "geodesy/local_frame.hpp"
 #include "mission/mission_json.hpp"
@@ -56,7 +56,8 @@ json paths_geojson(const Plan& plan) {
     int part_index = 0;
     for (const auto& part : u.parts) {
       double len = 0;
-      for (std::size_t i = 1; i < part.local.size(); ++i) len += bg::distance(part.local[i - 1], part.local[i]);
+      for (std::size_t i = 1; i < part.local.size(); ++i)
+        len += bg::distance(part.local[i - 1], part.local[i]);
       const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
       features.push_back({{"type", "Feature"},
                           {"properties",
@@ -163,7 +164,8 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
   const auto plan_path = dir / "plan.json";
   const auto paths_path = dir / "paths.geojson";
   if (!std::filesystem::exists(plan_path)) throw InputError("PLAN_DIR", "no plan.json in " + dir.string());
-  if (!std::filesystem::exists(paths_path)) throw InputError("PLAN_DIR", "no paths.geojson in " + dir.string());
+  if (!std::filesystem::exists(paths_path))
+    throw InputError("PLAN_DIR", "no paths.geojson in " + dir.string());
   const json pj = parse_file(plan_path, "plan.json");
   const json gj = parse_file(paths_path, "paths.geojson");
   Plan plan;
@@ -176,9 +178,10 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
     if (!ju.is_array() || ju.size() != plan.mission.uavs.size())
       throw InputError("plan.json: uavs", "does not match the mission's UAVs");
     const auto& pl = pj.at("placement");
-    plan.placement = {pl.at("shift_x_m").get<double>(), pl.at("shift_y_m").get<double>(),
-                      pl.at("rotation_deg").get<double>(), pl.at("J").get<double>(), pl.at("J1").get<double>(),
-                      pl.at("J2").get<double>(), pl.at("J3").get<double>(), pl.at("evaluations").get<long>()};
+    plan.placement = {pl.at("shift_x_m").get<double>(),    pl.at("shift_y_m").get<double>(),
+                      pl.at("rotation_deg").get<double>(), pl.at("J").get<double>(),
+                      pl.at("J1").get<double>(),           pl.at("J2").get<double>(),
+                      pl.at("J3").get<double>(),           pl.at("evaluations").get<long>()};
     const auto& g = pj.at("grid");
     plan.grid.cell_m = g.at("cell_m").get<double>();
     plan.grid.rotation_deg = g.at("rotation_deg").get<double>();
@@ -213,8 +216,10 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
       const auto& props = f.at("properties");
       if (!props.contains("uav")) continue;
       const std::string id = props.at("uav").get<std::string>();
-      auto it = std::find_if(plan.uavs.begin(), plan.uavs.end(), [&](const UavPlan& u) { return u.id == id; });
-      if (it == plan.uavs.end()) throw InputError("paths.geojson: properties.uav", "unknown UAV \"" + id + "\"");
+      auto it =
+          std::find_if(plan.uavs.begin(), plan.uavs.end(), [&](const UavPlan& u) { return u.id == id; });
+      if (it == plan.uavs.end())
+        throw InputError("paths.geojson: properties.uav", "unknown UAV \"" + id + "\"");
       PathPart part;
       part.kind = props.at("kind").get<std::string>() == "coverage" ? PartKind::Coverage : PartKind::Transit;
       for (const auto& c : f.at("geometry").at("coordinates")) {
@@ -225,7 +230,8 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
       it->parts.push_back(std::move(part));
     }
   } catch (const json::exception& e) {
-    throw InputError("PLAN_DIR", std::string("plan.json or paths.geojson is not a uavcover plan: ") + e.what());
+    throw InputError("PLAN_DIR",
+                     std::string("plan.json or paths.geojson is not a uavcover plan: ") + e.what());
   }
   return plan;
 }

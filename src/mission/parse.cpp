@@ -44,8 +44,8 @@ double positive(const json& j, const std::string& field) {
 double in_range(const json& j, const std::string& field, double lo, double hi, bool hi_open = false) {
   const double v = number(j, field);
   if (v < lo || v > hi || (hi_open && v >= hi))
-    throw InputError(field, "must be in [" + json(lo).dump() + ", " + json(hi).dump() + (hi_open ? ")" : "]") +
-                                ", got " + j.dump());
+    throw InputError(field, "must be in [" + json(lo).dump() + ", " + json(hi).dump() +
+                                (hi_open ? ")" : "]") + ", got " + j.dump());
   return v;
 }
 
@@ -54,8 +54,10 @@ LonLat position(const json& j, const std::string& field) {
     throw InputError(field, "expected a position [longitude, latitude]");
   const double lon = number(j[0], field + "[0]");
   const double lat = number(j[1], field + "[1]");
-  if (lon < -180 || lon > 180) throw InputError(field, "longitude " + j[0].dump() + " is out of range [-180, 180]");
-  if (lat < -90 || lat > 90) throw InputError(field, "latitude " + j[1].dump() + " is out of range [-90, 90]");
+  if (lon < -180 || lon > 180)
+    throw InputError(field, "longitude " + j[0].dump() + " is out of range [-180, 180]");
+  if (lat < -90 || lat > 90)
+    throw InputError(field, "latitude " + j[1].dump() + " is out of range [-90, 90]");
   return {lon, lat};
 }
 
@@ -75,7 +77,8 @@ void check_antimeridian(const GeoRing& ring, const std::string& field) {
 }
 
 GeoRing ring_of(const json& j, const std::string& field) {
-  if (!j.is_array()) throw InputError(field, std::string("expected an array of positions, got ") + type_name(j));
+  if (!j.is_array())
+    throw InputError(field, std::string("expected an array of positions, got ") + type_name(j));
   GeoRing ring;
   for (std::size_t i = 0; i < j.size(); ++i) ring.push_back(position(j[i], idx(field, i)));
   return ring;
@@ -91,8 +94,9 @@ GeoPolygon polygon_coords(const json& j, const std::string& field) {
 
 // Accepts a Polygon or MultiPolygon geometry (or a Feature wrapping one).
 std::vector<GeoPolygon> polygons_of(const json& j, const std::string& field) {
-  if (!j.is_object()) throw InputError(field, std::string("expected a GeoJSON Polygon or MultiPolygon object, got ") +
-                                                  type_name(j));
+  if (!j.is_object())
+    throw InputError(field,
+                     std::string("expected a GeoJSON Polygon or MultiPolygon object, got ") + type_name(j));
   if (geojson_type(j) == "Feature") {
     if (!j.contains("geometry")) throw InputError(field + ".geometry", "missing");
     return polygons_of(j["geometry"], field + ".geometry");
@@ -105,7 +109,8 @@ std::vector<GeoPolygon> polygons_of(const json& j, const std::string& field) {
   if (type == "MultiPolygon") {
     if (!c.is_array() || c.empty()) throw InputError(field + ".coordinates", "expected an array of polygons");
     std::vector<GeoPolygon> out;
-    for (std::size_t i = 0; i < c.size(); ++i) out.push_back(polygon_coords(c[i], idx(field + ".coordinates", i)));
+    for (std::size_t i = 0; i < c.size(); ++i)
+      out.push_back(polygon_coords(c[i], idx(field + ".coordinates", i)));
     return out;
   }
   throw InputError(field + ".type", "expected \"Polygon\" or \"MultiPolygon\", got \"" + type + "\"");
@@ -129,8 +134,7 @@ void normalise_polygon(NamedPolygon& np) {
 void check_valid(const NamedPolygon& np, const geodesy::LocalFrame& frame) {
   for (std::size_t r = 0; r < np.poly.size(); ++r) {
     Polygon ring_only = geometry::to_local(GeoPolygon{np.poly[r]}, frame);
-    if (bg::intersects(ring_only.outer()))
-      throw InputError(idx(np.field, r), "the ring intersects itself");
+    if (bg::intersects(ring_only.outer())) throw InputError(idx(np.field, r), "the ring intersects itself");
     if (std::fabs(bg::area(ring_only)) < 1e-6) throw InputError(idx(np.field, r), "the ring has no area");
   }
   const Polygon p = geometry::to_local(np.poly, frame);
@@ -181,11 +185,12 @@ Camera parse_camera(const json& j) {
   Camera c;
   c.altitude_m = positive(j["altitude_m"], "camera.altitude_m");
   const bool fov = j.contains("hfov_deg") || j.contains("overlap");
-  const bool qgc = j.contains("sensor_width_mm") || j.contains("focal_length_mm") || j.contains("image_width_px") ||
-                   j.contains("side_overlap");
+  const bool qgc = j.contains("sensor_width_mm") || j.contains("focal_length_mm") ||
+                   j.contains("image_width_px") || j.contains("side_overlap");
   if (fov == qgc)
-    throw InputError("camera", "give either hfov_deg and overlap, or sensor_width_mm, focal_length_mm, "
-                               "image_width_px and side_overlap");
+    throw InputError("camera",
+                     "give either hfov_deg and overlap, or sensor_width_mm, focal_length_mm, "
+                     "image_width_px and side_overlap");
   auto need = [&](const char* k) -> const json& {
     if (!j.contains(k)) throw InputError(std::string("camera.") + k, "missing");
     return j[k];
@@ -217,7 +222,8 @@ void parse_uavs(const json& j, Raw& raw) {
     }
     return;
   }
-  if (!j.is_array()) throw InputError("uavs", std::string("expected a count or an array of UAVs, got ") + type_name(j));
+  if (!j.is_array())
+    throw InputError("uavs", std::string("expected a count or an array of UAVs, got ") + type_name(j));
   if (j.empty()) throw InputError("uavs", "at least one UAV is needed");
   if (j.size() > 200) throw InputError("uavs", "at most 200 UAVs are supported");
   std::set<std::string> ids;
@@ -225,14 +231,16 @@ void parse_uavs(const json& j, Raw& raw) {
     const std::string f = idx("uavs", i);
     const json& ju = j[i];
     if (!ju.is_object()) throw InputError(f, std::string("expected an object, got ") + type_name(ju));
-    reject_unknown(ju, {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1", "turn_c2"},
-                   f + ".");
+    reject_unknown(
+        ju, {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1", "turn_c2"},
+        f + ".");
     Uav u;
     u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
     if (u.id.empty() || u.id.size() > 64) throw InputError(f + ".id", "must have 1 to 64 characters");
     for (char ch : u.id)
       if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.'))
-        throw InputError(f + ".id", "may contain only letters, digits, '-', '_' and '.' (it names output files)");
+        throw InputError(f + ".id",
+                         "may contain only letters, digits, '-', '_' and '.' (it names output files)");
     if (!ids.insert(u.id).second) throw InputError(f + ".id", "duplicate id \"" + u.id + "\"");
     if (ju.contains("start")) u.start = position(ju["start"], f + ".start");
     std::optional<double> share;
@@ -241,8 +249,10 @@ void parse_uavs(const json& j, Raw& raw) {
       if (*share < 0) throw InputError(f + ".share", "must not be negative, got " + ju["share"].dump());
     }
     if (ju.contains("speed_mps")) u.speed_mps = in_range(ju["speed_mps"], f + ".speed_mps", 1e-3, 100.0);
-    if (ju.contains("max_accel_mps2")) u.max_accel_mps2 = in_range(ju["max_accel_mps2"], f + ".max_accel_mps2", 1e-3, 100.0);
-    if (ju.contains("endurance_min")) u.endurance_min = in_range(ju["endurance_min"], f + ".endurance_min", 0.1, 10000.0);
+    if (ju.contains("max_accel_mps2"))
+      u.max_accel_mps2 = in_range(ju["max_accel_mps2"], f + ".max_accel_mps2", 1e-3, 100.0);
+    if (ju.contains("endurance_min"))
+      u.endurance_min = in_range(ju["endurance_min"], f + ".endurance_min", 0.1, 10000.0);
     if (ju.contains("turn_c1")) u.turn_c1 = in_range(ju["turn_c1"], f + ".turn_c1", 0.0, 1000.0);
     if (ju.contains("turn_c2")) u.turn_c2 = in_range(ju["turn_c2"], f + ".turn_c2", 1e-6, 1000.0);
     raw.uavs.push_back(u);
@@ -281,8 +291,8 @@ void resolve_shares(Raw& raw) {
 Raw parse_v1(const json& j) {
   Raw raw;
   reject_unknown(j,
-                 {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode", "planner", "seed",
-                  "version", "$schema"},
+                 {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
+                  "planner", "seed", "version", "$schema"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = str(j["name"], "name");
@@ -298,7 +308,8 @@ Raw parse_v1(const json& j) {
       const std::string f = idx("no_fly_zones", i);
       auto polys = polygons_of(nz[i], f);
       for (std::size_t k = 0; k < polys.size(); ++k)
-        raw.nfz.push_back({std::move(polys[k]), polys.size() == 1 ? f + ".coordinates" : idx(f + ".coordinates", k)});
+        raw.nfz.push_back(
+            {std::move(polys[k]), polys.size() == 1 ? f + ".coordinates" : idx(f + ".coordinates", k)});
     }
   }
   if (j.contains("spacing_m") && j.contains("camera"))
@@ -311,13 +322,17 @@ Raw parse_v1(const json& j) {
   parse_uavs(j["uavs"], raw);
   if (j.contains("mode")) {
     const std::string m = str(j["mode"], "mode");
-    if (m == "strict") raw.mode = Mode::Strict;
-    else if (m == "coverage") raw.mode = Mode::Coverage;
-    else throw InputError("mode", "expected \"strict\" or \"coverage\", got \"" + m + "\"");
+    if (m == "strict")
+      raw.mode = Mode::Strict;
+    else if (m == "coverage")
+      raw.mode = Mode::Coverage;
+    else
+      throw InputError("mode", "expected \"strict\" or \"coverage\", got \"" + m + "\"");
   }
   if (j.contains("planner")) {
     raw.planner = str(j["planner"], "planner");
-    if (raw.planner != "darp") throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: darp)");
+    if (raw.planner != "darp")
+      throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: darp)");
   }
   if (j.contains("seed")) {
     // nlohmann stores every non-negative JSON integer as unsigned
@@ -344,7 +359,8 @@ Raw parse_mcpp(const json& j) {
   if (j.contains("obstacles")) {
     if (!j["obstacles"].is_array()) throw InputError("obstacles", "expected an array of polygons");
     for (std::size_t i = 0; i < j["obstacles"].size(); ++i)
-      raw.nfz.push_back({GeoPolygon{latlong_ring(j["obstacles"][i], idx("obstacles", i))}, idx("obstacles", i)});
+      raw.nfz.push_back(
+          {GeoPolygon{latlong_ring(j["obstacles"][i], idx("obstacles", i))}, idx("obstacles", i)});
   }
   if (!j.contains("scanningDensity")) throw InputError("scanningDensity", "missing");
   raw.spacing = positive(j["scanningDensity"], "scanningDensity");
@@ -353,7 +369,8 @@ Raw parse_mcpp(const json& j) {
     throw InputError("droneNo", "expected a positive integer");
   parse_uavs(j["droneNo"], raw);
   if (j.contains("pathsStrictlyInPoly")) {
-    if (!j["pathsStrictlyInPoly"].is_boolean()) throw InputError("pathsStrictlyInPoly", "expected true or false");
+    if (!j["pathsStrictlyInPoly"].is_boolean())
+      throw InputError("pathsStrictlyInPoly", "expected true or false");
     raw.mode = j["pathsStrictlyInPoly"].get<bool>() ? Mode::Strict : Mode::Coverage;
   }
   if (j.contains("initialPos") && !(j["initialPos"].is_array() && j["initialPos"].empty())) {
@@ -361,12 +378,14 @@ Raw parse_mcpp(const json& j) {
     if (!ip.is_array() || ip.size() != raw.uavs.size())
       throw InputError("initialPos", "expected one {lat, long} per drone (droneNo = " +
                                          std::to_string(raw.uavs.size()) + ")");
-    for (std::size_t i = 0; i < ip.size(); ++i) raw.uavs[i].start = latlong_object(ip[i], idx("initialPos", i));
+    for (std::size_t i = 0; i < ip.size(); ++i)
+      raw.uavs[i].start = latlong_object(ip[i], idx("initialPos", i));
   }
   if (j.contains("rPortions") && !(j["rPortions"].is_array() && j["rPortions"].empty())) {
     const json& rp = j["rPortions"];
     if (!rp.is_array() || rp.size() != raw.uavs.size())
-      throw InputError("rPortions", "expected one portion per drone (droneNo = " + std::to_string(raw.uavs.size()) + ")");
+      throw InputError("rPortions",
+                       "expected one portion per drone (droneNo = " + std::to_string(raw.uavs.size()) + ")");
     for (std::size_t i = 0; i < rp.size(); ++i) {
       const double s = number(rp[i], idx("rPortions", i));
       if (s < 0) throw InputError(idx("rPortions", i), "must not be negative");
@@ -386,9 +405,11 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
     // e.g. "[json.exception.parse_error.101] parse error at line 1, column 9: ..." -> drop the prefix
     std::string what = e.what();
     const auto pos = what.find("] ");
-    throw InputError("mission", "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
+    throw InputError("mission",
+                     "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
   }
-  if (!j.is_object()) throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
+  if (!j.is_object())
+    throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
   const bool mcpp = j.contains("droneNo") || (j.contains("polygon") && !j.contains("area"));
   Raw raw;
   try {
@@ -463,7 +484,8 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
       m.altitude_source = "altitude_m";
     }
   }
-  const std::string spacing_field = raw.camera ? "camera" : (raw.format == "uavcover-v1" ? "spacing_m" : "scanningDensity");
+  const std::string spacing_field =
+      raw.camera ? "camera" : (raw.format == "uavcover-v1" ? "spacing_m" : "scanningDensity");
 
   // grid size guard: sub-cells of size ds over the bounding box of the free area (any rotation)
   bg::model::box<Point> box;
@@ -475,8 +497,9 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   if (needed > static_cast<double>(options.max_cells)) {
     const double fit = m.spacing_m * std::sqrt(needed / static_cast<double>(options.max_cells)) * 1.01;
     throw InputError(spacing_field, "the grid would need " + std::to_string(static_cast<long long>(needed)) +
-                                        " cells, more than the limit of " + std::to_string(options.max_cells) +
-                                        "; use a spacing of at least " + std::to_string(static_cast<long long>(std::ceil(fit))) +
+                                        " cells, more than the limit of " +
+                                        std::to_string(options.max_cells) + "; use a spacing of at least " +
+                                        std::to_string(static_cast<long long>(std::ceil(fit))) +
                                         " m or raise the cell limit");
   }
   if (m.spacing_m * 2 > diag * 4)

@@ -32,12 +32,12 @@ inline RunResult run_cli(const std::string& args) {
   return r;
 }
 
-
 inline nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json::parse(slurp(p)); }
 
 /// A fresh, empty temporary folder for one test.
 inline std::filesystem::path temp_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("uavcover-test-" + name + "-" + std::to_string(::getpid()));
+  const auto d =
+      std::filesystem::temp_directory_path() / ("uavcover-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

@@ -26,7 +26,8 @@ TEST(PlanCli, UsageErrorsExitTwo) {
 
 TEST(PlanCli, WritesPathsAndPlan) {
   const auto dir = temp_dir("plan");
-  const auto r = run_cli("plan " + example("olive-grove.json").string() + " --out " + dir.string() + " --quiet");
+  const auto r =
+      run_cli("plan " + example("olive-grove.json").string() + " --out " + dir.string() + " --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(r.output.empty()) << "--quiet prints nothing: " << r.output;
   const json gj = read_json(dir / "paths.geojson");
@@ -103,8 +104,10 @@ TEST(PlanCli, SameSeedSamePlan) {
   json mission = read_json(example("olive-grove.json"));
   mission["uavs"] = 2;
   std::ofstream(dir / "m.json") << mission.dump();
-  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d1.string() + " -q --seed 1").exit_code, 0);
-  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d3.string() + " -q --seed 2").exit_code, 0);
+  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d1.string() + " -q --seed 1").exit_code,
+            0);
+  ASSERT_EQ(run_cli("plan " + (dir / "m.json").string() + " --out " + d3.string() + " -q --seed 2").exit_code,
+            0);
   EXPECT_NE(read_json(d1 / "plan.json")["uavs"][0]["start"], read_json(d3 / "plan.json")["uavs"][0]["start"]);
   for (const auto& d : {d1, d2, d3, dir}) fs::remove_all(d);
 }
@@ -140,7 +143,8 @@ TEST(PlanCli, ExportsInOneGoAndRefusesUnknownFormats) {
   EXPECT_TRUE(fs::exists(dir / "export" / "uav2.waypoints"));
   EXPECT_FALSE(fs::exists(dir / "plan.png"));
   const auto bad = dir / "bad";
-  r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + bad.string() + " --export qgc,gpx");
+  r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + bad.string() +
+              " --export qgc,gpx");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--export"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(bad));
@@ -152,7 +156,8 @@ TEST(PlanCli, ImportsMcppFormatAndRefusesHugeGrids) {
   auto r = run_cli("plan " + example("mcpp-darp-input.json").string() + " --out " + dir.string() + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(read_json(dir / "plan.json")["mission"]["uavs"][0]["share"].get<double>(), 0.6);
-  r = run_cli("plan " + example("olive-grove.json").string() + " --out " + (dir / "x").string() + " --max-cells 50");
+  r = run_cli("plan " + example("olive-grove.json").string() + " --out " + (dir / "x").string() +
+              " --max-cells 50");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("use a spacing of at least"), std::string::npos) << r.output;
   fs::remove_all(dir);

@@ -7,19 +7,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
+#include "support/files.hpp"
 #include "uavcover/mission.hpp"
 
 using namespace uavcover;
 namespace fs = std::filesystem;
 using uavcover::testing::slurp;
 
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(PaperPaths, ReproducePublishedPoc) {
   const fs::path dir = fs::path(UAVCOVER_SHARED_DIR) / "bench" / "apostolidis2022";

@@ -10,13 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
+#include "support/files.hpp"
 #include "uavcover/uavcover.hpp"
 
 using namespace uavcover;
 namespace fs = std::filesystem;
-
 
 TEST(EvaluatePlan, PlannedRegionIsCoveredAndCosted) {
   Mission m = parse_mission(uavcover::testing::roi_text("roi01.json"));
@@ -123,7 +122,8 @@ TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
 }
 
 TEST(EvaluatePlan, LatticeSharesFollowTheDivision) {
-  const Mission m = uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
+  const Mission m =
+      uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
   const Plan p = plan(m);
   const auto ev = evaluation::evaluate_plan(p);
   ASSERT_EQ(ev.coverage.uavs.size(), 3u);

@@ -19,7 +19,6 @@ int run(const std::string& cmd) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-
 }  // namespace
 
 TEST(ExportCli, PlanThenExportEveryFormat) {

@@ -7,7 +7,8 @@ using uavcover::Point;
 using uavcover::geodesy::LocalFrame;
 
 TEST(LocalFrame, RoundTripWithinOneMillimetreOver20Km) {
-  for (const LonLat origin : {LonLat{22.9, 40.6}, LonLat{-70.6, -33.4}, LonLat{10.0, 69.5}, LonLat{179.9, 0.0}}) {
+  for (const LonLat origin :
+       {LonLat{22.9, 40.6}, LonLat{-70.6, -33.4}, LonLat{10.0, 69.5}, LonLat{179.9, 0.0}}) {
     const LocalFrame f(origin);
     for (double x = -20000; x <= 20000; x += 5000)
       for (double y = -20000; y <= 20000; y += 5000) {

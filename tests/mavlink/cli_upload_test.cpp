@@ -97,7 +97,8 @@ TEST_F(CliUpload, UploadsTheExportedMissionWithHomeFirst) {
   EXPECT_EQ(got[0].x, static_cast<std::int32_t>(std::llround(home.lat * 1e7)));
   EXPECT_EQ(got[0].y, static_cast<std::int32_t>(std::llround(home.lon * 1e7)));
   EXPECT_EQ(got[1].command, exporting::kNavTakeoff);
-  EXPECT_FLOAT_EQ(got[1].z, static_cast<float>(exporting::transition_altitude({}, index, plan.mission.altitude_m)));
+  EXPECT_FLOAT_EQ(got[1].z,
+                  static_cast<float>(exporting::transition_altitude({}, index, plan.mission.altitude_m)));
 }
 
 TEST_F(CliUpload, NoHomeSendsTheItemsOnly) {

@@ -54,19 +54,22 @@ TEST(MissionParse, AcceptsTheBaseMission) {
 TEST(MissionParse, NormalisesWindingAndClosure) {
   auto j = base();
   // clockwise and unclosed
-  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.90, 40.607], [22.912, 40.607], [22.912, 40.60]]]");
+  j["area"]["coordinates"] =
+      json::parse("[[[22.90, 40.60], [22.90, 40.607], [22.912, 40.607], [22.912, 40.60]]]");
   const auto m = parse_mission(j.dump());
   const auto& ring = m.area.at(0).at(0);
   ASSERT_EQ(ring.size(), 5u);
   EXPECT_EQ(ring.front(), ring.back());
   double twice = 0;
-  for (std::size_t i = 0; i + 1 < ring.size(); ++i) twice += ring[i].lon * ring[i + 1].lat - ring[i + 1].lon * ring[i].lat;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i)
+    twice += ring[i].lon * ring[i + 1].lat - ring[i + 1].lon * ring[i].lat;
   EXPECT_GT(twice, 0) << "outer ring must be counter-clockwise (RFC 7946)";
 }
 
 TEST(MissionParse, HolesBecomeNoFlyZones) {
   auto j = base();
-  j["area"]["coordinates"].push_back(json::parse("[[22.905, 40.603], [22.906, 40.603], [22.906, 40.604], [22.905, 40.604]]"));
+  j["area"]["coordinates"].push_back(
+      json::parse("[[22.905, 40.603], [22.906, 40.603], [22.906, 40.604], [22.905, 40.604]]"));
   const auto m = parse_mission(j.dump());
   EXPECT_EQ(m.area.at(0).size(), 1u);
   ASSERT_EQ(m.no_fly_zones.size(), 1u);
@@ -159,29 +162,34 @@ TEST(MissionParse, CoordinatesOutOfRange) {
 
 TEST(MissionParse, TooFewDistinctVertices) {
   auto j = base();
-  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.91, 40.60], [22.90, 40.60], [22.91, 40.60]]]");
+  j["area"]["coordinates"] =
+      json::parse("[[[22.90, 40.60], [22.91, 40.60], [22.90, 40.60], [22.91, 40.60]]]");
   expect_error(j, "area.coordinates[0]", "at least 3 distinct");
 }
 
 TEST(MissionParse, SelfIntersectingRing) {
   auto j = base();
   // bow-tie
-  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.91, 40.607], [22.91, 40.60], [22.90, 40.607]]]");
+  j["area"]["coordinates"] =
+      json::parse("[[[22.90, 40.60], [22.91, 40.607], [22.91, 40.60], [22.90, 40.607]]]");
   expect_error(j, "area.coordinates[0]", "intersects itself");
   j = base();
-  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.903, 40.602], [22.905, 40.604], [22.905, 40.602], [22.903, 40.604]]]}])");
+  j["no_fly_zones"] = json::parse(
+      R"([{"type": "Polygon", "coordinates": [[[22.903, 40.602], [22.905, 40.604], [22.905, 40.602], [22.903, 40.604]]]}])");
   expect_error(j, "no_fly_zones[0].coordinates[0]", "intersects itself");
 }
 
 TEST(MissionParse, NoFlyZoneSwallowsTheArea) {
   auto j = base();
-  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.89, 40.59], [22.92, 40.59], [22.92, 40.61], [22.89, 40.61]]]}])");
+  j["no_fly_zones"] = json::parse(
+      R"([{"type": "Polygon", "coordinates": [[[22.89, 40.59], [22.92, 40.59], [22.92, 40.61], [22.89, 40.61]]]}])");
   expect_error(j, "no_fly_zones", "remove the whole area");
 }
 
 TEST(MissionParse, StartInsideNoFlyZone) {
   auto j = base();
-  j["no_fly_zones"] = json::parse(R"([{"type": "Polygon", "coordinates": [[[22.9005, 40.6005], [22.902, 40.6005], [22.902, 40.602], [22.9005, 40.602]]]}])");
+  j["no_fly_zones"] = json::parse(
+      R"([{"type": "Polygon", "coordinates": [[[22.9005, 40.6005], [22.902, 40.6005], [22.902, 40.602], [22.9005, 40.602]]]}])");
   expect_error(j, "uavs[0].start", "inside a no-fly zone");
 }
 
@@ -253,7 +261,8 @@ TEST(MissionParse, GridTooLargeSaysWhatFits) {
 
 TEST(MissionParse, AntimeridianIsRefusedClearly) {
   auto j = base();
-  j["area"]["coordinates"] = json::parse("[[[179.99, 10.0], [-179.99, 10.0], [-179.99, 10.01], [179.99, 10.01]]]");
+  j["area"]["coordinates"] =
+      json::parse("[[[179.99, 10.0], [-179.99, 10.0], [-179.99, 10.01], [179.99, 10.01]]]");
   j["uavs"] = 1;
   expect_error(j, "area.coordinates[0]", "antimeridian");
 }
@@ -273,8 +282,11 @@ TEST(MissionParse, CameraEq14) {
 TEST(MissionParse, CameraQgcConvention) {
   auto j = base();
   j.erase("spacing_m");
-  j["camera"] = {{"altitude_m", 100},   {"sensor_width_mm", 13.2}, {"focal_length_mm", 8.8},
-                 {"image_width_px", 5472}, {"side_overlap", 0.7}};
+  j["camera"] = {{"altitude_m", 100},
+                 {"sensor_width_mm", 13.2},
+                 {"focal_length_mm", 8.8},
+                 {"image_width_px", 5472},
+                 {"side_overlap", 0.7}};
   const auto m = parse_mission(j.dump());
   const double gsd = 100 * 13.2 / (8.8 * 5472);
   EXPECT_NEAR(*m.gsd_m, gsd, 1e-12);

@@ -10,10 +10,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "support/files.hpp"
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
 #include "render/render.hpp"
+#include "support/files.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -139,7 +139,8 @@ TEST(Render, RefusesBadSizesAndPaths) {
 }
 
 TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
-  const Mission m = uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
+  const Mission m =
+      uavcover::testing::with_equal_uavs(parse_mission(uavcover::testing::roi_text("roi09.json")), 3);
   const Plan p = plan(m);
   ASSERT_EQ(p.uavs.size(), 3u);
   const auto dir = out_dir();
