@@ -362,7 +362,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   ly += 34;
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, lx, ly,
-       fmt::format("spacing {:g} m, {} mode", plan.mission.spacing_m,
+       fmt::format("spacing {:.1f} m, {} mode", plan.mission.spacing_m,
                    plan.mission.mode == Mode::Strict ? "strict" : "coverage"),
        13);
   ly += 20;
