@@ -40,7 +40,7 @@ MultiPolygon unite(const MultiPolygon& polys) {
 }
 
 MultiPolygon free_space(const MultiPolygon& area, const MultiPolygon& no_fly) {
-  const MultiPolygon a = unite(area);
+  MultiPolygon a = unite(area);
   if (no_fly.empty()) return a;
   MultiPolygon out;
   bg::difference(a, unite(no_fly), out);
