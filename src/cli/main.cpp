@@ -30,7 +30,9 @@ std::string read_file(const std::string& path, const std::string& field) {
 
 }  // namespace uavcover::cli
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace uavcover;
   CLI::App app{
       "uavcover: multi-UAV coverage mission planner.\n"
@@ -70,4 +72,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (...) {  // e.g. while building the command-line app: never let an exception escape
+    std::cerr << "uavcover: internal error: unexpected exception\n";
+    return 1;
+  }
 }

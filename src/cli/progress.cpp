@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -24,11 +25,11 @@ Progress make_progress_bar(bool quiet) {
     *last = now;
     *last_stage = std::string(stage);
     constexpr int width = 30;
-    const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * width + 0.5);
+    const int filled = static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * width));
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(width, '.');
     std::fprintf(stderr, "\r%-16.16s [%s] %3d%%", std::string(stage).c_str(), bar.c_str(),
-                 static_cast<int>(fraction * 100 + 0.5));
+                 static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * 100)));
     std::fflush(stderr);
     g_drawn = true;
   };

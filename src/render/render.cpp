@@ -225,7 +225,8 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
     };
     for (int r = 0; r < g.rows; ++r)
       for (int c = 0; c < g.cols; ++c) {
-        const int o = g.owner[static_cast<std::size_t>(r * g.cols + c)];
+        const int o = g.owner[static_cast<std::size_t>(r) * static_cast<std::size_t>(g.cols) +
+                              static_cast<std::size_t>(c)];
         if (o < 0) continue;
         const double x0 = c * g.cell_m, y0 = r * g.cell_m;
         const Point p[4] = {to_local(x0, y0), to_local(x0 + g.cell_m, y0),
