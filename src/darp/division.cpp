@@ -148,6 +148,29 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
     owner[x] = a;
     return c == counts[a] - 1;
   };
+  // Hands cell x of region a, with everything its removal cuts off from a's start, to region b when
+  // no start cell is among them and the squared deviation from the targets drops by more than eps.
+  auto hand_over_cut = [&](int x, int a, int b, double eps) {
+    work += n;
+    owner[x] = -2;
+    ++stamp;
+    main_piece(G, owner, a, st[a], mark, stamp, stack);
+    owner[x] = a;
+    std::vector<int> cut;
+    for (int y = 0; y < n; ++y)
+      if (owner[y] == a && mark[y] != stamp) {
+        if (is_start[y]) return false;
+        cut.push_back(y);
+      }
+    const double m = static_cast<double>(cut.size());
+    const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
+    const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+    if (!(after + eps < before)) return false;
+    for (int y : cut) owner[y] = b;
+    counts[a] -= static_cast<int>(m);
+    counts[b] += static_cast<int>(m);
+    return true;
+  };
   for (int move = 0; move < max_moves && work < budget; ++move) {
     work += n;
     std::vector<int> order(P);
@@ -211,26 +234,7 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
           } else if (chain.size() == 2) {
             // x is a cut cell of a: hand over x with everything it cuts off from a's start, when
             // that brings both regions closer to their targets
-            work += n;
-            owner[x] = -2;
-            ++stamp;
-            main_piece(G, owner, a, st[a], mark, stamp, stack);
-            owner[x] = a;
-            std::vector<int> cut;
-            for (int y = 0; y < n; ++y)
-              if (owner[y] == a && mark[y] != stamp) cut.push_back(y);
-            const double m = static_cast<double>(cut.size());
-            const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
-            const double after =
-                std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
-            bool has_start = false;
-            for (int y : cut) has_start |= is_start[y] != 0;
-            if (after < before && !has_start) {
-              for (int y : cut) owner[y] = b;
-              counts[a] -= static_cast<int>(m);
-              counts[b] += static_cast<int>(m);
-              ok = true;
-            }
+            ok = hand_over_cut(x, a, b, 0.0);
           }
         }
       }
@@ -258,26 +262,7 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
         std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
         for (std::size_t c = 0; c < cand.size() && c < 48 && !moved; ++c) {
           const int x = cand[c], a = owner[x];
-          work += n;
-          owner[x] = -2;
-          ++stamp;
-          main_piece(G, owner, a, st[a], mark, stamp, stack);
-          owner[x] = a;
-          std::vector<int> cut;
-          bool has_start = false;
-          for (int y = 0; y < n; ++y)
-            if (owner[y] == a && mark[y] != stamp) cut.push_back(y), has_start |= is_start[y] != 0;
-          if (has_start) continue;
-          const double m = static_cast<double>(cut.size());
-          const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
-          const double after =
-              std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
-          if (after + 1e-9 < before) {
-            for (int y : cut) owner[y] = b;
-            counts[a] -= static_cast<int>(m);
-            counts[b] += static_cast<int>(m);
-            moved = true;
-          }
+          moved = hand_over_cut(x, a, b, 1e-9);
         }
         if (moved) break;
       }
