@@ -24,7 +24,4 @@ struct CommandRegistry {
   }
 };
 
-/// Reads a whole file; throws InputError naming `field` when it cannot be read.
-std::string read_file(const std::string& path, const std::string& field);
-
 }  // namespace uavcover::cli

@@ -29,8 +29,8 @@ struct EvaluateArgs {
 };
 
 void run_evaluate(const EvaluateArgs& a) {
-  const Mission mission = parse_mission(read_file(a.mission, "MISSION"));
-  const std::string text = read_file(a.paths, "PATHS");
+  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
+  const std::string text = io::read_text_file(a.paths, "PATHS");
   const geodesy::LocalFrame frame(geodesy::centroid(mission.area));
   const auto paths = evaluation::parse_paths_geojson(text, frame);
 

@@ -1,8 +1,6 @@
 // uavcover command line: a thin shell over the library facade (include/uavcover/uavcover.hpp).
 #include <cstdio>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "cli/command.hpp"
 #include "uavcover/error.hpp"
@@ -17,15 +15,6 @@ GlobalFlags& global_flags() {
 std::vector<std::pair<int, CommandFactory>>& CommandRegistry::all() {
   static std::vector<std::pair<int, CommandFactory>> registry;
   return registry;
-}
-
-std::string read_file(const std::string& path, const std::string& field) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(field, "cannot read file '" + path + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(field, "cannot read file '" + path + "'");
-  return ss.str();
 }
 
 }  // namespace uavcover::cli

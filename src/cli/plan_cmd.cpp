@@ -7,6 +7,7 @@
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
 #include "io/plan_dir.hpp"
+#include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
 
 namespace uavcover::cli {
@@ -26,7 +27,7 @@ void run_plan(const PlanArgs& a) {
   ParseOptions po;
   po.max_cells = a.max_cells;
   io::check_export_formats(a.exports);
-  const Mission mission = parse_mission(read_file(a.mission, "MISSION"), po);
+  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"), po);
   PlanOptions opt;
   opt.seed = a.seed;
   const bool quiet = global_flags().quiet;

@@ -85,7 +85,7 @@ struct Row {
 };
 
 void run_study(const StudyArgs& a) {
-  const Mission mission = parse_mission(read_file(a.mission, "MISSION"));
+  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
   const std::vector<int> counts = parse_counts(a.uavs);
   const bool quiet = global_flags().quiet;
   const Progress bar = make_progress_bar(quiet);

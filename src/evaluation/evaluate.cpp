@@ -36,6 +36,7 @@ Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>&
                             const EvaluateOptions& options) {
   if (uavs.size() != flights.size()) throw InputError("uavs", "one UAV per flight is needed");
   Evaluation ev;
+  ev.free = free;
   ev.footprint_m = footprint_m;
   for (const auto& u : uavs) ev.uav_ids.push_back(u.id);
   CoverageOptions co = options.coverage;

@@ -21,6 +21,7 @@ struct EvaluateOptions {
 };
 
 struct Evaluation {
+  MultiPolygon free;  ///< the free area evaluated (local metres), e.g. for the heatmap's outline
   double footprint_m = 0.0;
   CoverageResult coverage;
   CostResult cost;

@@ -11,6 +11,7 @@
 
 #include "export/separation.hpp"
 #include "geodesy/local_frame.hpp"
+#include "io/plan_io.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -76,32 +77,6 @@ std::string safe_name(const std::string& id) {
     out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
   if (out.empty() || out == "." || out == "..") out = "uav";
   return out;
-}
-
-void write_text(const fs::path& path, const std::string& content) {
-  fs::create_directories(path.parent_path());
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-  }
-  fs::rename(tmp, path);
-}
-
-json ring_json(const GeoRing& ring) {
-  json r = json::array();
-  for (const auto& p : ring) r.push_back({p.lon, p.lat});
-  return r;
-}
-
-json polygon_feature(const GeoPolygon& poly, const std::string& role) {
-  json rings = json::array();
-  for (const auto& ring : poly) rings.push_back(ring_json(ring));
-  return {{"type", "Feature"},
-          {"properties", {{"role", role}}},
-          {"geometry", {{"type", "Polygon"}, {"coordinates", rings}}}};
 }
 
 // signed area of a lon/lat ring (shoelace), positive when counter-clockwise
@@ -184,25 +159,9 @@ void check_geometry(const json& g, const std::string& where, std::vector<std::st
 }  // namespace
 
 json uav_geojson(const Plan& plan, std::size_t index) {
-  const UavPlan& up = plan.uavs.at(index);
-  json features = json::array();
-  for (const auto& poly : plan.mission.area) features.push_back(polygon_feature(poly, "area"));
-  for (const auto& poly : plan.mission.no_fly_zones) features.push_back(polygon_feature(poly, "no_fly_zone"));
-  for (std::size_t k = 0; k < up.parts.size(); ++k) {
-    const PathPart& part = up.parts[k];
-    if (part.wgs84.size() < 2) continue;
-    json coords = json::array();
-    for (const auto& p : part.wgs84) coords.push_back({p.lon, p.lat});
-    features.push_back({{"type", "Feature"},
-                        {"properties",
-                         {{"uav", up.id},
-                          {"kind", part.kind == PartKind::Coverage ? "coverage" : "transit"},
-                          {"part", k},
-                          {"share_requested", up.share_requested},
-                          {"share_actual", up.share_actual}}},
-                        {"geometry", {{"type", "LineString"}, {"coordinates", coords}}}});
-  }
-  return {{"type", "FeatureCollection"}, {"features", features}};
+  if (index >= plan.uavs.size())
+    throw std::out_of_range("uav_geojson: no UAV with index " + std::to_string(index));
+  return io::paths_geojson(plan, index);
 }
 
 std::vector<std::string> validate_geojson(const json& doc) {
@@ -601,7 +560,7 @@ std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::strin
   const fs::path dir = out_dir / "export";
   std::vector<fs::path> written;
   auto put = [&](const fs::path& p, const std::string& text) {
-    write_text(p, text);
+    io::write_file_atomic(p, text);
     written.push_back(p);
   };
   for (const auto& f : wanted) {

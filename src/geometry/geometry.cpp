@@ -76,49 +76,32 @@ bool segment_within(const MultiPolygon& set, Point a, Point b, double tol) {
 }
 
 bool segment_enters(const MultiPolygon& obstacles, Point a, Point b, double tol) {
-  if (obstacles.empty()) return false;
-  Polyline line{a, b};
-  MultiLine inside;
-  bg::intersection(line, obstacles, inside);
-  for (const auto& piece : inside) {
-    if (bg::length(piece) <= tol) continue;
-    // a piece running along the boundary is not "inside"; test its midpoint depth
-    const Point mid{(piece.front().x() + piece.back().x()) / 2, (piece.front().y() + piece.back().y()) / 2};
-    for (const auto& poly : obstacles) {
-      if (bg::within(mid, poly)) {
-        // distance to the boundary (rings as lines: bg::distance to a ring would be 0 inside it)
-        auto boundary_distance = [&](const auto& ring) {
-          const Polyline line(ring.begin(), ring.end());
-          return bg::distance(mid, line);
-        };
-        double d = boundary_distance(bg::exterior_ring(poly));
-        for (const auto& in : bg::interior_rings(poly)) d = std::min(d, boundary_distance(in));
-        if (d > tol) return true;
-      }
+  const Segment seg{a, b};
+  const Polyline line{a, b};
+  for (const auto& poly : obstacles) {
+    if (!bg::intersects(seg, poly)) continue;  // cheap test first
+    MultiLine inside;
+    bg::intersection(line, poly, inside);
+    for (const auto& piece : inside) {
+      if (bg::length(piece) <= tol) continue;
+      // a piece running along the boundary is not "inside"; test its midpoint's depth
+      const Point mid{(piece.front().x() + piece.back().x()) / 2, (piece.front().y() + piece.back().y()) / 2};
+      if (!bg::within(mid, poly)) continue;
+      // distance to the boundary (rings as lines: bg::distance to a ring would be 0 inside it)
+      auto boundary_distance = [&](const auto& ring) {
+        return bg::distance(mid, Polyline(ring.begin(), ring.end()));
+      };
+      double d = boundary_distance(bg::exterior_ring(poly));
+      for (const auto& in : bg::interior_rings(poly)) d = std::min(d, boundary_distance(in));
+      if (d > tol) return true;
     }
   }
   return false;
 }
 
 std::vector<Point> route_around(const MultiPolygon& obstacles, Point a, Point b, double clearance) {
-  auto clear = [&](Point p, Point q) {
-    if (obstacles.empty()) return true;
-    Segment s{p, q};
-    for (const auto& poly : obstacles) {
-      if (!bg::intersects(s, poly)) continue;
-      // touching only the boundary is fine; entering is not
-      Polyline line{p, q};
-      MultiLine inside;
-      bg::intersection(line, poly, inside);
-      for (const auto& piece : inside) {
-        if (bg::length(piece) < 1e-6) continue;
-        const Point mid{(piece.front().x() + piece.back().x()) / 2,
-                        (piece.front().y() + piece.back().y()) / 2};
-        if (bg::within(mid, poly)) return false;
-      }
-    }
-    return true;
-  };
+  // touching an obstacle's boundary is fine; entering it is not
+  auto clear = [&](Point p, Point q) { return !segment_enters(obstacles, p, q, 0.0); };
   if (clear(a, b)) return {a, b};
 
   // nodes: vertices of the obstacles, pushed outward by `clearance` along the vertex bisector

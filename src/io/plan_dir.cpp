@@ -54,8 +54,7 @@ PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
     out.files.push_back(dir / "plan.png");
     out.files.push_back(dir / "plan.svg");
     if (options.evaluate) {
-      const MultiPolygon free = evaluation::free_area(plan.mission, geodesy::LocalFrame(plan.origin));
-      render::write_heatmap_png(ev.coverage, free, dir / "heatmap.png");
+      render::write_heatmap_png(ev.coverage, ev.free, dir / "heatmap.png");
       render::write_histogram_png(ev.coverage.total, dir / "histogram.png");
       out.files.push_back(dir / "heatmap.png");
       out.files.push_back(dir / "histogram.png");

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "geodesy/local_frame.hpp"
+#include "geometry/geometry.hpp"
 #include "mission/mission_json.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -24,17 +25,9 @@ json line_coords(const std::vector<LonLat>& pts) {
   return c;
 }
 
-std::string slurp(const std::filesystem::path& p, const std::string& field) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(field, "cannot read " + p.string());
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 json parse_file(const std::filesystem::path& p, const std::string& field) {
   try {
-    return json::parse(slurp(p, field));
+    return json::parse(read_text_file(p, field));
   } catch (const json::exception&) {
     throw InputError(field, "malformed JSON in " + p.string());
   }
@@ -42,7 +35,16 @@ json parse_file(const std::filesystem::path& p, const std::string& field) {
 
 }  // namespace
 
-json paths_geojson(const Plan& plan) {
+std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(field, "cannot read file '" + path.string() + "'");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(field, "cannot read file '" + path.string() + "'");
+  return ss.str();
+}
+
+json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav) {
   json features = json::array();
   for (std::size_t a = 0; a < plan.mission.area.size(); ++a)
     features.push_back({{"type", "Feature"},
@@ -52,12 +54,12 @@ json paths_geojson(const Plan& plan) {
     features.push_back({{"type", "Feature"},
                         {"properties", {{"role", "no_fly_zone"}, {"index", z}}},
                         {"geometry", mission::geo_polygon_json(plan.mission.no_fly_zones[z])}});
-  for (const auto& u : plan.uavs) {
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    if (only_uav && *only_uav != i) continue;
+    const auto& u = plan.uavs[i];
     int part_index = 0;
     for (const auto& part : u.parts) {
-      double len = 0;
-      for (std::size_t i = 1; i < part.local.size(); ++i)
-        len += bg::distance(part.local[i - 1], part.local[i]);
+      const double len = geometry::length(part.local);
       const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
       features.push_back({{"type", "Feature"},
                           {"properties",

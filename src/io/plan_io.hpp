@@ -1,8 +1,10 @@
 // Reading and writing a plan directory: DIR/plan.json and DIR/paths.geojson.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "uavcover/plan.hpp"
@@ -11,7 +13,11 @@ namespace uavcover::io {
 
 /// RFC 7946 FeatureCollection: per UAV LineStrings (kind coverage/transit, uav, share_requested,
 /// share_actual, length_m, turns) plus Polygon features for the area and no-fly zones (role).
-nlohmann::json paths_geojson(const Plan& plan);
+/// With `only_uav`, the lines of that UAV alone (the per-UAV GeoJSON export).
+nlohmann::json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav = std::nullopt);
+
+/// Reads a whole file; throws InputError naming `field` when it cannot be read.
+std::string read_text_file(const std::filesystem::path& path, const std::string& field);
 
 /// plan.json: normalised mission, spacing, GSD/footprint, placement, per-UAV and total metrics.
 /// `extra` entries (e.g. "coverage", "cost") are merged in at top level.
