@@ -3,6 +3,7 @@
 //                                              length and time per region, means over the paper's 18
 //   bench_plan scaling|scaling-hard [max_cells] mega-cells x UAVs -> time and peak RSS (one process per
 //                                              row, so peak RSS is that row's)
+//   bench_plan mission CELLS UAVS                the scaling field as a mission file (seeded random starts)
 //   bench_plan gbench [google benchmark flags]  Google Benchmark timings (when built with it)
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -188,7 +189,7 @@ int scaling(long max_cells, bool hard) {
 void BM_PaperRegion(benchmark::State& state) {
   char name[64];
   std::snprintf(name, sizeof name, "/apostolidis2022/roi%02d.json", static_cast<int>(state.range(0)));
-  const Mission m = parse_mission(slurp(std::string(UAVCOVER_SHARED_DIR) + "/bench" + name));
+  const Mission m = parse_mission(slurp(std::string(UAVCOVER_BENCH_DATA) + name));
   for (auto _ : state) benchmark::DoNotOptimize(plan(m));
 }
 BENCHMARK(BM_PaperRegion)->DenseRange(1, 20)->Unit(benchmark::kMillisecond);
@@ -209,8 +210,14 @@ int main(int argc, char** argv) {
       const Mode mode = argc > 2 && std::string(argv[2]) == "coverage" ? Mode::Coverage : Mode::Strict;
       const std::string dir = argc > 3 && std::string(argv[3]) != "-"
                                   ? argv[3]
-                                  : std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022";
+                                  : std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022";
       return paper(mode, dir, argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 0);
+    }
+    if (cmd == "mission" && argc > 3) {  // the synthetic field as a mission file, starts left to the seed
+      Mission m = synthetic(std::atol(argv[2]), std::atoi(argv[3]));
+      for (auto& u : m.uavs) u.start.reset();
+      std::printf("%s\n", mission_to_json(m).c_str());
+      return 0;
     }
     if (cmd == "scaling" || cmd == "scaling-hard")
       return scaling(argc > 2 ? std::atol(argv[2]) : 100000L, cmd == "scaling-hard");
@@ -228,6 +235,6 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] "
-               "| gbench\n");
+               "| mission CELLS UAVS | gbench\n");
   return 2;
 }

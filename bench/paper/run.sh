@@ -1,20 +1,19 @@
 #!/usr/bin/env bash
 # Paper benchmark (Apostolidis et al. 2022, §3.1): plans the 20 regions of
-# ../shared/bench/apostolidis2022 in strict and coverage mode with the built CLI, evaluates each
+# bench/data/apostolidis2022 in strict and coverage mode with the built CLI, evaluates each
 # plan with `uavcover evaluate` (w = 1.5 ds, 1 m lattice), and prints a side-by-side table against
 # the paper's published results (J1+J2+J3 = the paper's DARP planner, and the two ETHZ planners).
 # Writes the Markdown table to bench/results/paper.md.
 #
 # usage: bench/paper/run.sh [BUILD_DIR]      (default: build; or set UAVCOVER=/path/to/uavcover)
-# env:   SHARED=/work/shared  WORK=/tmp/uavcover-paper-bench  MODES="strict coverage"  ROIS="01 02 ..."
+# env:   DATA=bench/data/apostolidis2022  WORK=/tmp/uavcover-paper-bench  MODES="strict coverage"  ROIS="01 02 ..."
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
 build="${1:-$repo/build}"
 bin="${UAVCOVER:-$build/uavcover}"
-shared="${SHARED:-$repo/../shared}"
-data="$shared/bench/apostolidis2022"
+data="${DATA:-$repo/bench/data/apostolidis2022}"
 work="${WORK:-${TMPDIR:-/tmp}/uavcover-paper-bench}"
 modes="${MODES:-strict coverage}"
 rois="${ROIS:-$(seq -w 1 20 | tr '\n' ' ')}"

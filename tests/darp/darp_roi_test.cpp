@@ -15,7 +15,7 @@ namespace {
 Mission load_roi(int r) {
   char name[32];
   std::snprintf(name, sizeof name, "/roi%02d.json", r);
-  std::ifstream f(std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022" + name);
+  std::ifstream f(std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022" + name);
   std::stringstream ss;
   ss << f.rdbuf();
   return parse_mission(ss.str());

@@ -98,7 +98,7 @@ TEST(PathsGeoJson, RefusesBadInputNamingTheField) {
 TEST(EvaluateCommand, WritesEvaluationJsonAndPictures) {
   const fs::path dir = fs::temp_directory_path() / ("uavcover_eval_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string bench = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/";
+  const std::string bench = std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022/";
   const std::string cmd = std::string(UAVCOVER_CLI) + " -q evaluate " + bench + "roi01.json " + bench +
                           "paper_paths/roi01-optimal.geojson --out " + dir.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
@@ -124,8 +124,8 @@ TEST(EvaluateCommand, RefusesBadGeoJsonWithExitCode2) {
     std::ofstream(dir / "bad.geojson")
         << R"({"type":"FeatureCollection","features":[{"type":"Feature","geometry":{"type":"LineString","coordinates":[[24.4,40.9]]}}]})";
   }
-  const std::string cmd = std::string(UAVCOVER_CLI) + " evaluate " + UAVCOVER_SHARED_DIR +
-                          "/bench/apostolidis2022/roi01.json " + (dir / "bad.geojson").string() + " --out " +
+  const std::string cmd = std::string(UAVCOVER_CLI) + " evaluate " + UAVCOVER_BENCH_DATA +
+                          "/apostolidis2022/roi01.json " + (dir / "bad.geojson").string() + " --out " +
                           (dir / "out").string() + " 2> " + (dir / "err.txt").string();
   const int rc = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(rc));

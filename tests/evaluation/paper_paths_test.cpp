@@ -1,5 +1,5 @@
 // Evaluating the paper's own paths reproduces its published PoC (Apostolidis et al. 2022, Table 3
-// data in shared/bench/apostolidis2022/paper_paths) within 1 percentage point for every region.
+// data in bench/data/apostolidis2022/paper_paths) within 1 percentage point for every region.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -19,7 +19,7 @@ using uavcover::testing::slurp;
 namespace {}  // namespace
 
 TEST(PaperPaths, ReproducePublishedPoc) {
-  const fs::path dir = fs::path(UAVCOVER_SHARED_DIR) / "bench" / "apostolidis2022";
+  const fs::path dir = fs::path(UAVCOVER_BENCH_DATA) / "apostolidis2022";
   ASSERT_TRUE(fs::exists(dir / "paper_paths")) << dir;
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(dir / "paper_paths")) {

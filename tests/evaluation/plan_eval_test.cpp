@@ -45,7 +45,7 @@ TEST(EvaluatePlan, PlannedRegionIsCoveredAndCosted) {
 TEST(StudyCommand, TableJsonAndPicture) {
   const fs::path dir = fs::temp_directory_path() / ("uavcover_study_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi01.json";
+  const std::string mission = std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022/roi01.json";
   const std::string cmd = std::string(UAVCOVER_CLI) + " study " + mission + " --uavs 1..3 --out " +
                           dir.string() + " > " + (dir.string() + ".txt");
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
@@ -71,7 +71,7 @@ TEST(StudyCommand, TableJsonAndPicture) {
 }
 
 TEST(StudyCommand, RefusesBadCounts) {
-  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi01.json";
+  const std::string mission = std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022/roi01.json";
   for (const char* bad : {"0..3", "3..1", "x", "1,,2"}) {
     const std::string cmd = std::string(UAVCOVER_CLI) + " -q study " + mission + " --uavs " + bad +
                             " --out /tmp/uavcover_never_written 2>/dev/null";
@@ -103,7 +103,7 @@ TEST(Footprint, FromCameraElseOneAndAHalfSpacing) {
 TEST(EvaluateCommand, OwnPlanDirectoryGivesTheSameNumbersAsEvaluatePlan) {
   const fs::path dir = fs::temp_directory_path() / ("uavcover_eval_own_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string mission = std::string(UAVCOVER_SHARED_DIR) + "/bench/apostolidis2022/roi09.json";
+  const std::string mission = std::string(UAVCOVER_BENCH_DATA) + "/apostolidis2022/roi09.json";
   const std::string cli = UAVCOVER_CLI;
   ASSERT_EQ(std::system((cli + " -q plan " + mission + " --out " + dir.string()).c_str()), 0);
   ASSERT_EQ(std::system((cli + " -q evaluate " + mission + " " + (dir / "paths.geojson").string() +

@@ -358,7 +358,7 @@ TEST(MissionParse, RingTracedTwiceCollapsesToOneCycle) {
 TEST(MissionParse, AllBenchmarkRoisParse) {
   for (int i = 1; i <= 20; ++i) {
     char name[64];
-    std::snprintf(name, sizeof name, "%s/bench/apostolidis2022/roi%02d.json", UAVCOVER_SHARED_DIR, i);
+    std::snprintf(name, sizeof name, "%s/apostolidis2022/roi%02d.json", UAVCOVER_BENCH_DATA, i);
     FILE* f = std::fopen(name, "rb");
     ASSERT_NE(f, nullptr) << name;
     std::string text;

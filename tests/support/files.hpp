@@ -19,7 +19,7 @@ inline std::string slurp(const std::filesystem::path& p) {
 
 /// Text of a region of the paper's evaluation, e.g. roi_text("roi09.json").
 inline std::string roi_text(const std::string& file) {
-  return slurp(std::filesystem::path(UAVCOVER_SHARED_DIR) / "bench" / "apostolidis2022" / file);
+  return slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) / "apostolidis2022" / file);
 }
 
 /// The mission with its first UAV copied `n` times: ids uav-1.., equal shares, seeded random starts.
