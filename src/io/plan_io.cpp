@@ -162,6 +162,53 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& con
   }
 }
 
+namespace {
+
+std::filesystem::path checked_relative(const std::string& name) {
+  const std::filesystem::path rel(name);
+  bool ok = !name.empty() && rel.is_relative() && name.find('\\') == std::string::npos;
+  for (const auto& part : rel) ok = ok && !part.empty() && part != "." && part != "..";
+  if (!ok) throw OperationError("refusing to write an output named \"" + name + "\"");
+  return rel;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir, const Artifacts& artifacts) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) throw OperationError("cannot create the folder " + dir.string());
+  const fs::path staging = dir / (".staging-" + std::to_string(::getpid()));
+  fs::remove_all(staging, ec);
+  std::vector<fs::path> written;
+  try {
+    for (const auto& a : artifacts) {
+      const fs::path rel = checked_relative(a.name);
+      const fs::path tmp = staging / rel;
+      fs::create_directories(tmp.parent_path());
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out.write(a.bytes.data(), static_cast<std::streamsize>(a.bytes.size()));
+      out.flush();
+      if (!out) throw OperationError("cannot write " + (dir / rel).string());
+    }
+    for (const auto& a : artifacts) {
+      const fs::path rel = checked_relative(a.name);
+      fs::create_directories((dir / rel).parent_path());
+      fs::rename(staging / rel, dir / rel);
+      written.push_back(dir / rel);
+    }
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(staging, ec);
+    throw OperationError(std::string("cannot write the outputs: ") + e.what());
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  fs::remove_all(staging, ec);
+  return written;
+}
+
 Plan load_plan_dir(const std::filesystem::path& dir) {
   const auto plan_path = dir / "plan.json";
   const auto paths_path = dir / "paths.geojson";

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::io {
@@ -25,6 +26,12 @@ nlohmann::json plan_json(const Plan& plan, const nlohmann::json& extra = nlohman
 
 /// Writes text to `path` atomically (temp file + rename), creating parent folders.
 void write_file_atomic(const std::filesystem::path& path, const std::string& content);
+
+/// Writes the artifacts under `dir` (names are relative, '/'-separated; names with "..", absolute
+/// names or empty parts are refused). All files are first written into a staging folder beside
+/// `dir` and moved into place only when every one is complete: a failure leaves no partial file.
+/// Returns the paths written.
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir, const Artifacts& artifacts);
 
 /// Reads DIR/plan.json and DIR/paths.geojson back into a Plan (mission, UAVs, parts with local
 /// and WGS84 coordinates). Throws InputError naming the file and field when they are unusable.
