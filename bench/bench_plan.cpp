@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/local_mission.hpp"
 #include "evaluation/coverage.hpp"
-#include "planner/local_mission.hpp"
 #include "uavcover/uavcover.hpp"
 
 #ifdef UAVCOVER_HAVE_GBENCH
@@ -77,7 +77,7 @@ int paper(Mode mode, const std::string& dir, std::uint64_t seed) {
     const auto t0 = std::chrono::steady_clock::now();
     const Plan p = plan(m);
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const planner::LocalMission lm = planner::to_local(p.mission);
+    const engine::LocalMission lm = engine::to_local(p.mission);
     std::vector<evaluation::Flight> flights;
     for (const auto& u : p.uavs) flights.push_back(u.parts);
     evaluation::CoverageOptions co;
@@ -86,7 +86,8 @@ int paper(Mode mode, const std::string& dir, std::uint64_t seed) {
     const auto cov = evaluation::evaluate_coverage(lm.free, flights, co);
     int turns = 0, cells = 0;
     double len = 0;
-    for (const auto& u : p.uavs) turns += u.turns, len += u.coverage_length_m, cells += u.cells;
+    for (const auto& u : p.uavs)
+      turns += u.turns, len += u.coverage_length_m, cells += u.diagnostics.value("cells", 0);
     const bool counted = r != 6 && r != 18;
     const double pp = r - 1 < static_cast<int>(ppoc.size()) ? ppoc[r - 1] * 100 : NAN;
     const double pt = r - 1 < static_cast<int>(pturns.size()) ? pturns[r - 1] : NAN;
@@ -163,13 +164,15 @@ int scaling(long max_cells, bool hard) {
         rusage ru{};
         getrusage(RUSAGE_SELF, &ru);
         int free_cells = 0;
-        for (int o2 : p.grid.owner) free_cells += o2 >= 0;
+        for (const auto& u : p.uavs) free_cells += u.diagnostics.value("cells", 0);
+        const bool converged = p.diagnostics.value("converged", true);
+        const int iterations = p.diagnostics.value("iterations", 0);
         double dev = 0;
         for (const auto& u : p.uavs)
           dev = std::max(dev, std::fabs(u.share_actual - u.share_requested) * free_cells);
         std::printf("%10d %5d %9.2f %10.1f %9s %5d %9.0f\n", free_cells, uavs, t, ru.ru_maxrss / 1024.0,
-                    p.darp_converged ? "yes" : "no", p.darp_iterations, dev);
-        if (!p.darp_converged) {
+                    converged ? "yes" : "no", iterations, dev);
+        if (!converged) {
           std::printf("           cells - target per UAV:");
           for (const auto& u : p.uavs)
             std::printf(" %+.0f", (u.share_actual - u.share_requested) * free_cells);

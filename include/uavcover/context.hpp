@@ -33,6 +33,13 @@ class Context {
   /// Throws Cancelled when a stop was requested, TimeLimitReached when the time is up.
   void check() const;
 
+  /// The same stop token and deadline, with progress sent to `progress` (e.g. mapped into a larger job).
+  [[nodiscard]] Context with_progress(Progress progress) const {
+    Context c = *this;
+    c.progress_ = std::move(progress);
+    return c;
+  }
+
   [[nodiscard]] const std::optional<Clock::time_point>& deadline() const noexcept { return deadline_; }
 
  private:

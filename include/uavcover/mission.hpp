@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +60,8 @@ struct Mission {
   std::vector<Uav> uavs;
   Mode mode = Mode::Strict;
   std::string planner = "darp";
+  /// The planner's parameters, validated against its schema with every default filled in.
+  nlohmann::json planner_params = nlohmann::json::object();
   std::uint64_t seed = 0;
   std::string source_format = "uavcover-v1";  ///< or "mcpp-optimized-darp"
 };

@@ -1,29 +1,38 @@
-// uavcover facade: plan(mission, options, progress) -> plan.
+// uavcover facade: parse a mission, plan it with any registered planner, and (in the other facade
+// headers) evaluate, render and export the plan. The CLI and the server are thin shells over it.
 #pragma once
 
 #include <cstdint>
-#include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
-#include <string_view>
+#include <string>
+#include <vector>
 
+#include "uavcover/artifact.hpp"
+#include "uavcover/context.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover {
 
-/// Progress callback: stage name and fraction done in [0, 1]. Called from the planning thread.
-using Progress = std::function<void(std::string_view stage, double fraction)>;
-
 struct PlanOptions {
   std::optional<std::uint64_t> seed;  ///< overrides mission.seed
-  int darp_max_iterations = 4000;     ///< per DARP attempt
-  int placement_evaluations = 1500;   ///< grid placement budget (annealing steps in total)
-  bool optimise_placement = true;
 };
 
-/// Plans the mission. Throws InputError for inputs that cannot be planned
-/// (e.g. no free cell), std::runtime_error for internal failures.
-Plan plan(const Mission& mission, const PlanOptions& options = {}, const Progress& progress = {});
+/// Plans the mission with its planner (mission.planner, parameters mission.planner_params).
+/// Throws InputError for missions that cannot be planned (no free cell, a capability the planner
+/// lacks), Cancelled when ctx is stopped, TimeLimitReached when ctx's time is up before any complete
+/// plan exists (planners that can, return their best plan so far with Plan::complete == false).
+Plan plan(const Mission& mission, const PlanOptions& options = {}, const Context& ctx = {});
+
+/// A registered planner: name, one-line summary, and its JSON description (parameters with types,
+/// defaults and bounds; capabilities).
+struct PlannerDescription {
+  std::string name;
+  std::string summary;
+  nlohmann::json schema;
+};
+std::vector<PlannerDescription> available_planners();
 
 }  // namespace uavcover

@@ -4,14 +4,13 @@
 
 #include <filesystem>
 #include <iostream>
-#include <map>
 
 #include "cli/command.hpp"
 #include "cli/cost_options.hpp"
-#include "evaluation/evaluate.hpp"
+#include "cli/interrupt.hpp"
 #include "io/plan_io.hpp"
-#include "render/render.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/evaluate_paths.hpp"
 
 namespace uavcover::cli {
 namespace {
@@ -31,60 +30,16 @@ struct EvaluateArgs {
 void run_evaluate(const EvaluateArgs& a) {
   const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
   const std::string text = io::read_text_file(a.paths, "PATHS");
-  const geodesy::LocalFrame frame(geodesy::centroid(mission.area));
-  const auto paths = evaluation::parse_paths_geojson(text, frame);
-
-  // UAV parameters: by id when the mission names it, else by position, else the first UAV's
-  std::map<std::string, const Uav*> by_id;
-  for (const auto& u : mission.uavs) by_id[u.id] = &u;
-  std::vector<Uav> uavs;
-  for (std::size_t i = 0; i < paths.uav_ids.size(); ++i) {
-    const auto it = by_id.find(paths.uav_ids[i]);
-    Uav u = it != by_id.end()         ? *it->second
-            : i < mission.uavs.size() ? mission.uavs[i]
-            : mission.uavs.empty()    ? Uav{}
-                                      : mission.uavs.front();
-    u.id = paths.uav_ids[i];
-    uavs.push_back(u);
-  }
-
   evaluation::EvaluateOptions opt;
+  opt.coverage.footprint_m = a.footprint_m;
   opt.coverage.lattice_m = a.lattice_m;
   opt.coverage.max_samples = a.max_samples;
   opt.coverage.count_transit = a.count_transit;
   opt.cost = a.cost;
-  const double w = a.footprint_m > 0.0 ? a.footprint_m : evaluation::footprint_for(mission);
-  const MultiPolygon free = evaluation::free_area(mission, frame);
-  const auto ev = evaluation::evaluate_flights(free, paths.flights, uavs, w, opt);
-
+  const auto result = usecases::evaluate_paths(mission, text, opt, Context({}, interrupt_token()));
+  const auto& ev = result.evaluation;
   const std::filesystem::path dir(a.out);
-  nlohmann::json j = evaluation::evaluation_json(ev);
-  j["mission"] = mission.name;
-  j["paths"] = a.paths;
-  io::write_file_atomic(dir / "evaluation.json", j.dump(1) + "\n");
-  if (!a.no_images) {
-    render::write_heatmap_png(ev.coverage, free, dir / "heatmap.png", 1200, 900,
-                              "Coverage heatmap" + (mission.name.empty() ? "" : " - " + mission.name));
-    render::write_histogram_png(ev.coverage.total, dir / "histogram.png");
-    // the evaluated paths drawn like a plan (no regions: other tools do not give them)
-    Plan shown;
-    shown.mission = mission;
-    shown.origin = frame.origin();
-    shown.free_area_m2 = ev.coverage.total.area_m2;
-    shown.mission.uavs = uavs;
-    for (std::size_t i = 0; i < paths.flights.size(); ++i) {
-      UavPlan up;
-      up.id = paths.uav_ids[i];
-      up.share_actual = ev.coverage.uavs[i].area_share;
-      up.parts = paths.flights[i];
-      if (!up.parts.empty() && !up.parts.front().wgs84.empty()) {
-        shown.mission.uavs[i].start_resolved = up.parts.front().wgs84.front();
-        shown.mission.uavs[i].start.reset();
-      }
-      shown.uavs.push_back(std::move(up));
-    }
-    render::write_plan_png(shown, dir / "paths.png");
-  }
+  io::write_artifacts(dir, usecases::evaluation_outputs(result, a.paths, !a.no_images));
   if (global_flags().quiet) return;
   const auto& t = ev.coverage.total;
   const auto& c = ev.cost;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/interrupt.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::cli {
@@ -25,9 +26,10 @@ int run(int argc, char** argv) {
   using namespace uavcover;
   CLI::App app{
       "uavcover: multi-UAV coverage mission planner.\n"
-      "Divides an area among drones (DARP), gives each a turn-minimised coverage path (STC),\n"
-      "evaluates coverage, time and cost, and exports flight-ready files.\n"
-      "Exit codes: 0 ok, 1 internal error, 2 bad input or usage."};
+      "Divides an area among drones with a choice of planners (DARP, boustrophedon, ...), gives each\n"
+      "a coverage path, evaluates coverage, time and cost, and exports flight-ready files.\n"
+      "Exit codes: 0 ok, 1 internal or environment error, 2 bad input or usage, 3 time limit reached\n"
+      "without a complete plan, 130 interrupted (Ctrl-C)."};
   app.require_subcommand(1);
   app.fallthrough();  // global flags (--quiet) may follow the sub-command
   app.set_version_flag("--version", "uavcover 0.1.0");
@@ -50,6 +52,12 @@ int run(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "uavcover: error: " << e.what() << "\n";
     return 2;
+  } catch (const Cancelled&) {
+    std::cerr << "\nuavcover: stopped (interrupted); nothing was written\n";
+    return 130;
+  } catch (const TimeLimitReached& e) {
+    std::cerr << "uavcover: error: " << e.what() << "; nothing was written (raise --time-limit)\n";
+    return 3;
   } catch (const OperationError& e) {
     std::cerr << "uavcover: error: " << e.what() << "\n";
     return 1;
@@ -66,6 +74,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uavcover::cli::install_interrupt_handler();
   try {
     return run(argc, argv);
   } catch (...) {  // e.g. while building the command-line app: never let an exception escape

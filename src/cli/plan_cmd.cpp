@@ -1,14 +1,17 @@
 // `uavcover plan MISSION.json --out DIR`: parse, plan through the facade, write the plan directory.
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/interrupt.hpp"
 #include "cli/progress.hpp"
-#include "io/plan_dir.hpp"
+#include "export/export.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover::cli {
 namespace {
@@ -17,6 +20,7 @@ struct PlanArgs {
   std::string mission;
   std::string out;
   std::optional<std::uint64_t> seed;
+  std::optional<double> time_limit_s;
   std::size_t max_cells = ParseOptions{}.max_cells;
   std::vector<std::string> exports;
   bool no_evaluate = false;
@@ -26,43 +30,53 @@ struct PlanArgs {
 void run_plan(const PlanArgs& a) {
   ParseOptions po;
   po.max_cells = a.max_cells;
-  io::check_export_formats(a.exports);
+  usecases::check_export_formats(a.exports);
   const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"), po);
   PlanOptions opt;
   opt.seed = a.seed;
   const bool quiet = global_flags().quiet;
+  std::optional<Context::Clock::duration> limit;
+  if (a.time_limit_s)
+    limit =
+        std::chrono::duration_cast<Context::Clock::duration>(std::chrono::duration<double>(*a.time_limit_s));
+  const Progress bar = make_progress_bar(quiet);
   Plan result;
+  usecases::PlanOutputs outputs;
   try {
-    result = plan(mission, opt, make_progress_bar(quiet));
+    result = plan(mission, opt, Context(bar, interrupt_token(), limit));
+    usecases::OutputOptions oo;
+    oo.evaluate = !a.no_evaluate;
+    oo.images = !a.no_images;
+    oo.exports = a.exports;
+    // the time limit is the planner's; the outputs still stop on Ctrl-C
+    outputs = usecases::plan_outputs(result, oo, Context(bar, interrupt_token()));
   } catch (...) {
     finish_progress_bar();
     throw;
   }
   finish_progress_bar();
   const std::filesystem::path dir(a.out);
-  io::PlanDirOptions dir_opt;
-  dir_opt.evaluate = !a.no_evaluate;
-  dir_opt.images = !a.no_images;
-  dir_opt.exports = a.exports;
-  const io::PlanDirResult written = io::write_plan_dir(result, dir, dir_opt);
+  const auto files = io::write_artifacts(dir, outputs.artifacts);
+  for (const auto& w : outputs.warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (quiet) return;
-  std::cout << fmt::format("{} — {} UAV(s), spacing {:.1f} m, mode {}, seed {}\n", result.mission.name,
-                           result.uavs.size(), result.mission.spacing_m,
+  std::cout << fmt::format("{} — {} UAV(s), planner {}, spacing {:.1f} m, mode {}, seed {}\n",
+                           result.mission.name, result.uavs.size(), result.planner, result.mission.spacing_m,
                            result.mission.mode == Mode::Strict ? "strict" : "coverage", result.mission.seed);
-  std::cout << fmt::format("{:<12} {:>8} {:>8} {:>7} {:>7} {:>11}\n", "uav", "share", "actual", "cells",
-                           "turns", "length_km");
+  std::cout << fmt::format("{:<12} {:>8} {:>8} {:>7} {:>11}\n", "uav", "share", "actual", "turns",
+                           "length_km");
   for (const auto& u : result.uavs)
-    std::cout << fmt::format("{:<12} {:>8.3f} {:>8.3f} {:>7} {:>7} {:>11.3f}\n", u.id, u.share_requested,
-                             u.share_actual, u.cells, u.turns, u.length_m / 1000.0);
+    std::cout << fmt::format("{:<12} {:>8.3f} {:>8.3f} {:>7} {:>11.3f}\n", u.id, u.share_requested,
+                             u.share_actual, u.turns, u.length_m / 1000.0);
   for (const auto& w : result.warnings) std::cout << "warning: " << w << "\n";
-  if (written.poc >= 0)
+  if (outputs.poc >= 0)
     std::cout << fmt::format(
         "coverage {:.2f} % (overlap {:.2f} %), flight time {:.1f} min (trajectories: "
         "{:.1f} min), total {:.1f} min, cost {:.2f} EUR\n",
-        written.poc * 100, written.pooc * 100, written.flight_time_min, written.trajectory_flight_time_min,
-        written.total_time_min, written.cost_eur);
-  std::cout << fmt::format("planned in {:.3f} s; wrote {} files to {}\n", result.compute_time_s,
-                           written.files.size(), dir.string());
+        outputs.poc * 100, outputs.pooc * 100, outputs.flight_time_min, outputs.trajectory_flight_time_min,
+        outputs.total_time_min, outputs.cost_eur);
+  std::cout << fmt::format("planned in {:.3f} s{}; wrote {} files to {}\n", result.compute_time_s,
+                           result.complete ? "" : " (time limit: best plan so far)", files.size(),
+                           dir.string());
 }
 
 const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
@@ -74,11 +88,16 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_option("--out,-o", args->out, "Output folder: paths.geojson and plan.json are written there")
       ->required();
   cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan");
+  cmd->add_option("--time-limit", args->time_limit_s,
+                  "Planning time budget in seconds: the planner's best complete plan so far is returned "
+                  "with a warning, or the command fails with exit code 3 when it has none")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
       ->capture_default_str();
   cmd->add_option("--export", args->exports,
                   "Also export these formats: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(CLI::IsMember(exporting::known_formats()));
   cmd->add_flag("--no-evaluate", args->no_evaluate, "Skip the coverage simulation and cost model");
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(
@@ -87,12 +106,12 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
       "share_requested,\n"
       "                     share_actual, length_m, turns) and Polygons for the area and no-fly zones "
       "(role).\n"
-      "  DIR/plan.json      normalised mission, spacing, GSD/footprint, grid placement (J, J1-J3), per-UAV "
-      "and\n"
-      "                     total metrics, coverage (PoC, PoOC, histogram) and time/cost (eq. 15-22).\n"
+      "  DIR/plan.json      normalised mission, planner and its diagnostics, per-UAV regions and metrics,\n"
+      "                     coverage (PoC, PoOC, histogram) and time/cost (eq. 15-22).\n"
       "  DIR/plan.png, plan.svg, heatmap.png, histogram.png   pictures for the report.\n"
       "  DIR/export/, DIR/trajectory/   with --export.\n"
-      "Exit codes: 0 ok, 1 internal error, 2 bad input (message names the field; no files written).");
+      "Exit codes: 0 ok, 1 internal error, 2 bad input (message names the field; no files written),\n"
+      "3 time limit reached without a complete plan, 130 interrupted (Ctrl-C; no files written).");
   cmd->callback([args] { run_plan(*args); });
 });
 

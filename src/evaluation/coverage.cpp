@@ -210,17 +210,25 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
   std::vector<std::vector<std::uint64_t>> touched(flights.size());
   std::vector<std::uint16_t> n_uavs(n, 0);
   std::vector<std::int32_t> mine(n, 0);
+  auto check = [&options] {
+    if (options.context != nullptr) options.context->check();
+  };
+  check();
   for (std::size_t u = 0; u < flights.size(); ++u) {
     std::fill(mine.begin(), mine.end(), 0);
     for (const auto& part : flights[u]) {
       if (part.kind == PartKind::Transit && !options.count_transit) continue;
       for (std::size_t k = 1; k < part.local.size(); ++k) {
+        if (k % 64 == 0) check();
         rasterise_leg(l, part.local[k - 1], part.local[k], options.footprint_m, [&](int r, int c0, int c1) {
           std::int32_t* base = mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
           for (int c = c0; c <= c1; ++c) ++base[c];
         });
       }
     }
+    check();
+    if (options.context != nullptr)
+      options.context->report("evaluation", static_cast<double>(u + 1) / static_cast<double>(flights.size()));
     auto& bits = touched[u];
     bits.assign(words, 0);
     for (std::size_t i = 0; i < n; ++i) {

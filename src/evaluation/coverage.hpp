@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "uavcover/context.hpp"
 #include "uavcover/geometry.hpp"
 #include "uavcover/plan.hpp"
 
@@ -14,7 +15,8 @@ struct CoverageOptions {
   double footprint_m = 0.0;  ///< w; required (> 0)
   double lattice_m = 0.0;    ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
   std::size_t max_samples = 20'000'000;
-  bool count_transit = false;  ///< transit legs scan too
+  bool count_transit = false;        ///< transit legs scan too
+  const Context* context = nullptr;  ///< checked for stops (throws Cancelled / TimeLimitReached)
 };
 
 struct CoverageStats {

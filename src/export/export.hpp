@@ -10,6 +10,7 @@
 
 #include "export/mission_items.hpp"
 #include "trajectory/trajectory.hpp"
+#include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::exporting {
@@ -53,6 +54,10 @@ std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptio
 
 /// Writes a ZIP archive (KMZ) with the given entries, atomically.
 void write_zip(const std::filesystem::path& path, const std::map<std::string, std::string>& entries);
+
+/// The requested formats for every UAV as artifacts (export/<id>.<ext>, trajectory/<id>.csv).
+Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
+                           const ExportOptions& opt = {});
 
 /// Writes the requested formats (names from known_formats(); entries may hold comma-separated lists)
 /// for every UAV. Throws InputError naming --format for an unknown format, std::runtime_error when

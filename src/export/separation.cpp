@@ -6,68 +6,37 @@
 #include <numbers>
 
 #include "geodesy/local_frame.hpp"
+#include "geometry/geometry.hpp"
 
 namespace uavcover::exporting {
 
-RegionMap::RegionMap(const Plan& plan) : plan_(&plan) {
-  const GridInfo& g = plan.grid;
-  const bool grid_ok = g.cell_m > 0.0 && g.rows > 0 && g.cols > 0 &&
-                       g.owner.size() == static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols);
-  if (grid_ok) {
-    // confirm the convention: coverage waypoints lie inside mega-cells of their own UAV
-    // candidates: origin as a local point (rotate p - origin) or as a rotated-frame point, either sign
-    for (int mode = 0; mode < 4; ++mode) {
-      std::size_t total = 0, hits = 0;
-      for (std::size_t u = 0; u < plan.uavs.size(); ++u)
-        for (const auto& part : plan.uavs[u].parts)
-          if (part.kind == PartKind::Coverage)
-            for (const auto& p : part.local) {
-              ++total;
-              hits += grid_owner(p, mode) == static_cast<int>(u) ? 1 : 0;
-            }
-      if (total > 0 && static_cast<double>(hits) >= 0.95 * static_cast<double>(total)) {
-        use_grid_ = true;
-        mode_ = mode;
-        return;
-      }
-    }
-  }
-  loops_.resize(plan.uavs.size());
-  for (std::size_t u = 0; u < plan.uavs.size(); ++u)
+RegionMap::RegionMap(const Plan& plan) {
+  regions_.resize(plan.uavs.size());
+  for (std::size_t u = 0; u < plan.uavs.size(); ++u) {
+    regions_[u] = plan.uavs[u].region_local;
+    if (!regions_[u].empty()) continue;
+    // a plan without regions (paths from another tool): the areas its closed coverage loops enclose
     for (const auto& part : plan.uavs[u].parts) {
       if (part.kind != PartKind::Coverage || part.local.size() < 4) continue;
+      if (bg::distance(part.local.front(), part.local.back()) > 1e-6) continue;
       Polygon poly;
       for (const auto& p : part.local) bg::append(poly.outer(), p);
       bg::correct(poly);
-      loops_[u].push_back(poly);
+      regions_[u].push_back(poly);
     }
-}
-
-int RegionMap::grid_owner(Point p, int mode) const {
-  const GridInfo& g = plan_->grid;
-  const double sign = (mode & 1) != 0 ? -1.0 : 1.0;
-  const bool local_origin = (mode & 2) == 0;
-  const double th = sign * g.rotation_deg * std::numbers::pi / 180.0;
-  // offsets along the grid's axes: rotate by -rotation
-  const double x = local_origin ? p.x() - g.origin.x() : p.x();
-  const double y = local_origin ? p.y() - g.origin.y() : p.y();
-  double qx = x * std::cos(th) + y * std::sin(th);
-  double qy = -x * std::sin(th) + y * std::cos(th);
-  if (!local_origin) {
-    qx -= g.origin.x();
-    qy -= g.origin.y();
   }
-  const double fc = std::floor(qx / g.cell_m);
-  const double fr = std::floor(qy / g.cell_m);
-  if (fc < 0 || fr < 0 || fc >= g.cols || fr >= g.rows) return -1;
-  return g
-      .owner[static_cast<std::size_t>(fr) * static_cast<std::size_t>(g.cols) + static_cast<std::size_t>(fc)];
 }
 
 int RegionMap::owner(Point p) const {
-  if (use_grid_) return grid_owner(p, mode_);
-  for (std::size_t u = 0; u < loops_.size(); ++u)
-    if (!loops_[u].empty() && bg::within(p, loops_[u])) return static_cast<int>(u);
+  for (std::size_t u = 0; u < regions_.size(); ++u)
+    if (!regions_[u].empty() && bg::within(p, regions_[u])) return static_cast<int>(u);
+  return -1;
+}
+
+int RegionMap::entered_by(Point a, Point b, std::size_t except, double tol) const {
+  for (std::size_t u = 0; u < regions_.size(); ++u)
+    if (u != except && !regions_[u].empty() && geometry::segment_enters(regions_[u], a, b, tol))
+      return static_cast<int>(u);
   return -1;
 }
 
@@ -94,9 +63,6 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
 
   const RegionMap regions(plan);
   const geodesy::LocalFrame frame(plan.origin);
-  double step = sep.sample_step_m;
-  if (plan.grid.cell_m > 0.0) step = std::min(step, plan.grid.cell_m / 4.0);
-  step = std::max(step, 0.01);
   for (std::size_t u = 0; u < n; ++u) {
     const auto items = mission_items(plan, u, opt);
     const MissionItem* prev = nullptr;
@@ -111,22 +77,13 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
         if (low && !coverage_leg && it.command != kNavLand) {
           const Point a = frame.to_local({prev->lon, prev->lat});
           const Point b = frame.to_local({it.lon, it.lat});
-          const double len = bg::distance(a, b);
-          const int steps = std::max(1, static_cast<int>(std::ceil(len / step)));
-          for (int k = 0; k <= steps; ++k) {
-            const double f = static_cast<double>(k) / steps;
-            const Point p{a.x() + f * (b.x() - a.x()), a.y() + f * (b.y() - a.y())};
-            const int o = regions.owner(p);
-            if (o >= 0 && o != static_cast<int>(u)) {
-              problems.push_back(
-                  fmt::format("uav '{}': leg at mission altitude from ({:.7f}, {:.7f}) to ({:.7f}, {:.7f}) "
-                              "enters the region of "
-                              "uav '{}'",
-                              plan.uavs[u].id, prev->lon, prev->lat, it.lon, it.lat,
-                              plan.uavs[static_cast<std::size_t>(o)].id));
-              break;
-            }
-          }
+          const int o = regions.entered_by(a, b, u, sep.tolerance_m);
+          if (o >= 0)
+            problems.push_back(
+                fmt::format("uav '{}': leg at mission altitude from ({:.7f}, {:.7f}) to ({:.7f}, {:.7f}) "
+                            "enters the region of uav '{}'",
+                            plan.uavs[u].id, prev->lon, prev->lat, it.lon, it.lat,
+                            plan.uavs[static_cast<std::size_t>(o)].id));
         }
       }
       prev = &it;

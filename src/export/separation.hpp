@@ -10,27 +10,23 @@
 
 namespace uavcover::exporting {
 
-/// Which UAV's region a local point lies in, from Plan::grid (mega-cell owners). The grid's frame
-/// convention is confirmed against each UAV's own coverage waypoints; when it cannot be confirmed
-/// the regions fall back to the areas enclosed by the UAVs' coverage loops.
+/// The UAVs' regions (UavPlan::region_local; for plans without regions, the areas their closed
+/// coverage loops enclose).
 class RegionMap {
  public:
   explicit RegionMap(const Plan& plan);
-  /// UAV index owning the point, -1 when none (blocked, outside the grid).
+  /// UAV index whose region contains the point, -1 when none.
   [[nodiscard]] int owner(Point p) const;
-  [[nodiscard]] bool uses_grid() const { return use_grid_; }
+  /// A UAV other than `except` whose region the segment a-b enters deeper than `tol`, else -1.
+  [[nodiscard]] int entered_by(Point a, Point b, std::size_t except, double tol) const;
 
  private:
-  [[nodiscard]] int grid_owner(Point p, int mode) const;
-  const Plan* plan_;
-  bool use_grid_ = false;
-  int mode_ = 0;
-  std::vector<MultiPolygon> loops_;  // fallback regions, per UAV
+  std::vector<MultiPolygon> regions_;
 };
 
 struct SeparationOptions {
   double min_vertical_m = 1.0;  ///< transition altitudes must differ by at least this
-  double sample_step_m = 0.5;   ///< leg sampling step for the region test (also capped at cell/4)
+  double tolerance_m = 0.05;    ///< a leg may touch another region's edge up to this depth
 };
 
 /// Problems found, one line each (empty = separation holds): shared or too-close transition

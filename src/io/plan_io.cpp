@@ -1,6 +1,8 @@
 #include "io/plan_io.hpp"
 
 #include <unistd.h>
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -80,28 +82,28 @@ json plan_json(const Plan& plan, const json& extra) {
   const Mission& m = plan.mission;
   json uavs = json::array();
   double total_len = 0, total_cov = 0;
-  int total_turns = 0, total_cells = 0;
+  int total_turns = 0;
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const auto& u = plan.uavs[i];
     const auto& mu = m.uavs.at(i);
+    json region = json::array();
+    for (const auto& poly : u.region) region.push_back(mission::geo_polygon_json(poly).at("coordinates"));
     uavs.push_back({{"id", u.id},
                     {"start", {mu.start_resolved.lon, mu.start_resolved.lat}},
                     {"start_given", mu.start.has_value()},
                     {"share_requested", u.share_requested},
                     {"share_actual", u.share_actual},
-                    {"cells", u.cells},
                     {"regions", u.regions},
+                    {"region", {{"type", "MultiPolygon"}, {"coordinates", std::move(region)}}},
                     {"coverage_length_m", u.coverage_length_m},
                     {"length_m", u.length_m},
-                    {"turns", u.turns}});
+                    {"turns", u.turns},
+                    {"transition_altitude_m", u.transition_altitude_m},
+                    {"diagnostics", u.diagnostics}});
     total_len += u.length_m;
     total_cov += u.coverage_length_m;
     total_turns += u.turns;
-    total_cells += u.cells;
   }
-  const Placement& p = plan.placement;
-  json owner = json::array();
-  for (int v : plan.grid.owner) owner.push_back(v);
   json j = {
       {"uavcover_version", "0.1.0"},
       {"mission", mission::to_json(m)},
@@ -113,30 +115,15 @@ json plan_json(const Plan& plan, const json& extra) {
       {"altitude_source", m.altitude_source},
       {"mode", m.mode == Mode::Strict ? "strict" : "coverage"},
       {"seed", m.seed},
-      {"placement",
-       {{"shift_x_m", p.shift_x_m},
-        {"shift_y_m", p.shift_y_m},
-        {"rotation_deg", p.rotation_deg},
-        {"J", p.J},
-        {"J1", p.J1},
-        {"J2", p.J2},
-        {"J3", p.J3},
-        {"evaluations", p.evaluations}}},
-      {"grid",
-       {{"cell_m", plan.grid.cell_m},
-        {"rotation_deg", plan.grid.rotation_deg},
-        {"origin", {plan.grid.origin.x(), plan.grid.origin.y()}},
-        {"rows", plan.grid.rows},
-        {"cols", plan.grid.cols},
-        {"owner", std::move(owner)}}},
-      {"darp", {{"converged", plan.darp_converged}, {"iterations", plan.darp_iterations}}},
+      {"planner", plan.planner},
+      {"complete", plan.complete},
+      {"planner_diagnostics", plan.diagnostics},
       {"warnings", plan.warnings},
       {"uavs", std::move(uavs)},
       {"totals",
        {{"length_m", total_len},
         {"coverage_length_m", total_cov},
         {"turns", total_turns},
-        {"cells", total_cells},
         {"free_area_m2", plan.free_area_m2},
         {"compute_time_s", plan.compute_time_s}}},
   };
@@ -174,7 +161,8 @@ std::filesystem::path checked_relative(const std::string& name) {
 
 }  // namespace
 
-std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir, const Artifacts& artifacts) {
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir,
+                                                   const Artifacts& artifacts) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -209,9 +197,30 @@ std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& 
   return written;
 }
 
+namespace {
+
+/// A WGS84 position from a GeoJSON coordinate array, checked.
+LonLat position(const json& c, const std::string& field) {
+  if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number())
+    throw InputError(field, "expected [longitude, latitude]");
+  const LonLat ll{c[0].get<double>(), c[1].get<double>()};
+  if (!std::isfinite(ll.lon) || !std::isfinite(ll.lat) || std::fabs(ll.lon) > 180.0 ||
+      std::fabs(ll.lat) > 90.0)
+    throw InputError(field, "not a WGS84 position");
+  return ll;
+}
+
+/// Positions of a plan must lie near the mission: within this distance of the frame's origin.
+constexpr double kMaxPlanExtentM = 500'000.0;
+
+}  // namespace
+
 Plan load_plan_dir(const std::filesystem::path& dir) {
   const auto plan_path = dir / "plan.json";
   const auto paths_path = dir / "paths.geojson";
+  if (!std::filesystem::is_directory(dir))
+    throw InputError("PLAN_DIR",
+                     "no plan folder at " + dir.string() + " (expected plan.json and paths.geojson)");
   if (!std::filesystem::exists(plan_path)) throw InputError("PLAN_DIR", "no plan.json in " + dir.string());
   if (!std::filesystem::exists(paths_path))
     throw InputError("PLAN_DIR", "no paths.geojson in " + dir.string());
@@ -219,62 +228,91 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
   const json gj = parse_file(paths_path, "paths.geojson");
   Plan plan;
   try {
-    if (!pj.contains("mission")) throw InputError("plan.json: mission", "missing");
+    if (!pj.is_object() || !pj.contains("mission")) throw InputError("plan.json: mission", "missing");
     plan.mission = parse_mission(pj["mission"].dump(), ParseOptions{std::size_t{1} << 40});
-    const auto& o = pj.at("origin");
-    plan.origin = {o.at(0).get<double>(), o.at(1).get<double>()};
+    plan.origin = position(pj.at("origin"), "plan.json: origin");
+    const geodesy::LocalFrame frame(plan.origin);
+    auto local = [&](const LonLat& ll, const std::string& field) {
+      const Point p = frame.to_local(ll);
+      if (!(std::hypot(p.x(), p.y()) <= kMaxPlanExtentM))
+        throw InputError(field, "lies more than 500 km from the mission");
+      return p;
+    };
     const auto& ju = pj.at("uavs");
     if (!ju.is_array() || ju.size() != plan.mission.uavs.size())
       throw InputError("plan.json: uavs", "does not match the mission's UAVs");
-    const auto& pl = pj.at("placement");
-    plan.placement = {pl.at("shift_x_m").get<double>(),    pl.at("shift_y_m").get<double>(),
-                      pl.at("rotation_deg").get<double>(), pl.at("J").get<double>(),
-                      pl.at("J1").get<double>(),           pl.at("J2").get<double>(),
-                      pl.at("J3").get<double>(),           pl.at("evaluations").get<long>()};
-    const auto& g = pj.at("grid");
-    plan.grid.cell_m = g.at("cell_m").get<double>();
-    plan.grid.rotation_deg = g.at("rotation_deg").get<double>();
-    plan.grid.origin = Point(g.at("origin").at(0).get<double>(), g.at("origin").at(1).get<double>());
-    plan.grid.rows = g.at("rows").get<int>();
-    plan.grid.cols = g.at("cols").get<int>();
-    plan.grid.owner = g.at("owner").get<std::vector<int>>();
-    plan.darp_converged = pj.at("darp").at("converged").get<bool>();
-    plan.darp_iterations = pj.at("darp").at("iterations").get<int>();
+    plan.planner = pj.at("planner").get<std::string>();
+    plan.complete = pj.at("complete").get<bool>();
+    plan.diagnostics = pj.at("planner_diagnostics");
     plan.warnings = pj.at("warnings").get<std::vector<std::string>>();
     plan.free_area_m2 = pj.at("totals").at("free_area_m2").get<double>();
     plan.compute_time_s = pj.at("totals").at("compute_time_s").get<double>();
-    const geodesy::LocalFrame frame(plan.origin);
     for (std::size_t i = 0; i < ju.size(); ++i) {
+      const std::string f = "plan.json: uavs[" + std::to_string(i) + "]";
       auto& mu = plan.mission.uavs[i];
-      const auto& s = ju[i].at("start");
-      mu.start_resolved = {s.at(0).get<double>(), s.at(1).get<double>()};
+      mu.start_resolved = position(ju[i].at("start"), f + ".start");
+      (void)local(mu.start_resolved, f + ".start");
       UavPlan up;
       up.id = ju[i].at("id").get<std::string>();
+      if (up.id != mu.id) throw InputError(f + ".id", "does not match the mission's UAV \"" + mu.id + "\"");
       up.share_requested = ju[i].at("share_requested").get<double>();
       up.share_actual = ju[i].at("share_actual").get<double>();
-      up.cells = ju[i].at("cells").get<int>();
       up.regions = ju[i].at("regions").get<int>();
       up.coverage_length_m = ju[i].at("coverage_length_m").get<double>();
       up.length_m = ju[i].at("length_m").get<double>();
       up.turns = ju[i].at("turns").get<int>();
+      up.transition_altitude_m = ju[i].at("transition_altitude_m").get<double>();
+      up.diagnostics = ju[i].at("diagnostics");
+      const auto& region = ju[i].at("region");
+      if (!region.is_object() || region.value("type", "") != "MultiPolygon" ||
+          !region.at("coordinates").is_array())
+        throw InputError(f + ".region", "expected a GeoJSON MultiPolygon");
+      for (const auto& jpoly : region.at("coordinates")) {
+        GeoPolygon gp;
+        Polygon lp;
+        for (const auto& jring : jpoly) {
+          if (!jring.is_array() || jring.size() < 4)
+            throw InputError(f + ".region", "rings need 4 positions");
+          GeoRing ring;
+          Polygon::ring_type lring;
+          for (const auto& c : jring) {
+            ring.push_back(position(c, f + ".region"));
+            lring.push_back(local(ring.back(), f + ".region"));
+          }
+          (gp.empty() ? lp.outer() : (lp.inners().push_back({}), lp.inners().back())) = std::move(lring);
+          gp.push_back(std::move(ring));
+        }
+        if (gp.empty()) throw InputError(f + ".region", "empty polygon");
+        bg::correct(lp);
+        up.region.push_back(std::move(gp));
+        up.region_local.push_back(std::move(lp));
+      }
       plan.uavs.push_back(std::move(up));
     }
     if (!gj.is_object() || !gj.contains("features") || !gj["features"].is_array())
       throw InputError("paths.geojson: features", "missing");
-    for (const auto& f : gj["features"]) {
-      const auto& props = f.at("properties");
-      if (!props.contains("uav")) continue;
+    std::size_t index = 0;
+    for (const auto& feature : gj["features"]) {
+      const std::string f = "paths.geojson: features[" + std::to_string(index++) + "]";
+      const auto& props = feature.at("properties");
+      if (!props.is_object() || !props.contains("uav")) continue;
       const std::string id = props.at("uav").get<std::string>();
       auto it =
           std::find_if(plan.uavs.begin(), plan.uavs.end(), [&](const UavPlan& u) { return u.id == id; });
-      if (it == plan.uavs.end())
-        throw InputError("paths.geojson: properties.uav", "unknown UAV \"" + id + "\"");
+      if (it == plan.uavs.end()) throw InputError(f + ".properties.uav", "unknown UAV \"" + id + "\"");
+      const std::string kind = props.at("kind").get<std::string>();
+      if (kind != "coverage" && kind != "transit")
+        throw InputError(f + ".properties.kind",
+                         "expected \"coverage\" or \"transit\", got \"" + kind + "\"");
+      const auto& geometry = feature.at("geometry");
+      if (geometry.value("type", "") != "LineString" || !geometry.at("coordinates").is_array() ||
+          geometry.at("coordinates").size() < 2)
+        throw InputError(f + ".geometry", "expected a LineString of at least 2 positions");
       PathPart part;
-      part.kind = props.at("kind").get<std::string>() == "coverage" ? PartKind::Coverage : PartKind::Transit;
-      for (const auto& c : f.at("geometry").at("coordinates")) {
-        const LonLat ll{c.at(0).get<double>(), c.at(1).get<double>()};
-        part.wgs84.push_back(ll);
-        part.local.push_back(frame.to_local(ll));
+      part.kind = kind == "coverage" ? PartKind::Coverage : PartKind::Transit;
+      for (const auto& c : geometry.at("coordinates")) {
+        part.wgs84.push_back(position(c, f + ".geometry.coordinates"));
+        part.local.push_back(local(part.wgs84.back(), f + ".geometry.coordinates"));
       }
       it->parts.push_back(std::move(part));
     }

@@ -31,7 +31,8 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& con
 /// names or empty parts are refused). All files are first written into a staging folder beside
 /// `dir` and moved into place only when every one is complete: a failure leaves no partial file.
 /// Returns the paths written.
-std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir, const Artifacts& artifacts);
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir,
+                                                   const Artifacts& artifacts);
 
 /// Reads DIR/plan.json and DIR/paths.geojson back into a Plan (mission, UAVs, parts with local
 /// and WGS84 coordinates). Throws InputError naming the file and field when they are unusable.

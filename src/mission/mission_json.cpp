@@ -89,6 +89,7 @@ json to_json(const Mission& m) {
   j["uavs"] = std::move(uavs);
   j["mode"] = m.mode == Mode::Strict ? "strict" : "coverage";
   j["planner"] = m.planner;
+  if (!m.planner_params.empty()) j["planner_params"] = m.planner_params;
   j["seed"] = m.seed;
   return j;
 }

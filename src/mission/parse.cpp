@@ -8,6 +8,7 @@
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "mission/mission_json.hpp"
+#include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 
@@ -171,6 +172,7 @@ struct Raw {
   std::size_t uav_count = 0;
   Mode mode = Mode::Strict;
   std::string planner = "darp";
+  json planner_params;  ///< as given; validated against the planner's schema at the end
   std::uint64_t seed = 1;
   std::string format = "uavcover-v1";
 };
@@ -292,7 +294,7 @@ Raw parse_v1(const json& j) {
   Raw raw;
   reject_unknown(j,
                  {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
-                  "planner", "seed", "version", "$schema"},
+                  "planner", "planner_params", "seed", "version", "$schema"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = str(j["name"], "name");
@@ -331,9 +333,13 @@ Raw parse_v1(const json& j) {
   }
   if (j.contains("planner")) {
     raw.planner = str(j["planner"], "planner");
-    if (raw.planner != "darp")
-      throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: darp)");
   }
+  if (const auto* info = planners::find(raw.planner); info == nullptr) {
+    std::string list;
+    for (const auto& p : planners::registry()) list += (list.empty() ? "" : ", ") + p.name;
+    throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: " + list + ")");
+  }
+  if (j.contains("planner_params")) raw.planner_params = j["planner_params"];
   if (j.contains("seed")) {
     // nlohmann stores every non-negative JSON integer as unsigned
     if (!j["seed"].is_number_unsigned()) throw InputError("seed", "expected a non-negative integer");
@@ -434,6 +440,7 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.source_format = raw.format;
   m.mode = raw.mode;
   m.planner = raw.planner;
+  m.planner_params = planners::validate_params(*planners::find(raw.planner), raw.planner_params);
   m.seed = raw.seed;
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});

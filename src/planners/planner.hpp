@@ -60,16 +60,16 @@ struct ParamSpec {
   enum class Type { Number, Integer, Boolean, String };
   std::string name;
   Type type = Type::Number;
-  nlohmann::json default_value;        ///< null: optional, absent unless given
-  std::optional<double> min, max;      ///< inclusive bounds for numbers
-  std::vector<std::string> choices;    ///< allowed strings (String)
+  nlohmann::json default_value;      ///< null: optional, absent unless given
+  std::optional<double> min, max;    ///< inclusive bounds for numbers
+  std::vector<std::string> choices;  ///< allowed strings (String)
   std::string description;
 };
 
 /// What a planner can do; the engine refuses (or warns about) missions asking for more.
 struct Capabilities {
-  bool shares = true;          ///< honours unequal shares (false: refused when shares differ)
-  bool no_fly_zones = true;    ///< plans around no-fly zones (false: refused when there are any)
+  bool shares = true;        ///< honours unequal shares (false: refused when shares differ)
+  bool no_fly_zones = true;  ///< plans around no-fly zones (false: refused when there are any)
   bool strict_mode = true;
   bool coverage_mode = true;
   bool multiple_areas = true;  ///< plans areas made of several polygons

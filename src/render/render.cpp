@@ -28,33 +28,34 @@ void check_size(int width, int height) {
                      fmt::format("picture size {}x{} must be within 64..20000 pixels", width, height));
 }
 
-void ensure_parent(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
+cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
 }
 
-/// Draws with `draw` on a PNG surface and writes it.
-void png(const std::filesystem::path& path, int width, int height,
-         const std::function<void(cairo_t*)>& draw) {
+/// Draws with `draw` on a PNG surface and returns the PNG bytes.
+Artifact png(std::string name, int width, int height, const std::function<void(cairo_t*)>& draw) {
   check_size(width, height);
-  ensure_parent(path);
   SurfacePtr s(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height), cairo_surface_destroy);
+  if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw OperationError("cannot draw " + name);
   CairoPtr cr(cairo_create(s.get()), cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
   cairo_paint(cr.get());
   draw(cr.get());
   cairo_surface_flush(s.get());
-  if (cairo_surface_write_to_png(s.get(), path.c_str()) != CAIRO_STATUS_SUCCESS)
-    throw InputError("out", "cannot write picture '" + path.string() + "'");
+  Artifact out{std::move(name), "image/png", {}};
+  if (cairo_surface_write_to_png_stream(s.get(), append_bytes, &out.bytes) != CAIRO_STATUS_SUCCESS)
+    throw OperationError("cannot encode " + out.name);
+  return out;
 }
 
-void svg(const std::filesystem::path& path, int width, int height,
-         const std::function<void(cairo_t*)>& draw) {
+/// The same drawing as SVG bytes.
+Artifact svg(std::string name, int width, int height, const std::function<void(cairo_t*)>& draw) {
   check_size(width, height);
-  ensure_parent(path);
-  SurfacePtr s(cairo_svg_surface_create(path.c_str(), width, height), cairo_surface_destroy);
-  if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS)
-    throw InputError("out", "cannot write picture '" + path.string() + "'");
+  Artifact out{std::move(name), "image/svg+xml", {}};
+  SurfacePtr s(cairo_svg_surface_create_for_stream(append_bytes, &out.bytes, width, height),
+               cairo_surface_destroy);
+  if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw OperationError("cannot draw " + out.name);
   {
     CairoPtr cr(cairo_create(s.get()), cairo_destroy);
     cairo_set_source_rgb(cr.get(), 1, 1, 1);
@@ -63,7 +64,8 @@ void svg(const std::filesystem::path& path, int width, int height,
   }
   cairo_surface_finish(s.get());
   if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS)
-    throw InputError("out", "cannot write picture '" + path.string() + "'");
+    throw OperationError("cannot encode " + out.name);
+  return out;
 }
 
 void set(cairo_t* cr, Rgb c, double a = 1.0) { cairo_set_source_rgba(cr, c.r, c.g, c.b, a); }
@@ -116,15 +118,28 @@ View fit(const bg::model::box<Point>& box, double left, double top, double right
   return v;
 }
 
-void path_ring(cairo_t* cr, const View& v, const auto& ring) {
+/// Moves along the points in pixels, skipping points within a quarter pixel of the last one drawn,
+/// so that a picture's size follows its pixels, not the geometry's vertex count.
+void path_points(cairo_t* cr, const View& v, const auto& pts) {
   bool first = true;
-  for (const auto& p : ring) {
-    if (first)
-      cairo_move_to(cr, v.px(p.x()), v.py(p.y()));
-    else
-      cairo_line_to(cr, v.px(p.x()), v.py(p.y()));
-    first = false;
+  double lx = 0, ly = 0;
+  std::size_t k = 0;
+  for (const auto& p : pts) {
+    const double x = v.px(p.x()), y = v.py(p.y());
+    const bool last = ++k == pts.size();
+    if (first) {
+      cairo_move_to(cr, x, y);
+    } else if (last || std::fabs(x - lx) + std::fabs(y - ly) >= 0.25) {
+      cairo_line_to(cr, x, y);
+    } else {
+      continue;
+    }
+    lx = x, ly = y, first = false;
   }
+}
+
+void path_ring(cairo_t* cr, const View& v, const auto& ring) {
+  path_points(cr, v, ring);
   cairo_close_path(cr);
 }
 
@@ -210,35 +225,13 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
   cairo_set_line_width(cr, 2.0);
   cairo_stroke(cr);
 
-  // regions from the DARP grid: GridInfo::origin is the local position of mega-cell (0,0)'s
-  // lower-left corner; cell (r, c) spans origin + R(rotation) * ([c, c+1] x [r, r+1] * cell_m)
-  const GridInfo& g = plan.grid;
-  cairo_save(cr);
-  path_multipolygon(cr, v, area);
-  cairo_clip(cr);
-  if (g.cell_m > 0 && g.rows > 0 && g.cols > 0 &&
-      g.owner.size() == static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols)) {
-    const double t = g.rotation_deg * std::numbers::pi / 180.0;
-    const double ct = std::cos(t), st = std::sin(t);
-    auto to_local = [&](double qx, double qy) {
-      return Point{g.origin.x() + ct * qx - st * qy, g.origin.y() + st * qx + ct * qy};
-    };
-    for (int r = 0; r < g.rows; ++r)
-      for (int c = 0; c < g.cols; ++c) {
-        const int o = g.owner[static_cast<std::size_t>(r) * static_cast<std::size_t>(g.cols) +
-                              static_cast<std::size_t>(c)];
-        if (o < 0) continue;
-        const double x0 = c * g.cell_m, y0 = r * g.cell_m;
-        const Point p[4] = {to_local(x0, y0), to_local(x0 + g.cell_m, y0),
-                            to_local(x0 + g.cell_m, y0 + g.cell_m), to_local(x0, y0 + g.cell_m)};
-        cairo_move_to(cr, v.px(p[0].x()), v.py(p[0].y()));
-        for (int k = 1; k < 4; ++k) cairo_line_to(cr, v.px(p[k].x()), v.py(p[k].y()));
-        cairo_close_path(cr);
-        set(cr, uav_colour(static_cast<std::size_t>(o)), 0.22);
-        cairo_fill(cr);
-      }
+  // regions: each UAV's polygons (inside the free area), shaded in its colour
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    if (plan.uavs[i].region_local.empty()) continue;
+    path_multipolygon(cr, v, plan.uavs[i].region_local);
+    set(cr, uav_colour(i), 0.22);
+    cairo_fill(cr);
   }
-  cairo_restore(cr);
 
   // no-fly zones: hatched red
   if (!nfz.empty()) {
@@ -269,9 +262,7 @@ void draw_plan(cairo_t* cr, const Plan& plan, int width, int height) {
     const Rgb col = uav_colour(i);
     for (const auto& part : plan.uavs[i].parts) {
       if (part.local.size() < 2) continue;
-      cairo_move_to(cr, v.px(part.local[0].x()), v.py(part.local[0].y()));
-      for (std::size_t k = 1; k < part.local.size(); ++k)
-        cairo_line_to(cr, v.px(part.local[k].x()), v.py(part.local[k].y()));
+      path_points(cr, v, part.local);
       if (part.kind == PartKind::Transit) {
         const double dash[] = {6.0, 4.0};
         cairo_set_dash(cr, dash, 2, 0);
@@ -633,32 +624,56 @@ Rgb uav_colour(std::size_t i) {
   return {base.r * f, base.g * f, base.b * f};
 }
 
-void write_plan_png(const Plan& plan, const std::filesystem::path& path, int width, int height) {
-  png(path, width, height, [&](cairo_t* cr) { draw_plan(cr, plan, width, height); });
+Artifact plan_png(const Plan& plan, std::string name, int width, int height) {
+  return png(std::move(name), width, height, [&](cairo_t* cr) { draw_plan(cr, plan, width, height); });
 }
 
-void write_plan_svg(const Plan& plan, const std::filesystem::path& path, int width, int height) {
-  svg(path, width, height, [&](cairo_t* cr) { draw_plan(cr, plan, width, height); });
+Artifact plan_svg(const Plan& plan, std::string name, int width, int height) {
+  return svg(std::move(name), width, height, [&](cairo_t* cr) { draw_plan(cr, plan, width, height); });
 }
 
-void write_heatmap_png(const evaluation::CoverageResult& coverage, const std::filesystem::path& path,
-                       int width, int height, const std::string& title) {
-  png(path, width, height, [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title); });
+Artifact plans_png(const std::vector<Panel>& panels, std::string name, int panel_width, int panel_height) {
+  const int n = static_cast<int>(panels.size());
+  const int cols = n <= 3 ? std::max(1, n) : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  const int rows = std::max(1, (n + cols - 1) / cols);
+  const int width = cols * panel_width, height = rows * panel_height;
+  return png(std::move(name), width, height, [&](cairo_t* cr) {
+    for (int k = 0; k < n; ++k) {
+      cairo_save(cr);
+      cairo_translate(cr, (k % cols) * panel_width, (k / cols) * panel_height);
+      cairo_rectangle(cr, 0, 0, panel_width, panel_height);
+      cairo_clip(cr);
+      Plan titled = *panels[static_cast<std::size_t>(k)].plan;
+      titled.mission.name = panels[static_cast<std::size_t>(k)].title;
+      draw_plan(cr, titled, panel_width, panel_height);
+      cairo_restore(cr);
+      if (k % cols != 0) {  // a thin rule between panels
+        cairo_set_source_rgb(cr, 0.8, 0.8, 0.8);
+        cairo_set_line_width(cr, 1.0);
+        cairo_move_to(cr, (k % cols) * panel_width + 0.5, (k / cols) * panel_height);
+        cairo_line_to(cr, (k % cols) * panel_width + 0.5, (k / cols + 1) * panel_height);
+        cairo_stroke(cr);
+      }
+    }
+  });
 }
 
-void write_heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon& free,
-                       const std::filesystem::path& path, int width, int height, const std::string& title) {
-  png(path, width, height, [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title, &free); });
+Artifact heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon* free, std::string name,
+                     int width, int height, const std::string& title) {
+  return png(std::move(name), width, height,
+             [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title, free); });
 }
 
-void write_histogram_png(const evaluation::CoverageStats& stats, const std::filesystem::path& path, int width,
-                         int height, const std::string& title) {
-  png(path, width, height, [&](cairo_t* cr) { draw_histogram(cr, stats, width, height, title); });
+Artifact histogram_png(const evaluation::CoverageStats& stats, std::string name, int width, int height,
+                       const std::string& title) {
+  return png(std::move(name), width, height,
+             [&](cairo_t* cr) { draw_histogram(cr, stats, width, height, title); });
 }
 
-void write_study_png(const std::vector<StudyPoint>& points, const std::filesystem::path& path, int width,
-                     int height, int recommended, const std::string& title) {
-  png(path, width, height, [&](cairo_t* cr) { draw_study(cr, points, width, height, recommended, title); });
+Artifact study_png(const std::vector<StudyPoint>& points, std::string name, int width, int height,
+                   int recommended, const std::string& title) {
+  return png(std::move(name), width, height,
+             [&](cairo_t* cr) { draw_study(cr, points, width, height, recommended, title); });
 }
 
 }  // namespace uavcover::render

@@ -1,34 +1,40 @@
 // Report pictures with Cairo: the plan (PNG and SVG), the coverage heatmap, the scan histogram
-// and the multi-UAV study chart. All throw InputError("out", ...) when the file cannot be written.
+// and the multi-UAV study chart, as bytes (src/io writes them). A picture size outside 64..20000
+// pixels is an InputError ("size").
 #pragma once
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "evaluation/coverage.hpp"
+#include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::render {
 
-/// Area, no-fly zones, each UAV's region (Plan::grid owners) shaded and its path in its own colour,
-/// starts marked, legend, scale bar and north arrow.
-void write_plan_png(const Plan& plan, const std::filesystem::path& path, int width = 1600, int height = 1200);
-void write_plan_svg(const Plan& plan, const std::filesystem::path& path, int width = 1600, int height = 1200);
+/// Area, no-fly zones, each UAV's region (its polygons) shaded and its path in its own colour,
+/// starts marked, legend, scale bar and north arrow. Geometry is drawn at pixel resolution, so the
+/// size of the picture follows its pixels, not the mission's vertex count.
+Artifact plan_png(const Plan& plan, std::string name = "plan.png", int width = 1600, int height = 1200);
+Artifact plan_svg(const Plan& plan, std::string name = "plan.svg", int width = 1600, int height = 1200);
 
-/// Scans per lattice sample (CoverageResult::scans), discrete colours with a legend.
-void write_heatmap_png(const evaluation::CoverageResult& coverage, const std::filesystem::path& path,
-                       int width = 1200, int height = 900, const std::string& title = "Coverage heatmap");
+/// Several plans side by side (one panel each, titled), e.g. the planners of `uavcover compare`.
+struct Panel {
+  std::string title;
+  const Plan* plan = nullptr;
+};
+Artifact plans_png(const std::vector<Panel>& panels, std::string name = "compare.png", int panel_width = 900,
+                   int panel_height = 700);
 
-/// The same with the free area's boundary (local metres, the frame of the evaluation) drawn over it.
-void write_heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon& free,
-                       const std::filesystem::path& path, int width = 1200, int height = 900,
-                       const std::string& title = "Coverage heatmap");
+/// Scans per lattice sample (CoverageResult::scans), discrete colours with a legend; `free` (local
+/// metres, the frame of the evaluation), when given, is drawn over it as an outline.
+Artifact heatmap_png(const evaluation::CoverageResult& coverage, const MultiPolygon* free = nullptr,
+                     std::string name = "heatmap.png", int width = 1200, int height = 900,
+                     const std::string& title = "Coverage heatmap");
 
 /// Normalised histogram of scans (0, 1, 2, ...).
-void write_histogram_png(const evaluation::CoverageStats& stats, const std::filesystem::path& path,
-                         int width = 900, int height = 600,
-                         const std::string& title = "Histogram of coverage");
+Artifact histogram_png(const evaluation::CoverageStats& stats, std::string name = "histogram.png",
+                       int width = 900, int height = 600, const std::string& title = "Histogram of coverage");
 
 struct StudyPoint {
   int uavs = 0;
@@ -39,9 +45,8 @@ struct StudyPoint {
 
 /// Total time, flight time (min) and flight cost (EUR) against the UAV count; `recommended` (if
 /// > 0) is marked.
-void write_study_png(const std::vector<StudyPoint>& points, const std::filesystem::path& path,
-                     int width = 1200, int height = 800, int recommended = 0,
-                     const std::string& title = "Multi-UAV study");
+Artifact study_png(const std::vector<StudyPoint>& points, std::string name = "study.png", int width = 1200,
+                   int height = 800, int recommended = 0, const std::string& title = "Multi-UAV study");
 
 /// The colour of UAV i (r, g, b in [0, 1]).
 struct Rgb {

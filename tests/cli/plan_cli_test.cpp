@@ -1,6 +1,12 @@
 // End-to-end tests of `uavcover plan`: exit codes, messages, and the files it writes.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
 #include "cli/cli_support.hpp"
 
 using namespace uavcover::testing;
@@ -66,7 +72,9 @@ TEST(PlanCli, WritesPathsAndPlan) {
   EXPECT_NEAR(pj["footprint_m"].get<double>(), 74.5, 0.1);
   EXPECT_EQ(pj["uavs"].size(), 3u);
   for (const char* k : {"J", "J1", "J2", "J3", "rotation_deg", "shift_x_m", "shift_y_m"})
-    EXPECT_TRUE(pj["placement"].contains(k)) << k;
+    EXPECT_TRUE(pj["planner_diagnostics"]["placement"].contains(k)) << k;
+  EXPECT_EQ(pj["planner"], "darp");
+  for (const auto& u : pj["uavs"]) EXPECT_EQ(u["region"]["type"], "MultiPolygon");
   double share_sum = 0;
   for (const auto& u : pj["uavs"]) share_sum += u["share_actual"].get<double>();
   EXPECT_NEAR(share_sum, 1.0, 1e-9);
@@ -161,4 +169,66 @@ TEST(PlanCli, ImportsMcppFormatAndRefusesHugeGrids) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("use a spacing of at least"), std::string::npos) << r.output;
   fs::remove_all(dir);
+}
+
+namespace {
+
+/// A mission large enough that planning takes seconds: a 6 km square at ds 10 m, 8 UAVs.
+std::filesystem::path big_mission(const std::filesystem::path& dir) {
+  const auto p = dir / "big.json";
+  std::ofstream(p) << R"({"name": "big",
+    "area": {"type": "Polygon", "coordinates": [[[9.0, 45.0], [9.08, 45.0], [9.08, 45.055], [9.0, 45.055]]]},
+    "spacing_m": 10, "uavs": 8, "seed": 2})";
+  return p;
+}
+
+}  // namespace
+
+TEST(PlanCommand, InterruptStopsCleanlyWithNoOutputFolder) {
+  using namespace uavcover::testing;
+  const auto dir = temp_dir("sigint");
+  const auto out = dir / "out";
+  const std::string cmd = std::string(UAVCOVER_CLI) + " -q plan " + big_mission(dir).string() + " --out " +
+                          out.string() + " > " + (dir / "log").string() + " 2>&1";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // let it start planning (it needs many seconds), then Ctrl-C
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << slurp(dir / "log");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << slurp(dir / "log");
+  EXPECT_NE(slurp(dir / "log").find("nothing was written"), std::string::npos) << slurp(dir / "log");
+  EXPECT_FALSE(std::filesystem::exists(out)) << "a partial output folder was left";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PlanCommand, TimeLimitGivesTheBestPlanSoFarWithAWarning) {
+  using namespace uavcover::testing;
+  const auto dir = temp_dir("timelimit");
+  const auto r = run_cli("plan " + big_mission(dir).string() + " --out " + (dir / "out").string() +
+                         " --time-limit 0.2 --no-evaluate --no-images");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("best plan found so far"), std::string::npos) << r.output;
+  const auto pj = read_json(dir / "out" / "plan.json");
+  EXPECT_FALSE(pj.at("complete").get<bool>());
+  for (const auto& u : pj.at("uavs")) EXPECT_GT(u.at("turns").get<int>(), 0) << "every UAV has a path";
+  EXPECT_EQ(run_cli("plan " + big_mission(dir).string() + " --out x --time-limit -1").exit_code, 2);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PlannersCommand, ListsEveryPlannerWithItsParameters) {
+  using namespace uavcover::testing;
+  const auto r = run_cli("planners --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_TRUE(j.is_array());
+  bool darp = false;
+  for (const auto& p : j) darp = darp || p.at("name") == "darp";
+  EXPECT_TRUE(darp);
 }

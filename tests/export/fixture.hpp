@@ -74,16 +74,11 @@ inline Plan two_uav_plan(bool camera = false) {
   pb.parts.push_back(make_part(frame, PartKind::Transit, {{90, -40}, {120, -60}}));
   plan.uavs = {pa, pb};
 
-  GridInfo& g = plan.grid;
-  g.cell_m = 20.0;
-  g.rotation_deg = 0.0;
-  g.origin = Point(-100, -50);
-  g.rows = 5;
-  g.cols = 10;
-  g.owner.assign(50, 0);
-  for (int r = 0; r < g.rows; ++r)
-    for (int c = 0; c < g.cols; ++c) g.owner[static_cast<std::size_t>(r * g.cols + c)] = c < 5 ? 0 : 1;
-  g.owner[1 * 10 + 8] = -1;  // the no-fly zone cell
+  // regions: the west half is alpha's, the east half bravo's, less the no-fly cell (x 60..80, y -30..-10)
+  bg::read_wkt("MULTIPOLYGON(((-100 -50,-100 50,0 50,0 -50,-100 -50)))", plan.uavs[0].region_local);
+  bg::read_wkt("MULTIPOLYGON(((0 -50,0 50,100 50,100 -50,80 -50,80 -10,60 -10,60 -30,80 -30,80 -50,0 -50)))",
+               plan.uavs[1].region_local);
+  for (auto& u : plan.uavs) bg::correct(u.region_local);
   return plan;
 }
 

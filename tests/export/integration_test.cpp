@@ -35,10 +35,9 @@ const char* kMission = R"({
 }  // namespace
 
 TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
-  const Mission mission = parse_mission(kMission);
-  PlanOptions po;
-  po.placement_evaluations = 200;
-  const Plan planned = plan(mission, po);
+  Mission mission = parse_mission(kMission);
+  mission.planner_params["placement_evaluations"] = 200;
+  const Plan planned = plan(mission);
   const fs::path dir =
       fs::temp_directory_path() / ("uavcover_export_integration_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -47,12 +46,20 @@ TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
   const Plan loaded = io::load_plan_dir(dir);
   ASSERT_EQ(loaded.uavs.size(), 2u);
 
-  RecordProperty("grid_rotation_deg", std::to_string(planned.grid.rotation_deg));
-  // the area is a rectangle rotated by 30 degrees: the grid follows it, so the convention test is real
-  EXPECT_GT(std::abs(std::remainder(planned.grid.rotation_deg, 90.0)), 1.0);
-  // the grid's frame convention is confirmed on a real DARP plan, and separation holds
+  const double rotation = planned.diagnostics.at("grid").at("rotation_deg").get<double>();
+  RecordProperty("grid_rotation_deg", std::to_string(rotation));
+  // the area is a rectangle rotated by 30 degrees: the grid follows it, so the regions are rotated too
+  EXPECT_GT(std::abs(std::remainder(rotation, 90.0)), 1.0);
+  // every coverage waypoint lies in (or on the edge of) its own UAV's region, and separation holds
   for (const Plan* p : {&planned, &loaded}) {
-    EXPECT_TRUE(exporting::RegionMap(*p).uses_grid());
+    const exporting::RegionMap regions(*p);
+    for (std::size_t u = 0; u < p->uavs.size(); ++u)
+      for (const auto& part : p->uavs[u].parts)
+        if (part.kind == PartKind::Coverage)
+          for (const auto& pt : part.local) {
+            const int o = regions.owner(pt);
+            EXPECT_TRUE(o == static_cast<int>(u) || o == -1) << p->uavs[u].id;
+          }
     const auto problems = exporting::check_separation(*p, {});
     EXPECT_TRUE(problems.empty()) << (problems.empty() ? "" : problems.front());
   }

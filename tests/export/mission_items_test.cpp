@@ -117,14 +117,13 @@ TEST(MissionItems, BadIndexThrows) {
   EXPECT_THROW(mission_items(plan, 2), std::out_of_range);
 }
 
-TEST(Separation, FixtureIsSafeAndUsesTheGrid) {
+TEST(Separation, FixtureIsSafeAndUsesTheRegions) {
   const Plan plan = fixture::two_uav_plan();
   const RegionMap regions(plan);
-  EXPECT_TRUE(regions.uses_grid());
   EXPECT_EQ(regions.owner({-50, -20}), 0);
   EXPECT_EQ(regions.owner({50, -20}), 1);
   EXPECT_EQ(regions.owner({70, -20}), -1);  // no-fly cell
-  EXPECT_EQ(regions.owner({500, 0}), -1);   // outside the grid
+  EXPECT_EQ(regions.owner({500, 0}), -1);   // outside every region
   EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
 }
 
@@ -148,11 +147,18 @@ TEST(Separation, LowLegThroughAnotherRegionIsReported) {
   // alpha also owns one cell inside bravo's half (col 7, row 3: x 40..60, y 10..30) and flies a second
   // loop there right after its first one, with no transit: the connecting leg stays at mission
   // altitude and crosses bravo's region
-  plan.grid.owner[3 * 10 + 7] = 0;
+  MultiPolygon cell, rest;
+  bg::read_wkt("MULTIPOLYGON(((40 10,40 30,60 30,60 10,40 10)))", cell);
+  bg::correct(cell);
+  bg::difference(plan.uavs[1].region_local, cell, rest);
+  plan.uavs[1].region_local = rest;
+  MultiPolygon alpha;
+  bg::union_(plan.uavs[0].region_local, cell, alpha);
+  plan.uavs[0].region_local = alpha;
   auto& parts = plan.uavs[0].parts;
   parts.insert(parts.begin() + 2, fixture::make_part(frame, PartKind::Coverage,
                                                      {{45, 15}, {55, 15}, {55, 25}, {45, 25}, {45, 15}}));
-  ASSERT_TRUE(RegionMap(plan).uses_grid());
+  ASSERT_EQ(RegionMap(plan).owner({50, 20}), 0);
   const auto problems = check_separation(plan, AltitudeOptions{});
   ASSERT_FALSE(problems.empty());
   EXPECT_NE(problems[0].find("enters the region of uav 'bravo'"), std::string::npos);
@@ -161,11 +167,10 @@ TEST(Separation, LowLegThroughAnotherRegionIsReported) {
   EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());
 }
 
-TEST(Separation, FallsBackToLoopsWithoutAGrid) {
+TEST(Separation, FallsBackToLoopsWithoutRegions) {
   Plan plan = fixture::two_uav_plan();
-  plan.grid = GridInfo{};
+  for (auto& u : plan.uavs) u.region_local.clear();
   const RegionMap regions(plan);
-  EXPECT_FALSE(regions.uses_grid());
   EXPECT_EQ(regions.owner({-30, -20}), 0);
   EXPECT_EQ(regions.owner({70, 20}), 1);
   EXPECT_EQ(regions.owner({0, 45}), -1);

@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "io/plan_dir.hpp"
 #include "io/plan_io.hpp"
 #include "support/files.hpp"
 #include "uavcover/uavcover.hpp"
@@ -22,6 +21,11 @@ Plan small_plan() {
   return plan(m);
 }
 
+void write_plan_folder(const Plan& p, const fs::path& dir) {
+  io::write_artifacts(dir, {{"paths.geojson", "application/geo+json", io::paths_geojson(p).dump(1) + "\n"},
+                            {"plan.json", "application/json", io::plan_json(p).dump(1) + "\n"}});
+}
+
 fs::path fresh_dir(const std::string& name) {
   const auto d = fs::temp_directory_path() / ("uavcover-io-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(d);
@@ -33,20 +37,20 @@ fs::path fresh_dir(const std::string& name) {
 TEST(PlanDir, WriteThenLoadGivesTheSamePlan) {
   const Plan p = small_plan();
   const auto dir = fresh_dir("roundtrip");
-  io::PlanDirOptions opt;
-  opt.images = false;
-  io::write_plan_dir(p, dir, opt);
+  write_plan_folder(p, dir);
   const Plan q = io::load_plan_dir(dir);
   EXPECT_EQ(q.mission.name, p.mission.name);
   EXPECT_EQ(q.mission.seed, p.mission.seed);
   EXPECT_NEAR(q.origin.lon, p.origin.lon, 1e-12);
-  EXPECT_EQ(q.grid.owner, p.grid.owner);
-  EXPECT_EQ(q.grid.rows, p.grid.rows);
-  EXPECT_DOUBLE_EQ(q.placement.J, p.placement.J);
+  EXPECT_EQ(q.planner, p.planner);
+  EXPECT_EQ(q.diagnostics, p.diagnostics);
   ASSERT_EQ(q.uavs.size(), p.uavs.size());
   for (std::size_t i = 0; i < p.uavs.size(); ++i) {
     EXPECT_EQ(q.uavs[i].id, p.uavs[i].id);
     EXPECT_EQ(q.uavs[i].turns, p.uavs[i].turns);
+    EXPECT_EQ(q.uavs[i].region, p.uavs[i].region);
+    EXPECT_NEAR(bg::area(q.uavs[i].region_local), bg::area(p.uavs[i].region_local), 1e-3);
+    EXPECT_EQ(q.uavs[i].diagnostics, p.uavs[i].diagnostics);
     EXPECT_EQ(q.mission.uavs[i].start_resolved, p.mission.uavs[i].start_resolved);
     ASSERT_EQ(q.uavs[i].parts.size(), p.uavs[i].parts.size());
     for (std::size_t k = 0; k < p.uavs[i].parts.size(); ++k) {
@@ -94,10 +98,7 @@ TEST(PlanDir, BadFoldersAreRefusedNamingTheProblem) {
     EXPECT_NE(std::string(e.what()).find("plan.json"), std::string::npos) << e.what();
   }
   const Plan p = small_plan();
-  io::PlanDirOptions opt;
-  opt.evaluate = false;
-  opt.images = false;
-  io::write_plan_dir(p, dir, opt);
+  write_plan_folder(p, dir);
   std::ofstream(dir / "paths.geojson")
       << R"({"type": "FeatureCollection", "features": [{"properties": {"uav": "zz"}}]})";
   EXPECT_THROW(io::load_plan_dir(dir), InputError);
@@ -106,10 +107,20 @@ TEST(PlanDir, BadFoldersAreRefusedNamingTheProblem) {
   fs::remove_all(dir);
 }
 
-TEST(PlanDir, UnknownExportFormatIsRefusedBeforeWriting) {
-  const auto dir = fresh_dir("fmt");
-  io::PlanDirOptions opt;
-  opt.exports = {"qgc", "shp"};
-  EXPECT_THROW(io::write_plan_dir(small_plan(), dir, opt), InputError);
-  EXPECT_FALSE(fs::exists(dir));
+TEST(WriteArtifacts, WritesEverythingOrNothing) {
+  const auto dir = fresh_dir("artifacts");
+  const auto files =
+      io::write_artifacts(dir, {{"a.txt", "text/plain", "one"}, {"sub/b.txt", "text/plain", "two"}});
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(uavcover::testing::slurp(dir / "sub" / "b.txt"), "two");
+  // a name that would leave the folder is refused before anything is written
+  const auto other = fresh_dir("artifacts-bad");
+  EXPECT_THROW(
+      io::write_artifacts(other, {{"ok.txt", "text/plain", "x"}, {"../escape.txt", "text/plain", "y"}}),
+      OperationError);
+  EXPECT_FALSE(fs::exists(other / "ok.txt"));
+  EXPECT_FALSE(fs::exists(other.parent_path() / "escape.txt"));
+  for (const auto& e : fs::directory_iterator(other)) ADD_FAILURE() << "left behind: " << e.path();
+  fs::remove_all(dir);
+  fs::remove_all(other);
 }

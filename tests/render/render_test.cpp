@@ -1,6 +1,8 @@
 // The pictures are produced, non-empty and of the requested size.
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include <unistd.h>
 
 #include <cstdint>
@@ -12,6 +14,7 @@
 
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
+#include "io/plan_io.hpp"
 #include "render/render.hpp"
 #include "support/files.hpp"
 #include "uavcover/error.hpp"
@@ -86,13 +89,16 @@ Plan sample_plan() {
     up.parts.push_back({PartKind::Transit, {loop.back(), s}, {}});
     p.uavs.push_back(up);
   }
-  p.grid.cell_m = 40;
-  p.grid.rows = 5;
-  p.grid.cols = 10;
-  p.grid.origin = Point{-200, -100};
-  for (int r = 0; r < 5; ++r)
-    for (int c = 0; c < 10; ++c) p.grid.owner.push_back(c < 5 ? 0 : 1);
+  bg::read_wkt("MULTIPOLYGON(((-200 -100,-200 100,0 100,0 -100,-200 -100)))", p.uavs[0].region_local);
+  bg::read_wkt("MULTIPOLYGON(((0 -100,0 100,200 100,200 -100,0 -100)))", p.uavs[1].region_local);
+  for (auto& u : p.uavs) bg::correct(u.region_local);
   return p;
+}
+
+/// Writes the artifact into dir (through io, as the CLI does) and returns its path.
+fs::path save(const fs::path& dir, const Artifact& a) {
+  io::write_artifacts(dir, {a});
+  return dir / a.name;
 }
 
 }  // namespace
@@ -100,10 +106,10 @@ Plan sample_plan() {
 TEST(Render, PlanPngAndSvgHaveTheRequestedSize) {
   const auto dir = out_dir();
   const Plan p = sample_plan();
-  render::write_plan_png(p, dir / "plan.png", 1000, 700);
+  save(dir, render::plan_png(p, "plan.png", 1000, 700));
   EXPECT_EQ(png_size(dir / "plan.png"), std::make_pair(1000u, 700u));
   EXPECT_GT(fs::file_size(dir / "plan.png"), 5000u);
-  render::write_plan_svg(p, dir / "plan.svg", 800, 600);
+  save(dir, render::plan_svg(p, "plan.svg", 800, 600));
   std::ifstream in(dir / "plan.svg");
   std::stringstream ss;
   ss << in.rdbuf();
@@ -120,22 +126,47 @@ TEST(Render, HeatmapHistogramAndStudyPictures) {
   const Plan p = sample_plan();
   const auto ev = evaluation::evaluate_plan(p);
   EXPECT_GT(ev.coverage.total.poc, 0.8);
-  render::write_heatmap_png(ev.coverage, dir / "heatmap.png", 900, 640);
+  save(dir, render::heatmap_png(ev.coverage, nullptr, "heatmap.png", 900, 640));
   EXPECT_EQ(png_size(dir / "heatmap.png"), std::make_pair(900u, 640u));
-  render::write_histogram_png(ev.coverage.total, dir / "histogram.png", 640, 480);
+  save(dir, render::histogram_png(ev.coverage.total, "histogram.png", 640, 480));
   EXPECT_EQ(png_size(dir / "histogram.png"), std::make_pair(640u, 480u));
   std::vector<render::StudyPoint> pts{{1, 30, 38, 0.5}, {2, 16, 27, 0.55}, {3, 11, 25, 0.57}};
-  render::write_study_png(pts, dir / "study.png", 1100, 700, 3);
+  save(dir, render::study_png(pts, "study.png", 1100, 700, 3));
   EXPECT_EQ(png_size(dir / "study.png"), std::make_pair(1100u, 700u));
   for (const char* f : {"heatmap.png", "histogram.png", "study.png"})
     EXPECT_GT(fs::file_size(dir / f), 3000u) << f;
   if (!std::getenv("UAVCOVER_RENDER_KEEP")) fs::remove_all(dir);
 }
 
-TEST(Render, RefusesBadSizesAndPaths) {
+TEST(Render, RefusesBadSizes) {
   const Plan p = sample_plan();
-  EXPECT_THROW(render::write_plan_png(p, out_dir() / "x.png", 10, 10), InputError);
-  EXPECT_THROW(render::write_plan_png(p, "/proc/definitely/not/writable.png", 400, 300), InputError);
+  EXPECT_THROW((void)render::plan_png(p, "x.png", 10, 10), InputError);
+  EXPECT_THROW((void)render::plan_svg(p, "x.svg", 400, 30000), InputError);
+}
+
+TEST(Render, PicturesStayProportionateForHugePolygons) {
+  // an area of 100 000 vertices (a circle of 2 km): the SVG follows the pixels, not the vertices
+  Plan p = sample_plan();
+  const geodesy::LocalFrame f(p.origin);
+  GeoRing ring;
+  for (int k = 0; k <= 100000; ++k) {
+    const double t = 2 * std::numbers::pi * k / 100000.0;
+    ring.push_back(f.to_wgs84({2000 * std::cos(t), 2000 * std::sin(t)}));
+  }
+  ring.back() = ring.front();
+  p.mission.area = {{ring}};
+  for (auto& u : p.uavs) {
+    MultiPolygon circle;
+    Polygon poly;
+    for (const auto& ll : ring) bg::append(poly.outer(), f.to_local(ll));
+    bg::correct(poly);
+    circle.push_back(poly);
+    u.region_local = circle;  // every region as detailed as the area
+  }
+  const Artifact svg = render::plan_svg(p);
+  RecordProperty("svg_bytes", std::to_string(svg.bytes.size()));
+  EXPECT_LT(svg.bytes.size(), 3u * 1024 * 1024);
+  EXPECT_LT(render::plan_png(p).bytes.size(), 3u * 1024 * 1024);
 }
 
 TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
@@ -144,11 +175,11 @@ TEST(Render, PlannedMissionWithThreeUavsAndNoFlyZones) {
   const Plan p = plan(m);
   ASSERT_EQ(p.uavs.size(), 3u);
   const auto dir = out_dir();
-  render::write_plan_png(p, dir / "plan3.png", 1400, 1000);
+  save(dir, render::plan_png(p, "plan3.png", 1400, 1000));
   EXPECT_EQ(png_size(dir / "plan3.png"), std::make_pair(1400u, 1000u));
   const auto ev = evaluation::evaluate_plan(p);
-  render::write_heatmap_png(ev.coverage, evaluation::free_area(p.mission, geodesy::LocalFrame(p.origin)),
-                            dir / "heatmap3.png", 1200, 900);
+  const MultiPolygon free = evaluation::free_area(p.mission, geodesy::LocalFrame(p.origin));
+  save(dir, render::heatmap_png(ev.coverage, &free, "heatmap3.png", 1200, 900));
   EXPECT_EQ(png_size(dir / "heatmap3.png"), std::make_pair(1200u, 900u));
   if (!std::getenv("UAVCOVER_RENDER_KEEP")) fs::remove_all(dir);
 }

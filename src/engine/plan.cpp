@@ -1,0 +1,167 @@
+// The facade's plan(): one pipeline for every planner.
+//   mission -> local frame and free space -> starts (given or drawn from the seed)
+//   -> the planner (registry) -> transit legs routed around no-fly zones -> WGS84 -> metrics,
+//   regions, transition altitudes.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "engine/local_mission.hpp"
+#include "evaluation/evaluate.hpp"
+#include "export/mission_items.hpp"
+#include "geometry/geometry.hpp"
+#include "planners/planner.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover {
+
+namespace {
+
+std::vector<GeoPolygon> to_wgs84(const MultiPolygon& mp, const geodesy::LocalFrame& frame) {
+  std::vector<GeoPolygon> out;
+  for (const auto& poly : mp) {
+    GeoPolygon gp;
+    auto ring_of = [&](const auto& ring) {
+      GeoRing r;
+      for (const auto& p : ring) r.push_back(frame.to_wgs84(p));
+      return r;
+    };
+    // GeoJSON (RFC 7946): counter-clockwise outer ring, clockwise holes; Boost's are the reverse
+    GeoRing outer = ring_of(poly.outer());
+    std::reverse(outer.begin(), outer.end());
+    gp.push_back(std::move(outer));
+    for (const auto& inner : poly.inners()) {
+      GeoRing h = ring_of(inner);
+      std::reverse(h.begin(), h.end());
+      gp.push_back(std::move(h));
+    }
+    out.push_back(std::move(gp));
+  }
+  return out;
+}
+
+/// Refuses what the planner cannot do (its documented capabilities).
+void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
+  const auto& c = info.supports;
+  const std::string who = "planner \"" + info.name + "\"";
+  if (!c.no_fly_zones && !m.no_fly_zones.empty())
+    throw InputError("no_fly_zones", who + " does not plan around no-fly zones; choose another planner");
+  if (!c.multiple_areas && m.area.size() > 1)
+    throw InputError("area", who + " plans one polygon; this area has " + std::to_string(m.area.size()));
+  if (m.mode == Mode::Strict && !c.strict_mode) throw InputError("mode", who + " has no strict mode");
+  if (m.mode == Mode::Coverage && !c.coverage_mode) throw InputError("mode", who + " has no coverage mode");
+  if (!c.shares)
+    for (std::size_t i = 1; i < m.uavs.size(); ++i)
+      if (std::fabs(m.uavs[i].share - m.uavs[0].share) > 1e-9)
+        throw InputError("uavs[" + std::to_string(i) + "].share",
+                         who + " divides the area equally; give every UAV the same share");
+}
+
+}  // namespace
+
+std::vector<PlannerDescription> available_planners() {
+  std::vector<PlannerDescription> out;
+  for (const auto& p : planners::registry()) out.push_back({p.name, p.summary, planners::describe(p)});
+  return out;
+}
+
+Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Plan out;
+  out.mission = mission;
+  if (options.seed) out.mission.seed = *options.seed;
+  if (out.mission.uavs.empty()) throw InputError("uavs", "at least one UAV is needed");
+  const planners::PlannerInfo* info = planners::find(out.mission.planner);
+  if (info == nullptr) {
+    std::string list;
+    for (const auto& p : planners::registry()) list += (list.empty() ? "" : ", ") + p.name;
+    throw InputError("planner", "unknown planner \"" + out.mission.planner + "\" (available: " + list + ")");
+  }
+  out.mission.planner_params = planners::validate_params(*info, out.mission.planner_params);
+  check_capabilities(*info, out.mission);
+  out.planner = info->name;
+
+  const engine::LocalMission lm = engine::to_local(out.mission);
+  out.origin = lm.frame.origin();
+  out.free_area_m2 = bg::area(lm.free);
+  if (lm.free.empty() || out.free_area_m2 <= 0.0)
+    throw InputError("no_fly_zones", "the no-fly zones remove the whole area");
+
+  // starts: given, or drawn inside the free area from the seed
+  planners::Problem problem;
+  problem.area = lm.area;
+  problem.no_fly = lm.no_fly;
+  problem.free = lm.free;
+  problem.spacing_m = out.mission.spacing_m;
+  problem.footprint_m = evaluation::footprint_for(out.mission);
+  problem.altitude_m = out.mission.altitude_m;
+  problem.mode = out.mission.mode;
+  problem.seed = out.mission.seed;
+  std::mt19937_64 rng(out.mission.seed ^ 0x5eedf00dULL);
+  for (auto& u : out.mission.uavs) {
+    const Point s = u.start ? lm.frame.to_local(*u.start) : engine::random_free_point(lm.free, rng);
+    u.start_resolved = u.start ? *u.start : lm.frame.to_wgs84(s);
+    problem.starts.push_back(s);
+    problem.shares.push_back(u.share);
+  }
+  problem.uavs = out.mission.uavs;
+
+  const planners::Assignment res = info->create()->plan(problem, out.mission.planner_params, ctx);
+  if (res.uavs.size() != out.mission.uavs.size())
+    throw OperationError(fmt::format("planner \"{}\" returned {} UAVs for {}", info->name, res.uavs.size(),
+                                     out.mission.uavs.size()));
+  out.warnings = res.warnings;
+  out.complete = res.complete;
+  out.diagnostics = res.diagnostics;
+  ctx.report("transit", 0.0);
+
+  auto make_part = [&](PartKind kind, std::vector<Point> pts) {
+    PathPart part{kind, std::move(pts), {}};
+    part.wgs84.reserve(part.local.size());
+    for (const auto& p : part.local) part.wgs84.push_back(lm.frame.to_wgs84(p));
+    return part;
+  };
+  double region_total = 0.0;
+  for (const auto& r : res.uavs) region_total += bg::area(r.region);
+  for (std::size_t i = 0; i < out.mission.uavs.size(); ++i) {
+    if (ctx.stop_requested()) throw Cancelled();
+    const auto& u = out.mission.uavs[i];
+    const auto& r = res.uavs[i];
+    UavPlan up;
+    up.id = u.id;
+    up.share_requested = u.share;
+    up.share_actual = r.share_actual       ? *r.share_actual
+                      : region_total > 0.0 ? bg::area(r.region) / region_total
+                                           : 0.0;
+    up.region_local = r.region;
+    up.region = to_wgs84(r.region, lm.frame);
+    up.regions = static_cast<int>(r.region.size());
+    up.diagnostics = r.diagnostics;
+    up.transition_altitude_m = exporting::transition_altitude({}, i, out.mission.altitude_m);
+    Point here = problem.starts[i];
+    auto transit_to = [&](Point target) {
+      if (bg::distance(here, target) < 1e-6) return;
+      up.parts.push_back(make_part(PartKind::Transit, geometry::route_around(lm.no_fly, here, target)));
+      here = target;
+    };
+    for (const auto& cov : r.coverage) {
+      if (cov.empty()) continue;
+      transit_to(cov.front());
+      up.parts.push_back(make_part(PartKind::Coverage, cov));
+      up.coverage_length_m += geometry::length(cov);
+      up.turns += static_cast<int>(cov.size());
+      here = cov.back();
+    }
+    transit_to(problem.starts[i]);
+    for (const auto& part : up.parts) up.length_m += geometry::length(part.local);
+    out.uavs.push_back(std::move(up));
+    ctx.report("transit", static_cast<double>(i + 1) / static_cast<double>(out.mission.uavs.size()));
+  }
+  ctx.report("done", 1.0);
+  out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace uavcover

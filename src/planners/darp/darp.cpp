@@ -1,0 +1,103 @@
+#include "planners/darp/darp.hpp"
+
+#include "planners/darp/darp_planner.hpp"
+
+namespace uavcover::planners {
+
+namespace {
+
+class DarpPlanner final : public Planner {
+ public:
+  [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
+                                const Context& ctx) const override {
+    darp::Input in;
+    in.free = problem.free;
+    in.no_fly = problem.no_fly;
+    in.starts = problem.starts;
+    in.shares = problem.shares;
+    for (const auto& u : problem.uavs) in.ids.push_back(u.id);
+    in.ds = problem.spacing_m;
+    in.mode = problem.mode;
+    in.seed = problem.seed;
+    darp::Options opt;
+    opt.max_iterations = params.at("max_iterations").get<int>();
+    opt.placement_evaluations = params.at("placement_evaluations").get<int>();
+    opt.optimise_placement = params.at("optimise_placement").get<bool>();
+    const darp::Output res = darp::run(in, opt, ctx);
+
+    Assignment out;
+    out.warnings = res.warnings;
+    out.complete = !res.stopped_early;
+    if (res.stopped_early)
+      out.warnings.push_back(
+          "the time limit cut the grid placement or the DARP division short: this is the best plan found "
+          "so far");
+    const auto& p = res.placement;
+    const auto& g = res.grid;
+    out.diagnostics = {{"placement",
+                        {{"shift_x_m", p.shift_x_m},
+                         {"shift_y_m", p.shift_y_m},
+                         {"rotation_deg", p.rotation_deg},
+                         {"J", p.J},
+                         {"J1", p.J1},
+                         {"J2", p.J2},
+                         {"J3", p.J3},
+                         {"evaluations", p.evaluations}}},
+                       {"grid",
+                        {{"cell_m", g.cell_m},
+                         {"rotation_deg", g.rotation_deg},
+                         {"origin", {g.origin.x(), g.origin.y()}},
+                         {"rows", g.rows},
+                         {"cols", g.cols}}},
+                       {"converged", res.converged},
+                       {"iterations", res.iterations}};
+    for (const auto& r : res.uavs) {
+      UavAssignment a;
+      // mega-cells at the area's edge reach past it: the region is what of them is free area
+      if (!r.cells_outline.empty()) bg::intersection(r.cells_outline, problem.free, a.region);
+      a.coverage = r.loops;
+      a.share_actual = r.share_actual;
+      a.diagnostics = {{"cells", r.cells}};
+      out.uavs.push_back(std::move(a));
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+PlannerInfo darp_planner_info() {
+  PlannerInfo info;
+  info.name = "darp";
+  info.summary =
+      "DARP division on an optimised grid with STC coverage loops (Apostolidis et al. 2022): few turns, "
+      "exact shares";
+  using T = ParamSpec::Type;
+  info.params = {
+      {"max_iterations", T::Integer, 4000, 1.0, 1e6, {}, "DARP iterations per attempt"},
+      {"placement_evaluations",
+       T::Integer,
+       1500,
+       1.0,
+       1e6,
+       {},
+       "grid placement budget: pre-scan plus simulated annealing steps"},
+      {"optimise_placement",
+       T::Boolean,
+       true,
+       {},
+       {},
+       {},
+       "search the grid's shift and rotation (false: the grid at shift 0, rotation 0)"},
+  };
+  info.supports = {.shares = true,
+                   .no_fly_zones = true,
+                   .strict_mode = true,
+                   .coverage_mode = true,
+                   .multiple_areas = true,
+                   .best_so_far = true};
+  info.create = [] { return std::make_unique<DarpPlanner>(); };
+  return info;
+}
+
+}  // namespace uavcover::planners

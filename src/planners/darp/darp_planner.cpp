@@ -1,0 +1,323 @@
+#include "planners/darp/darp_planner.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "planners/darp/division.hpp"
+#include "planners/darp/grid.hpp"
+#include "planners/darp/placement.hpp"
+#include "planners/darp/regions.hpp"
+#include "planners/darp/stc.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::darp {
+
+namespace {
+
+double dist2(Point a, Point b) {
+  const double dx = a.x() - b.x(), dy = a.y() - b.y();
+  return dx * dx + dy * dy;
+}
+
+/// The free cell containing p, or the free cell whose centre is nearest to p.
+int start_cell(const grid::Grid& g, Point p, bool& inside) {
+  const Point q = g.local_to_q(p);
+  const int c = static_cast<int>(std::floor((q.x() - g.x0) / g.dn));
+  const int r = static_cast<int>(std::floor((q.y() - g.y0) / g.dn));
+  inside = r >= 0 && r < g.rows && c >= 0 && c < g.cols && g.free[g.idx(r, c)];
+  if (inside) return g.idx(r, c);
+  int best = -1;
+  double bd = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < g.rows * g.cols; ++k) {
+    if (!g.free[k]) continue;
+    const double d = dist2(g.cell_centre(k / g.cols, k % g.cols), p);
+    if (d < bd) bd = d, best = k;
+  }
+  return best;
+}
+
+/// The nearest cell of `comp_cells` (by BFS over links from `from`) not in `taken`.
+int nearest_untaken(const grid::Grid& g, int from, const std::vector<char>& taken) {
+  std::vector<char> seen(static_cast<std::size_t>(g.rows) * g.cols, 0);
+  std::vector<int> queue{from};
+  seen[from] = 1;
+  std::array<int, 4> nb{};
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int u = queue[h];
+    if (!taken[u]) return u;
+    const int m = g.neighbours(u, nb);
+    for (int i = 0; i < m; ++i)
+      if (!seen[nb[i]]) {
+        seen[nb[i]] = 1;
+        queue.push_back(nb[i]);
+      }
+  }
+  return -1;
+}
+
+}  // namespace
+
+Output run(const Input& input, const Options& options, const Context& ctx) {
+  Output out;
+  const auto stop_early = [&out, &ctx] {
+    if (ctx.stop_requested()) throw Cancelled();
+    if (ctx.time_up()) out.stopped_early = true;
+    return out.stopped_early;
+  };
+  const auto name = [&input](int i) {
+    return i < static_cast<int>(input.ids.size()) ? input.ids[static_cast<std::size_t>(i)]
+                                                  : std::to_string(i + 1);
+  };
+  const int U = static_cast<int>(input.starts.size());
+  if (U == 0) throw InputError("uavs", "at least one UAV is needed");
+  if (!(input.ds > 0)) throw InputError("spacing_m", "must be positive");
+
+  // ---- 1-2. grid and placement ----
+  grid::Prepared prep = grid::prepare(input.free, input.no_fly, input.ds, input.mode);
+  if (input.mode == Mode::Coverage) prep.estimate_samples = 16;  // coverage is the main objective there
+  grid::PlacementOptions popt;
+  popt.evaluations = options.placement_evaluations;
+  popt.optimise = options.optimise_placement;
+  popt.seed = input.seed;
+  popt.stop_early = stop_early;
+  if (input.mode == Mode::Coverage) {
+    // coverage mode: the path may leave the area, so reward coverage and do not hold back cells
+    popt.weights.coverage_weight = 40.0;
+    popt.weights.length_weight = 0.0;
+    popt.rerank = 64;
+  }
+  grid::PlacementResult pr =
+      grid::optimise_placement(prep, popt, [&](double f) { ctx.report("placement", f); });
+  out.placement = pr.placement;
+  const grid::Grid& g = pr.grid;
+  if (g.free_cells == 0)
+    throw InputError("spacing_m", fmt::format("no free grid cell at spacing {} m in {} mode: the area is too "
+                                              "small or narrow for this spacing",
+                                              input.ds, input.mode == Mode::Strict ? "strict" : "coverage"));
+  const int N = g.rows * g.cols;
+  out.grid.cell_m = g.dn;
+  out.grid.rotation_deg = g.theta_deg;
+  out.grid.origin = g.q_to_local(g.x0, g.y0);
+  out.grid.rows = g.rows;
+  out.grid.cols = g.cols;
+  out.grid.owner.assign(N, -1);
+
+  // ---- components and start cells ----
+  std::vector<int> label;
+  const int C = grid::components(g, label);
+  std::vector<std::vector<int>> comp_cells(C);
+  for (int k = 0; k < N; ++k)
+    if (label[k] >= 0) comp_cells[label[k]].push_back(k);
+  const double L = g.free_cells;
+  std::vector<double> share(input.shares);
+  share.resize(U, 0.0);
+  double ssum = std::accumulate(share.begin(), share.end(), 0.0);
+  if (!(ssum > 0)) std::fill(share.begin(), share.end(), 1.0), ssum = U;
+  std::vector<double> target(U);
+  for (int i = 0; i < U; ++i) target[i] = share[i] / ssum * L;
+
+  std::vector<int> scell(U);
+  std::vector<char> taken(N, 0);
+  for (int i = 0; i < U; ++i) {
+    bool inside = false;
+    int k = start_cell(g, input.starts[i], inside);
+    // a take-off point beside the field is normal; one inside the free area that misses every free
+    // cell (a narrow strip, a corner) is worth telling the operator
+    if (!inside && bg::within(input.starts[i], input.free))
+      out.warnings.push_back(
+          fmt::format("UAV {}: the start lies in the area but on no free grid cell; its region starts at "
+                      "the nearest free cell",
+                      name(i)));
+    if (taken[k]) k = nearest_untaken(g, k, taken);  // shared start cells: the next free one
+    scell[i] = k;
+    if (k >= 0) taken[k] = 1;
+  }
+
+  // ---- 4. distribute the components over the UAVs ----
+  // participants[c]: UAVs dividing component c (with their start cells inside it)
+  std::vector<std::vector<int>> participants(C);
+  for (int i = 0; i < U; ++i)
+    if (scell[i] >= 0) participants[label[scell[i]]].push_back(i);
+  // expected load of each UAV from its home component, proportional to the targets
+  std::vector<double> home_load(U, 0.0), extra(U, 0.0);
+  for (int c = 0; c < C; ++c) {
+    double tsum = 0;
+    for (int i : participants[c]) tsum += target[i];
+    for (int i : participants[c]) home_load[i] = tsum > 0 ? comp_cells[c].size() * target[i] / tsum : 0.0;
+  }
+  // orphan components (no start inside), largest first, to the UAV with the largest deficit
+  std::vector<int> orphans;
+  for (int c = 0; c < C; ++c)
+    if (participants[c].empty()) orphans.push_back(c);
+  std::stable_sort(orphans.begin(), orphans.end(),
+                   [&](int a, int b) { return comp_cells[a].size() > comp_cells[b].size(); });
+  std::vector<int> orphan_owner(C, -1);
+  for (int c : orphans) {
+    int best = 0;
+    double bd = -std::numeric_limits<double>::infinity();
+    const Point centre = g.cell_centre(comp_cells[c][0] / g.cols, comp_cells[c][0] % g.cols);
+    for (int i = 0; i < U; ++i) {
+      const double deficit = target[i] - home_load[i] - extra[i];
+      // prefer the deficit; among near-equal deficits the nearer UAV
+      const double key = deficit - 1e-9 * std::sqrt(dist2(centre, input.starts[i]));
+      if (key > bd) bd = key, best = i;
+    }
+    orphan_owner[c] = best;
+    extra[best] += static_cast<double>(comp_cells[c].size());
+  }
+
+  // demand[c]: (UAV, wanted cells, start cell) of the UAVs dividing component c
+  struct Part {
+    int uav;
+    double want;
+    int start;
+  };
+  std::vector<std::vector<Part>> demand(C);
+  for (int c = 0; c < C; ++c)
+    for (int i : participants[c]) demand[c].push_back({i, std::max(1.0, target[i] - extra[i]), scell[i]});
+  // UAVs that their own component cannot feed (too small, or crowded) join the component with
+  // the largest surplus, entering at its cell nearest to their start
+  const double tol_cells = tolerance(g.free_cells);
+  auto expected = [&](std::vector<double>& load) {
+    load.assign(U, 0.0);
+    for (int i = 0; i < U; ++i) load[i] = extra[i];
+    for (int c = 0; c < C; ++c) {
+      double sum = 0;
+      for (const auto& p : demand[c]) sum += p.want;
+      for (const auto& p : demand[c]) load[p.uav] += comp_cells[c].size() * p.want / sum;
+    }
+  };
+  for (int round = 0; round < U && C > 1; ++round) {
+    std::vector<double> load;
+    expected(load);
+    int worst = -1;
+    double wd = tol_cells;
+    for (int i = 0; i < U; ++i)
+      if (target[i] - load[i] > wd) wd = target[i] - load[i], worst = i;
+    if (worst < 0) break;
+    int best_c = -1;
+    double best_surplus = tol_cells;
+    for (int c = 0; c < C; ++c) {
+      bool in = false;
+      double want = 0;
+      for (const auto& p : demand[c]) in |= p.uav == worst, want += p.want;
+      const double surplus = comp_cells[c].size() - (demand[c].empty() ? 0.0 : want);
+      if (!in && !demand[c].empty() && surplus > best_surplus && comp_cells[c].size() > demand[c].size() + 1)
+        best_surplus = surplus, best_c = c;
+    }
+    if (best_c < 0) break;
+    int entry = -1;
+    double bd = std::numeric_limits<double>::infinity();
+    for (int k : comp_cells[best_c]) {
+      if (taken[k]) continue;
+      const double d = dist2(g.cell_centre(k / g.cols, k % g.cols), input.starts[worst]);
+      if (d < bd) bd = d, entry = k;
+    }
+    if (entry < 0) break;
+    taken[entry] = 1;
+    // the joining UAV asks for its deficit (at most the surplus); the others keep their demand
+    demand[best_c].push_back({worst, std::min(wd, best_surplus), entry});
+  }
+
+  // ---- 3. DARP per shared component ----
+  std::vector<std::vector<std::vector<int>>> regions(U);  // per UAV: list of regions (cell lists)
+  out.converged = true;
+  int done_cells = 0;
+  for (int c = 0; c < C; ++c) {
+    const auto& cells = comp_cells[c];
+    if (demand[c].empty()) {
+      regions[orphan_owner[c]].push_back(cells);
+      continue;
+    }
+    std::vector<int> P;
+    for (const auto& p : demand[c]) P.push_back(p.uav);
+    if (P.size() == 1) {
+      regions[P[0]].push_back(cells);
+      continue;
+    }
+    DivisionInput din;
+    din.cells = cells;
+    din.max_iterations = options.max_iterations;
+    din.seed = input.seed + static_cast<std::uint64_t>(c) * 7919;
+    din.stop_early = stop_early;
+    double want = 0;
+    for (const auto& p : demand[c]) want += std::max(1.0, p.want);
+    for (const auto& p : demand[c]) {
+      din.starts.push_back(p.start);
+      din.targets.push_back(std::max(1.0, p.want) / want * static_cast<double>(cells.size()));
+    }
+    const double frac0 = static_cast<double>(done_cells) / L, frac1 = (done_cells + cells.size()) / L;
+    DivisionResult dr = divide(g, din, [&](double f) { ctx.report("darp", frac0 + (frac1 - frac0) * f); });
+    done_cells += static_cast<int>(cells.size());
+    out.iterations += dr.iterations;
+    if (!dr.converged) {
+      out.converged = false;
+      out.warnings.push_back(fmt::format(
+          "DARP did not meet the share tolerance (max deviation {:.0f} cells of {}) after {} iterations; "
+          "using the best connected division found",
+          dr.max_deviation, cells.size(), dr.iterations));
+    }
+    std::vector<std::vector<int>> per(P.size());
+    for (std::size_t x = 0; x < cells.size(); ++x) per[dr.owner[x]].push_back(cells[x]);
+    for (std::size_t j = 0; j < P.size(); ++j)
+      if (!per[j].empty()) regions[P[j]].push_back(std::move(per[j]));
+  }
+  ctx.report("darp", 1.0);
+
+  // ---- 5. STC loops, regions flown nearest-first ----
+  out.uavs.resize(U);
+  int planned = 0;
+  for (int i = 0; i < U; ++i) {
+    UavResult& ur = out.uavs[i];
+    for (const auto& reg : regions[i]) {
+      ur.cells += static_cast<int>(reg.size());
+      for (int k : reg) out.grid.owner[k] = i;
+    }
+    ur.share_actual = ur.cells / L;
+    if (ur.cells == 0)
+      out.warnings.push_back(
+          fmt::format("UAV {} has no cell to cover (its share is too small or its start "
+                      "lies in a component shared by more UAVs than cells)",
+                      name(i)));
+    Point here = input.starts[i];
+    std::vector<char> flown(regions[i].size(), 0);
+    for (std::size_t n = 0; n < regions[i].size(); ++n) {
+      std::size_t pick = 0;
+      double bd = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < regions[i].size(); ++j) {
+        if (flown[j]) continue;
+        for (int k : regions[i][j]) {
+          const double d = dist2(g.cell_centre(k / g.cols, k % g.cols), here);
+          if (d < bd) bd = d, pick = j;
+        }
+      }
+      flown[pick] = 1;
+      if (ctx.stop_requested()) throw Cancelled();
+      stc::Loop loop = stc::plan_loop(g, regions[i][pick], here);
+      here = loop.points.front();
+      ur.loops.push_back(std::move(loop.points));
+      ++planned;
+      ctx.report("stc", static_cast<double>(planned) / std::max(1, C + U - 1));
+    }
+  }
+  double worst = 0;
+  for (int i = 0; i < U; ++i) worst = std::max(worst, std::fabs(out.uavs[i].cells - target[i]));
+  if (out.converged && worst > tolerance(g.free_cells)) {
+    out.converged = false;
+    out.warnings.push_back(
+        fmt::format("the free space is split into {} parts that cannot be shared as "
+                    "requested (max deviation {:.0f} cells of {})",
+                    C, worst, g.free_cells));
+  }
+  for (int i = 0; i < U; ++i)
+    out.uavs[i].cells_outline = cells_to_polygons(g.rows, g.cols, out.grid.owner, i, [&g](int c, int r) {
+      return g.q_to_local(g.x0 + c * g.dn, g.y0 + r * g.dn);
+    });
+  ctx.report("stc", 1.0);
+  return out;
+}
+
+}  // namespace uavcover::darp

@@ -1,0 +1,440 @@
+#include "planners/darp/division.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <queue>
+#include <random>
+
+namespace uavcover::darp {
+
+namespace {
+
+constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
+
+struct Graph {
+  int n = 0;
+  std::vector<std::array<int, 4>> nb;  // by direction: 0 right, 1 up, 2 left, 3 down; -1 none
+};
+
+Graph build_graph(const grid::Grid& g, const std::vector<int>& cells, std::vector<int>& lid) {
+  Graph G;
+  G.n = static_cast<int>(cells.size());
+  lid.assign(static_cast<std::size_t>(g.rows) * g.cols, -1);
+  for (int i = 0; i < G.n; ++i) lid[cells[i]] = i;
+  G.nb.assign(G.n, {-1, -1, -1, -1});
+  for (int i = 0; i < G.n; ++i) {
+    const int k = cells[i];
+    if ((g.link[k] & 1) && lid[k + 1] >= 0) G.nb[i][0] = lid[k + 1], G.nb[lid[k + 1]][2] = i;
+    if ((g.link[k] & 2) && lid[k + g.cols] >= 0) G.nb[i][1] = lid[k + g.cols], G.nb[lid[k + g.cols]][3] = i;
+  }
+  return G;
+}
+
+/// Geodesic distances (octile metric over links: diagonal steps of sqrt 2 through a free corner).
+std::vector<double> geodesic(const Graph& G, int src) {
+  std::vector<double> d(G.n, std::numeric_limits<double>::infinity());
+  using QE = std::pair<double, int>;
+  std::priority_queue<QE, std::vector<QE>, std::greater<>> pq;
+  d[src] = 0;
+  pq.push({0, src});
+  constexpr double diag = std::numbers::sqrt2;
+  while (!pq.empty()) {
+    auto [du, u] = pq.top();
+    pq.pop();
+    if (du > d[u]) continue;
+    auto relax = [&](int v, double w) {
+      if (v >= 0 && du + w < d[v]) {
+        d[v] = du + w;
+        pq.push({d[v], v});
+      }
+    };
+    for (int dir = 0; dir < 4; ++dir) relax(G.nb[u][dir], 1.0);
+    for (int dir = 0; dir < 4; ++dir) {
+      const int d2 = (dir + 1) % 4;
+      int v = -1;
+      if (G.nb[u][dir] >= 0) v = G.nb[G.nb[u][dir]][d2];
+      if (v < 0 && G.nb[u][d2] >= 0) v = G.nb[G.nb[u][d2]][dir];
+      relax(v, diag);
+    }
+  }
+  return d;
+}
+
+/// Multi-source BFS (unit steps) from the cells where `src` is true.
+void bfs(const Graph& G, const std::vector<int>& sources, std::vector<int>& dist, std::vector<int>& queue) {
+  dist.assign(G.n, std::numeric_limits<int>::max());
+  queue.clear();
+  for (int s : sources) {
+    dist[s] = 0;
+    queue.push_back(s);
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int u = queue[h];
+    for (int v : G.nb[u])
+      if (v >= 0 && dist[v] == std::numeric_limits<int>::max()) {
+        dist[v] = dist[u] + 1;
+        queue.push_back(v);
+      }
+  }
+}
+
+/// Marks the cells of participant i connected to its start; returns their count.
+int main_piece(const Graph& G, const std::vector<int>& owner, int i, int start, std::vector<int>& mark,
+               int stamp, std::vector<int>& stack) {
+  int count = 0;
+  stack.clear();
+  stack.push_back(start);
+  mark[start] = stamp;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    ++count;
+    for (int v : G.nb[u])
+      if (v >= 0 && mark[v] != stamp && owner[v] == i) {
+        mark[v] = stamp;
+        stack.push_back(v);
+      }
+  }
+  return count;
+}
+
+/// Makes every region connected: cells cut off from their owner's start are handed to an
+/// adjacent region (multi-source BFS from the kept cells).
+void repair(const Graph& G, std::vector<int>& owner, const std::vector<int>& starts) {
+  std::vector<int> mark(G.n, -1), stack;
+  for (std::size_t i = 0; i < starts.size(); ++i)
+    main_piece(G, owner, static_cast<int>(i), starts[i], mark, static_cast<int>(i), stack);
+  std::vector<int> queue;
+  for (int u = 0; u < G.n; ++u) {
+    if (mark[u] == owner[u])
+      queue.push_back(u);
+    else
+      owner[u] = -1;
+  }
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int u = queue[h];
+    for (int v : G.nb[u])
+      if (v >= 0 && owner[v] < 0) {
+        owner[v] = owner[u];
+        queue.push_back(v);
+      }
+  }
+}
+
+/// Moves boundary cells along chains of neighbouring regions, from over- to under-allocated ones,
+/// keeping every region connected and its start; stops when all are within `tol` or no move helps.
+void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
+            const std::vector<double>& targets, const std::vector<std::vector<double>>& D, double tol,
+            int max_moves) {
+  const int n = G.n, P = static_cast<int>(st.size());
+  std::vector<int> counts(P, 0);
+  for (int x = 0; x < n; ++x) ++counts[owner[x]];
+  std::vector<char> is_start(n, 0);
+  for (int s : st) is_start[s] = 1;
+  std::vector<int> mark(n, -1), stack;
+  int stamp = 0;
+  // deterministic work budget (cell visits) so that huge grids stay fast
+  double work = 0;
+  const double budget = 1e9;
+  // can cell x leave region a without disconnecting it?
+  auto removable = [&](int x, int a) {
+    if (is_start[x]) return false;
+    work += counts[a];
+    owner[x] = -2;
+    ++stamp;
+    const int c = main_piece(G, owner, a, st[a], mark, stamp, stack);
+    owner[x] = a;
+    return c == counts[a] - 1;
+  };
+  // Hands cell x of region a, with everything its removal cuts off from a's start, to region b when
+  // no start cell is among them and the squared deviation from the targets drops by more than eps.
+  auto hand_over_cut = [&](int x, int a, int b, double eps) {
+    work += n;
+    owner[x] = -2;
+    ++stamp;
+    main_piece(G, owner, a, st[a], mark, stamp, stack);
+    owner[x] = a;
+    std::vector<int> cut;
+    for (int y = 0; y < n; ++y)
+      if (owner[y] == a && mark[y] != stamp) {
+        if (is_start[y]) return false;
+        cut.push_back(y);
+      }
+    const double m = static_cast<double>(cut.size());
+    const double before = std::pow(counts[a] - targets[a], 2) + std::pow(counts[b] - targets[b], 2);
+    const double after = std::pow(counts[a] - m - targets[a], 2) + std::pow(counts[b] + m - targets[b], 2);
+    if (!(after + eps < before)) return false;
+    for (int y : cut) owner[y] = b;
+    counts[a] -= static_cast<int>(m);
+    counts[b] += static_cast<int>(m);
+    return true;
+  };
+  for (int move = 0; move < max_moves && work < budget; ++move) {
+    work += n;
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return counts[a] - targets[a] > counts[b] - targets[b]; });
+    double worst = 0;
+    for (int i = 0; i < P; ++i) worst = std::max(worst, std::fabs(counts[i] - targets[i]));
+    if (worst <= tol) return;
+    // region adjacency
+    std::vector<std::vector<char>> adj(P, std::vector<char>(P, 0));
+    for (int x = 0; x < n; ++x)
+      for (int v : G.nb[x])
+        if (v >= 0 && owner[v] != owner[x]) adj[owner[x]][owner[v]] = 1;
+    bool moved = false;
+    for (int donor : order) {
+      if (counts[donor] - targets[donor] <= 0.5) break;
+      // BFS over regions to the nearest under-allocated one
+      std::vector<int> prev(P, -1);
+      std::vector<int> q{donor};
+      prev[donor] = donor;
+      int recv = -1;
+      for (std::size_t h = 0; h < q.size() && recv < 0; ++h)
+        for (int j = 0; j < P; ++j)
+          if (adj[q[h]][j] && prev[j] < 0) {
+            prev[j] = q[h];
+            if (counts[j] - targets[j] < -0.5) {
+              recv = j;
+              break;
+            }
+            q.push_back(j);
+          }
+      if (recv < 0) continue;
+      std::vector<int> chain{recv};
+      while (chain.back() != donor) chain.push_back(prev[chain.back()]);
+      std::reverse(chain.begin(), chain.end());  // donor ... recv
+      // move one cell along every link of the chain, from the receiving end backwards
+      bool ok = true;
+      for (std::size_t k = chain.size() - 1; k > 0 && ok; --k) {
+        const int a = chain[k - 1], b = chain[k];
+        work += n;
+        std::vector<int> cand;
+        for (int x = 0; x < n; ++x) {
+          if (owner[x] != a) continue;
+          for (int v : G.nb[x])
+            if (v >= 0 && owner[v] == b) {
+              cand.push_back(x);
+              break;
+            }
+        }
+        std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
+        ok = false;
+        for (std::size_t c = 0; c < cand.size() && c < 24 && !ok; ++c) {
+          const int x = cand[c];
+          if (is_start[x]) continue;
+          if (removable(x, a)) {
+            owner[x] = b;
+            --counts[a];
+            ++counts[b];
+            ok = true;
+          } else if (chain.size() == 2) {
+            // x is a cut cell of a: hand over x with everything it cuts off from a's start, when
+            // that brings both regions closer to their targets
+            ok = hand_over_cut(x, a, b, 0.0);
+          }
+        }
+      }
+      if (ok) {
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) {
+      // pull: an under-allocated region takes a boundary cell (with what it cuts off) from a
+      // neighbour when that lowers the total squared deviation
+      std::vector<int> recvs(order.rbegin(), order.rend());
+      for (int b : recvs) {
+        if (counts[b] - targets[b] >= -0.5 || work > budget) break;
+        work += n;
+        std::vector<int> cand;
+        for (int x = 0; x < n; ++x) {
+          if (owner[x] == b || is_start[x]) continue;
+          for (int v : G.nb[x])
+            if (v >= 0 && owner[v] == b) {
+              cand.push_back(x);
+              break;
+            }
+        }
+        std::stable_sort(cand.begin(), cand.end(), [&](int x, int y) { return D[b][x] < D[b][y]; });
+        for (std::size_t c = 0; c < cand.size() && c < 48 && !moved; ++c) {
+          const int x = cand[c], a = owner[x];
+          moved = hand_over_cut(x, a, b, 1e-9);
+        }
+        if (moved) break;
+      }
+    }
+    if (!moved) return;
+  }
+}
+
+}  // namespace
+
+double tolerance(std::size_t cells) { return std::max(2.0, 0.01 * static_cast<double>(cells)); }
+
+DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
+                      const std::function<void(double)>& progress) {
+  DivisionResult out;
+  std::vector<int> lid;
+  const Graph G = build_graph(g, in.cells, lid);
+  const int n = G.n;
+  const int P = static_cast<int>(in.starts.size());
+  std::vector<int> st(P);
+  for (int i = 0; i < P; ++i) st[i] = lid[in.starts[i]];
+  out.owner.assign(n, 0);
+  out.counts.assign(P, 0);
+  if (P == 0 || n == 0) return out;
+  if (P == 1) {
+    out.counts[0] = n;
+    out.converged = true;
+    out.max_deviation = std::fabs(n - in.targets[0]);
+    return out;
+  }
+
+  // geodesic distances from each start
+  std::vector<std::vector<double>> D(P);
+  for (int i = 0; i < P; ++i) {
+    D[i] = geodesic(G, st[i]);
+    for (double& v : D[i]) v += 1.0;  // keep the start's evaluation positive
+  }
+
+  const double final_tol = tolerance(n);
+  std::mt19937_64 rng(in.seed ^ 0xda3e39cb94b95bdbULL);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+
+  std::vector<int> best_owner;
+  double best_dev = std::numeric_limits<double>::infinity();
+  std::vector<int> owner(n), cand(n), counts(P), mark(n, -1), stack, dist_r, dist_q, queue, piece_r, piece_q;
+  std::vector<double> M(static_cast<std::size_t>(P) * n);
+  const int attempts = std::max(1, in.attempts);
+  // large grids: cap the iterations so that one division stays within ~1e9 cell evaluations
+  // (deterministic; the boundary polish below finishes the balance)
+  const double per_iter = static_cast<double>(n) * P;
+  const int max_iter = static_cast<int>(
+      std::min<double>(std::max(1, in.max_iterations), std::max(50.0, 1e9 / (per_iter * attempts))));
+  const long total_iters = static_cast<long>(attempts) * max_iter;
+  int stamp = 0;
+
+  bool stopped = false;
+  for (int attempt = 0; attempt < attempts && !out.converged && !stopped; ++attempt) {
+    const double tol = std::max(1.0, final_tol * (attempt + 1) / attempts);
+    const double rand_level = 0.002 * (attempt + 1);
+    for (int i = 0; i < P; ++i)
+      for (int x = 0; x < n; ++x)
+        M[static_cast<std::size_t>(x) * P + i] = D[i][x] * (1.0 + rand_level * (u01(rng) - 0.5));
+    std::vector<double> lm(P, 0.0), step(P, 0.02);
+    std::vector<int> last_sign(P, 0);
+    int last_gain = 0;
+
+    for (int it = 0; it < max_iter; ++it) {
+      if (!best_owner.empty() && in.stop_early && in.stop_early()) {
+        stopped = true;
+        break;
+      }
+      ++out.iterations;
+      if (progress) progress(static_cast<double>(out.iterations) / total_iters);
+      // assignment: argmin over the corrected evaluation matrices
+      std::vector<double> m(P);
+      for (int i = 0; i < P; ++i) m[i] = std::exp(lm[i]);
+      for (int x = 0; x < n; ++x) {
+        int bi = 0;
+        const double* Mx = M.data() + static_cast<std::size_t>(x) * P;  // x-major: one cache line
+        double bv = m[0] * Mx[0];
+        for (int i = 1; i < P; ++i) {
+          const double v = m[i] * Mx[i];
+          if (v < bv) bv = v, bi = i;
+        }
+        owner[x] = bi;
+      }
+      for (int i = 0; i < P; ++i) owner[st[i]] = i;
+      std::fill(counts.begin(), counts.end(), 0);
+      for (int x = 0; x < n; ++x) ++counts[owner[x]];
+
+      // connectivity
+      std::vector<char> disconnected(P, 0);
+      bool any_disc = false;
+      for (int i = 0; i < P; ++i) {
+        ++stamp;
+        const int c = main_piece(G, owner, i, st[i], mark, stamp, stack);
+        if (c < counts[i]) {
+          disconnected[i] = 1;
+          any_disc = true;
+          piece_r.clear();
+          piece_q.clear();
+          for (int x = 0; x < n; ++x) {
+            if (owner[x] != i) continue;
+            (mark[x] == stamp ? piece_r : piece_q).push_back(x);
+          }
+          // connectivity matrix C_i = d(main piece) - d(other pieces), scaled to [1 - v, 1 + v]
+          bfs(G, piece_r, dist_r, queue);
+          bfs(G, piece_q, dist_q, queue);
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (int x = 0; x < n; ++x) {
+            const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
+            lo = std::min(lo, c2), hi = std::max(hi, c2);
+          }
+          if (hi > lo) {
+            double* Mi = M.data() + i;
+            for (int x = 0; x < n; ++x) {
+              const double c2 = static_cast<double>(dist_r[x]) - dist_q[x];
+              Mi[static_cast<std::size_t>(x) * P] *=
+                  (c2 - lo) * (2 * kConnVariation / (hi - lo)) + (1 - kConnVariation);
+            }
+          }
+        }
+      }
+
+      // the best connected division so far (disconnected pieces handed to neighbours)
+      cand = owner;
+      if (any_disc) repair(G, cand, st);
+      std::vector<int> cc(P, 0);
+      for (int x = 0; x < n; ++x) ++cc[cand[x]];
+      double dev = 0;
+      for (int i = 0; i < P; ++i) dev = std::max(dev, std::fabs(cc[i] - in.targets[i]));
+      if (dev < best_dev) {
+        best_dev = dev;
+        best_owner = cand;
+        last_gain = it;
+      }
+      if (it - last_gain > std::max(std::min(400, max_iter / 2), max_iter / 8))
+        break;  // stagnating: next attempt
+      if (dev <= tol) {
+        out.converged = dev <= final_tol;
+        break;
+      }
+
+      // multiplicative correction toward the share (sign-adaptive step per participant)
+      for (int i = 0; i < P; ++i) {
+        const double err = cc[i] - in.targets[i];  // as repaired: what the UAV would fly
+        const int sign = err > 0.5 ? 1 : (err < -0.5 ? -1 : 0);
+        if (sign != 0 && last_sign[i] != 0 && sign != last_sign[i])
+          step[i] = std::max(1e-6, step[i] * 0.5);
+        else if (sign != 0)
+          step[i] = std::min(0.1, step[i] * 1.15);
+        if (sign != 0) last_sign[i] = sign;
+        if (std::fabs(err) > 4 * tol) {
+          // coarse phase: damped Newton step (a region's size goes roughly with m^-2)
+          lm[i] += std::clamp(0.25 * std::log((cc[i] + 1.0) / (in.targets[i] + 1.0)), -0.05, 0.05);
+        } else {
+          const double scale = std::max(1.0, 0.05 * in.targets[i]);
+          lm[i] += step[i] * std::clamp(err / scale, -1.0, 1.0);
+        }
+      }
+    }
+  }
+
+  out.owner = best_owner;
+  if (best_dev > final_tol) polish(G, out.owner, st, in.targets, D, final_tol, 4 * n);
+  std::fill(out.counts.begin(), out.counts.end(), 0);
+  for (int x = 0; x < n; ++x) ++out.counts[out.owner[x]];
+  out.max_deviation = 0;
+  for (int i = 0; i < P; ++i)
+    out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - in.targets[i]));
+  out.converged = out.max_deviation <= final_tol;
+  return out;
+}
+
+}  // namespace uavcover::darp

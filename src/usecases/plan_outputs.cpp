@@ -1,0 +1,70 @@
+#include "usecases/plan_outputs.hpp"
+
+#include <algorithm>
+
+#include "export/export.hpp"
+#include "io/plan_io.hpp"
+#include "render/render.hpp"
+#include "trajectory/trajectory.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::usecases {
+
+void check_export_formats(const std::vector<std::string>& formats) {
+  const auto& known = exporting::known_formats();
+  for (const auto& f : formats)
+    if (std::find(known.begin(), known.end(), f) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError("formats", "unknown format \"" + f + "\" (known: " + list + ")");
+    }
+}
+
+PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
+  check_export_formats(options.exports);
+  PlanOutputs out;
+  nlohmann::json extra = nlohmann::json::object();
+  evaluation::Evaluation ev;
+  if (options.evaluate) {
+    evaluation::EvaluateOptions eo;
+    eo.coverage.context = &ctx;
+    ev = evaluation::evaluate_plan(plan, eo);
+    extra = evaluation::to_json(ev);
+    // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
+    // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
+    std::vector<double> durations_min;
+    for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+      durations_min.push_back(trajectory::flight_time_s(plan, i) / 60.0);
+    const auto traj_cost =
+        evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs, ev.coverage.total.area_m2);
+    extra["cost_trajectory"] = evaluation::to_json(traj_cost);
+    out.trajectory_flight_time_min = traj_cost.flight_time_min;
+    out.poc = ev.coverage.total.poc;
+    out.pooc = ev.coverage.total.pooc;
+    out.flight_time_min = ev.cost.flight_time_min;
+    out.total_time_min = ev.cost.total_time_min;
+    out.cost_eur = ev.cost.flight_cost_eur;
+  }
+  out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
+  out.artifacts.push_back({"plan.json", "application/json", io::plan_json(plan, extra).dump(1) + "\n"});
+  if (options.images) {
+    ctx.report("pictures", 0.0);
+    out.artifacts.push_back(render::plan_png(plan));
+    out.artifacts.push_back(render::plan_svg(plan));
+    if (options.evaluate) {
+      out.artifacts.push_back(render::heatmap_png(ev.coverage, &ev.free));
+      out.artifacts.push_back(render::histogram_png(ev.coverage.total));
+    }
+  }
+  if (!options.exports.empty()) {
+    ctx.report("exports", 0.0);
+    exporting::ExportOptions eo;
+    eo.warnings = &out.warnings;
+    auto exported = exporting::export_artifacts(plan, options.exports, eo);
+    out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
+                         std::make_move_iterator(exported.end()));
+  }
+  return out;
+}
+
+}  // namespace uavcover::usecases

@@ -1,0 +1,36 @@
+// What a finished plan gives an operator, as artifacts: paths.geojson, plan.json (with coverage and
+// cost unless turned off), pictures and exports. The CLI writes them to a folder (io::write_artifacts);
+// the server stores and serves the same bytes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "evaluation/evaluate.hpp"
+#include "uavcover/artifact.hpp"
+#include "uavcover/context.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::usecases {
+
+struct OutputOptions {
+  bool evaluate = true;  ///< coverage simulation + time/cost model (eq. 15 and trajectories) into plan.json
+  bool images = true;    ///< plan.png, plan.svg, heatmap.png, histogram.png
+  std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
+};
+
+struct PlanOutputs {
+  Artifacts artifacts;
+  std::vector<std::string> warnings;  ///< from the exporters (limits, skipped UAVs, separation hazards)
+  double poc = -1, pooc = -1;         ///< when evaluated
+  double flight_time_min = -1, total_time_min = -1, cost_eur = -1;
+  double trajectory_flight_time_min = -1;  ///< the same from the time-parameterised trajectories
+};
+
+/// Checks export format names up front (InputError naming "formats").
+void check_export_formats(const std::vector<std::string>& formats);
+
+/// Everything the plan folder holds. The evaluation checks ctx for stops.
+PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx = {});
+
+}  // namespace uavcover::usecases
