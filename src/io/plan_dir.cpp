@@ -61,7 +61,7 @@ PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
     }
   }
   if (!options.exports.empty()) {
-    auto written = exporting::export_plan(plan, options.exports, dir);
+    auto written = write_artifacts(dir, exporting::export_artifacts(plan, options.exports));
     out.files.insert(out.files.end(), written.begin(), written.end());
   }
   return out;
