@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <zip.h>
 
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -41,6 +42,32 @@ inline std::map<std::string, std::string> unzip_bytes(const std::string& bytes) 
   }
   zip_close(za);
   return out;
+}
+
+/// XML 1.0 Char production over UTF-8 text (pugixml does not check it): no C0 control other than tab,
+/// newline and carriage return, no U+FFFE/U+FFFF or surrogates, valid UTF-8 throughout.
+inline bool xml_chars_valid(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    if (b < 0x80) {
+      if (b < 0x20 && b != 0x09 && b != 0x0A && b != 0x0D) return false;
+      ++i;
+      continue;
+    }
+    const std::size_t len = b >= 0xF0 ? 4 : b >= 0xE0 ? 3 : b >= 0xC0 ? 2 : 0;
+    if (len == 0 || i + len > s.size()) return false;
+    std::uint32_t cp = b & (0x7Fu >> len);
+    for (std::size_t k = 1; k < len; ++k) {
+      const auto c = static_cast<unsigned char>(s[i + k]);
+      if ((c & 0xC0u) != 0x80u) return false;
+      cp = (cp << 6) | (c & 0x3Fu);
+    }
+    const std::uint32_t min = len == 2 ? 0x80 : len == 3 ? 0x800 : 0x10000;
+    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF) || cp == 0xFFFE || cp == 0xFFFF)
+      return false;
+    i += len;
+  }
+  return true;
 }
 
 /// The artifact named `name`, or nullptr.

@@ -354,6 +354,8 @@ TEST(XmlEscape, ControlCharactersAndBadUtf8NeverBreakTheXml) {
   EXPECT_EQ(xml_escape("a&b<c>\"'"), "a&amp;b&lt;c&gt;&quot;&apos;");
   EXPECT_EQ(xml_escape(std::string("x\x01y\0z", 5)), "x\xEF\xBF\xBDy\xEF\xBF\xBDz");
   EXPECT_EQ(xml_escape("t\tn\nr\r"), "t&#9;n&#10;r&#13;");
+  EXPECT_FALSE(check::xml_chars_valid("a\x01"));  // the checker itself catches what pugixml lets through
+  EXPECT_FALSE(check::xml_chars_valid("\xFF"));
   EXPECT_EQ(xml_escape("\xC3\xA9\xE2\x82\xAC\xF0\x9F\x9A\x81"),
             "\xC3\xA9\xE2\x82\xAC\xF0\x9F\x9A\x81");                              // é € 🚁
   EXPECT_EQ(xml_escape("\xFF\xC3"), "\xEF\xBF\xBD\xEF\xBF\xBD");                  // not UTF-8
@@ -372,6 +374,7 @@ TEST(XmlEscape, ControlCharactersAndBadUtf8NeverBreakTheXml) {
     if (f.name.ends_with(".kml")) {
       pugi::xml_document doc;
       ASSERT_TRUE(doc.load_string(f.bytes.c_str())) << f.name;
+      EXPECT_TRUE(check::xml_chars_valid(f.bytes)) << f.name;
       const std::string name = doc.select_node("/kml/Document/name").node().text().get();
       EXPECT_EQ(name.rfind("</name><x>&amp;\xEF\xBF\xBD", 0), 0u) << name;  // the text round-trips, escaped
       EXPECT_NE(name.find("\t\n"), std::string::npos);
@@ -380,6 +383,7 @@ TEST(XmlEscape, ControlCharactersAndBadUtf8NeverBreakTheXml) {
       for (const auto& [entry, text] : check::unzip_bytes(f.bytes)) {
         pugi::xml_document doc;
         EXPECT_TRUE(doc.load_string(text.c_str())) << entry;
+        EXPECT_TRUE(check::xml_chars_valid(text)) << entry;
       }
     } else {
       EXPECT_TRUE(json::accept(f.bytes)) << f.name;
