@@ -32,9 +32,17 @@ PlanDirResult write_plan_dir(const Plan& plan, const std::filesystem::path& dir,
     extra = evaluation::to_json(ev);
     // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
     // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
+    // (the export's transition altitudes; a plan whose UAVs cannot be separated under the export's
+    // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
+    exporting::AltitudeOptions altitudes;
+    try {
+      altitudes = exporting::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
+    } catch (const InputError&) {
+      altitudes.transition_ceiling_m = 0;
+    }
     std::vector<double> durations_min;
     for (std::size_t i = 0; i < plan.uavs.size(); ++i)
-      durations_min.push_back(trajectory::flight_time_s(plan, i) / 60.0);
+      durations_min.push_back(trajectory::flight_time_s(plan, i, {}, altitudes) / 60.0);
     const auto traj_cost =
         evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs, ev.coverage.total.area_m2);
     extra["cost_trajectory"] = evaluation::to_json(traj_cost);
