@@ -37,14 +37,28 @@ void run_export(ExportArgs& a) {
       a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
   std::vector<std::string> warnings;
   a.opt.warnings = &warnings;
-  const auto files = exporting::export_plan(plan, a.formats, out, a.opt);
+  Artifacts artifacts;
+  try {
+    artifacts = exporting::export_artifacts(plan, a.formats, a.opt);
+  } catch (const InputError& e) {
+    // the library names its fields; on the command line they are these options
+    const std::string problem = std::string(e.what()).substr(e.field().empty() ? 0 : e.field().size() + 2);
+    if (e.field() == "formats") throw InputError("--format", problem);
+    if (e.field() == "altitude.transition_ceiling_m") throw InputError("--transition-ceiling", problem);
+    throw;
+  }
+  const auto files = io::write_artifacts(out, artifacts);
   for (const auto& w : warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (global_flags().quiet) return;
-  for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+  const auto altitudes =
+      exporting::resolve_altitudes(a.opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    if (exporting::idle(plan.uavs[i])) continue;
     std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",
                              plan.uavs[i].id,
-                             exporting::transition_altitude(a.opt.altitude, i, plan.mission.altitude_m),
-                             trajectory::flight_time_s(plan, i, a.opt.trajectory, a.opt.altitude));
+                             exporting::transition_altitude(altitudes, i, plan.mission.altitude_m),
+                             trajectory::flight_time_s(plan, i, a.opt.trajectory, altitudes));
+  }
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
 }
 
@@ -68,6 +82,16 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   cmd->add_option("--transition-step", args->opt.altitude.transition_step_m,
                   "Transition altitude added per UAV (m)")
       ->capture_default_str();
+  cmd->add_option("--transition-ceiling", args->opt.altitude.transition_ceiling_m,
+                  "Highest transition altitude (m above take-off; 0 = none); the step is compressed to fit "
+                  "while it stays >= --min-separation")
+      ->capture_default_str();
+  cmd->add_option("--min-separation", args->opt.altitude.min_vertical_separation_m,
+                  "Smallest transition step (m) the ceiling may compress the step to")
+      ->capture_default_str();
+  cmd->add_option("--geofence-margin", args->opt.geofence_margin_m,
+                  "QGC .plan: inclusion fence margin around everything flown (m)")
+      ->capture_default_str();
   cmd->add_flag("--land", args->opt.altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
   cmd->add_option("--firmware-type", args->opt.qgc_firmware_type,
                   "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot)")
@@ -76,6 +100,13 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
                   "QGC .plan vehicleType (MAV_TYPE: 2 quadrotor)")
       ->capture_default_str();
   cmd->add_flag("--kmz", args->opt.kmz, "Also write <id>.kmz next to each <id>.kml");
+  cmd->add_option("--dji-drone", args->opt.dji_drone_enum, "DJI WPML droneEnumValue (77 Mavic 3 Enterprise)")
+      ->capture_default_str();
+  cmd->add_option("--dji-drone-sub", args->opt.dji_drone_sub_enum, "DJI WPML droneSubEnumValue")
+      ->capture_default_str();
+  cmd->add_option("--dji-payload", args->opt.dji_payload_enum,
+                  "DJI WPML payloadEnumValue (-1 = the drone's own camera)")
+      ->capture_default_str();
   cmd->add_option("--dt", args->opt.trajectory.dt, "Trajectory sampling step (s)")->capture_default_str();
   cmd->add_option("--densify", args->opt.trajectory.densify_m,
                   "Trajectory: split legs longer than this (m, 0 = off)")
@@ -91,11 +122,13 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       "  OUT/export/<id>.waypoints   Mission Planner QGC WPL 110 (row 0 home)\n"
       "  OUT/export/<id>.kml         KML (area, no-fly zones, 3D path); --kmz adds <id>.kmz\n"
       "  OUT/export/<id>.wpml.kmz    DJI WPML (wpmz/template.kml, wpmz/waylines.wpml)\n"
-      "  OUT/export/<id>.litchi.csv  Litchi mission CSV\n"
+      "  OUT/export/<id>.litchi.csv  Litchi mission CSV (<id>.1.litchi.csv, ... beyond 99 waypoints)\n"
       "  OUT/export/<id>.csv         mission items as CSV\n"
       "  OUT/trajectory/<id>.csv     t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az sampled every --dt seconds\n"
       "Each UAV climbs to its own transition altitude (base + index * step) for transit legs and covers\n"
-      "at the mission altitude (Hong et al. 2021 §2.3).\n"
+      "at the mission altitude (Hong et al. 2021 §2.3), under --transition-ceiling.\n"
+      "UAVs without coverage parts are skipped with a warning; values beyond a consumer's limits are\n"
+      "clamped with a warning (speeds) or refused (altitudes): see docs/exports.md.\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (unknown format, unusable plan folder).");
   cmd->callback([args] { run_export(*args); });
 });

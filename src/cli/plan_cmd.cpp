@@ -30,7 +30,6 @@ struct PlanArgs {
 void run_plan(const PlanArgs& a) {
   ParseOptions po;
   po.max_cells = a.max_cells;
-  usecases::check_export_formats(a.exports);
   const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"), po);
   PlanOptions opt;
   opt.seed = a.seed;

@@ -123,6 +123,16 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     for (const auto& p : part.local) part.wgs84.push_back(lm.frame.to_wgs84(p));
     return part;
   };
+  // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
+  // UAVs can be separated there
+  exporting::AltitudeOptions altitudes;
+  try {
+    altitudes = exporting::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
+                                             &out.warnings);
+  } catch (const InputError& e) {
+    altitudes.transition_ceiling_m = 0;
+    out.warnings.push_back(std::string("transition altitudes: ") + e.what());
+  }
   double region_total = 0.0;
   for (const auto& r : res.uavs) region_total += bg::area(r.region);
   for (std::size_t i = 0; i < out.mission.uavs.size(); ++i) {
@@ -139,7 +149,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     up.region = to_wgs84(r.region, lm.frame);
     up.regions = static_cast<int>(r.region.size());
     up.diagnostics = r.diagnostics;
-    up.transition_altitude_m = exporting::transition_altitude({}, i, out.mission.altitude_m);
+    up.transition_altitude_m = exporting::transition_altitude(altitudes, i, out.mission.altitude_m);
     Point here = problem.starts[i];
     auto transit_to = [&](Point target) {
       if (bg::distance(here, target) < 1e-6) return;

@@ -1,22 +1,22 @@
 #include "export/export.hpp"
 
-#include <zip.h>
-
 #include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <stdexcept>
 
+#include "export/geofence.hpp"
 #include "export/separation.hpp"
+#include "export/xml.hpp"
+#include "export/zip.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
 
-namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::vector<std::string>& known_formats() {
@@ -25,9 +25,37 @@ const std::vector<std::string>& known_formats() {
   return formats;
 }
 
-namespace {
+std::vector<std::string> parse_formats(const std::vector<std::string>& formats) {
+  std::vector<std::string> wanted;
+  const auto& known = known_formats();
+  for (const auto& entry : formats) {
+    std::size_t pos = 0;
+    while (pos <= entry.size()) {
+      const std::size_t comma = std::min(entry.find(',', pos), entry.size());
+      std::string f = entry.substr(pos, comma - pos);
+      f.erase(0, f.find_first_not_of(" \t"));
+      f.erase(f.find_last_not_of(" \t") + 1);
+      for (auto& c : f) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      pos = comma + 1;
+      if (f.empty()) continue;
+      if (std::find(known.begin(), known.end(), f) == known.end()) {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        throw InputError("formats", "unknown format \"" + f + "\" (known: " + list + ")");
+      }
+      if (std::find(wanted.begin(), wanted.end(), f) == wanted.end()) wanted.push_back(f);
+    }
+  }
+  if (wanted.empty()) throw InputError("formats", "no format given");
+  return wanted;
+}
 
-constexpr std::size_t kLitchiMaxWaypoints = 99;  // Litchi missions hold at most 99 waypoints
+bool idle(const UavPlan& uav) {
+  return std::none_of(uav.parts.begin(), uav.parts.end(),
+                      [](const PathPart& p) { return p.kind == PartKind::Coverage && !p.wgs84.empty(); });
+}
+
+namespace {
 
 bool has_position(const MissionItem& it) {
   return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
@@ -41,42 +69,39 @@ std::vector<const MissionItem*> flown_waypoints(const std::vector<MissionItem>& 
   return out;
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+/// Shortest round-trip text of a number; NaN as "NaN" (how Mission Planner and pymavlink read it).
+std::string num(double v) { return std::isnan(v) ? std::string("NaN") : fmt::format("{}", v); }
+std::string coord(double v) { return fmt::format("{:.9f}", v); }
+/// A JSON number, or null for NaN (QGroundControl's own convention, e.g. yaw "keep heading").
+json jnum(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
+/// JSON text; invalid UTF-8 in names (a tampered plan) is replaced rather than thrown on.
+std::string dump(const json& doc, int indent) {
+  return doc.dump(indent, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
-std::string num(double v) { return fmt::format("{}", v); }
-std::string coord(double v) { return fmt::format("{:.9f}", v); }
+void warn(const ExportOptions& opt, std::string message) {
+  if (opt.warnings != nullptr) opt.warnings->push_back(std::move(message));
+}
 
-/// A file-system-safe version of a UAV id.
-std::string safe_name(const std::string& id) {
-  std::string out;
-  for (char c : id)
-    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
-  if (out.empty() || out == "." || out == "..") out = "uav";
-  return out;
+/// The UAV's speed within a consumer's maximum: clamped with a warning.
+double speed_within(const Plan& plan, std::size_t index, double max_mps, const char* consumer,
+                    const ExportOptions& opt) {
+  const double v = plan.mission.uavs.at(index).speed_mps;
+  if (v <= max_mps) return v;
+  warn(opt, fmt::format("uav '{}': speed {} m/s clamped to {} m/s, the most {} accepts",
+                        plan.uavs.at(index).id, v, max_mps, consumer));
+  return max_mps;
+}
+
+/// Refuses waypoint heights above a consumer's maximum (clamping an altitude would break separation).
+void check_heights(const Plan& plan, std::size_t index, const std::vector<const MissionItem*>& wps,
+                   double max_m, const char* consumer) {
+  for (const MissionItem* w : wps)
+    if (static_cast<double>(w->alt) > max_m)
+      throw InputError("altitude",
+                       fmt::format("uav '{}': waypoint at {} m above take-off, {} accepts at most {} "
+                                   "m: lower the mission altitude or the transition altitudes",
+                                   plan.uavs.at(index).id, num(w->alt), consumer, max_m));
 }
 
 // signed area of a lon/lat ring (shoelace), positive when counter-clockwise
@@ -198,29 +223,44 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
     j["doJumpId"] = seq++;
     j["frame"] = it.frame;
     if (has_position(it)) {
-      // yaw (param 4) 0 on a position item means "unset" here: QGC writes it as null (NaN, keep the
-      // vehicle's heading mode) rather than pointing the vehicle north
-      j["params"] = {it.param1, it.param2, it.param3, nullptr, it.lat, it.lon, it.alt};
-      if (it.param4 != 0.0f) j["params"][3] = it.param4;
+      j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4),
+                     it.lat,          it.lon,          it.alt};
       j["Altitude"] = it.alt;
       j["AltitudeMode"] = 1;  // relative to home
       j["AMSLAltAboveTerrain"] = nullptr;
     } else {
-      j["params"] = {it.param1, it.param2, it.param3, it.param4, 0, 0, 0};
+      j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4), 0, 0, 0};
     }
     jitems.push_back(j);
   }
+  const bool px4 = opt.qgc_firmware_type == 12;
+  const bool ardupilot = opt.qgc_firmware_type == 3;
+  if (px4 && uav.speed_mps > limits::kPx4DefaultMaxSpeed)
+    warn(opt,
+         fmt::format("uav '{}': speed {} m/s is above PX4's default MPC_XY_VEL_MAX ({} m/s), which caps it",
+                     uav.id, uav.speed_mps, limits::kPx4DefaultMaxSpeed));
+  if (ardupilot && uav.speed_mps > limits::kArduPilotMaxSpeed)
+    warn(opt, fmt::format("uav '{}': speed {} m/s is above ArduPilot's WPNAV_SPEED range (at most {} m/s)",
+                          uav.id, uav.speed_mps, limits::kArduPilotMaxSpeed));
   const LonLat home = uav.start_resolved;
+  // geofence: one convex inclusion polygon around everything flown (area, home, take-off, transit and
+  // coverage waypoints, with a margin), the no-fly zones as exclusions; [lat, lon] vertices, not closed
   json polygons = json::array();
-  auto fence = [&](const GeoPolygon& poly, bool inclusion) {
-    if (poly.empty() || poly.front().size() < 4) return;
+  auto fence = [&](const GeoRing& ring, bool inclusion) {
     json pts = json::array();
-    for (std::size_t k = 0; k + 1 < poly.front().size(); ++k)
-      pts.push_back({poly.front()[k].lat, poly.front()[k].lon});
+    std::size_t n = ring.size();
+    if (n >= 2 && ring.front().lat == ring.back().lat && ring.front().lon == ring.back().lon) --n;
+    if (n < 3) return std::size_t{0};
+    for (std::size_t k = 0; k < n; ++k) pts.push_back({ring[k].lat, ring[k].lon});
     polygons.push_back({{"inclusion", inclusion}, {"polygon", pts}, {"version", 1}});
+    return n;
   };
-  for (const auto& poly : plan.mission.area) fence(poly, true);
-  for (const auto& poly : plan.mission.no_fly_zones) fence(poly, false);
+  std::size_t vertices = fence(inclusion_fence(plan, index, items, opt.geofence_margin_m), true);
+  for (const auto& poly : plan.mission.no_fly_zones)
+    if (!poly.empty()) vertices += fence(poly.front(), false);
+  if (px4 && vertices > kPx4MaxFenceVertices)
+    warn(opt, fmt::format("uav '{}': the geofence has {} vertices, PX4 stores at most {}", uav.id, vertices,
+                          kPx4MaxFenceVertices));
   return {{"fileType", "Plan"},
           {"version", 1},
           {"groundStation", "QGroundControl"},
@@ -239,7 +279,11 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
 
 std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const auto items = mission_items(plan, index, opt.altitude);
-  const LonLat home = plan.mission.uavs.at(index).start_resolved;
+  const Uav& uav = plan.mission.uavs.at(index);
+  if (uav.speed_mps > limits::kArduPilotMaxSpeed)
+    warn(opt, fmt::format("uav '{}': speed {} m/s is above ArduPilot's WPNAV_SPEED range (at most {} m/s)",
+                          uav.id, uav.speed_mps, limits::kArduPilotMaxSpeed));
+  const LonLat home = uav.start_resolved;
   std::string out = "QGC WPL 110\n";
   // row 0: home, absolute frame, ground level (0 m: the home's elevation is not known here)
   out += fmt::format("0\t1\t0\t16\t0\t0\t0\t0\t{:.8f}\t{:.8f}\t0\t1\n", home.lat, home.lon);
@@ -276,18 +320,25 @@ std::string kml_polygon_placemark(const GeoPolygon& poly, const std::string& nam
 }  // namespace
 
 std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = mission_items(plan, index, opt.altitude);
+  const std::string& mode = opt.kml_altitude_mode;
+  if (mode != "clampToGround" && mode != "relativeToGround" && mode != "absolute")
+    throw InputError("kml_altitude_mode", "must be clampToGround, relativeToGround or absolute");
+  const AltitudeOptions altitudes =
+      resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+  const auto items = mission_items(plan, index, altitudes);
   const UavPlan& up = plan.uavs.at(index);
   const LonLat home = plan.mission.uavs.at(index).start_resolved;
   std::string s =
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\">\n";
   s += "  <Document>\n    <name>" +
        xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) + "</name>\n";
-  s += fmt::format(
-      "    <description>uav {}: mission altitude {} m ({}), transition altitude {} m, heights relative to "
-      "take-off</description>\n",
-      xml_escape(up.id), num(plan.mission.altitude_m), xml_escape(plan.mission.altitude_source),
-      num(transition_altitude(opt.altitude, index, plan.mission.altitude_m)));
+  s += "    <description>" +
+       xml_escape(
+           fmt::format("uav {}: mission altitude {} m ({}), transition altitude {} m, heights relative to "
+                       "take-off",
+                       up.id, num(plan.mission.altitude_m), plan.mission.altitude_source,
+                       num(transition_altitude(altitudes, index, plan.mission.altitude_m)))) +
+       "</description>\n";
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";
   s += "    <Style id=\"nfz\"><LineStyle><color>ff0000ff</color><width>2</width></LineStyle>"
@@ -309,13 +360,55 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   return s;
 }
 
+namespace {
+
+/// wpml:payloadEnumValue of the camera a DJI drone comes with (DJI WPML common elements), -1 if none.
+int builtin_payload(int drone, int sub) {
+  switch (drone) {
+    case 67:  // M30 / M30T
+      return sub == 1 ? 53 : 52;
+    case 77:  // Mavic 3 Enterprise: M3E, M3T, M3M
+      return sub == 1 ? 67 : sub == 2 ? 68 : 66;
+    case 91:  // Matrice 3D / 3TD
+      return sub == 1 ? 81 : 80;
+    default:
+      return -1;
+  }
+}
+
+/// wpml:payloadLensIndex for the photos: the wide camera, plus the thermal one on T payloads.
+const char* lens_index(int payload) {
+  return payload == 53 || payload == 67 || payload == 81 ? "wide,ir" : "wide";
+}
+
+/// A file-name-safe suffix for the photos (wpml:fileSuffix): the id's letters, digits, '-' and '_'.
+std::string file_suffix(const std::string& id) {
+  std::string out;
+  for (char c : id)
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') out += c;
+  return out.empty() ? "uavcover" : out;
+}
+
+}  // namespace
+
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = mission_items(plan, index, opt.altitude);
+  const AltitudeOptions altitudes =
+      resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+  const auto items = mission_items(plan, index, altitudes);
   const auto wps = flown_waypoints(items);
-  const Uav& uav = plan.mission.uavs.at(index);
-  const double speed = uav.speed_mps;
+  const UavPlan& up = plan.uavs.at(index);
+  check_heights(plan, index, wps, limits::kDjiMaxHeight, "DJI WPML");
+  const double speed = speed_within(plan, index, limits::kDjiMaxSpeed, "DJI WPML", opt);
   const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
-  const double transit_alt = transition_altitude(opt.altitude, index, plan.mission.altitude_m);
+  const double transit_alt = transition_altitude(altitudes, index, plan.mission.altitude_m);
+  const int payload = opt.dji_payload_enum >= 0 ? opt.dji_payload_enum
+                                                : builtin_payload(opt.dji_drone_enum, opt.dji_drone_sub_enum);
+  if (payload < 0)
+    throw InputError("dji_payload_enum", fmt::format("drone {} has no known built-in camera: give its "
+                                                     "wpml:payloadEnumValue",
+                                                     opt.dji_drone_enum));
+  // safe take-off height and RTH height: the UAV's transition altitude, within WPML's [1.2, 1500] m
+  const double safe_height = std::clamp(transit_alt, 1.2, 1500.0);
 
   const std::string header =
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
@@ -329,15 +422,21 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
       "      <wpml:executeRCLostAction>goBack</wpml:executeRCLostAction>\n"
       "      <wpml:takeOffSecurityHeight>{}</wpml:takeOffSecurityHeight>\n"
       "      <wpml:globalTransitionalSpeed>{}</wpml:globalTransitionalSpeed>\n"
+      "      <wpml:globalRTHHeight>{}</wpml:globalRTHHeight>\n"
       "      <wpml:droneInfo>\n"
       "        <wpml:droneEnumValue>{}</wpml:droneEnumValue>\n"
       "        <wpml:droneSubEnumValue>{}</wpml:droneSubEnumValue>\n"
       "      </wpml:droneInfo>\n"
+      "      <wpml:payloadInfo>\n"
+      "        <wpml:payloadEnumValue>{}</wpml:payloadEnumValue>\n"
+      "        <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+      "      </wpml:payloadInfo>\n"
       "    </wpml:missionConfig>\n",
-      opt.altitude.land_instead_of_rtl ? "autoLand" : "goHome", num(std::min(transit_alt, 1500.0)),
-      num(speed), opt.dji_drone_enum, opt.dji_drone_sub_enum);
+      altitudes.land_instead_of_rtl ? "autoLand" : "goHome", num(safe_height), num(speed), num(safe_height),
+      opt.dji_drone_enum, opt.dji_drone_sub_enum, payload);
 
   // camera: one action group per coverage run, photos every spacing_m metres
+  const std::string suffix = xml_escape(file_suffix(up.id));
   auto action_group = [&](std::size_t start, std::size_t end, int id) {
     return fmt::format(
         "        <wpml:actionGroup>\n"
@@ -354,10 +453,13 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
         "            <wpml:actionActuatorFunc>takePhoto</wpml:actionActuatorFunc>\n"
         "            <wpml:actionActuatorFuncParam>\n"
         "              <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+        "              <wpml:fileSuffix>{}</wpml:fileSuffix>\n"
+        "              <wpml:payloadLensIndex>{}</wpml:payloadLensIndex>\n"
+        "              <wpml:useGlobalPayloadLensIndex>0</wpml:useGlobalPayloadLensIndex>\n"
         "            </wpml:actionActuatorFuncParam>\n"
         "          </wpml:action>\n"
         "        </wpml:actionGroup>\n",
-        id, start, end, num(plan.mission.spacing_m));
+        id, start, end, num(plan.mission.spacing_m), suffix, lens_index(payload));
   };
   // coverage runs: [start, end] waypoint indices of consecutive coverage waypoints of one part
   std::map<std::size_t, std::size_t> runs;
@@ -370,6 +472,9 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
   }
 
   std::string tpl = header + "    <wpml:author>uavcover</wpml:author>\n" + mission_config;
+  // heights are relative to the take-off point (heightMode relativeToStartPoint), whose ellipsoid height
+  // is not known here: wpml:ellipsoidHeight, required next to wpml:height when useGlobalHeight is 0,
+  // repeats the relative height (as DJI Pilot 2 writes it for relativeToStartPoint routes)
   tpl += fmt::format(
       "    <Folder>\n"
       "      <wpml:templateType>waypoint</wpml:templateType>\n"
@@ -380,13 +485,19 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
       "      </wpml:waylineCoordinateSysParam>\n"
       "      <wpml:autoFlightSpeed>{}</wpml:autoFlightSpeed>\n"
       "      <wpml:globalHeight>{}</wpml:globalHeight>\n"
+      "      <wpml:gimbalPitchMode>usePointSetting</wpml:gimbalPitchMode>\n"
       "      "
       "<wpml:globalWaypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:globalWaypointTurnMode>\n"
       "      <wpml:globalUseStraightLine>1</wpml:globalUseStraightLine>\n"
       "      <wpml:globalWaypointHeadingParam>\n"
       "        <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
-      "      </wpml:globalWaypointHeadingParam>\n",
-      num(speed), num(plan.mission.altitude_m));
+      "        <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
+      "      </wpml:globalWaypointHeadingParam>\n"
+      "      <wpml:payloadParam>\n"
+      "        <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+      "        <wpml:imageFormat>{}</wpml:imageFormat>\n"
+      "      </wpml:payloadParam>\n",
+      num(speed), num(plan.mission.altitude_m), lens_index(payload));
   std::string wl = header + mission_config;
   double distance = 0;
   {
@@ -415,13 +526,15 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
     tpl += "      <Placemark>\n" + point +
            fmt::format(
                "        <wpml:index>{}</wpml:index>\n"
+               "        <wpml:ellipsoidHeight>{}</wpml:ellipsoidHeight>\n"
                "        <wpml:height>{}</wpml:height>\n"
                "        <wpml:useGlobalHeight>0</wpml:useGlobalHeight>\n"
                "        <wpml:useGlobalSpeed>1</wpml:useGlobalSpeed>\n"
                "        <wpml:useGlobalHeadingParam>1</wpml:useGlobalHeadingParam>\n"
                "        <wpml:useGlobalTurnParam>1</wpml:useGlobalTurnParam>\n"
-               "        <wpml:useStraightLine>1</wpml:useStraightLine>\n",
-               k, num(w.alt));
+               "        <wpml:useStraightLine>1</wpml:useStraightLine>\n"
+               "        <wpml:gimbalPitchAngle>-90</wpml:gimbalPitchAngle>\n",
+               k, num(w.alt), num(w.alt));
     wl += "      <Placemark>\n" + point +
           fmt::format(
               "        <wpml:index>{}</wpml:index>\n"
@@ -429,6 +542,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
               "        <wpml:waypointSpeed>{}</wpml:waypointSpeed>\n"
               "        <wpml:waypointHeadingParam>\n"
               "          <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
+              "          <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
               "        </wpml:waypointHeadingParam>\n"
               "        <wpml:waypointTurnParam>\n"
               "          "
@@ -453,27 +567,45 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
   return {{"wpmz/template.kml", tpl}, {"wpmz/waylines.wpml", wl}};
 }
 
-std::string litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
+std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const auto items = mission_items(plan, index, opt.altitude);
   const auto wps = flown_waypoints(items);
-  const Uav& uav = plan.mission.uavs.at(index);
+  check_heights(plan, index, wps, limits::kLitchiMaxAltitude, "Litchi");
+  const double speed = speed_within(plan, index, limits::kLitchiMaxSpeed, "Litchi", opt);
   const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
-  std::string out =
+  std::string header =
       "latitude,longitude,altitude(m),heading(deg),curvesize(m),rotationdir,gimbalmode,gimbalpitchangle";
-  for (int k = 1; k <= 15; ++k) out += fmt::format(",actiontype{},actionparam{}", k, k);
-  out +=
+  for (int k = 1; k <= 15; ++k) header += fmt::format(",actiontype{},actionparam{}", k, k);
+  header +=
       ",altitudemode,speed(m/"
       "s),poi_latitude,poi_longitude,poi_altitude(m),poi_altitudemode,photo_timeinterval,"
       "photo_distinterval\n";
-  for (const MissionItem* w : wps) {
+  auto row = [&](const MissionItem& w) {
     // gimbal pitch -90 (nadir); no actions; altitude relative to take-off (altitudemode 0)
-    out += fmt::format("{:.8f},{:.8f},{},0,0,0,2,-90", w->lat, w->lon, num(w->alt));
+    std::string out = fmt::format("{:.8f},{:.8f},{},0,0,0,2,-90", w.lat, w.lon, num(w.alt));
     for (int k = 1; k <= 15; ++k) out += ",-1,0";
-    const bool shoot = camera && w->role == "coverage";
-    out +=
-        fmt::format(",0,{},0,0,0,0,-1,{}\n", num(uav.speed_mps), shoot ? num(plan.mission.spacing_m) : "-1");
+    const bool shoot = camera && w.role == "coverage";
+    out += fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed), shoot ? num(plan.mission.spacing_m) : "-1");
+    return out;
+  };
+  // missions of at most 99 waypoints; each next one starts where the previous one ended
+  std::vector<std::string> missions;
+  const std::size_t max = limits::kLitchiMaxWaypoints;
+  for (std::size_t start = 0; start < wps.size();) {
+    const std::size_t end = std::min(wps.size(), start + max);
+    std::string text = header;
+    for (std::size_t k = start; k < end; ++k) text += row(*wps[k]);
+    missions.push_back(std::move(text));
+    if (end == wps.size()) break;
+    start = end - 1;
   }
-  return out;
+  if (missions.empty()) missions.push_back(header);
+  if (missions.size() > 1)
+    warn(opt, fmt::format(
+                  "uav '{}': {} Litchi waypoints, more than the {} one Litchi mission holds: split into {} "
+                  "missions flown one after the other",
+                  plan.uavs.at(index).id, wps.size(), max, missions.size()));
+  return missions;
 }
 
 std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
@@ -487,122 +619,106 @@ std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptio
   return out;
 }
 
-void write_zip(const fs::path& path, const std::map<std::string, std::string>& entries) {
-  fs::create_directories(path.parent_path());
-  const fs::path tmp = path.string() + ".tmp";
-  fs::remove(tmp);
-  int err = 0;
-  zip_t* za = zip_open(tmp.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
-  if (za == nullptr)
-    throw std::runtime_error(fmt::format("cannot create '{}' (libzip error {})", tmp.string(), err));
-  for (const auto& [name, data] : entries) {
-    zip_source_t* src = zip_source_buffer(za, data.data(), data.size(), 0);
-    if (src == nullptr || zip_file_add(za, name.c_str(), src, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
-      if (src != nullptr) zip_source_free(src);
-      const std::string msg = zip_strerror(za);
-      zip_discard(za);
-      throw std::runtime_error("cannot add '" + name + "' to '" + path.string() + "': " + msg);
-    }
-  }
-  if (zip_close(za) < 0) {
-    const std::string msg = zip_strerror(za);
-    zip_discard(za);
-    throw std::runtime_error("cannot write '" + path.string() + "': " + msg);
-  }
-  fs::rename(tmp, path);
+namespace {
+
+/// UAV ids are used unchanged in file names: the parser's id rule, checked again here for plan
+/// folders that did not come through it.
+bool usable_id(const std::string& id) {
+  if (id.empty() || id.size() > 64 || id.front() == '.') return false;
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
 }
 
-std::vector<fs::path> export_plan(const Plan& plan, const std::vector<std::string>& formats,
-                                  const fs::path& out_dir, const ExportOptions& opt) {
-  // parse and check the format list first: nothing is written when one is unknown
-  std::vector<std::string> wanted;
-  for (const auto& entry : formats) {
-    std::size_t pos = 0;
-    while (pos <= entry.size()) {
-      const std::size_t comma = std::min(entry.find(',', pos), entry.size());
-      std::string f = entry.substr(pos, comma - pos);
-      f.erase(0, f.find_first_not_of(" \t"));
-      f.erase(f.find_last_not_of(" \t") + 1);
-      for (auto& c : f) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      pos = comma + 1;
-      if (f.empty()) continue;
-      const auto& known = known_formats();
-      if (std::find(known.begin(), known.end(), f) == known.end()) {
-        std::string list;
-        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw InputError("--format", "unknown format '" + f + "' (known: " + list + ")");
-      }
-      if (std::find(wanted.begin(), wanted.end(), f) == wanted.end()) wanted.push_back(f);
-    }
-  }
-  if (wanted.empty()) throw InputError("--format", "no format given");
+}  // namespace
+
+Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
+                           const ExportOptions& options) {
+  const std::vector<std::string> wanted = parse_formats(formats);
   if (plan.uavs.size() != plan.mission.uavs.size())
-    throw std::runtime_error("export: plan has " + std::to_string(plan.uavs.size()) + " UAV plans for " +
-                             std::to_string(plan.mission.uavs.size()) + " mission UAVs");
+    throw InputError("uavs", fmt::format("the plan has {} UAV plans for {} mission UAVs", plan.uavs.size(),
+                                         plan.mission.uavs.size()));
+  if (!std::isfinite(options.geofence_margin_m) || options.geofence_margin_m < 0)
+    throw InputError("geofence_margin_m", "must be >= 0");
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+    if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
+      throw InputError(fmt::format("uavs[{}].id", i),
+                       "not usable as a file name (1 to 64 of A-Z a-z 0-9 _ - ., not starting with '.')");
+  // warnings go to the caller only when the whole export succeeds
+  std::vector<std::string> warnings;
+  ExportOptions opt = options;
+  opt.warnings = &warnings;
+  opt.altitude = resolve_altitudes(options.altitude, plan.uavs.size(), plan.mission.altitude_m, &warnings);
   if (opt.check_separation) {
     const auto problems = check_separation(plan, opt.altitude);
     if (!problems.empty()) throw InputError("separation", problems.front());
   }
-  if (opt.warnings != nullptr) {
-    const auto w = separation_warnings(plan);
-    opt.warnings->insert(opt.warnings->end(), w.begin(), w.end());
+  for (const auto& w : separation_warnings(plan)) warnings.push_back(w);
+  // idle UAVs (no coverage part) are skipped: a take-off-and-return mission is not worth flying
+  std::vector<std::size_t> flown;
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    if (idle(plan.uavs[i])) {
+      warnings.push_back(
+          fmt::format("uav '{}': no coverage parts, nothing exported for it", plan.uavs[i].id));
+      continue;
+    }
+    flown.push_back(i);
+    const auto violations = no_fly_violations(plan, i, mission_items(plan, i, opt.altitude));
+    if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
   }
-  // distinct file names per UAV
-  std::vector<std::string> names;
-  std::set<std::string> used;
-  for (const auto& up : plan.uavs) {
-    std::string base = safe_name(up.id), name = base;
-    for (int k = 2; used.count(name) != 0; ++k) name = base + "-" + std::to_string(k);
-    used.insert(name);
-    names.push_back(name);
-  }
+  if (flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
 
-  const fs::path dir = out_dir / "export";
-  std::vector<fs::path> written;
-  auto put = [&](const fs::path& p, const std::string& text) {
-    io::write_file_atomic(p, text);
-    written.push_back(p);
+  Artifacts out;
+  auto put = [&](std::string name, const char* media_type, std::string bytes) {
+    out.push_back({std::move(name), media_type, std::move(bytes)});
   };
   for (const auto& f : wanted) {
-    for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
-      const std::string& id = names[i];
+    for (const std::size_t i : flown) {
+      const std::string& id = plan.uavs[i].id;
+      const std::string base = "export/" + id;
       if (f == "geojson") {
         const json doc = uav_geojson(plan, i);
         const auto problems = validate_geojson(doc);
         if (!problems.empty())
-          throw std::runtime_error("geojson export of '" + id + "' is invalid: " + problems.front());
-        put(dir / (id + ".geojson"), doc.dump(1) + "\n");
+          throw InputError(fmt::format("uavs[{}]", i), "its GeoJSON export is invalid: " + problems.front());
+        put(base + ".geojson", "application/geo+json", dump(doc, 1));
       } else if (f == "qgc") {
-        put(dir / (id + ".plan"), qgc_plan(plan, i, opt).dump(4) + "\n");
+        put(base + ".plan", "application/json", dump(qgc_plan(plan, i, opt), 4));
       } else if (f == "wpl") {
-        put(dir / (id + ".waypoints"), wpl_text(plan, i, opt));
+        put(base + ".waypoints", "text/plain", wpl_text(plan, i, opt));
       } else if (f == "kml") {
-        const std::string kml = kml_text(plan, i, opt);
-        put(dir / (id + ".kml"), kml);
-        if (opt.kmz) {
-          write_zip(dir / (id + ".kmz"), {{"doc.kml", kml}});
-          written.push_back(dir / (id + ".kmz"));
-        }
+        std::string kml = kml_text(plan, i, opt);
+        if (opt.kmz) put(base + ".kmz", "application/vnd.google-earth.kmz", zip_bytes({{"doc.kml", kml}}));
+        put(base + ".kml", "application/vnd.google-earth.kml+xml", std::move(kml));
       } else if (f == "dji") {
-        write_zip(dir / (id + ".wpml.kmz"), dji_wpml(plan, i, opt));
-        written.push_back(dir / (id + ".wpml.kmz"));
+        put(base + ".wpml.kmz", "application/vnd.google-earth.kmz", zip_bytes(dji_wpml(plan, i, opt)));
       } else if (f == "litchi") {
-        const std::string text = litchi_csv(plan, i, opt);
-        put(dir / (id + ".litchi.csv"), text);
-        const auto rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) - 1;
-        if (opt.warnings != nullptr && rows > kLitchiMaxWaypoints)
-          opt.warnings->push_back(
-              fmt::format("uav '{}': {} Litchi waypoints, more than the {} one Litchi mission holds",
-                          plan.uavs[i].id, rows, kLitchiMaxWaypoints));
+        auto missions = litchi_csv(plan, i, opt);
+        if (missions.size() == 1) {
+          put(base + ".litchi.csv", "text/csv", std::move(missions.front()));
+        } else {
+          for (std::size_t k = 0; k < missions.size(); ++k)
+            put(fmt::format("{}.{}.litchi.csv", base, k + 1), "text/csv", std::move(missions[k]));
+        }
       } else if (f == "csv") {
-        put(dir / (id + ".csv"), waypoints_csv(plan, i, opt));
+        put(base + ".csv", "text/csv", waypoints_csv(plan, i, opt));
       } else if (f == "trajectory") {
         const auto traj = trajectory::uav_trajectory(plan, i, opt.trajectory, opt.altitude);
-        put(out_dir / "trajectory" / (id + ".csv"), trajectory::trajectory_csv(plan, traj.sample()));
+        put("trajectory/" + id + ".csv", "text/csv", trajectory::trajectory_csv(plan, traj.sample()));
       }
     }
   }
-  return written;
+  // ids are kept unchanged, so two ids can still name one file ("a.wpml" kml/kmz vs "a" dji)
+  std::map<std::string, std::size_t> seen;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const auto [it, fresh] = seen.emplace(out[k].name, k);
+    if (!fresh)
+      throw InputError("uavs", fmt::format("two exports would both be written to {}: rename one of the UAVs",
+                                           out[k].name));
+  }
+  if (options.warnings != nullptr)
+    options.warnings->insert(options.warnings->end(), warnings.begin(), warnings.end());
+  return out;
 }
 
 }  // namespace uavcover::exporting

@@ -1,8 +1,10 @@
-// Flight-ready exports of a plan, one function per format, plus export_plan() writing them all.
-// Files go to OUT/export/<id>.<ext> (one per UAV), trajectories to OUT/trajectory/<id>.csv.
+// Flight-ready exports of a plan as bytes: one function per format, plus export_artifacts() producing
+// them all as uavcover::Artifact (names export/<id>.<ext> and trajectory/<id>.csv, the UAV id
+// unchanged). Only src/io/ writes files. Each exporter keeps to its consumer's limits (see
+// docs/exports.md): it clamps with a warning where that is safe (speeds), refuses with InputError
+// where it is not (altitudes, no-fly zones) and skips idle UAVs with a warning.
 #pragma once
 
-#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,22 +17,41 @@
 
 namespace uavcover::exporting {
 
+/// The consumers' limits the exporters keep to.
+namespace limits {
+inline constexpr std::size_t kLitchiMaxWaypoints = 99;  ///< waypoints in one Litchi mission
+inline constexpr double kLitchiMaxSpeed = 15.0;         ///< Litchi CSV speed(m/s) column: 0..15
+inline constexpr double kLitchiMaxAltitude = 500.0;     ///< Litchi CSV altitude(m): -200..500
+inline constexpr double kDjiMaxSpeed = 15.0;    ///< WPML globalTransitionalSpeed [0,15]; waypoint speed max
+inline constexpr double kDjiMaxHeight = 500.0;  ///< DJI waypoint altitude range [-200, 500] m above take-off
+inline constexpr double kPx4DefaultMaxSpeed = 12.0;  ///< PX4 MPC_XY_VEL_MAX default (m/s)
+inline constexpr double kArduPilotMaxSpeed = 20.0;   ///< ArduPilot WPNAV_SPEED max 2000 cm/s
+}  // namespace limits
+
 struct ExportOptions {
   AltitudeOptions altitude;
   trajectory::Options trajectory;
-  int qgc_firmware_type = 12;  ///< MAV_AUTOPILOT: 12 PX4, 3 ArduPilot
-  int qgc_vehicle_type = 2;    ///< MAV_TYPE: 2 quadrotor
-  bool kmz = false;            ///< also write <id>.kmz next to <id>.kml
-  std::string kml_altitude_mode = "relativeToGround";
-  int dji_drone_enum = 77;  ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
-  int dji_drone_sub_enum = 0;
+  int qgc_firmware_type = 12;       ///< MAV_AUTOPILOT: 12 PX4, 3 ArduPilot
+  int qgc_vehicle_type = 2;         ///< MAV_TYPE: 2 quadrotor
+  double geofence_margin_m = 20.0;  ///< .plan inclusion fence: distance kept around everything flown
+  bool kmz = false;                 ///< also export <id>.kmz next to <id>.kml
+  std::string kml_altitude_mode = "relativeToGround";  ///< clampToGround, relativeToGround or absolute
+  int dji_drone_enum = 77;       ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
+  int dji_drone_sub_enum = 0;    ///< wpml:droneSubEnumValue (77: 0 M3E, 1 M3T, 2 M3M)
+  int dji_payload_enum = -1;     ///< wpml:payloadEnumValue; -1 = the declared drone's own camera
   bool check_separation = true;  ///< refuse to export when check_separation() finds problems
-  std::vector<std::string>* warnings =
-      nullptr;  ///< when set, receives separation_warnings() and format limits
+  std::vector<std::string>* warnings = nullptr;  ///< when set, receives every warning (clamps, skips)
 };
 
-/// The formats export_plan() knows, in a fixed order.
+/// The formats export_artifacts() knows, in a fixed order.
 const std::vector<std::string>& known_formats();
+
+/// The format names in `formats` (entries may hold comma-separated lists; case and blanks ignored;
+/// duplicates dropped). Throws InputError naming "formats" for an unknown format or an empty list.
+std::vector<std::string> parse_formats(const std::vector<std::string>& formats);
+
+/// True when the UAV has no coverage part (nothing to fly but take-off and return).
+bool idle(const UavPlan& uav);
 
 /// Per-UAV RFC 7946 FeatureCollection: area and no-fly-zone polygons, the UAV's path parts.
 nlohmann::json uav_geojson(const Plan& plan, std::size_t index);
@@ -38,7 +59,7 @@ nlohmann::json uav_geojson(const Plan& plan, std::size_t index);
 /// CW holes, LineStrings of >= 2 positions). Returns the problems found, empty when valid.
 std::vector<std::string> validate_geojson(const nlohmann::json& doc);
 
-/// QGroundControl .plan (JSON) for UAV `index`.
+/// QGroundControl .plan (JSON) for UAV `index`, with a geofence PX4 accepts (geofence.hpp).
 nlohmann::json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// Mission Planner "QGC WPL 110" text (tab-separated, row 0 home).
 std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
@@ -47,23 +68,18 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
 /// DJI WPML: {"wpmz/template.kml", "wpmz/waylines.wpml"} contents.
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
                                             const ExportOptions& opt = {});
-/// Litchi mission CSV (export_plan() warns when it holds more than the 99 waypoints Litchi accepts).
-std::string litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
+/// Litchi mission CSV: one text per mission of at most 99 waypoints (consecutive missions share
+/// their joining waypoint).
+std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// Plain CSV of the mission items (seq,role,command,frame,lat,lon,alt_m,param1..param4).
 std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 
-/// Writes a ZIP archive (KMZ) with the given entries, atomically.
-void write_zip(const std::filesystem::path& path, const std::map<std::string, std::string>& entries);
-
-/// The requested formats for every UAV as artifacts (export/<id>.<ext>, trajectory/<id>.csv).
+/// Every requested format (names from known_formats(), see parse_formats()) for every UAV that has
+/// coverage parts, as artifacts. Throws InputError for an unknown format, unusable options, UAV ids
+/// that are not file names, altitudes that cannot be separated under the ceiling or kept within a
+/// consumer's limits, a failed separation check or a flight through a no-fly zone; nothing is
+/// produced then.
 Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
                            const ExportOptions& opt = {});
-
-/// Writes the requested formats (names from known_formats(); entries may hold comma-separated lists)
-/// for every UAV. Throws InputError naming --format for an unknown format, std::runtime_error when
-/// the separation check fails or a file cannot be written. Returns the files written.
-std::vector<std::filesystem::path> export_plan(const Plan& plan, const std::vector<std::string>& formats,
-                                               const std::filesystem::path& out_dir,
-                                               const ExportOptions& opt = {});
 
 }  // namespace uavcover::exporting

@@ -2,9 +2,14 @@
 // transition altitude, transit legs at it, coverage at mission altitude, climb back, return, RTL/land.
 #include "export/mission_items.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
 
@@ -14,7 +19,54 @@ double transition_altitude(const AltitudeOptions& opt, std::size_t index, double
   return base + static_cast<double>(index) * opt.transition_step_m;
 }
 
+AltitudeOptions resolve_altitudes(const AltitudeOptions& opt, std::size_t uav_count,
+                                  double mission_altitude_m, std::vector<std::string>* warnings) {
+  AltitudeOptions r = opt;
+  if (!std::isfinite(opt.transition_base_m) || opt.transition_base_m < 0)
+    throw InputError("altitude.transition_base_m", "must be >= 0 (0 = automatic)");
+  if (!std::isfinite(opt.transition_step_m) || opt.transition_step_m < 0)
+    throw InputError("altitude.transition_step_m", "must be >= 0");
+  if (!std::isfinite(opt.transition_ceiling_m) || opt.transition_ceiling_m < 0)
+    throw InputError("altitude.transition_ceiling_m", "must be >= 0 (0 = no ceiling)");
+  if (!std::isfinite(opt.min_vertical_separation_m) || opt.min_vertical_separation_m < 0)
+    throw InputError("altitude.min_vertical_separation_m", "must be >= 0");
+  r.transition_base_m = transition_altitude(opt, 0, mission_altitude_m);
+  const double ceiling = opt.transition_ceiling_m;
+  if (ceiling <= 0 || uav_count == 0) return r;
+  const double base = r.transition_base_m;
+  if (base > ceiling)
+    throw InputError(
+        "altitude.transition_ceiling_m",
+        fmt::format("the first UAV's transition altitude {} m (mission altitude {} m) is above the {} "
+                    "m ceiling: lower the mission altitude or the transition base, or raise the "
+                    "ceiling",
+                    base, mission_altitude_m, ceiling));
+  const double n1 = static_cast<double>(uav_count - 1);
+  const double top = base + n1 * opt.transition_step_m;
+  if (top <= ceiling + 1e-9) return r;
+  const double fit = (ceiling - base) / n1;  // the largest step that fits (uav_count >= 2 here)
+  if (fit + 1e-9 < opt.min_vertical_separation_m)
+    throw InputError(
+        "altitude.transition_ceiling_m",
+        fmt::format(
+            "{} UAVs need transition altitudes {}..{} m but the ceiling is {} m, and fitting them under it "
+            "would leave only {:.2f} m between UAVs (minimum vertical separation {} m): use fewer UAVs, a "
+            "smaller transition step, a lower mission altitude or transition base, or a higher ceiling",
+            uav_count, base, top, ceiling, fit, opt.min_vertical_separation_m));
+  r.transition_step_m = std::floor(fit * 100.0) / 100.0;  // a round step, still under the ceiling
+  if (r.transition_step_m < opt.min_vertical_separation_m) r.transition_step_m = fit;
+  if (warnings != nullptr)
+    warnings->push_back(
+        fmt::format("transition altitudes {}..{} m would exceed the {} m ceiling: step compressed "
+                    "from {} m to {} m ({}..{} m)",
+                    base, top, ceiling, opt.transition_step_m, r.transition_step_m, base,
+                    base + n1 * r.transition_step_m));
+  return r;
+}
+
 namespace {
+
+constexpr float kKeepHeading = std::numeric_limits<float>::quiet_NaN();
 
 MissionItem position_item(std::uint16_t command, LonLat p, double alt, std::string role) {
   MissionItem it;
@@ -23,6 +75,7 @@ MissionItem position_item(std::uint16_t command, LonLat p, double alt, std::stri
   it.lat = p.lat;
   it.lon = p.lon;
   it.alt = static_cast<float>(alt);
+  it.param4 = kKeepHeading;  // yaw: keep the vehicle's heading mode
   it.role = std::move(role);
   return it;
 }
@@ -45,9 +98,10 @@ bool same_place(LonLat a, LonLat b) {
 
 }  // namespace
 
-std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
+std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& options) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
+  const AltitudeOptions opt = resolve_altitudes(options, plan.uavs.size(), plan.mission.altitude_m);
   const UavPlan& up = plan.uavs[index];
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;

@@ -27,6 +27,9 @@ enum MavFrame : std::uint8_t { kFrameGlobal = 0, kFrameMission = 2, kFrameGlobal
 struct MissionItem {
   std::uint16_t command = kNavWaypoint;
   std::uint8_t frame = kFrameGlobalRelativeAlt;
+  /// On positioned items (take-off, waypoint, land) param4 is the yaw: NaN = keep the vehicle's heading
+  /// mode (MAVLink MAV_CMD_NAV_WAYPOINT/TAKEOFF/LAND param4; ArduPilot accepts NaN there, PX4 treats it
+  /// as "no yaw set"). Every format writes it so: null in .plan, NaN in .waypoints, the CSV and MAVLink.
   float param1 = 0, param2 = 0, param3 = 0, param4 = 0;
   double lat = 0, lon = 0;  ///< degrees (0 for commands without a position)
   float alt = 0;            ///< metres, relative to home in frame 3
@@ -39,14 +42,28 @@ struct AltitudeOptions {
   /// First UAV's transition altitude; 0 = automatic: the larger of 60 m and mission altitude + 20 m.
   double transition_base_m = 0.0;
   double transition_step_m = 10.0;  ///< added per UAV index
+  /// No transition altitude above this (metres above take-off; 120 m is the usual legal limit for
+  /// open-category flights). 0 = no ceiling.
+  double transition_ceiling_m = 120.0;
+  /// When the top UAV would fly above the ceiling, the step is compressed to fit as long as it stays
+  /// at least this large; below it the altitudes are refused.
+  double min_vertical_separation_m = 5.0;
   bool land_instead_of_rtl = false;
 };
 
 /// Transition altitude of UAV `index` (base + index * step) for a mission flown at
-/// `mission_altitude_m` (which sets the automatic base).
+/// `mission_altitude_m` (which sets the automatic base). No ceiling: see resolve_altitudes().
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m);
 
-/// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item).
+/// The options with an explicit base and a step that keeps `uav_count` UAVs under the ceiling:
+/// the step is compressed (with a warning into `warnings` when given) when that keeps it at least
+/// min_vertical_separation_m. Throws InputError (naming the option and what to change) when the UAVs
+/// cannot be separated under the ceiling. Resolving resolved options changes nothing.
+AltitudeOptions resolve_altitudes(const AltitudeOptions& opt, std::size_t uav_count,
+                                  double mission_altitude_m, std::vector<std::string>* warnings = nullptr);
+
+/// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item), with the
+/// transition altitudes of resolve_altitudes() for the plan's UAVs.
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
 
 }  // namespace uavcover::exporting

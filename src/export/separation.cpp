@@ -40,11 +40,12 @@ int RegionMap::entered_by(Point a, Point b, std::size_t except, double tol) cons
   return -1;
 }
 
-std::vector<std::string> check_separation(const Plan& plan, const AltitudeOptions& opt,
+std::vector<std::string> check_separation(const Plan& plan, const AltitudeOptions& options,
                                           const SeparationOptions& sep) {
   std::vector<std::string> problems;
   const std::size_t n = plan.uavs.size();
   const double mission_alt = plan.mission.altitude_m;
+  const AltitudeOptions opt = resolve_altitudes(options, n, mission_alt);  // the altitudes actually flown
   for (std::size_t i = 0; i < n; ++i) {
     const double ti = transition_altitude(opt, i, mission_alt);
     if (ti < mission_alt + sep.min_vertical_m)

@@ -10,18 +10,8 @@
 
 namespace uavcover::usecases {
 
-void check_export_formats(const std::vector<std::string>& formats) {
-  const auto& known = exporting::known_formats();
-  for (const auto& f : formats)
-    if (std::find(known.begin(), known.end(), f) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw InputError("formats", "unknown format \"" + f + "\" (known: " + list + ")");
-    }
-}
-
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
-  check_export_formats(options.exports);
+  if (!options.exports.empty()) (void)exporting::parse_formats(options.exports);  // refuse unknown ones first
   PlanOutputs out;
   nlohmann::json extra = nlohmann::json::object();
   evaluation::Evaluation ev;
@@ -32,9 +22,17 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     extra = evaluation::to_json(ev);
     // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
     // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
+    // (the export's transition altitudes; a plan whose UAVs cannot be separated under the export's
+    // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
+    exporting::AltitudeOptions altitudes;
+    try {
+      altitudes = exporting::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
+    } catch (const InputError&) {
+      altitudes.transition_ceiling_m = 0;
+    }
     std::vector<double> durations_min;
     for (std::size_t i = 0; i < plan.uavs.size(); ++i)
-      durations_min.push_back(trajectory::flight_time_s(plan, i) / 60.0);
+      durations_min.push_back(trajectory::flight_time_s(plan, i, {}, altitudes) / 60.0);
     const auto traj_cost =
         evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs, ev.coverage.total.area_m2);
     extra["cost_trajectory"] = evaluation::to_json(traj_cost);

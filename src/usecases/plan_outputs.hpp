@@ -27,9 +27,6 @@ struct PlanOutputs {
   double trajectory_flight_time_min = -1;  ///< the same from the time-parameterised trajectories
 };
 
-/// Checks export format names up front (InputError naming "formats").
-void check_export_formats(const std::vector<std::string>& formats);
-
 /// Everything the plan folder holds. The evaluation checks ctx for stops.
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx = {});
 

@@ -65,5 +65,23 @@ TEST(ExportCli, PlanThenExportEveryFormat) {
   EXPECT_EQ(run(cli + " -q export " + plan.string() + " --format qgc --transition-step 0 2> " + err.string()),
             2);
   EXPECT_NE(slurp(err).find("share the transition altitude"), std::string::npos);
+  // the transition ceiling: refused with what to change, named by its flag, and nothing written
+  const fs::path out2 = dir / "out2";
+  EXPECT_EQ(run(cli + " -q export " + plan.string() + " --format qgc,dji --transition-ceiling 61 --out " +
+                out2.string() + " 2> " + err.string()),
+            2);
+  EXPECT_NE(slurp(err).find("--transition-ceiling: 2 UAVs need transition altitudes 60..70 m"),
+            std::string::npos)
+      << slurp(err);
+  EXPECT_NE(slurp(err).find("a higher ceiling"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out2 / "export"));
+  // compressed under a ceiling that still leaves 5 m: a warning, and the second UAV at 65 m
+  EXPECT_EQ(run(cli + " -q export " + plan.string() + " --format qgc --transition-ceiling 65 --out " +
+                out2.string() + " 2> " + err.string()),
+            0);
+  EXPECT_NE(slurp(err).find("warning: transition altitudes 60..70 m would exceed the 65 m ceiling"),
+            std::string::npos)
+      << slurp(err);
+  EXPECT_NE(slurp(out2 / "export" / "b2.plan").find("\"Altitude\": 65.0"), std::string::npos);
   fs::remove_all(dir);
 }

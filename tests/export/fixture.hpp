@@ -2,9 +2,13 @@
 // UAVs along x = 0, each flying one closed loop, with a no-fly zone in the east half.
 #pragma once
 
+#include <filesystem>
+#include <string>
 #include <vector>
 
+#include "export/export.hpp"
 #include "geodesy/local_frame.hpp"
+#include "io/plan_io.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::fixture {
@@ -80,6 +84,13 @@ inline Plan two_uav_plan(bool camera = false) {
                plan.uavs[1].region_local);
   for (auto& u : plan.uavs) bg::correct(u.region_local);
   return plan;
+}
+
+/// The exports as files under `dir`, the way the CLI writes them (export_artifacts + write_artifacts).
+inline std::vector<std::filesystem::path> export_to(const Plan& plan, const std::vector<std::string>& formats,
+                                                    const std::filesystem::path& dir,
+                                                    const exporting::ExportOptions& opt = {}) {
+  return io::write_artifacts(dir, exporting::export_artifacts(plan, formats, opt));
 }
 
 }  // namespace uavcover::fixture

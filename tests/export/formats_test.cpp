@@ -113,7 +113,7 @@ TEST(Formats, QgcPlanRoundTrip) {
   opt.qgc_firmware_type = 3;
   opt.qgc_vehicle_type = 2;
   const fs::path dir = temp_dir("qgc");
-  const auto files = export_plan(plan, {"qgc"}, dir, opt);
+  const auto files = fixture::export_to(plan, {"qgc"}, dir, opt);
   ASSERT_EQ(files.size(), 2u);
   for (std::size_t u = 0; u < 2; ++u) {
     const json doc = json::parse(slurp(dir / "export" / (plan.uavs[u].id + ".plan")));
@@ -157,18 +157,20 @@ TEST(Formats, QgcPlanRoundTrip) {
     EXPECT_EQ(cam, 2);
     EXPECT_EQ(rtl, 1);
     EXPECT_EQ(wp, static_cast<int>(waypoints_only(items).size()));
-    // geofence: area inclusion and no-fly exclusion, [lat, lon] vertices, not closed
+    // geofence: one inclusion polygon around everything flown, the no-fly zone as exclusion,
+    // [lat, lon] vertices, not closed (the PX4 check of every item is in geofence_test.cpp)
     const json& polys = doc["geoFence"]["polygons"];
     ASSERT_EQ(polys.size(), 2u);
     EXPECT_TRUE(polys[0]["inclusion"].get<bool>());
     EXPECT_FALSE(polys[1]["inclusion"].get<bool>());
-    const GeoRing& ring = plan.mission.area[0][0];
-    ASSERT_EQ(polys[0]["polygon"].size(), ring.size() - 1);
-    for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
-      EXPECT_NEAR(polys[0]["polygon"][k][0].get<double>(), ring[k].lat, 1e-12);
-      EXPECT_NEAR(polys[0]["polygon"][k][1].get<double>(), ring[k].lon, 1e-12);
+    EXPECT_GE(polys[0]["polygon"].size(), 3u);
+    EXPECT_LE(polys[0]["polygon"].size(), 16u);
+    const GeoRing& nfz = plan.mission.no_fly_zones[0][0];
+    ASSERT_EQ(polys[1]["polygon"].size(), nfz.size() - 1);
+    for (std::size_t k = 0; k + 1 < nfz.size(); ++k) {
+      EXPECT_NEAR(polys[1]["polygon"][k][0].get<double>(), nfz[k].lat, 1e-12);
+      EXPECT_NEAR(polys[1]["polygon"][k][1].get<double>(), nfz[k].lon, 1e-12);
     }
-    EXPECT_EQ(polys[1]["polygon"].size(), plan.mission.no_fly_zones[0][0].size() - 1);
   }
   fs::remove_all(dir);
 }
@@ -176,7 +178,7 @@ TEST(Formats, QgcPlanRoundTrip) {
 TEST(Formats, MissionPlannerWplRoundTrip) {
   const Plan plan = fixture::two_uav_plan(true);
   const fs::path dir = temp_dir("wpl");
-  export_plan(plan, {"wpl"}, dir);
+  fixture::export_to(plan, {"wpl"}, dir);
   for (std::size_t u = 0; u < 2; ++u) {
     const auto rows = lines(slurp(dir / "export" / (plan.uavs[u].id + ".waypoints")));
     const auto items = mission_items(plan, u);
@@ -209,7 +211,7 @@ TEST(Formats, KmlAndKmzRoundTrip) {
   ExportOptions opt;
   opt.kmz = true;
   const fs::path dir = temp_dir("kml");
-  export_plan(plan, {"kml"}, dir, opt);
+  fixture::export_to(plan, {"kml"}, dir, opt);
   for (std::size_t u = 0; u < 2; ++u) {
     const std::string id = plan.uavs[u].id;
     const std::string text = slurp(dir / "export" / (id + ".kml"));
@@ -255,7 +257,7 @@ TEST(Formats, KmlAndKmzRoundTrip) {
 TEST(Formats, DjiWpmlRoundTrip) {
   const Plan plan = fixture::two_uav_plan(true);
   const fs::path dir = temp_dir("dji");
-  export_plan(plan, {"dji"}, dir);
+  fixture::export_to(plan, {"dji"}, dir);
   for (std::size_t u = 0; u < 2; ++u) {
     const auto entries = unzip(dir / "export" / (plan.uavs[u].id + ".wpml.kmz"));
     ASSERT_EQ(entries.size(), 2u);
@@ -305,7 +307,7 @@ TEST(Formats, DjiWpmlRoundTrip) {
 TEST(Formats, LitchiAndCsvRoundTrip) {
   const Plan plan = fixture::two_uav_plan(true);
   const fs::path dir = temp_dir("litchi");
-  export_plan(plan, {"litchi,csv"}, dir);
+  fixture::export_to(plan, {"litchi,csv"}, dir);
   for (std::size_t u = 0; u < 2; ++u) {
     const auto items = mission_items(plan, u);
     const auto wps = waypoints_only(items);
@@ -345,7 +347,7 @@ TEST(Formats, LitchiAndCsvRoundTrip) {
 TEST(Formats, GeojsonIsValidRfc7946AndMatchesThePlan) {
   const Plan plan = fixture::two_uav_plan();
   const fs::path dir = temp_dir("geojson");
-  export_plan(plan, {"geojson"}, dir);
+  fixture::export_to(plan, {"geojson"}, dir);
   for (std::size_t u = 0; u < 2; ++u) {
     const json doc = json::parse(slurp(dir / "export" / (plan.uavs[u].id + ".geojson")));
     EXPECT_TRUE(validate_geojson(doc).empty());
@@ -400,7 +402,7 @@ TEST(Formats, ExportPlanWritesEveryFormatAndRejectsUnknownOnes) {
   const Plan plan = fixture::two_uav_plan(true);
   const fs::path dir = temp_dir("all");
   std::vector<std::string> all = known_formats();
-  const auto files = export_plan(plan, all, dir);
+  const auto files = fixture::export_to(plan, all, dir);
   for (const auto& id : {"alpha", "bravo"}) {
     for (const auto& ext : {".geojson", ".plan", ".waypoints", ".kml", ".wpml.kmz", ".litchi.csv", ".csv"})
       EXPECT_TRUE(fs::exists(dir / "export" / (std::string(id) + ext))) << id << ext;
@@ -410,17 +412,17 @@ TEST(Formats, ExportPlanWritesEveryFormatAndRejectsUnknownOnes) {
   }
   EXPECT_EQ(files.size(), 16u);
   try {
-    export_plan(plan, {"qgc,bogus"}, dir);
+    fixture::export_to(plan, {"qgc,bogus"}, dir);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "--format");
+    EXPECT_EQ(e.field(), "formats");  // the library names its field, not a CLI flag
     EXPECT_NE(std::string(e.what()).find("bogus"), std::string::npos);
   }
-  EXPECT_THROW(export_plan(plan, {}, dir), InputError);
+  EXPECT_THROW(fixture::export_to(plan, {}, dir), InputError);
   // a shared transition altitude is refused
   ExportOptions same;
   same.altitude.transition_step_m = 0;
-  EXPECT_THROW(export_plan(plan, {"qgc"}, dir, same), InputError);
+  EXPECT_THROW(fixture::export_to(plan, {"qgc"}, dir, same), InputError);
   fs::remove_all(dir);
 }
 
@@ -438,9 +440,25 @@ TEST(Formats, LitchiWarnsBeyond99Waypoints) {
   ExportOptions opt;
   opt.warnings = &warnings;
   const fs::path dir = temp_dir("litchi99");
-  export_plan(plan, {"litchi"}, dir, opt);
+  fixture::export_to(plan, {"litchi"}, dir, opt);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("uav 'alpha'"), std::string::npos);
   EXPECT_NE(warnings[0].find("99"), std::string::npos);
+  // split into missions of at most 99 waypoints, each starting where the previous one ended
+  const auto wps = waypoints_only(mission_items(plan, 0));
+  ASSERT_GT(wps.size(), 99u);
+  EXPECT_FALSE(fs::exists(dir / "export" / "alpha.litchi.csv"));
+  std::vector<std::vector<std::string>> missions;
+  for (int k = 1; fs::exists(dir / "export" / ("alpha." + std::to_string(k) + ".litchi.csv")); ++k)
+    missions.push_back(lines(slurp(dir / "export" / ("alpha." + std::to_string(k) + ".litchi.csv"))));
+  ASSERT_EQ(missions.size(), 2u);
+  std::size_t rows = 0;
+  for (const auto& m : missions) {
+    EXPECT_LE(m.size() - 1, 99u);
+    rows += m.size() - 1;
+  }
+  EXPECT_EQ(rows, wps.size() + 1);                   // the joining waypoint is in both
+  EXPECT_EQ(missions[0].back(), missions[1].at(1));  // mission 2 starts where mission 1 ended
+  EXPECT_TRUE(fs::exists(dir / "export" / "bravo.litchi.csv"));
   fs::remove_all(dir);
 }

@@ -181,8 +181,9 @@ TEST(Separation, HomeInsideAnotherRegionIsReported) {
   const geodesy::LocalFrame frame(plan.origin);
   // bravo takes off inside alpha's half
   plan.mission.uavs[1].start_resolved = frame.to_wgs84({-30, 20});
-  plan.uavs[1].parts.front() = fixture::make_part(frame, PartKind::Transit, {{-30, 20}, {90, -40}});
-  plan.uavs[1].parts.back() = fixture::make_part(frame, PartKind::Transit, {{90, -40}, {-30, 20}});
+  // (around the no-fly zone at x 60..80, y -30..-10)
+  plan.uavs[1].parts.front() = fixture::make_part(frame, PartKind::Transit, {{-30, 20}, {90, 20}, {90, -40}});
+  plan.uavs[1].parts.back() = fixture::make_part(frame, PartKind::Transit, {{90, -40}, {90, 20}, {-30, 20}});
   EXPECT_TRUE(check_separation(plan, AltitudeOptions{}).empty());  // a warning, not a blocking problem
   EXPECT_TRUE(separation_warnings(fixture::two_uav_plan()).empty());
   const auto problems = separation_warnings(plan);
@@ -197,7 +198,7 @@ TEST(Separation, HomeInsideAnotherRegionIsReported) {
   eo.warnings = &warnings;
   const auto dir =
       std::filesystem::temp_directory_path() / ("uavcover_sep_warn_" + std::to_string(::getpid()));
-  EXPECT_EQ(export_plan(plan, {"csv"}, dir, eo).size(), 2u);
+  EXPECT_EQ(fixture::export_to(plan, {"csv"}, dir, eo).size(), 2u);
   EXPECT_EQ(warnings, problems);
   std::filesystem::remove_all(dir);
 }

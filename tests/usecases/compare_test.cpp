@@ -61,6 +61,7 @@ TEST(PlanOutputs, UnknownExportFormatIsRefusedNamingTheField) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "formats");
-    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << "no CLI flag in a library message";
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos)
+        << "no CLI flag in a library message: " << e.what();
   }
 }

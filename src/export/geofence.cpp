@@ -1,0 +1,125 @@
+#include "export/geofence.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "geodesy/local_frame.hpp"
+
+namespace uavcover::exporting {
+
+namespace {
+
+constexpr int kFenceDirections = 16;
+
+bool positioned(const MissionItem& it) {
+  return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
+}
+
+}  // namespace
+
+bool inside_ring(LonLat p, const GeoRing& ring) {
+  std::size_t n = ring.size();
+  if (n >= 2 && ring.front().lat == ring.back().lat && ring.front().lon == ring.back().lon) --n;
+  bool c = false;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const LonLat& a = ring[i];
+    const LonLat& b = ring[j];
+    if ((a.lon >= p.lon) != (b.lon >= p.lon) &&
+        p.lat <= (b.lat - a.lat) * (p.lon - a.lon) / (b.lon - a.lon) + a.lat)
+      c = !c;
+  }
+  return c;
+}
+
+GeoRing inclusion_fence(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items,
+                        double margin_m) {
+  const geodesy::LocalFrame frame(plan.origin);
+  std::vector<Point> pts;
+  for (const auto& poly : plan.mission.area)
+    if (!poly.empty())
+      for (const auto& p : poly.front()) pts.push_back(frame.to_local(p));
+  pts.push_back(frame.to_local(plan.mission.uavs.at(index).start_resolved));
+  for (const auto& it : items)
+    if (positioned(it)) pts.push_back(frame.to_local({it.lon, it.lat}));
+  // a discrete oriented polygon: the intersection of the half-planes n_k . x <= max_p n_k . p + margin
+  // for 16 evenly spread normals n_k. Each is a supporting line of the points' hull pushed out by the
+  // margin, so consecutive lines meet at the polygon's vertices.
+  std::array<double, kFenceDirections> h{};
+  std::array<Point, kFenceDirections> normal;
+  for (int k = 0; k < kFenceDirections; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kFenceDirections;
+    normal[static_cast<std::size_t>(k)] = Point(std::cos(a), std::sin(a));
+    double best = -std::numeric_limits<double>::infinity();
+    for (const auto& p : pts) best = std::max(best, p.x() * std::cos(a) + p.y() * std::sin(a));
+    h[static_cast<std::size_t>(k)] = best + margin_m;
+  }
+  std::vector<Point> verts;
+  for (std::size_t k = 0; k < kFenceDirections; ++k) {
+    const std::size_t l = (k + 1) % kFenceDirections;
+    const Point& n1 = normal[k];
+    const Point& n2 = normal[l];
+    const double det = n1.x() * n2.y() - n1.y() * n2.x();
+    const Point v((h[k] * n2.y() - h[l] * n1.y()) / det, (n1.x() * h[l] - n2.x() * h[k]) / det);
+    if (verts.empty() || std::hypot(v.x() - verts.back().x(), v.y() - verts.back().y()) > 0.01)
+      verts.push_back(v);
+  }
+  if (verts.size() > 1 &&
+      std::hypot(verts.front().x() - verts.back().x(), verts.front().y() - verts.back().y()) <= 0.01)
+    verts.pop_back();
+  GeoRing ring;
+  for (const auto& v : verts) ring.push_back(frame.to_wgs84(v));
+  return ring;
+}
+
+std::vector<std::string> no_fly_violations(const Plan& plan, std::size_t index,
+                                           const std::vector<MissionItem>& items, double step_m) {
+  std::vector<std::string> out;
+  const auto& zones = plan.mission.no_fly_zones;
+  if (zones.empty()) return out;
+  const std::string& id = plan.mission.uavs.at(index).id;
+  const LonLat home = plan.mission.uavs.at(index).start_resolved;
+  auto zone_of = [&](LonLat p) -> int {
+    for (std::size_t z = 0; z < zones.size(); ++z)
+      if (!zones[z].empty() && zones[z].front().size() >= 4 && inside_ring(p, zones[z].front()))
+        return static_cast<int>(z);
+    return -1;
+  };
+  // the places flown, in order, with a description each
+  std::vector<std::pair<LonLat, std::string>> places{{home, "home"}};
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (positioned(items[k]))
+      places.emplace_back(LonLat{items[k].lon, items[k].lat},
+                          fmt::format("mission item {} ({})", k + 1, items[k].role));
+  places.emplace_back(home, "the return home");
+  const geodesy::LocalFrame frame(plan.origin);
+  for (std::size_t k = 0; k < places.size(); ++k) {
+    const int z = zone_of(places[k].first);
+    if (z >= 0) {
+      out.push_back(fmt::format("uav '{}': {} lies inside no-fly zone {}", id, places[k].second, z));
+      continue;
+    }
+    if (k == 0) continue;
+    const Point a = frame.to_local(places[k - 1].first);
+    const Point b = frame.to_local(places[k].first);
+    const double len = std::hypot(b.x() - a.x(), b.y() - a.y());
+    const int steps = static_cast<int>(std::ceil(len / std::max(step_m, 0.01)));
+    for (int s = 1; s < steps; ++s) {
+      const double t = static_cast<double>(s) / steps;
+      const LonLat p = frame.to_wgs84(Point(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y())));
+      const int zz = zone_of(p);
+      if (zz >= 0) {
+        out.push_back(
+            fmt::format("uav '{}': the leg to {} crosses no-fly zone {}", id, places[k].second, zz));
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace uavcover::exporting
