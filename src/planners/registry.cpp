@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "planners/boustrophedon/boustrophedon.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 
@@ -14,6 +15,7 @@ namespace {
 std::vector<PlannerInfo> builtin() {
   std::vector<PlannerInfo> all;
   // One line per planner module (src/planners/<name>/); optional ones behind their CMake option.
+  all.push_back(boustrophedon_planner_info());
   return all;
 }
 
@@ -42,7 +44,8 @@ nlohmann::json check_value(const ParamSpec& spec, const nlohmann::json& v) {
     case ParamSpec::Type::String: {
       if (!v.is_string()) throw InputError(field, "must be a string");
       const auto s = v.get<std::string>();
-      if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
+      if (!spec.choices.empty() &&
+          std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end()) {
         std::string list;
         for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
         throw InputError(field, "must be one of " + list + ", got \"" + s + "\"");
@@ -90,9 +93,9 @@ nlohmann::json validate_params(const PlannerInfo& planner, const nlohmann::json&
       if (!known) {
         std::string list;
         for (const auto& s : planner.params) list += (list.empty() ? "" : ", ") + s.name;
-        throw InputError("planner_params." + it.key(),
-                         "unknown parameter of planner \"" + planner.name + "\" (known: " +
-                             (list.empty() ? "none" : list) + ")");
+        throw InputError("planner_params." + it.key(), "unknown parameter of planner \"" + planner.name +
+                                                           "\" (known: " + (list.empty() ? "none" : list) +
+                                                           ")");
       }
     }
   for (const auto& spec : planner.params) {
