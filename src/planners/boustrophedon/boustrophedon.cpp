@@ -103,6 +103,7 @@ std::vector<CellSweep> partition(const Monotone& cell, const std::vector<double>
 Layout best_layout(const MultiPolygon& region, double spacing, std::optional<double> fixed,
                    const Context& ctx, double f0, double f1) {
   const std::vector<double> cands = candidate_angles(region, fixed);
+  const double region_area = bg::area(region);
   Layout best;
   for (std::size_t i = 0; i < cands.size(); ++i) {
     ctx.check();
@@ -111,6 +112,10 @@ Layout best_layout(const MultiPolygon& region, double spacing, std::optional<dou
     l.angle = cands[i];
     const Frame frame(l.angle);
     const Decomposition dec = decompose(region, frame, ctx, true);
+    double covered = 0.0;
+    for (const auto& c : dec.cells) covered += area(c);
+    // a decomposition that lost a piece (a failed overlay) ranks after every complete one
+    const double lost = covered < (1.0 - 1e-6) * region_area ? 1e9 + region_area - covered : 0.0;
     for (std::size_t c = 0; c < dec.cells.size(); ++c) {
       // cells too small to matter (below 1e-4 of a spacing squared) are dropped
       if (area(dec.cells[c]) < 1e-4 * spacing * spacing) continue;
@@ -119,7 +124,7 @@ Layout best_layout(const MultiPolygon& region, double spacing, std::optional<dou
         l.sweeps.push_back(std::move(s));
       }
     }
-    l.score = cell_cost(l.legs, l.sweeps.size());
+    l.score = cell_cost(l.legs, l.sweeps.size()) + lost;
     if (l.score < best.score - 1e-9) best = std::move(l);
   }
   return best;
@@ -134,15 +139,18 @@ MultiPolygon drop_slivers(MultiPolygon m, double min_area) {
 /// never touch along a shared border.
 MultiPolygon inset_against(const MultiPolygon& region, const MultiPolygon& others, double eps) {
   if (others.empty() || region.empty()) return region;
+  MultiPolygon o = others;
+  remove_near_duplicates(o);
   MultiPolygon grown;
   bg::strategy::buffer::distance_symmetric<double> distance(eps);
   bg::strategy::buffer::side_straight side;
   bg::strategy::buffer::join_miter join;
   bg::strategy::buffer::end_flat end;
   bg::strategy::buffer::point_square point;
-  bg::buffer(others, grown, distance, side, join, end, point);
+  bg::buffer(o, grown, distance, side, join, end, point);
   MultiPolygon out;
   bg::difference(region, grown, out);
+  remove_near_duplicates(out);
   return out;
 }
 

@@ -92,7 +92,8 @@ Monotone clip(const Monotone& m, double x0, double x1) {
 Decomposition decompose(const MultiPolygon& world, const Frame& frame, const Context& ctx, bool reflex_cuts) {
   Decomposition d;
   d.frame = frame;
-  const MultiPolygon m = to_frame(world, frame);
+  MultiPolygon m = to_frame(world, frame);
+  remove_near_duplicates(m);
   if (m.empty()) return d;
   Box box;
   bg::envelope(m, box);

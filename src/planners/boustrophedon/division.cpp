@@ -3,13 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <numeric>
+#include <tuple>
 
 #include "planners/boustrophedon/decomposition.hpp"
 
 namespace uavcover::planners::boustro {
 
 namespace {
+
+constexpr double kPi = std::numbers::pi;
 
 struct Piece {
   int cell = 0;
@@ -48,10 +52,39 @@ std::vector<bool> articulation(const std::vector<Piece>& ps) {
   return cut;
 }
 
+/// Connected parts of the unowned pieces without piece `skip`: (area, pieces), largest first.
+std::vector<std::pair<double, std::vector<int>>> components_without(const std::vector<Piece>& ps, int skip) {
+  std::vector<std::pair<double, std::vector<int>>> out;
+  std::vector<bool> seen(ps.size(), false);
+  for (std::size_t s = 0; s < ps.size(); ++s) {
+    if (seen[s] || ps[s].owner >= 0 || static_cast<int>(s) == skip) continue;
+    std::pair<double, std::vector<int>> comp{0.0, {}};
+    std::vector<int> stack{static_cast<int>(s)};
+    seen[s] = true;
+    while (!stack.empty()) {
+      const int u = stack.back();
+      stack.pop_back();
+      comp.first += ps[static_cast<std::size_t>(u)].area;
+      comp.second.push_back(u);
+      for (const auto& [v, side] : ps[static_cast<std::size_t>(u)].nb) {
+        const auto vv = static_cast<std::size_t>(v);
+        if (seen[vv] || ps[vv].owner >= 0 || v == skip) continue;
+        seen[vv] = true;
+        stack.push_back(v);
+      }
+    }
+    out.push_back(std::move(comp));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  return out;
+}
+
 }  // namespace
 
-Division divide(const MultiPolygon& free, const std::vector<double>& shares, const std::vector<Point>& starts,
-                double angle, double spacing, const Context& ctx) {
+namespace {
+
+Division divide_once(const MultiPolygon& free, const std::vector<double>& shares,
+                     const std::vector<Point>& starts, double angle, double spacing, const Context& ctx) {
   Division out;
   const std::size_t n = shares.size();
   out.regions.resize(n);
@@ -130,16 +163,40 @@ Division divide(const MultiPolygon& free, const std::vector<double>& shares, con
       std::vector<int> cands;
       for (int i : pool)
         if (!cut[static_cast<std::size_t>(i)]) cands.push_back(i);
-      if (cands.empty()) cands = pool;
-      std::stable_sort(cands.begin(), cands.end(), [&](int a, int b) {
-        return ps[static_cast<std::size_t>(a)].x0 < ps[static_cast<std::size_t>(b)].x0;
-      });
       const double need = target - acc;
       auto take = [&](int i) {
         ps[static_cast<std::size_t>(i)].owner = k;
         acc += ps[static_cast<std::size_t>(i)].area;
         any = true;
       };
+      if (cands.empty()) {
+        // every piece at hand holds the rest together: take the leftmost with the parts it would cut
+        // off (all but the largest), when they fit; else this UAV stops short of its share
+        std::vector<int> sorted = pool;
+        std::stable_sort(sorted.begin(), sorted.end(), [&](int a, int b) {
+          return ps[static_cast<std::size_t>(a)].x0 < ps[static_cast<std::size_t>(b)].x0;
+        });
+        bool taken = false;
+        for (int c : sorted) {
+          const auto comps = components_without(ps, c);
+          double cut_off = 0.0;
+          for (std::size_t i = 1; i < comps.size(); ++i) cut_off += comps[i].first;
+          if (ps[static_cast<std::size_t>(c)].area + cut_off > need + 1e-9 * total) continue;
+          take(c);
+          for (std::size_t i = 1; i < comps.size(); ++i)
+            for (int q : comps[i].second) take(q);
+          taken = true;
+          break;
+        }
+        if (!taken) {
+          ++out.split_failures;
+          break;
+        }
+        continue;
+      }
+      std::stable_sort(cands.begin(), cands.end(), [&](int a, int b) {
+        return ps[static_cast<std::size_t>(a)].x0 < ps[static_cast<std::size_t>(b)].x0;
+      });
       // a side from which piece i can be cut: touching the chunk, with no unowned neighbour
       auto split_side = [&](int i) {
         const Piece& p = ps[static_cast<std::size_t>(i)];
@@ -211,6 +268,8 @@ Division divide(const MultiPolygon& free, const std::vector<double>& shares, con
     if (p.owner < 0) p.owner = static_cast<int>(uav_order[n - 1]);
 
   // regions: contiguous runs of a cell's pieces, then their union
+  constexpr double kGrow = 0.5;
+  const MultiPolygon free_frame = to_frame(free, f);
   for (std::size_t k = 0; k < n; ++k) {
     ctx.check();
     std::vector<const Piece*> mine;
@@ -225,19 +284,56 @@ Division divide(const MultiPolygon& free, const std::vector<double>& shares, con
       while (j + 1 < mine.size() && mine[j + 1]->cell == mine[i]->cell &&
              mine[j + 1]->x0 - mine[j]->x1 < 1e-9)
         ++j;
-      // united in the frame, where the shared sides are exactly the same vertical lines
-      const Polygon poly =
-          monotone_polygon(clip(d.cells[static_cast<std::size_t>(mine[i]->cell)], mine[i]->x0, mine[j]->x1));
+      // united in the frame, where the shared sides are exactly the same vertical lines; each run is
+      // grown by kGrow along the legs (out of the free area: a run spans the free area's whole
+      // interval there), so that runs around a no-fly zone never touch at a single point, and the
+      // union is cut back to the free area
+      Monotone run = clip(d.cells[static_cast<std::size_t>(mine[i]->cell)], mine[i]->x0, mine[j]->x1);
+      for (auto& q : run.lower) q.y(q.y() - kGrow);
+      for (auto& q : run.upper) q.y(q.y() + kGrow);
       MultiPolygon next;
-      bg::union_(acc, poly, next);
+      bg::union_(acc, monotone_polygon(run), next);
       acc = std::move(next);
       i = j + 1;
     }
-    acc = from_frame(acc, f);
+    MultiPolygon region;
+    bg::intersection(acc, free_frame, region);
+    acc = from_frame(region, f);
     bg::correct(acc);
+    remove_near_duplicates(acc);
+    // slivers left by the overlay along the runs' sides
+    std::erase_if(acc, [&](const Polygon& poly) { return std::abs(bg::area(poly)) < 1e-6 * total; });
     out.regions[k] = std::move(acc);
   }
   return out;
+}
+
+}  // namespace
+
+Division divide(const MultiPolygon& free, const std::vector<double>& shares, const std::vector<Point>& starts,
+                double angle, double spacing, const Context& ctx) {
+  // strips handed out from either end, along the legs or across them; the first division whose
+  // shares are all within 2 % and whose regions are connected wins, else the best by that order
+  const double total = bg::area(free);
+  const std::size_t parts = free.size();
+  Division best;
+  std::tuple<int, int, double> best_score{1 << 30, 1 << 30, 1e300};
+  for (const double a : {angle, angle + kPi, angle + kPi / 2, angle + 3 * kPi / 2}) {
+    Division d = divide_once(free, shares, starts, a, spacing, ctx);
+    int disconnected = 0;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < shares.size(); ++k) {
+      if (d.regions[k].size() > std::max<std::size_t>(parts, 1)) ++disconnected;
+      worst = std::max(worst, std::abs(bg::area(d.regions[k]) / total - shares[k]));
+    }
+    const std::tuple<int, int, double> score{worst > 0.02 ? 1 : 0, disconnected, worst};
+    if (score < best_score) {
+      best_score = score;
+      best = std::move(d);
+    }
+    if (std::get<0>(score) == 0 && disconnected == 0) break;
+  }
+  return best;
 }
 
 }  // namespace uavcover::planners::boustro

@@ -121,6 +121,29 @@ Polygon monotone_polygon(const Monotone& m) {
   return out;
 }
 
+namespace {
+bool clean_ring(Ring& r, double tol) {
+  Ring out;
+  for (const auto& p : r)
+    if (out.empty() || dist(out.back(), p) > tol) out.push_back(p);
+  while (out.size() > 1 && dist(out.back(), out.front()) <= tol) out.pop_back();
+  if (out.size() < 3) return false;
+  out.push_back(out.front());
+  r = std::move(out);
+  return true;
+}
+}  // namespace
+
+void remove_near_duplicates(MultiPolygon& m, double tol) {
+  MultiPolygon out;
+  for (auto& p : m) {
+    if (!clean_ring(p.outer(), tol)) continue;
+    std::erase_if(p.inners(), [tol](Ring& r) { return !clean_ring(r, tol); });
+    out.push_back(std::move(p));
+  }
+  m = std::move(out);
+}
+
 void EdgeIndex::add(const Ring& ring) {
   for (std::size_t i = 1; i < ring.size(); ++i) {
     const Seg s{ring[i - 1], ring[i]};

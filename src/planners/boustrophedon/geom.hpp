@@ -82,6 +82,10 @@ Polygon monotone_polygon(const Monotone& m);
 Polygon from_frame(const Polygon& p, const Frame& f);
 MultiPolygon from_frame(const MultiPolygon& m, const Frame& f);
 
+/// Removes consecutive vertices closer than `tol` (Boost's overlays fail on near-repeated ones) and
+/// rings left with fewer than three corners.
+void remove_near_duplicates(MultiPolygon& m, double tol = 1e-7);
+
 /// Boundary edges of polygons, indexed for first-hit queries along segments.
 class EdgeIndex {
  public:
