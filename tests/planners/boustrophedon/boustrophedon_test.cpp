@@ -421,3 +421,35 @@ TEST(Boustrophedon, StopLandsQuicklyOnAHugeProblem) {
     }
   }
 }
+
+TEST(Boustrophedon, AllPaperRegionsOneAndThreeUavs) {
+  for (int r = 1; r <= 20; ++r) {
+    char name[32];
+    std::snprintf(name, sizeof name, "roi%02d.json", r);
+    for (Mode mode : {Mode::Strict, Mode::Coverage}) {
+      SCOPED_TRACE(::testing::Message() << name << " mode " << static_cast<int>(mode));
+      auto p = roi(name, mode);
+      const auto one = run(p);
+      EXPECT_FALSE(one.uavs[0].coverage.empty());
+      if (mode == Mode::Strict) expect_strict_inside(p, one);
+      expect_no_fly_avoided(p, one);
+      bg::model::box<Point> box;
+      bg::envelope(p.free, box);
+      p.starts = {box.min_corner(), box.max_corner(), Point{box.min_corner().x(), box.max_corner().y()}};
+      p.shares = {0.2, 0.3, 0.5};
+      p.uavs.resize(3);
+      const auto three = run(p);
+      const double total = bg::area(p.free);
+      for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_NEAR(bg::area(three.uavs[k].region) / total, p.shares[k], 0.02) << "uav " << k;
+        if (p.free.size() == 1) {
+          EXPECT_EQ(three.uavs[k].region.size(), 1u) << "uav " << k;
+        }
+        EXPECT_FALSE(three.uavs[k].coverage.empty());
+      }
+      if (mode == Mode::Strict) expect_strict_inside(p, three);
+      expect_no_fly_avoided(p, three);
+      expect_no_crossings(three);
+    }
+  }
+}
