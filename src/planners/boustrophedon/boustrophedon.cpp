@@ -180,10 +180,14 @@ class BoustrophedonPlanner final : public Planner {
     if (n == 1) {
       regions[0] = p.free;
     } else {
+      // strips along the legs of the largest cell of the whole area's best layout
       const Layout whole = best_layout(p.free, p.spacing_m, fixed, ctx, 0.0, 0.1);
-      const Division div = divide(p.free, p.shares, p.starts, whole.angle, p.spacing_m, ctx);
+      double angle = whole.angle, largest = -1.0;
+      for (const auto& s : whole.sweeps)
+        if (area(s.mono) > largest) largest = area(s.mono), angle = s.angle;
+      const Division div = divide(p.free, p.shares, p.starts, angle, p.spacing_m, ctx);
       regions = div.regions;
-      out.diagnostics["division_angle_deg"] = to_bearing(whole.angle);
+      out.diagnostics["division_angle_deg"] = to_bearing(angle);
       out.diagnostics["division_pieces"] = div.pieces;
       out.diagnostics["division_split_failures"] = div.split_failures;
     }

@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <random>
 #include <sstream>
 #include <stop_token>
 #include <thread>
@@ -452,4 +454,34 @@ TEST(Boustrophedon, AllPaperRegionsOneAndThreeUavs) {
       expect_no_crossings(three);
     }
   }
+}
+
+TEST(Boustrophedon, ThesisRectangleThreeUavsGetStripsAlongItsLength) {
+  Mission m = parse_mission(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
+                                                     "mondinelli2025" / "rectangle_3uav.json"));
+  const auto lm = planner::to_local(m);
+  Problem p;
+  p.area = lm.area;
+  p.no_fly = lm.no_fly;
+  p.free = lm.free;
+  std::mt19937_64 rng(m.seed);
+  for (const auto& u : m.uavs) {
+    p.starts.push_back(planner::random_free_point(lm.free, rng));
+    p.shares.push_back(u.share);
+  }
+  p.uavs = m.uavs;
+  p.spacing_m = m.spacing_m;
+  p.footprint_m = 1.5 * m.spacing_m;
+  p.mode = m.mode;
+  const auto a = run(p);
+  ASSERT_EQ(a.uavs.size(), 3u);
+  const double total = bg::area(p.free);
+  for (const auto& u : a.uavs) {
+    EXPECT_NEAR(bg::area(u.region) / total, 1.0 / 3.0, 0.02);
+    EXPECT_EQ(u.region.size(), 1u);
+    ASSERT_EQ(u.coverage.size(), 1u);
+    for (const auto& l : legs(u.coverage[0])) EXPECT_NEAR(bearing(l), 0.0, 0.5);  // north-south, along 200 m
+  }
+  expect_strict_inside(p, a);
+  expect_no_crossings(a);
 }
