@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "planners/boustrophedon/boustrophedon.hpp"
 #include "planners/darp/darp.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
@@ -14,8 +15,9 @@ namespace {
 
 std::vector<PlannerInfo> builtin() {
   std::vector<PlannerInfo> all;
-  all.push_back(darp_planner_info());
   // One line per planner module (src/planners/<name>/); optional ones behind their CMake option.
+  all.push_back(darp_planner_info());
+  all.push_back(boustrophedon_planner_info());
   return all;
 }
 

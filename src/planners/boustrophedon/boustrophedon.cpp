@@ -1,0 +1,315 @@
+#include "planners/boustrophedon/boustrophedon.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "planners/boustrophedon/decomposition.hpp"
+#include "planners/boustrophedon/division.hpp"
+#include "planners/boustrophedon/ordering.hpp"
+#include "planners/boustrophedon/sweep.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::planners {
+
+namespace {
+
+using namespace boustro;
+
+constexpr double kPi = std::numbers::pi;
+constexpr const char* kStage = "boustrophedon";
+
+/// Bearing (degrees clockwise from north) <-> direction (radians counter-clockwise from east).
+double from_bearing(double deg) { return kPi / 2 - deg * kPi / 180.0; }
+double to_bearing(double rad) {
+  double b = 90.0 - rad * 180.0 / kPi;
+  b = std::fmod(b, 180.0);
+  if (b < 0) b += 180.0;
+  return std::round(b * 1e6) / 1e6;
+}
+
+/// A decomposition direction and the sweep of each of its cells.
+struct Layout {
+  double angle = 0.0;
+  std::vector<CellSweep> sweeps;
+  int legs = 0;
+  double score = std::numeric_limits<double>::infinity();
+};
+
+std::vector<double> candidate_angles(const MultiPolygon& region, std::optional<double> fixed) {
+  if (fixed) return {*fixed};
+  std::vector<double> a;
+  auto add_ring = [&](const Ring& r) {
+    for (std::size_t i = 1; i < r.size(); ++i) {
+      const double dx = r[i].x() - r[i - 1].x(), dy = r[i].y() - r[i - 1].y();
+      if (std::hypot(dx, dy) < 1e-6) continue;
+      double t = std::fmod(std::atan2(dy, dx), kPi);
+      if (t < 0) t += kPi;
+      a.push_back(t);
+    }
+  };
+  for (const auto& p : region) {
+    add_ring(p.outer());
+    for (const auto& in : p.inners()) add_ring(in);
+  }
+  for (int d = 0; d < 180; d += 5) a.push_back(d * kPi / 180.0);
+  std::sort(a.begin(), a.end());
+  std::vector<double> out;
+  for (double t : a)
+    if (out.empty() || t - out.back() > 1e-6) out.push_back(t);
+  if (out.size() > 1 && out.back() - out.front() > kPi - 1e-6) out.pop_back();
+  return out;
+}
+
+/// Turns (two per leg) first, then one per cell (a transit each).
+double cell_cost(int legs, std::size_t cells) { return 2.0 * legs + static_cast<double>(cells); }
+
+/// Cuts a cell at some of its reflex lines where sweeping the sides separately needs fewer turns
+/// (e.g. the two arms of an L): dynamic programming over the groups of consecutive pieces.
+std::vector<CellSweep> partition(const Monotone& cell, const std::vector<double>& cuts, const Frame& frame,
+                                 double angle, double spacing, std::optional<double> fixed) {
+  std::vector<double> b{cell.xmin()};
+  for (double x : cuts)
+    if (x > b.back() + 1e-6 && x < cell.xmax() - 1e-6) b.push_back(x);
+  b.push_back(cell.xmax());
+  const std::size_t pieces = b.size() - 1;
+  if (pieces == 1) return {choose_direction(cell, frame, angle, spacing, fixed)};
+  auto allowed = [&](std::size_t i, std::size_t j) { return j - i <= 6 || (i == 0 && j == pieces); };
+  std::vector<double> best(pieces + 1, std::numeric_limits<double>::infinity());
+  std::vector<std::size_t> from(pieces + 1, 0);
+  best[0] = 0.0;
+  std::vector<std::vector<std::optional<CellSweep>>> memo(pieces + 1,
+                                                          std::vector<std::optional<CellSweep>>(pieces + 1));
+  for (std::size_t j = 1; j <= pieces; ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      if (!allowed(i, j) || !std::isfinite(best[i])) continue;
+      auto s = choose_direction(i == 0 && j == pieces ? cell : clip(cell, b[i], b[j]), frame, angle, spacing,
+                                fixed);
+      const double c = best[i] + cell_cost(s.legs, 1);
+      if (c < best[j] - 1e-9) {
+        best[j] = c;
+        from[j] = i;
+      }
+      memo[i][j] = std::move(s);
+    }
+  std::vector<CellSweep> out;
+  for (std::size_t j = pieces; j > 0; j = from[j]) out.push_back(*memo[from[j]][j]);
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+/// The decomposition direction whose cells, each swept its own best way, need the fewest legs.
+Layout best_layout(const MultiPolygon& region, double spacing, std::optional<double> fixed,
+                   const Context& ctx, double f0, double f1) {
+  const std::vector<double> cands = candidate_angles(region, fixed);
+  const double region_area = bg::area(region);
+  Layout best;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    ctx.check();
+    ctx.report(kStage, f0 + (f1 - f0) * static_cast<double>(i) / static_cast<double>(cands.size()));
+    Layout l;
+    l.angle = cands[i];
+    const Frame frame(l.angle);
+    const Decomposition dec = decompose(region, frame, ctx, true);
+    double covered = 0.0;
+    for (const auto& c : dec.cells) covered += area(c);
+    // a decomposition that lost a piece (a failed overlay) ranks after every complete one
+    const double lost = covered < (1.0 - 1e-6) * region_area ? 1e9 + region_area - covered : 0.0;
+    for (std::size_t c = 0; c < dec.cells.size(); ++c) {
+      // cells too small to matter (below 1e-4 of a spacing squared) are dropped
+      if (area(dec.cells[c]) < 1e-4 * spacing * spacing) continue;
+      for (auto& s : partition(dec.cells[c], dec.cuts[c], frame, l.angle, spacing, fixed)) {
+        l.legs += s.legs;
+        l.sweeps.push_back(std::move(s));
+      }
+    }
+    l.score = cell_cost(l.legs, l.sweeps.size()) + lost;
+    if (l.score < best.score - 1e-9) best = std::move(l);
+  }
+  return best;
+}
+
+MultiPolygon drop_slivers(MultiPolygon m, double min_area) {
+  std::erase_if(m, [&](const Polygon& p) { return std::abs(bg::area(p)) < min_area; });
+  return m;
+}
+
+/// The region less a thin band along the other UAVs' regions, so that paths of different UAVs
+/// never touch along a shared border.
+MultiPolygon inset_against(const MultiPolygon& region, const MultiPolygon& others, double eps) {
+  if (others.empty() || region.empty()) return region;
+  MultiPolygon o = others;
+  remove_near_duplicates(o);
+  MultiPolygon grown;
+  bg::strategy::buffer::distance_symmetric<double> distance(eps);
+  bg::strategy::buffer::side_straight side;
+  bg::strategy::buffer::join_miter join;
+  bg::strategy::buffer::end_flat end;
+  bg::strategy::buffer::point_square point;
+  bg::buffer(o, grown, distance, side, join, end, point);
+  MultiPolygon out;
+  bg::difference(region, grown, out);
+  remove_near_duplicates(out);
+  return out;
+}
+
+/// Clearance kept from no-fly zones: legs that end at a no-fly zone's edge end this far from it, so
+/// that no waypoint lies on (and, after rounding to WGS84, inside) an exclusion polygon.
+constexpr double kNoFlyClearanceM = 0.5;
+
+class BoustrophedonPlanner final : public Planner {
+ public:
+  [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
+                                const Context& ctx) const override {
+    if (problem.no_fly.empty()) return plan_with_clearance(problem, params, ctx);
+    Problem q = problem;
+    MultiPolygon zones = problem.no_fly;
+    remove_near_duplicates(zones);
+    bg::strategy::buffer::distance_symmetric<double> distance(kNoFlyClearanceM);
+    bg::strategy::buffer::side_straight side;
+    bg::strategy::buffer::join_miter join;
+    bg::strategy::buffer::end_flat end;
+    bg::strategy::buffer::point_square point;
+    MultiPolygon grown;
+    bg::buffer(zones, grown, distance, side, join, end, point);
+    if (grown.empty()) return plan_with_clearance(problem, params, ctx);
+    q.no_fly = grown;
+    q.free.clear();
+    bg::difference(problem.free, grown, q.free);
+    remove_near_duplicates(q.free);
+    return plan_with_clearance(q, params, ctx);
+  }
+
+ private:
+  static Assignment plan_with_clearance(const Problem& p, const nlohmann::json& params, const Context& ctx) {
+    ctx.check();
+    const std::size_t n = p.starts.size();
+    if (n == 0) throw InputError("uavs", "at least one UAV is needed");
+    if (p.shares.size() != n) throw InputError("uavs", "one share per UAV is needed");
+    if (!(p.spacing_m > 0.0) || !std::isfinite(p.spacing_m))
+      throw InputError("spacing_m", "the line spacing must be a positive number of metres");
+    const double footprint = p.footprint_m > 0.0 ? p.footprint_m : 1.5 * p.spacing_m;
+    std::optional<double> fixed;
+    if (params.is_object() && params.contains("angle_deg") && params["angle_deg"].is_number())
+      fixed = std::fmod(from_bearing(params["angle_deg"].get<double>()) + 4 * kPi, kPi);
+
+    Assignment out;
+    out.uavs.resize(n);
+    const double free_area = bg::area(p.free);
+    if (p.free.empty() || !(free_area > 0.0)) return out;
+    ctx.report(kStage, 0.0);
+
+    // division among the UAVs
+    std::vector<MultiPolygon> regions(n);
+    if (n == 1) {
+      regions[0] = p.free;
+    } else {
+      // strips along the legs of the largest cell of the whole area's best layout
+      const Layout whole = best_layout(p.free, p.spacing_m, fixed, ctx, 0.0, 0.1);
+      double angle = whole.angle, largest = -1.0;
+      for (const auto& s : whole.sweeps)
+        if (area(s.mono) > largest) largest = area(s.mono), angle = s.angle;
+      const Division div = divide(p.free, p.shares, p.starts, angle, p.spacing_m, ctx);
+      regions = div.regions;
+      out.diagnostics["division_angle_deg"] = to_bearing(angle);
+      out.diagnostics["division_pieces"] = div.pieces;
+      out.diagnostics["division_split_failures"] = div.split_failures;
+    }
+    ctx.report(kStage, 0.2);
+
+    Surroundings env;
+    env.area = &p.area;
+    env.no_fly = &p.no_fly;
+    env.stops.add(p.area);
+    env.stops.add(p.no_fly);
+    env.no_fly_edges.add(p.no_fly);
+    SweepOptions opt{p.spacing_m, footprint, p.mode, n == 1};
+
+    const double eps = std::min(0.1, 0.01 * p.spacing_m);  // gap between UAVs' paths along borders
+    for (std::size_t k = 0; k < n; ++k) {
+      const double f0 = 0.2 + 0.8 * static_cast<double>(k) / static_cast<double>(n);
+      const double f1 = 0.2 + 0.8 * static_cast<double>(k + 1) / static_cast<double>(n);
+      auto& ua = out.uavs[k];
+      ua.region = regions[k];
+      ua.share_actual = bg::area(regions[k]) / free_area;
+      if (regions[k].empty()) continue;
+      if (p.free.size() == 1 && regions[k].size() > 1)
+        out.warnings.push_back("uavs[" + std::to_string(k) + "]: its region is in " +
+                               std::to_string(regions[k].size()) + " parts");
+      MultiPolygon others;
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != k)
+          for (const auto& poly : regions[j]) others.push_back(poly);
+      const MultiPolygon planned =
+          n == 1 ? regions[k] : drop_slivers(inset_against(regions[k], others, eps), 1e-3 * p.spacing_m);
+      env.others = p.mode == Mode::Coverage && n > 1 ? &others : nullptr;
+
+      const Layout lay = best_layout(planned, p.spacing_m, fixed, ctx, f0, f0 + 0.6 * (f1 - f0));
+      std::vector<std::array<std::vector<Point>, 2>> paths;
+      std::vector<CellEnds> ends;
+      nlohmann::json cells = nlohmann::json::array();
+      int legs = 0;
+      for (std::size_t c = 0; c < lay.sweeps.size(); ++c) {
+        ctx.check();
+        paths.push_back(lawnmower(lay.sweeps[c], opt, env, ctx));
+        const auto& pa = paths.back();
+        if (pa[0].empty() || pa[1].empty()) {
+          paths.pop_back();
+          continue;
+        }
+        CellEnds e;
+        e.entry = {pa[0].front(), pa[0].back(), pa[1].front(), pa[1].back()};
+        e.exit = {pa[0].back(), pa[0].front(), pa[1].back(), pa[1].front()};
+        ends.push_back(e);
+        legs += lay.sweeps[c].legs;
+        cells.push_back({{"angle_deg", to_bearing(lay.sweeps[c].angle)},
+                         {"legs", lay.sweeps[c].legs},
+                         {"area_m2", area(lay.sweeps[c].mono)}});
+      }
+      ctx.report(kStage, f0 + 0.8 * (f1 - f0));
+      const Tour tour = order_cells(ends, p.starts[k], ctx);
+      nlohmann::json order = nlohmann::json::array();
+      for (std::size_t i = 0; i < tour.order.size(); ++i) {
+        const int way = tour.variant[i];
+        auto path = paths[static_cast<std::size_t>(tour.order[i])][static_cast<std::size_t>(way / 2)];
+        if (way % 2 == 1) std::reverse(path.begin(), path.end());
+        ua.coverage.push_back(std::move(path));
+        order.push_back(tour.order[i]);
+      }
+      ua.diagnostics = {{"decomposition_angle_deg", to_bearing(lay.angle)},
+                        {"cells", std::move(cells)},
+                        {"cell_order", std::move(order)},
+                        {"legs", legs},
+                        {"transit_estimate_m", tour.transit_m}};
+      ctx.report(kStage, f1);
+    }
+    ctx.report(kStage, 1.0);
+    return out;
+  }
+};
+
+}  // namespace
+
+PlannerInfo boustrophedon_planner_info() {
+  PlannerInfo info;
+  info.name = "boustrophedon";
+  info.summary =
+      "Lawnmower over a boustrophedon cell decomposition: shares by strips/cells, per-cell sweep direction "
+      "with the fewest turns, short cell tour";
+  ParamSpec angle;
+  angle.name = "angle_deg";
+  angle.type = ParamSpec::Type::Number;
+  angle.default_value = nullptr;
+  angle.min = -360.0;
+  angle.max = 360.0;
+  angle.description =
+      "Direction of the legs in degrees clockwise from north (0: north-south legs, 90: east-west legs); "
+      "absent: chosen per cell to minimise turns";
+  info.params.push_back(std::move(angle));
+  info.supports = Capabilities{true, true, true, true, true, false};
+  info.create = [] { return std::make_unique<BoustrophedonPlanner>(); };
+  return info;
+}
+
+}  // namespace uavcover::planners

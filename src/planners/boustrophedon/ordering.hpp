@@ -1,0 +1,27 @@
+// The order of a UAV's cells and each cell's entry: a short tour from the start through every cell
+// and back (straight-line distances; the engine routes the transit legs around no-fly zones).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "uavcover/context.hpp"
+#include "uavcover/geometry.hpp"
+
+namespace uavcover::planners::boustro {
+
+/// Entry and exit of a cell for each of its four ways of being flown.
+struct CellEnds {
+  std::array<Point, 4> entry, exit;
+};
+
+struct Tour {
+  std::vector<int> order;    ///< cell indices in flight order
+  std::vector<int> variant;  ///< per position in `order`: which of the cell's four ways
+  double transit_m = 0.0;    ///< straight-line transit, start and return included
+};
+
+/// Greedy tour improved by 2-opt and or-opt moves, the ways chosen optimally for each order.
+Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context& ctx);
+
+}  // namespace uavcover::planners::boustro
