@@ -7,6 +7,7 @@
 
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
+#include "json/strict.hpp"
 #include "mission/mission_json.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
@@ -398,16 +399,7 @@ Raw parse_mcpp(const json& j) {
 }  // namespace
 
 Mission parse_mission(std::string_view text, const ParseOptions& options) {
-  json j;
-  try {
-    j = json::parse(text.begin(), text.end());
-  } catch (const json::exception& e) {
-    // e.g. "[json.exception.parse_error.101] parse error at line 1, column 9: ..." -> drop the prefix
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    throw InputError("mission",
-                     "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
-  }
+  const json j = strict::parse_json(text, "mission");
   if (!j.is_object())
     throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
   const bool mcpp = j.contains("droneNo") || (j.contains("polygon") && !j.contains("area"));
