@@ -91,3 +91,28 @@ TEST(InputCli, DuplicateKeysAreRefusedNamingTheKey) {
   EXPECT_FALSE(fs::exists(dir / "out"));
   fs::remove_all(dir);
 }
+
+TEST(InputCli, MissionRulesHoldEndToEnd) {
+  const auto dir = temp_dir("rules");
+  json mission = read_json(example("olive-grove.json"));
+  mission["uavs"] = json::array({{{"id", "a"}, {"share", 1e308}}, {{"id", "b"}, {"share", 1e308}}});
+  std::ofstream(dir / "huge-shares.json") << mission.dump();
+  auto r = run_cli("plan " + path_arg(dir / "huge-shares.json") + " -q --no-images --no-evaluate --out " +
+                   path_arg(dir / "ok"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const auto& u : read_json(dir / "ok" / "plan.json")["uavs"])
+    EXPECT_DOUBLE_EQ(u["share_requested"].get<double>(), 0.5);
+  for (const std::string id : {".", "..", "a/b"}) {
+    mission["uavs"][1]["id"] = id;
+    std::ofstream(dir / "bad-id.json") << mission.dump();
+    r = run_cli("plan " + path_arg(dir / "bad-id.json") + " --out " + path_arg(dir / "out"));
+    expect_refused(r, "uavs[1].id: ");
+  }
+  mission["uavs"][1]["id"] = "b";
+  mission["name"] = "bell\x07";
+  std::ofstream(dir / "bad-name.json") << mission.dump();
+  expect_refused(run_cli("plan " + path_arg(dir / "bad-name.json") + " --out " + path_arg(dir / "out")),
+                 "name: must not contain control characters");
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
