@@ -8,6 +8,7 @@
 #include "cli/command.hpp"
 #include "cli/cost_options.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/validators.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/evaluate_paths.hpp"
@@ -83,11 +84,17 @@ const bool registered = CommandRegistry::add(30, [](CLI::App& app) {
       ->required();
   cmd->add_option("--out,-o", a->out,
                   "Output folder for evaluation.json, heatmap.png, histogram.png, paths.png")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->force_callback()  // the default (the current folder) is checked too
+      ->check(output_folder());
   cmd->add_option("--footprint", a->footprint_m,
-                  "Footprint width w in metres (default: camera, else 1.5 x spacing)");
-  cmd->add_option("--lattice", a->lattice_m, "Sample spacing in metres (default: adaptive, 0.5-2 m)");
-  cmd->add_option("--max-samples", a->max_samples, "Cap on lattice samples")->capture_default_str();
+                  "Footprint width w in metres (default: camera, else 1.5 x spacing)")
+      ->check(number_in(0, 10'000, true));
+  cmd->add_option("--lattice", a->lattice_m, "Sample spacing in metres (default: adaptive, 0.5-2 m)")
+      ->check(number_in(0, 1'000, true));
+  cmd->add_option("--max-samples", a->max_samples, "Cap on lattice samples")
+      ->capture_default_str()
+      ->check(integer_in<std::size_t>(1'000, 200'000'000));
   cmd->add_flag("--count-transit", a->count_transit, "Transit legs scan too");
   cmd->add_flag("--no-images", a->no_images, "Do not write the pictures");
   add_cost_options(cmd, a->cost);

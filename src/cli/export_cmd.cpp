@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
 #include "trajectory/trajectory.hpp"
@@ -75,45 +76,62 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       ->required()
       ->delimiter(',');
   cmd->add_option("--out,-o", args->out,
-                  "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/");
+                  "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/")
+      ->check(output_folder());
   cmd->add_option("--transition-base", args->opt.altitude.transition_base_m,
                   "Transition altitude of the first UAV (m); 0 = max(60, mission altitude + 20)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 10'000));
   cmd->add_option("--transition-step", args->opt.altitude.transition_step_m,
                   "Transition altitude added per UAV (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 1'000));
   cmd->add_option("--transition-ceiling", args->opt.altitude.transition_ceiling_m,
                   "Highest transition altitude (m above take-off; 0 = none); the step is compressed to fit "
                   "while it stays >= --min-separation")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 10'000));
   cmd->add_option("--min-separation", args->opt.altitude.min_vertical_separation_m,
                   "Smallest transition step (m) the ceiling may compress the step to")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0.1, 1'000));
   cmd->add_option("--geofence-margin", args->opt.geofence_margin_m,
                   "QGC .plan: inclusion fence margin around everything flown (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 10'000));
   cmd->add_flag("--land", args->opt.altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
   cmd->add_option("--firmware-type", args->opt.qgc_firmware_type,
                   "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 255));
   cmd->add_option("--vehicle-type", args->opt.qgc_vehicle_type,
                   "QGC .plan vehicleType (MAV_TYPE: 2 quadrotor)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 255));
   cmd->add_flag("--kmz", args->opt.kmz, "Also write <id>.kmz next to each <id>.kml");
   cmd->add_option("--dji-drone", args->opt.dji_drone_enum, "DJI WPML droneEnumValue (77 Mavic 3 Enterprise)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 100'000));
   cmd->add_option("--dji-drone-sub", args->opt.dji_drone_sub_enum, "DJI WPML droneSubEnumValue")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 100'000));
   cmd->add_option("--dji-payload", args->opt.dji_payload_enum,
                   "DJI WPML payloadEnumValue (-1 = the drone's own camera)")
-      ->capture_default_str();
-  cmd->add_option("--dt", args->opt.trajectory.dt, "Trajectory sampling step (s)")->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(-1, 100'000));
+  cmd->add_option("--dt", args->opt.trajectory.dt, "Trajectory sampling step (s)")
+      ->capture_default_str()
+      ->check(number_in(0.001, 60));
   cmd->add_option("--densify", args->opt.trajectory.densify_m,
                   "Trajectory: split legs longer than this (m, 0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--corners", args->corners, "Trajectory corners: fillet or stop")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0.1, 100'000, false, false, true));
+  cmd->add_option("--corners", args->corners, "Trajectory corners: fillet or stop")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"fillet", "stop"}));
   cmd->add_option("--fillet-radius", args->opt.trajectory.fillet_radius_m, "Trajectory corner radius (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 1'000));
   cmd->footer(
       "Outputs (one file per UAV, named by its id):\n"
       "  OUT/export/<id>.geojson     RFC 7946 FeatureCollection (area, no-fly zones, the UAV's path)\n"

@@ -4,6 +4,8 @@
 
 #include "cli/command.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/validators.hpp"
+#include "io/plan_io.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::cli {
@@ -34,6 +36,11 @@ int run(int argc, char** argv) {
   app.fallthrough();  // global flags (--quiet) may follow the sub-command
   app.set_version_flag("--version", "uavcover 0.1.0");
   app.add_flag("-q,--quiet", cli::global_flags().quiet, "No progress bar or summary");
+  app.add_option("--max-input-mb",
+                 "Refuse input files larger than this many MiB (default 64, or "
+                 "$UAVCOVER_MAX_INPUT_MB; see docs/limits.md)")
+      ->check(cli::integer_in(1, 4096))
+      ->each([](const std::string& mb) { io::set_max_input_bytes(std::stoull(mb) << 20); });
   auto& registry = cli::CommandRegistry::all();
   std::stable_sort(registry.begin(), registry.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });

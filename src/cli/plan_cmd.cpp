@@ -8,6 +8,7 @@
 #include "cli/command.hpp"
 #include "cli/interrupt.hpp"
 #include "cli/progress.hpp"
+#include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
@@ -15,6 +16,9 @@
 
 namespace uavcover::cli {
 namespace {
+
+/// The largest --max-cells accepted (docs/limits.md): a grid this size already needs gigabytes.
+constexpr std::size_t kMaxCellsLimit = 1'000'000'000;
 
 struct PlanArgs {
   std::string mission;
@@ -85,14 +89,17 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_option("MISSION", args->mission, "Mission file (uavcover v1 JSON, or mCPP-optimized-DARP input)")
       ->required();
   cmd->add_option("--out,-o", args->out, "Output folder: paths.geojson and plan.json are written there")
-      ->required();
-  cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan");
+      ->required()
+      ->check(output_folder());
+  cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan")
+      ->check(integer_in<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
   cmd->add_option("--time-limit", args->time_limit_s,
                   "Planning time budget in seconds: the planner's best complete plan so far is returned "
                   "with a warning, or the command fails with exit code 3 when it has none")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(0.0, 1e6, true));
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in<std::size_t>(1, kMaxCellsLimit));
   cmd->add_option("--export", args->exports,
                   "Also export these formats: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
       ->delimiter(',')

@@ -9,6 +9,7 @@
 #include "cli/cost_options.hpp"
 #include "cli/interrupt.hpp"
 #include "cli/progress.hpp"
+#include "cli/validators.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/study.hpp"
@@ -89,8 +90,12 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
                   "Mission file (its first UAV's speed/endurance are used for added UAVs)")
       ->required();
   cmd->add_option("--uavs", a->uavs, "UAV counts: 1..15, or 1,2,3,5, or a mix")->capture_default_str();
-  cmd->add_option("--out,-o", a->out, "Output folder for study.json and study.png")->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Random seed (overrides the mission's seed)");
+  cmd->add_option("--out,-o", a->out, "Output folder for study.json and study.png")
+      ->capture_default_str()
+      ->force_callback()  // the default (the current folder) is checked too
+      ->check(output_folder());
+  cmd->add_option("--seed", a->seed, "Random seed (overrides the mission's seed)")
+      ->check(integer_in<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
   cmd->add_flag("--no-images", a->no_images, "Do not write study.png");
   add_cost_options(cmd, a->cost);
   cmd->footer(

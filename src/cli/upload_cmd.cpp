@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cli/command.hpp"
+#include "cli/validators.hpp"
 #include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -89,22 +90,33 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
                   "Vehicle address, udp:HOST:PORT (we send from an ephemeral port; it answers there)")
       ->required();
   cmd->add_option("--timeout", args->timeout_s, "Seconds to wait for the vehicle before resending")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 60, true));
   cmd->add_option("--retries", args->retries, "Resends after a timeout before giving up")
-      ->capture_default_str();
-  cmd->add_option("--target-system", args->target_system, "Vehicle MAVLink system id")->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 100));
+  cmd->add_option("--target-system", args->target_system, "Vehicle MAVLink system id")
+      ->capture_default_str()
+      ->check(integer_in(1, 255));
   cmd->add_option("--target-component", args->target_component, "Vehicle MAVLink component id")
-      ->capture_default_str();
-  cmd->add_option("--sysid", args->sysid, "Our MAVLink system id")->capture_default_str();
-  cmd->add_option("--compid", args->compid, "Our MAVLink component id")->capture_default_str();
+      ->capture_default_str()
+      ->check(integer_in(0, 255));
+  cmd->add_option("--sysid", args->sysid, "Our MAVLink system id")
+      ->capture_default_str()
+      ->check(integer_in(1, 255));
+  cmd->add_option("--compid", args->compid, "Our MAVLink component id")
+      ->capture_default_str()
+      ->check(integer_in(0, 255));
   cmd->add_flag("--no-home", args->no_home,
                 "Do not send the home position as item 0 (ArduPilot expects it there; PX4 does not)");
   cmd->add_option("--transition-base", args->altitude.transition_base_m,
                   "Transition altitude of the first UAV (m); 0 = max(60, mission altitude + 20)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 10'000));
   cmd->add_option("--transition-step", args->altitude.transition_step_m,
                   "Transition altitude added per UAV (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 1'000));
   cmd->add_flag("--land", args->altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
   cmd->footer(
       "The mission is the one `uavcover export` writes (take-off, speed, transition altitudes, coverage,\n"

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "geometry/geometry.hpp"
+#include "json/strict.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::evaluation {
@@ -187,26 +188,24 @@ std::vector<Point> read_line(const json& coords, const std::string& field, const
 }  // namespace
 
 GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& frame) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {
-    throw InputError("paths", std::string("not valid JSON: ") + e.what());
-  }
+  const json doc = strict::parse_json(text, "paths");
   if (!doc.is_object()) throw InputError("type", "GeoJSON must be an object");
   if (!doc.contains("type") || !doc["type"].is_string())
     throw InputError("type", "missing GeoJSON type (FeatureCollection, Feature or LineString)");
-  std::vector<std::pair<json, std::string>> features;  // (feature, field prefix)
+  // (feature, field prefix): pointers into the document, never copies of it
+  std::vector<std::pair<const json*, std::string>> features;
+  json wrapped;  // a bare geometry, wrapped into a Feature
   const std::string type = doc["type"].get<std::string>();
   if (type == "FeatureCollection") {
     if (!doc.contains("features") || !doc["features"].is_array())
       throw InputError("features", "a FeatureCollection needs a 'features' array");
     for (std::size_t i = 0; i < doc["features"].size(); ++i)
-      features.emplace_back(doc["features"][i], "features[" + std::to_string(i) + "]");
+      features.emplace_back(&doc["features"][i], "features[" + std::to_string(i) + "]");
   } else if (type == "Feature") {
-    features.emplace_back(doc, "");
+    features.emplace_back(&doc, "");
   } else if (type == "LineString" || type == "MultiLineString") {
-    features.emplace_back(json{{"type", "Feature"}, {"properties", json::object()}, {"geometry", doc}}, "");
+    wrapped = json{{"type", "Feature"}, {"properties", json::object()}, {"geometry", doc}};
+    features.emplace_back(&wrapped, "");
   } else {
     throw InputError("type",
                      "unsupported GeoJSON type '" + type + "' (FeatureCollection, Feature or LineString)");
@@ -215,7 +214,9 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
   GeoPaths out;
   std::map<std::string, std::size_t> index;
   int anonymous = 0;
-  for (const auto& [f, prefix] : features) {
+  static const json no_properties = json::object();
+  for (const auto& [fp, prefix] : features) {
+    const json& f = *fp;
     const std::string pre = prefix.empty() ? "" : prefix + ".";
     if (!f.is_object() || !f.contains("type") || f["type"] != "Feature")
       throw InputError(pre + "type", "must be \"Feature\"");
@@ -227,7 +228,8 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
     const std::string gt = g["type"].get<std::string>();
     if (gt != "LineString" && gt != "MultiLineString") continue;  // area, no-fly zones, markers
     if (!g.contains("coordinates")) throw InputError(pre + "geometry.coordinates", "missing");
-    json props = f.contains("properties") && f["properties"].is_object() ? f["properties"] : json::object();
+    const json& props =
+        f.contains("properties") && f["properties"].is_object() ? f["properties"] : no_properties;
     PartKind kind = PartKind::Coverage;
     if (props.contains("kind")) {
       if (!props["kind"].is_string()) throw InputError(pre + "properties.kind", "must be a string");
@@ -256,17 +258,17 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
       out.flights.emplace_back();
     }
     const std::string cf = pre + "geometry.coordinates";
-    std::vector<json> lines;
+    std::vector<const json*> lines;
     if (gt == "LineString") {
-      lines.push_back(g["coordinates"]);
+      lines.push_back(&g["coordinates"]);
     } else {
       if (!g["coordinates"].is_array()) throw InputError(cf, "must be an array of LineString coordinates");
-      for (const auto& l : g["coordinates"]) lines.push_back(l);
+      for (const auto& l : g["coordinates"]) lines.push_back(&l);
     }
     for (std::size_t li = 0; li < lines.size(); ++li) {
       PathPart part;
       part.kind = kind;
-      part.local = read_line(lines[li], gt == "LineString" ? cf : cf + "[" + std::to_string(li) + "]", frame,
+      part.local = read_line(*lines[li], gt == "LineString" ? cf : cf + "[" + std::to_string(li) + "]", frame,
                              part.wgs84);
       out.flights[it->second].push_back(std::move(part));
     }

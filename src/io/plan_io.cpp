@@ -1,14 +1,22 @@
 #include "io/plan_io.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
-#include <algorithm>
 #include <cmath>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
-#include <sstream>
 #include <system_error>
 
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
+#include "json/strict.hpp"
 #include "mission/mission_json.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -28,22 +36,83 @@ json line_coords(const std::vector<LonLat>& pts) {
 }
 
 json parse_file(const std::filesystem::path& p, const std::string& field) {
-  try {
-    return json::parse(read_text_file(p, field));
-  } catch (const json::exception&) {
-    throw InputError(field, "malformed JSON in " + p.string());
-  }
+  return strict::parse_json(read_text_file(p, field), field);
+}
+
+std::atomic<std::size_t> g_max_input_bytes{0};  // 0: not set, use the environment or the default
+
+std::string mib(std::size_t bytes) {
+  return bytes % (std::size_t{1} << 20) == 0 ? std::to_string(bytes >> 20) + " MiB"
+                                             : std::to_string(bytes) + " bytes";
+}
+
+// Why a file of this kind is not read ("" for a regular file).
+std::string kind_problem(const struct stat& st, const std::string& name) {
+  if (S_ISREG(st.st_mode)) return "";
+  if (S_ISDIR(st.st_mode)) return name + " is a folder, not a file";
+  return name + " is not a regular file (a device, a pipe or a socket); give a file";
 }
 
 }  // namespace
 
+std::size_t max_input_bytes() {
+  if (const std::size_t set = g_max_input_bytes.load()) return set;
+  const char* env = std::getenv("UAVCOVER_MAX_INPUT_MB");
+  if (env == nullptr || *env == '\0') return kDefaultMaxInputBytes;
+  const std::string_view v(env);
+  unsigned long mb = 0;
+  const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), mb);
+  if (ec != std::errc() || end != v.data() + v.size() || mb < 1 || mb > 4096)
+    throw InputError("UAVCOVER_MAX_INPUT_MB",
+                     "must be a whole number of MiB in 1..4096, got '" + std::string(v.substr(0, 40)) + "'");
+  return static_cast<std::size_t>(mb) << 20;
+}
+
+void set_max_input_bytes(std::size_t bytes) { g_max_input_bytes.store(bytes); }
+
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(field, "cannot read file '" + path.string() + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(field, "cannot read file '" + path.string() + "'");
-  return ss.str();
+  return read_text_file(path, field, max_input_bytes());
+}
+
+std::string read_text_file(const std::filesystem::path& path, const std::string& field,
+                           std::size_t max_bytes) {
+  const std::string name = "'" + path.string() + "'";
+  struct stat st {};
+  // folders and devices are refused before they are opened (opening a pipe or a device can block)
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(field, "cannot read file " + name + ": " + std::strerror(errno));
+  if (const std::string why = kind_problem(st, name); !why.empty()) throw InputError(field, why);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) throw InputError(field, "cannot read file " + name + ": " + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::fstat(fd, &st) != 0) throw OperationError("cannot read file " + name + ": " + std::strerror(errno));
+  // what was opened may differ from what was checked (the path was replaced in between)
+  if (const std::string why = kind_problem(st, name); !why.empty()) throw InputError(field, why);
+  auto too_large = [&] {
+    return InputError(
+        field, name + " is larger than the input limit of " + mib(max_bytes) + " (see docs/limits.md)");
+  };
+  if (static_cast<std::uintmax_t>(st.st_size) > max_bytes) throw too_large();
+  // read at most max_bytes + 1 bytes, whatever the size said (files that grow, /proc files)
+  std::string text(std::min<std::size_t>(static_cast<std::size_t>(st.st_size), max_bytes) + 1, '\0');
+  std::size_t got = 0;
+  for (;;) {
+    if (got == text.size()) {
+      if (got > max_bytes) throw too_large();
+      text.resize(std::min(max_bytes + 1, std::max<std::size_t>(got * 2, 4096)));
+    }
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw OperationError("cannot read file " + name + ": " + std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got > max_bytes) throw too_large();
+  text.resize(got);
+  return text;
 }
 
 json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav) {

@@ -17,8 +17,22 @@ namespace uavcover::io {
 /// With `only_uav`, the lines of that UAV alone (the per-UAV GeoJSON export).
 nlohmann::json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav = std::nullopt);
 
-/// Reads a whole file; throws InputError naming `field` when it cannot be read.
+/// Default cap on the size of an input file (docs/limits.md).
+inline constexpr std::size_t kDefaultMaxInputBytes = std::size_t{64} << 20;
+
+/// The cap read_text_file applies: set_max_input_bytes() if called, else the environment variable
+/// UAVCOVER_MAX_INPUT_MB (whole MiB, 1..4096), else kDefaultMaxInputBytes. Throws InputError naming
+/// the variable when it is not a valid number.
+std::size_t max_input_bytes();
+/// Sets the process-wide cap (bytes, > 0), e.g. from a command-line option.
+void set_max_input_bytes(std::size_t bytes);
+
+/// Reads a whole regular file of at most `max_bytes` bytes (default: max_input_bytes()). Throws
+/// InputError naming `field` and the file when it cannot be opened, is not a regular file (a folder,
+/// a device such as /dev/zero, a pipe) or is larger; OperationError when reading fails midway.
 std::string read_text_file(const std::filesystem::path& path, const std::string& field);
+std::string read_text_file(const std::filesystem::path& path, const std::string& field,
+                           std::size_t max_bytes);
 
 /// plan.json: normalised mission, spacing, GSD/footprint, placement, per-UAV and total metrics.
 /// `extra` entries (e.g. "coverage", "cost") are merged in at top level.

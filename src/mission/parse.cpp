@@ -7,6 +7,7 @@
 
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
+#include "json/strict.hpp"
 #include "mission/mission_json.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
@@ -19,6 +20,12 @@ namespace {
 using nlohmann::json;
 
 std::string idx(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
+
+// A large non-negative count for a message: digits up to 10^15, else like 3.2e+21.
+std::string count_text(double v) {
+  if (v >= 0 && v < 1e15) return std::to_string(static_cast<long long>(v));
+  return std::isfinite(v) ? json(v).dump() : "more than 1e308";
+}
 
 const char* type_name(const json& j) { return j.type_name(); }
 
@@ -69,12 +76,51 @@ LonLat latlong_object(const json& j, const std::string& field) {
   return position(json::array({jl, j["lat"]}), field);
 }
 
-void check_antimeridian(const GeoRing& ring, const std::string& field) {
-  for (std::size_t i = 1; i < ring.size(); ++i)
-    if (std::fabs(ring[i].lon - ring[i - 1].lon) > 180.0)
-      throw InputError(field, "the ring crosses the antimeridian (longitude jumps from " +
-                                  json(ring[i - 1].lon).dump() + " to " + json(ring[i].lon).dump() +
-                                  "); split the area into polygons on either side of 180°");
+// An edge whose longitude changes by more than 180°. GeoJSON edges are straight in longitude and
+// latitude (RFC 7946 §3.1.9), so such an edge does not cross the antimeridian: it runs the long way
+// round the Earth. It is what a ring meant to cross the antimeridian looks like, so say both.
+void check_long_edges(const GeoRing& ring, const std::string& field) {
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const LonLat& a = ring[i];
+    const LonLat& b = ring[(i + 1) % ring.size()];
+    if (std::fabs(b.lon - a.lon) > 180.0)
+      throw InputError(field, "the edge from longitude " + json(a.lon).dump() + " to " + json(b.lon).dump() +
+                                  " spans " + json(std::fabs(b.lon - a.lon)).dump() +
+                                  "° of longitude: GeoJSON edges run straight in longitude, so it goes the "
+                                  "long way round the Earth; an area across the antimeridian (180°) must be "
+                                  "split into polygons on either side of it");
+  }
+}
+
+// Whether all vertices of a ring lie on one line in longitude/latitude degrees (longitudes scaled
+// by cos(latitude)): GeoJSON's own plane, in which edges are straight.
+bool collinear(const GeoRing& ring) {
+  if (ring.size() < 3) return true;
+  const double k = std::cos(ring.front().lat * std::numbers::pi / 180.0);
+  auto at = [&](std::size_t i) {
+    return std::pair{(ring[i].lon - ring.front().lon) * k, ring[i].lat - ring.front().lat};
+  };
+  std::size_t far = 0;
+  double far_len = 0;
+  for (std::size_t i = 1; i < ring.size(); ++i) {
+    const auto [x, y] = at(i);
+    if (std::hypot(x, y) > far_len) far = i, far_len = std::hypot(x, y);
+  }
+  const auto [fx, fy] = at(far);
+  for (std::size_t i = 1; i < ring.size(); ++i) {
+    const auto [x, y] = at(i);
+    if (std::fabs(fx * y - fy * x) / far_len > 1e-9 * far_len) return false;
+  }
+  return true;
+}
+
+// Great-circle distance in metres (spherical Earth: precise enough for a limit).
+double great_circle_m(LonLat a, LonLat b) {
+  constexpr double kRad = std::numbers::pi / 180.0;
+  const double h =
+      std::pow(std::sin((b.lat - a.lat) * kRad / 2), 2) +
+      std::cos(a.lat * kRad) * std::cos(b.lat * kRad) * std::pow(std::sin((b.lon - a.lon) * kRad / 2), 2);
+  return 2 * 6'371'008.8 * std::asin(std::min(1.0, std::sqrt(h)));
 }
 
 GeoRing ring_of(const json& j, const std::string& field) {
@@ -122,13 +168,31 @@ struct NamedPolygon {
   std::string field;  // JSON path of its coordinates
 };
 
-// Normalises every ring and checks it (>= 3 distinct vertices, no antimeridian crossing).
+// Normalises every ring and checks it (>= 3 distinct vertices, no edge spanning more than 180° of
+// longitude, not all on one line).
 void normalise_polygon(NamedPolygon& np) {
   for (std::size_t r = 0; r < np.poly.size(); ++r) {
     const std::string f = idx(np.field, r);
-    check_antimeridian(np.poly[r], f);
+    check_long_edges(np.poly[r], f);
     if (mission::normalise_ring(np.poly[r], r == 0) < 3)
       throw InputError(f, "a ring needs at least 3 distinct vertices");
+    if (collinear(np.poly[r])) throw InputError(f, "the ring has no area: its vertices lie on one line");
+  }
+}
+
+// Every vertex within kMaxExtentM of the area's centre: beyond, the local flat frame distorts.
+constexpr double kMaxExtentM = 500'000.0;
+void check_extent(const NamedPolygon& np, LonLat centre) {
+  for (std::size_t r = 0; r < np.poly.size(); ++r) {
+    double d = 0;
+    for (const LonLat& p : np.poly[r]) d = std::max(d, great_circle_m(centre, p));
+    if (d > kMaxExtentM)
+      throw InputError(idx(np.field, r),
+                       "reaches " + std::to_string(static_cast<long long>(d / 1000)) +
+                           " km from the centre of the area; uavcover plans areas that reach "
+                           "at most " +
+                           std::to_string(static_cast<long long>(kMaxExtentM / 1000)) +
+                           " km from their centre (see docs/limits.md)");
   }
 }
 
@@ -152,6 +216,29 @@ void check_valid(const NamedPolygon& np, const geodesy::LocalFrame& frame) {
 std::string str(const json& j, const std::string& field) {
   if (!j.is_string()) throw InputError(field, std::string("expected a string, got ") + type_name(j));
   return j.get<std::string>();
+}
+
+// UAV ids name output files: [A-Za-z0-9_-][A-Za-z0-9_.-]{0,63} (so never "." or "..").
+void check_id(const std::string& id, const std::string& field) {
+  if (id.empty() || id.size() > 64) throw InputError(field, "must have 1 to 64 characters");
+  for (char ch : id)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.'))
+      throw InputError(field, "may contain only letters, digits, '-', '_' and '.' (it names output files)");
+  if (id.front() == '.') throw InputError(field, "must not start with '.' (it names output files)");
+}
+
+// Free-text names: at most 256 bytes, no control characters (U+0000-U+001F, U+007F-U+009F), which
+// would end up in file contents, pictures and terminals.
+std::string checked_name(const std::string& name, const std::string& field) {
+  if (name.size() > 256) throw InputError(field, "must have at most 256 bytes");
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    const bool c1 = c == 0xC2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(name[i + 1]) <= 0x9F;  // UTF-8 of U+0080-U+009F
+    if (c < 0x20 || c == 0x7F || c1)
+      throw InputError(field, "must not contain control characters (U+0000-U+001F, U+007F-U+009F)");
+  }
+  return name;
 }
 
 void reject_unknown(const json& obj, const std::set<std::string>& known, const std::string& prefix) {
@@ -238,12 +325,13 @@ void parse_uavs(const json& j, Raw& raw) {
         f + ".");
     Uav u;
     u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
-    if (u.id.empty() || u.id.size() > 64) throw InputError(f + ".id", "must have 1 to 64 characters");
-    for (char ch : u.id)
-      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.'))
-        throw InputError(f + ".id",
-                         "may contain only letters, digits, '-', '_' and '.' (it names output files)");
-    if (!ids.insert(u.id).second) throw InputError(f + ".id", "duplicate id \"" + u.id + "\"");
+    check_id(u.id, f + ".id");
+    std::string folded = u.id;
+    for (char& ch : folded) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!ids.insert(folded).second)
+      throw InputError(f + ".id",
+                       "duplicate id \"" + u.id +
+                           "\" (ids name output files, so they must differ in more than letter case)");
     if (ju.contains("start")) u.start = position(ju["start"], f + ".start");
     std::optional<double> share;
     if (ju.contains("share")) {
@@ -263,31 +351,61 @@ void parse_uavs(const json& j, Raw& raw) {
   raw.uav_count = raw.uavs.size();
 }
 
-// Resolves shares: none given -> equal; some given -> the rest share what is left; all given ->
-// normalised weights.
+// A share below this fraction of the largest is refused: no grid could give it a cell.
+constexpr double kMinShareRatio = 1e-6;
+
+// Resolves shares: none given -> equal; some given -> fractions of 1, the others split what is left;
+// all given -> weights, normalised by first dividing by the largest (no overflow for 1e308, no
+// underflow to 0 for 5e-324; a share below kMinShareRatio of the largest is refused).
 void resolve_shares(Raw& raw) {
   const std::size_t n = raw.uavs.size();
-  double given_sum = 0;
+  const bool v1 = raw.format == "uavcover-v1";
+  const std::string all_field = v1 ? "uavs" : "rPortions";
+  auto field = [&](std::size_t i) { return v1 ? idx("uavs", i) + ".share" : idx("rPortions", i); };
   std::size_t given = 0;
+  double largest = 0;
   for (const auto& s : raw.shares)
-    if (s) given_sum += *s, ++given;
+    if (s) ++given, largest = std::max(largest, *s);
   if (given == 0) {
     for (auto& u : raw.uavs) u.share = 1.0 / static_cast<double>(n);
     return;
   }
-  if (given == n && given_sum <= 0) throw InputError("uavs", "all shares are zero");
+  if (given == n && largest <= 0) throw InputError(all_field, "all shares are zero");
   for (std::size_t i = 0; i < n; ++i)
     if (raw.shares[i] && *raw.shares[i] == 0)
-      throw InputError(idx("uavs", i) + ".share", "must be positive (leave the UAV out instead)");
+      throw InputError(field(i), "must be positive (leave the UAV out instead)");
   if (given < n) {
-    if (given_sum >= 1.0)
-      throw InputError("uavs", "the given shares already add up to " + json(given_sum).dump() +
-                                   ", leaving nothing for the UAVs without a share");
-    const double rest = (1.0 - given_sum) / static_cast<double>(n - given);
+    // fractions of the whole (the sum of at most 200 finite values overflows only to +inf)
+    double sum = 0;
+    for (const auto& s : raw.shares)
+      if (s) sum += *s;
+    if (!(sum < 1.0))
+      throw InputError(all_field,
+                       "the given shares already add up to " +
+                           (std::isfinite(sum) ? json(sum).dump() : std::string("more than 1e308")) +
+                           ", leaving nothing for the UAVs without a share");
+    const double rest = (1.0 - sum) / static_cast<double>(n - given);
     for (std::size_t i = 0; i < n; ++i) raw.uavs[i].share = raw.shares[i] ? *raw.shares[i] : rest;
-    return;
+  } else {
+    // share / sum, as always; when the sum overflows (shares near 1e308), the same with every share
+    // first divided by the largest (weights in (0, 1], sum between 1 and n)
+    double sum = 0;
+    for (const auto& s : raw.shares) sum += *s;
+    if (std::isfinite(sum) && sum > 0) {
+      for (std::size_t i = 0; i < n; ++i) raw.uavs[i].share = *raw.shares[i] / sum;
+    } else {
+      sum = 0;
+      for (const auto& s : raw.shares) sum += *s / largest;
+      for (std::size_t i = 0; i < n; ++i) raw.uavs[i].share = *raw.shares[i] / largest / sum;
+    }
   }
-  for (std::size_t i = 0; i < n; ++i) raw.uavs[i].share = *raw.shares[i] / given_sum;
+  double top = 0;
+  for (const auto& u : raw.uavs) top = std::max(top, u.share);
+  for (std::size_t i = 0; i < n; ++i)
+    if (raw.shares[i] && !(raw.uavs[i].share >= kMinShareRatio * top))
+      throw InputError(field(i), "is " + json(*raw.shares[i]).dump() +
+                                     ", less than a millionth of the largest share: no grid could give "
+                                     "this UAV a cell (leave it out or give it a larger share)");
 }
 
 Raw parse_v1(const json& j) {
@@ -297,7 +415,7 @@ Raw parse_v1(const json& j) {
                   "planner", "planner_params", "seed", "version", "$schema"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
-  if (j.contains("name")) raw.name = str(j["name"], "name");
+  if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
   if (!j.contains("area")) throw InputError("area", "missing");
   for (auto& p : polygons_of(j["area"], "area"))
     raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
@@ -404,16 +522,7 @@ Raw parse_mcpp(const json& j) {
 }  // namespace
 
 Mission parse_mission(std::string_view text, const ParseOptions& options) {
-  json j;
-  try {
-    j = json::parse(text.begin(), text.end());
-  } catch (const json::exception& e) {
-    // e.g. "[json.exception.parse_error.101] parse error at line 1, column 9: ..." -> drop the prefix
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    throw InputError("mission",
-                     "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
-  }
+  const json j = strict::parse_json(text, "mission");
   if (!j.is_object())
     throw InputError("mission", std::string("expected a JSON object, got ") + j.type_name());
   const bool mcpp = j.contains("droneNo") || (j.contains("polygon") && !j.contains("area"));
@@ -432,6 +541,8 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   std::vector<GeoPolygon> outer_only;
   for (const auto& np : raw.area) outer_only.push_back({np.poly.front()});
   const geodesy::LocalFrame frame(geodesy::centroid(outer_only));
+  for (const auto& np : raw.area) check_extent(np, frame.origin());
+  for (const auto& np : raw.nfz) check_extent(np, frame.origin());
   for (const auto& np : raw.area) check_valid(np, frame);
   for (const auto& np : raw.nfz) check_valid(np, frame);
 
@@ -501,13 +612,15 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   const double h = box.max_corner().y() - box.min_corner().y();
   const double diag = std::hypot(w, h);
   const double needed = std::ceil(diag / m.spacing_m + 4) * std::ceil(diag / m.spacing_m + 4);
-  if (needed > static_cast<double>(options.max_cells)) {
-    const double fit = m.spacing_m * std::sqrt(needed / static_cast<double>(options.max_cells)) * 1.01;
-    throw InputError(spacing_field, "the grid would need " + std::to_string(static_cast<long long>(needed)) +
-                                        " cells, more than the limit of " +
-                                        std::to_string(options.max_cells) + "; use a spacing of at least " +
-                                        std::to_string(static_cast<long long>(std::ceil(fit))) +
-                                        " m or raise the cell limit");
+  const double max_cells = static_cast<double>(std::max<std::size_t>(options.max_cells, 1));
+  if (!(needed <= max_cells)) {
+    // (diag / s + 4)^2 <= max_cells  <=>  s >= diag / (sqrt(max_cells) - 4), with a margin for rounding
+    const double side = std::sqrt(max_cells) - 5;
+    const std::string fit =
+        side >= 1 ? "use a spacing of at least " + count_text(std::ceil(diag / side * 1.01)) + " m or " : "";
+    throw InputError(spacing_field,
+                     "the grid would need " + count_text(needed) + " cells, more than the limit of " +
+                         std::to_string(options.max_cells) + "; " + fit + "raise the cell limit");
   }
   if (m.spacing_m * 2 > diag * 4)
     throw InputError(spacing_field, "is far larger than the area; no grid cell would fit");

@@ -19,8 +19,9 @@ struct RunResult {
   std::string output;  // stdout and stderr
 };
 
-inline RunResult run_cli(const std::string& args) {
-  const std::string cmd = std::string(UAVCOVER_CLI) + " " + args + " 2>&1";
+/// Runs `uavcover ARGS` through the shell; `env` ("NAME=value ...") is set for that run only.
+inline RunResult run_cli(const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + (env.empty() ? "" : " ") + std::string(UAVCOVER_CLI) + " " + args + " 2>&1";
   RunResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;

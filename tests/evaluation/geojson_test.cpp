@@ -141,3 +141,38 @@ TEST(PathsGeoJson, FuzzFoundNumberOverflowIsRefused) {
   // found by fuzz_paths_geojson: a number too large for a double escaped as json out_of_range
   EXPECT_EQ(field_of(R"({"type": "FeatureCollection", "x": 0.5E3821, "features": []})"), "paths");
 }
+
+namespace {
+
+// A FeatureCollection with one valid LineString whose properties nest `depth` objects.
+std::string deep_properties(std::size_t depth) {
+  std::string s = R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":)";
+  for (std::size_t i = 0; i < depth; ++i) s += "{\"a\":";
+  s += "1" + std::string(depth, '}');
+  s += R"(,"geometry":{"type":"LineString","coordinates":[[24.41,40.93],[24.412,40.93]]}}]})";
+  return s;
+}
+
+}  // namespace
+
+TEST(PathsGeoJson, DeeplyNestedPropertiesAreRefusedNotCrashed) {
+  // 70 000 nested objects in a feature's properties overflowed the stack (a recursive copy)
+  const std::string text = deep_properties(70'000);
+  try {
+    parse_paths_geojson(text, kFrame);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "paths");
+    EXPECT_NE(std::string(e.what()).find("nested deeper than 64 levels"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("features[0].properties.a"), std::string::npos) << e.what();
+  }
+  // moderate nesting in properties is harmless and ignored
+  EXPECT_EQ(parse_paths_geojson(deep_properties(50), kFrame).flights.size(), 1u);
+}
+
+TEST(PathsGeoJson, DuplicateKeysAreRefused) {
+  EXPECT_EQ(
+      field_of(
+          R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":{"uav":"a","uav":"b"},"geometry":{"type":"LineString","coordinates":[[24.41,40.93],[24.412,40.93]]}}]})"),
+      "features[0].properties.uav");
+}

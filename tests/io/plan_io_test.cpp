@@ -124,3 +124,70 @@ TEST(WriteArtifacts, WritesEverythingOrNothing) {
   fs::remove_all(dir);
   fs::remove_all(other);
 }
+
+TEST(ReadTextFile, RefusesFoldersDevicesAndMissingFilesNamingThem) {
+  auto expect = [](const fs::path& p, const std::string& needle) {
+    try {
+      io::read_text_file(p, "MISSION");
+      ADD_FAILURE() << "read " << p;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "MISSION");
+      EXPECT_NE(std::string(e.what()).find("'" + p.string() + "'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect("/dev/zero", "not a regular file");
+  expect(fs::temp_directory_path(), "is a folder");
+  expect(fs::temp_directory_path() / "uavcover-no-such-file.json", "cannot read");
+}
+
+TEST(ReadTextFile, RefusesFilesOverTheLimit) {
+  const auto dir = fresh_dir("limit");
+  fs::create_directories(dir);
+  std::ofstream(dir / "f.json") << std::string(1000, ' ') << "{}";
+  EXPECT_EQ(io::read_text_file(dir / "f.json", "F", 1002).size(), 1002u);
+  try {
+    io::read_text_file(dir / "f.json", "F", 1001);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than the input limit of 1001 bytes"), std::string::npos)
+        << e.what();
+  }
+  // the process-wide limit
+  io::set_max_input_bytes(1001);
+  EXPECT_THROW(io::read_text_file(dir / "f.json", "F"), InputError);
+  io::set_max_input_bytes(io::kDefaultMaxInputBytes);
+  EXPECT_EQ(io::read_text_file(dir / "f.json", "F").size(), 1002u);
+  std::ofstream(dir / "empty.json").flush();
+  EXPECT_EQ(io::read_text_file(dir / "empty.json", "F"), "");
+  fs::remove_all(dir);
+}
+
+TEST(PlanDir, RefusesDuplicateKeysAndDeepNesting) {
+  const Plan p = small_plan();
+  const auto dir = fresh_dir("strict");
+  write_plan_folder(p, dir);
+  const std::string plan_text = uavcover::testing::slurp(dir / "plan.json");
+  // a duplicate key inside the stored mission
+  std::string dup = plan_text;
+  dup.insert(dup.find("\"spacing_m\""), "\"spacing_m\": -5, ");
+  std::ofstream(dir / "plan.json") << dup;
+  try {
+    io::load_plan_dir(dir);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("duplicate key \"spacing_m\" in plan.json"), std::string::npos)
+        << e.what();
+  }
+  // deep nesting in paths.geojson
+  std::ofstream(dir / "plan.json") << plan_text;
+  std::ofstream(dir / "paths.geojson") << std::string(100'000, '[') << std::string(100'000, ']');
+  try {
+    io::load_plan_dir(dir);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "paths.geojson");
+    EXPECT_NE(std::string(e.what()).find("nested deeper"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}

@@ -369,3 +369,135 @@ TEST(MissionParse, AllBenchmarkRoisParse) {
     EXPECT_NO_THROW(parse_mission(text)) << name;
   }
 }
+
+TEST(MissionParse, SharesAreNormalisedWithoutOverflowOrUnderflow) {
+  auto j = base();
+  j["uavs"][0]["share"] = 1e308;  // their sum overflowed to inf: both shares became 0
+  j["uavs"][1]["share"] = 1e308;
+  auto m = parse_mission(j.dump());
+  EXPECT_DOUBLE_EQ(m.uavs[0].share, 0.5);
+  EXPECT_DOUBLE_EQ(m.uavs[1].share, 0.5);
+  j["uavs"][0]["share"] = 1e-300;
+  j["uavs"][1]["share"] = 3e-300;
+  m = parse_mission(j.dump());
+  EXPECT_DOUBLE_EQ(m.uavs[0].share, 0.25);
+  EXPECT_DOUBLE_EQ(m.uavs[1].share, 0.75);
+  // 5e-324 next to 1 became 0 although zero shares are refused: refused as negligible
+  j["uavs"][0]["share"] = 5e-324;
+  j["uavs"][1]["share"] = 1;
+  expect_error(j, "uavs[0].share", "less than a millionth of the largest share");
+  j["uavs"][0]["share"] = 1e-6;  // the smallest ratio accepted
+  EXPECT_NEAR(parse_mission(j.dump()).uavs[0].share, 1e-6, 1e-12);
+  // some given: fractions of 1
+  j = base();
+  j["uavs"][0]["share"] = 1e308;
+  expect_error(j, "uavs", "already add up to 1e+308");
+  j["uavs"][0]["share"] = 5e-324;
+  expect_error(j, "uavs[0].share", "less than a millionth");
+  for (const auto& u : parse_mission(base().dump()).uavs) EXPECT_DOUBLE_EQ(u.share, 0.5);
+}
+
+TEST(MissionParse, McppPortionsAreNamedAsSuch) {
+  const json j = json::parse(R"({"droneNo": 2, "scanningDensity": 40, "rPortions": [0, 1],
+    "polygon": [{"lat": 40.60, "long": 22.90}, {"lat": 40.60, "long": 22.912}, {"lat": 40.607, "long": 22.912}]})");
+  expect_error(j, "rPortions[0]", "must be positive");
+}
+
+TEST(MissionParse, UavIdSyntax) {
+  auto j = base();
+  for (const char* bad : {".", "..", ".hidden", "a/b", "a\\b", "", "a b", "é", "a\u0001"}) {
+    j["uavs"][1]["id"] = bad;
+    try {
+      parse_mission(j.dump());
+      ADD_FAILURE() << "accepted id " << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "uavs[1].id") << e.what();
+    }
+  }
+  j["uavs"][1]["id"] = std::string(65, 'x');
+  expect_error(j, "uavs[1].id", "1 to 64 characters");
+  j["uavs"][1]["id"] = ".";
+  expect_error(j, "uavs[1].id", "must not start with '.'");
+  j["uavs"][1]["id"] = "A";  // "a" and "A" would be one file on many file systems
+  expect_error(j, "uavs[1].id", "differ in more than letter case");
+  for (const std::string& good :
+       std::vector<std::string>{"b", "uav.2", "-x", "_", "a..b", std::string(64, 'z')}) {
+    j["uavs"][1]["id"] = good;
+    EXPECT_EQ(parse_mission(j.dump()).uavs[1].id, good);
+  }
+}
+
+TEST(MissionParse, NamesWithControlCharactersAreRefused) {
+  auto j = base();
+  using namespace std::string_literals;
+  for (const std::string& bad :
+       {"a\u0007b"s, "\u001b[31mred"s, "line\nbreak"s, "tab\there"s, "nul\0x"s, "del\u007f"s, "nel\u0085"s}) {
+    j["name"] = bad;
+    expect_error(j, "name", "control characters");
+  }
+  j["name"] = "Ελαιώνας «north» – 2025";
+  EXPECT_EQ(parse_mission(j.dump()).name, "Ελαιώνας «north» – 2025");
+  j["name"] = std::string(257, 'n');
+  expect_error(j, "name", "at most 256 bytes");
+}
+
+TEST(MissionParse, CollinearRingsAreBlamedNotTheSpacing) {
+  auto j = base();
+  j["area"]["coordinates"] =
+      json::parse("[[[22.90, 40.60], [22.91, 40.60], [22.92, 40.60], [22.90, 40.60]]]");
+  expect_error(j, "area.coordinates[0]", "no area: its vertices lie on one line");
+  j["area"]["coordinates"] = json::parse("[[[22.90, 40.60], [22.91, 40.61], [22.92, 40.62]]]");
+  expect_error(j, "area.coordinates[0]", "lie on one line");
+  j = base();
+  j["no_fly_zones"] = json::parse(
+      R"([{"type": "Polygon", "coordinates": [[[22.903, 40.602], [22.904, 40.603], [22.905, 40.604]]]}])");
+  expect_error(j, "no_fly_zones[0].coordinates[0]", "lie on one line");
+}
+
+TEST(MissionParse, LongEdgesAreNotCalledAntimeridianCrossings) {
+  // -170 -> 170 runs straight through 0 (RFC 7946): it does not cross the antimeridian
+  auto j = base();
+  j["area"]["coordinates"] = json::parse("[[[-170, 10], [170, 10], [170, 10.01], [-170, 10.01]]]");
+  j["uavs"] = 1;
+  try {
+    parse_mission(j.dump());
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_EQ(w.find("crosses"), std::string::npos) << w;
+    EXPECT_NE(w.find("spans 340"), std::string::npos) << w;
+    EXPECT_NE(w.find("long way round"), std::string::npos) << w;
+  }
+  // the same ring with vertices in between: far too large for a local flat frame
+  j["area"]["coordinates"] =
+      json::parse("[[[-170, 10], [0, 10], [170, 10], [170, 10.01], [0, 10.01], [-170, 10.01]]]");
+  expect_error(j, "area.coordinates[0]", "at most 500 km from their centre");
+  // an area 2 degrees across is fine
+  j["area"]["coordinates"] = json::parse("[[[22, 40], [24, 40], [24, 41], [22, 41]]]");
+  j["spacing_m"] = 2000;
+  EXPECT_NO_THROW(parse_mission(j.dump()));
+}
+
+TEST(MissionParse, GridLimitMessagesStaySane) {
+  uavcover::ParseOptions none;
+  none.max_cells = 0;  // used to advise "a spacing of at least -9223372036854775808 m"
+  try {
+    parse_mission(base().dump(), none);
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_EQ(w.find('-'), std::string::npos) << w;
+    EXPECT_EQ(w.find("--max-cells"), std::string::npos) << "the library names no flag: " << w;
+  }
+  auto j = base();
+  j["spacing_m"] = 1e-300;
+  try {
+    parse_mission(j.dump());
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_EQ(e.field(), "spacing_m");
+    EXPECT_EQ(w.find('-'), std::string::npos) << w;
+    EXPECT_NE(w.find("use a spacing of at least 1 m"), std::string::npos) << w;
+  }
+}
