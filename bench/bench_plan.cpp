@@ -3,6 +3,7 @@
 //                                              length and time per region, means over the paper's 18
 //   bench_plan scaling|scaling-hard [max_cells] mega-cells x UAVs -> time and peak RSS (one process per
 //                                              row, so peak RSS is that row's)
+//   bench_plan cancel                            stop latency of plan() at 0.5-4 s into a 100k-cell plan
 //   bench_plan mission CELLS UAVS                the scaling field as a mission file (seeded random starts)
 //   bench_plan gbench [google benchmark flags]  Google Benchmark timings (when built with it)
 #include <sys/resource.h>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <stop_token>
 #include <string>
 #include <vector>
 
@@ -146,6 +148,38 @@ Mission synthetic(long cells, int uavs, bool hard = false) {
   return m;
 }
 
+/// Stop latency: plans the ~100k mega-cell field with 20 UAVs, requests a stop after 0.5, 1, 2 and 4 s
+/// and reports how long plan() takes to return (Cancelled) after the request.
+int cancel_latency() {
+  std::printf("%10s %12s %14s\n", "stop_at_s", "stage", "latency_ms");
+  for (double at : {0.5, 1.0, 2.0, 4.0}) {
+    const Mission m = synthetic(100000, 20);
+    std::stop_source stop;
+    std::string stage;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point asked{};
+    const Context ctx(
+        [&](std::string_view s, double) {
+          stage = std::string(s);
+          if (!stop.stop_requested() &&
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= at) {
+            asked = std::chrono::steady_clock::now();
+            stop.request_stop();
+          }
+        },
+        stop.get_token());
+    try {
+      (void)plan(m, {}, ctx);
+      std::printf("%10.1f %12s %14s\n", at, "finished", "-");
+    } catch (const Cancelled&) {
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked).count();
+      std::printf("%10.1f %12s %14.1f\n", at, stage.c_str(), ms);
+    }
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 int scaling(long max_cells, bool hard) {
   std::printf("%s\n%10s %5s %9s %10s %9s %5s %9s\n",
               hard ? "unequal shares 1..n, scattered starts" : "equal shares, starts along two edges",
@@ -222,6 +256,7 @@ int main(int argc, char** argv) {
       std::printf("%s\n", mission_to_json(m).c_str());
       return 0;
     }
+    if (cmd == "cancel") return cancel_latency();
     if (cmd == "scaling" || cmd == "scaling-hard")
       return scaling(argc > 2 ? std::atol(argv[2]) : 100000L, cmd == "scaling-hard");
 #ifdef UAVCOVER_HAVE_GBENCH
@@ -238,6 +273,6 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] "
-               "| mission CELLS UAVS | gbench\n");
+               "| mission CELLS UAVS | cancel | gbench\n");
   return 2;
 }
