@@ -67,10 +67,12 @@ bench/compare/run.sh build-bench >/dev/null
 /usr/bin/time -v "$bin" -q plan "$work/mission.json" --out "$work/plan" 2>"$work/time.txt"
 wall=$(grep 'Elapsed (wall clock)' "$work/time.txt" | awk '{print $NF}')
 rss_kb=$(grep 'Maximum resident set size' "$work/time.txt" | awk '{print $NF}')
-summary=$(python3 -c '
-import json,sys
-p=json.load(open(sys.argv[1]))
-print(f"{p[\"coverage\"][\"poc\"]*100:.2f} % PoC, {len(p[\"uavs\"])} UAVs")' "$work/plan/plan.json")
+summary=$(python3 - "$work/plan/plan.json" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))
+print("%.2f %% PoC, %d UAVs" % (p["coverage"]["poc"] * 100, len(p["uavs"])))
+PY
+)
 {
   echo
   echo "## CLI end to end"

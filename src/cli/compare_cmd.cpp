@@ -31,14 +31,8 @@ void run_compare(const CompareArgs& a) {
   co.evaluation.coverage.lattice_m = a.lattice_m;
   co.evaluation.cost = a.cost;
   const bool quiet = global_flags().quiet;
-  usecases::Comparison result;
-  try {
-    result = usecases::compare(mission, co, Context(make_progress_bar(quiet), interrupt_token()));
-  } catch (...) {
-    finish_progress_bar();
-    throw;
-  }
-  finish_progress_bar();
+  const auto result =
+      with_progress(quiet, [&](const Context& ctx) { return usecases::compare(mission, co, ctx); });
   const auto files = io::write_artifacts(a.out, usecases::compare_outputs(result, !a.no_images));
   if (quiet) return;
   std::cout << usecases::compare_markdown(result);

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "cli/interrupt.hpp"
 #include "uavcover/uavcover.hpp"
 
 namespace uavcover::cli {
@@ -11,5 +12,15 @@ namespace uavcover::cli {
 Progress make_progress_bar(bool quiet);
 /// Ends the bar's line (if one was drawn).
 void finish_progress_bar();
+
+/// Runs work(ctx) with a progress bar (unless quiet) and the Ctrl-C stop token in ctx, ending the
+/// bar's line whether the work returns or throws.
+template <class Work>
+auto with_progress(bool quiet, Work&& work) {
+  struct Finish {
+    ~Finish() { finish_progress_bar(); }
+  } finish;
+  return work(Context(make_progress_bar(quiet), interrupt_token()));
+}
 
 }  // namespace uavcover::cli

@@ -33,14 +33,8 @@ void run_study(const StudyArgs& a) {
   so.seed = a.seed;
   so.cost = a.cost;
   const bool quiet = global_flags().quiet;
-  usecases::Study study;
-  try {
-    study = usecases::run_study(mission, so, Context(make_progress_bar(quiet), interrupt_token()));
-  } catch (...) {
-    finish_progress_bar();
-    throw;
-  }
-  finish_progress_bar();
+  const auto study =
+      with_progress(quiet, [&](const Context& ctx) { return usecases::run_study(mission, so, ctx); });
   const auto& counts = so.counts;
   const auto& rows = study.rows;
   const int best = study.recommended, single = study.min_single_battery;
