@@ -41,7 +41,8 @@ std::vector<double> geodesic(const Graph& G, int src) {
   pq.push({0, src});
   constexpr double diag = std::numbers::sqrt2;
   while (!pq.empty()) {
-    auto [du, u] = pq.top();
+    const double du = pq.top().first;  // not a structured binding: clang 14 cannot capture one
+    const int u = pq.top().second;
     pq.pop();
     if (du > d[u]) continue;
     auto relax = [&](int v, double w) {
