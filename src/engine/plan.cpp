@@ -118,9 +118,9 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   ctx.report("transit", 0.0);
 
   auto make_part = [&](PartKind kind, std::vector<Point> pts) {
-    PathPart part{kind, std::move(pts), {}};
-    part.wgs84.reserve(part.local.size());
-    for (const auto& p : part.local) part.wgs84.push_back(lm.frame.to_wgs84(p));
+    // long segments near the poles get vertices so that GeoJSON's lon/lat edges follow the local ones
+    PathPart part{kind, {}, {}};
+    part.wgs84 = geometry::to_wgs84_dense(pts, lm.frame, &part.local);
     return part;
   };
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the

@@ -18,11 +18,65 @@ using Segment = bg::model::segment<Point>;
 using MultiLine = bg::model::multi_linestring<Polyline>;
 }  // namespace
 
+namespace {
+
+/// Appends to `out` the local points strictly between lon/lat positions a and b that keep the local
+/// polyline within kDensifyTolM of the straight lon/lat edge (as GeoJSON readers draw it): the lon/lat
+/// midpoint is inserted, recursively, where it lies farther than that from the local chord's midpoint.
+void densify_geo(const geodesy::LocalFrame& frame, const LonLat& a, const LonLat& b, Point pa, Point pb,
+                 int depth, std::vector<Point>& out) {
+  const LonLat m{(a.lon + b.lon) / 2, (a.lat + b.lat) / 2};
+  const Point pm = frame.to_local(m);
+  const Point chord{(pa.x() + pb.x()) / 2, (pa.y() + pb.y()) / 2};
+  if (depth >= 16 || !(bg::distance(pm, chord) > kDensifyTolM)) return;
+  densify_geo(frame, a, m, pa, pm, depth + 1, out);
+  out.push_back(pm);
+  densify_geo(frame, m, b, pm, pb, depth + 1, out);
+}
+
+}  // namespace
+
+std::vector<LonLat> to_wgs84_dense(const std::vector<Point>& local, const geodesy::LocalFrame& frame,
+                                   std::vector<Point>* dense_local) {
+  std::vector<LonLat> out;
+  std::vector<Point> pts;
+  out.reserve(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) {
+    if (i > 0) {
+      // the local segment's lon/lat midpoint against the lon/lat chord's midpoint
+      std::vector<Point> between;
+      const Point a = local[i - 1], b = local[i];
+      auto split = [&](auto&& self, Point p, Point q, int depth) -> void {
+        const Point m{(p.x() + q.x()) / 2, (p.y() + q.y()) / 2};
+        const LonLat gp = frame.to_wgs84(p), gq = frame.to_wgs84(q);
+        const Point chord = frame.to_local(LonLat{(gp.lon + gq.lon) / 2, (gp.lat + gq.lat) / 2});
+        if (depth >= 16 || !(bg::distance(m, chord) > kDensifyTolM)) return;
+        self(self, p, m, depth + 1);
+        between.push_back(m);
+        self(self, m, q, depth + 1);
+      };
+      split(split, a, b, 0);
+      for (const auto& m : between) {
+        out.push_back(frame.to_wgs84(m));
+        pts.push_back(m);
+      }
+    }
+    out.push_back(frame.to_wgs84(local[i]));
+    pts.push_back(local[i]);
+  }
+  if (dense_local != nullptr) *dense_local = std::move(pts);
+  return out;
+}
+
 Polygon to_local(const GeoPolygon& poly, const geodesy::LocalFrame& frame) {
   Polygon out;
   for (std::size_t r = 0; r < poly.size(); ++r) {
     auto& ring = r == 0 ? out.outer() : out.inners().emplace_back();
-    for (const auto& ll : poly[r]) ring.push_back(frame.to_local(ll));
+    for (std::size_t i = 0; i < poly[r].size(); ++i) {
+      const Point p = frame.to_local(poly[r][i]);
+      if (i > 0) densify_geo(frame, poly[r][i - 1], poly[r][i], ring.back(), p, 0, ring);
+      ring.push_back(p);
+    }
   }
   bg::correct(out);
   return out;

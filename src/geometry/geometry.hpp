@@ -10,7 +10,17 @@
 
 namespace uavcover::geometry {
 
+/// Edges are straight in longitude/latitude in GeoJSON but straight in the local plane here. Where the two
+/// differ by more than this (long edges, high latitudes), conversions insert vertices.
+inline constexpr double kDensifyTolM = 0.5;
+
+/// Local polygon of a WGS84 one; an edge whose lon/lat midpoint lies more than kDensifyTolM from its local
+/// chord gets that midpoint as a vertex (recursively).
 Polygon to_local(const GeoPolygon& poly, const geodesy::LocalFrame& frame);
+/// WGS84 positions of a local polyline; a segment whose local midpoint lies more than kDensifyTolM from
+/// the lon/lat chord's midpoint gets it as a vertex (recursively). `dense_local`: the local points.
+std::vector<LonLat> to_wgs84_dense(const std::vector<Point>& local, const geodesy::LocalFrame& frame,
+                                   std::vector<Point>* dense_local = nullptr);
 MultiPolygon to_local(const std::vector<GeoPolygon>& polys, const geodesy::LocalFrame& frame);
 
 /// Union of the given polygons (each corrected); empty input gives an empty set.

@@ -102,3 +102,45 @@ TEST(Facade, SpacingTooCoarseForAnyCellIsAnInputError) {
     EXPECT_FALSE(e.field().empty()) << e.what();
   }
 }
+
+namespace {
+
+// Near 80 degrees a strict path follows the area as GeoJSON readers draw it (edges straight in lon/lat):
+// every vertex and every edge's lon/lat midpoint lies inside the lon/lat area within 1 m.
+TEST(PolarPaths, StrictPathsStayInsideTheLonLatArea) {
+  Mission m;
+  m.name = "polar";
+  m.spacing_m = 100.0;
+  const double lat0 = 80.0, lon0 = 10.0, dlat = 0.05, dlon = 0.3;  // about 5.5 x 5.8 km
+  m.area.push_back(GeoPolygon{GeoRing{
+      {lon0, lat0}, {lon0 + dlon, lat0}, {lon0 + dlon, lat0 + dlat}, {lon0, lat0 + dlat}, {lon0, lat0}}});
+  for (int i = 0; i < 2; ++i) {
+    Uav u;
+    u.id = "u" + std::to_string(i);
+    u.share = 0.5;
+    m.uavs.push_back(u);
+  }
+  m.seed = 3;
+  const Plan p = plan(m);
+  // lon/lat as a plane, in metres at the area's latitude
+  const double kx = 111320.0 * std::cos(lat0 * M_PI / 180), ky = 111320.0;
+  auto flat = [&](const LonLat& ll) { return Point{(ll.lon - lon0) * kx, (ll.lat - lat0) * ky}; };
+  Polygon area;
+  for (const auto& ll : m.area[0][0]) area.outer().push_back(flat(ll));
+  bg::correct(area);
+  double worst = 0;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts) {
+      if (part.kind != PartKind::Coverage) continue;
+      for (std::size_t i = 0; i < part.wgs84.size(); ++i) {
+        worst = std::max(worst, geometry::distance(MultiPolygon{area}, flat(part.wgs84[i])));
+        if (i == 0) continue;
+        const LonLat mid{(part.wgs84[i - 1].lon + part.wgs84[i].lon) / 2,
+                         (part.wgs84[i - 1].lat + part.wgs84[i].lat) / 2};
+        worst = std::max(worst, geometry::distance(MultiPolygon{area}, flat(mid)));
+      }
+    }
+  EXPECT_LE(worst, 1.0);
+}
+
+}  // namespace
