@@ -144,3 +144,43 @@ TEST(PolarPaths, StrictPathsStayInsideTheLonLatArea) {
 }
 
 }  // namespace
+
+namespace {
+
+// 10 000 small zones (a 100 x 100 lattice of 2 m squares in a 2 km field): DARP plans, and no path
+// segment enters a zone.
+TEST(ManyZones, TenThousandZonesPlanAndPathsAvoidThem) {
+  Mission m;
+  m.spacing_m = 40.0;
+  const double lat0 = 45.0, lon0 = 9.0, mlat = 1.0 / 111320.0, mlon = mlat / std::cos(lat0 * M_PI / 180);
+  auto rect = [&](double x0, double y0, double x1, double y1) {
+    return GeoPolygon{GeoRing{{lon0 + x0 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y0 * mlat}}};
+  };
+  m.area.push_back(rect(0, 0, 2000, 2000));
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      m.no_fly_zones.push_back(rect(i * 20 + 9, j * 20 + 9, i * 20 + 11, j * 20 + 11));
+  for (int i = 0; i < 3; ++i) {
+    Uav u;
+    u.id = "u" + std::to_string(i);
+    u.share = 1.0 / 3;
+    u.start = LonLat{lon0 + (0.5 + 20 * i) * mlon, lat0 + 0.5 * mlat};
+    m.uavs.push_back(u);
+  }
+  const Plan p = plan(m);
+  const engine::LocalMission lm = engine::to_local(p.mission);
+  ASSERT_EQ(lm.no_fly.size(), 10000u);
+  const geometry::Router router(lm.no_fly);
+  std::size_t segments = 0;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts)
+      for (std::size_t i = 1; i < part.local.size(); ++i, ++segments)
+        EXPECT_TRUE(router.clear(part.local[i - 1], part.local[i])) << u.id;
+  EXPECT_GT(segments, 100u);
+}
+
+}  // namespace
