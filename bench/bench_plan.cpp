@@ -3,9 +3,11 @@
 //                                              length and time per region, means over the paper's 18
 //   bench_plan scaling|scaling-hard [max_cells] mega-cells x UAVs -> time and peak RSS (one process per
 //                                              row, so peak RSS is that row's)
-//   bench_plan cancel                            stop latency of plan() at 0.5-4 s into a 100k-cell plan
+//   bench_plan cancel                            stop latency of plan() at 0.5-7.5 s into a 100k-cell plan
 //   bench_plan mission CELLS UAVS                the scaling field as a mission file (seeded random starts)
 //   bench_plan gbench [google benchmark flags]  Google Benchmark timings (when built with it)
+//   bench_plan nfz N [planner] [uavs]            a 2 km field with a lattice of N small (2 m) no-fly zones
+//                                              (ds 40 m): parse and plan times
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -181,6 +183,59 @@ int cancel_latency() {
   return 0;
 }
 
+/// A 2 km square field with a k x k lattice (k = ceil(sqrt(n))) of 2 m square no-fly zones, ds 40 m.
+Mission nfz_lattice(int n, const std::string& planner, int uavs) {
+  Mission m;
+  m.name = "nfz-lattice";
+  m.planner = planner;
+  m.spacing_m = 40.0;
+  const double side_m = 2000.0, lat0 = 45.0, lon0 = 9.0;
+  const double mlat = 1.0 / 111320.0, mlon = 1.0 / (111320.0 * std::cos(lat0 * M_PI / 180));
+  auto rect = [&](double x0, double y0, double x1, double y1) {  // metres east/north of the corner
+    GeoRing ring{{lon0 + x0 * mlon, lat0 + y0 * mlat},
+                 {lon0 + x1 * mlon, lat0 + y0 * mlat},
+                 {lon0 + x1 * mlon, lat0 + y1 * mlat},
+                 {lon0 + x0 * mlon, lat0 + y1 * mlat},
+                 {lon0 + x0 * mlon, lat0 + y0 * mlat}};
+    return GeoPolygon{ring};
+  };
+  m.area.push_back(rect(0, 0, side_m, side_m));
+  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  const double pitch = side_m / k;
+  for (int i = 0, placed = 0; i < k && placed < n; ++i)
+    for (int j = 0; j < k && placed < n; ++j, ++placed) {
+      const double cx = (i + 0.5) * pitch, cy = (j + 0.5) * pitch;
+      m.no_fly_zones.push_back(rect(cx - 1, cy - 1, cx + 1, cy + 1));
+    }
+  for (int i = 0; i < uavs; ++i) {
+    Uav u;
+    u.id = "uav" + std::to_string(i);
+    u.share = 1.0 / uavs;
+    u.start = LonLat{lon0 + (0.5 + i * pitch) * mlon, lat0 + 0.5 * mlat};
+    m.uavs.push_back(u);
+  }
+  m.seed = 1;
+  return m;
+}
+
+int nfz(int n, const std::string& planner, int uavs) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Mission m = parse_mission(mission_to_json(nfz_lattice(n, planner, uavs)));
+  const auto t1 = std::chrono::steady_clock::now();
+  const Plan p = plan(m);
+  const auto t2 = std::chrono::steady_clock::now();
+  std::size_t transit = 0, vertices = 0;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts) {
+      vertices += part.local.size();
+      if (part.kind == PartKind::Transit) ++transit;
+    }
+  std::printf("nfz %d planner %s uavs %d: parse %.2f s, plan %.2f s, %zu transit legs, %zu vertices\n", n,
+              planner.c_str(), uavs, std::chrono::duration<double>(t1 - t0).count(),
+              std::chrono::duration<double>(t2 - t1).count(), transit, vertices);
+  return 0;
+}
+
 int scaling(long max_cells, bool hard) {
   std::printf("%s\n%10s %5s %9s %10s %9s %5s %9s\n",
               hard ? "unequal shares 1..n, scattered starts" : "equal shares, starts along two edges",
@@ -258,6 +313,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (cmd == "cancel") return cancel_latency();
+    if (cmd == "nfz" && argc > 2)
+      return nfz(std::atoi(argv[2]), argc > 3 ? argv[3] : "darp", argc > 4 ? std::atoi(argv[4]) : 3);
     if (cmd == "scaling" || cmd == "scaling-hard")
       return scaling(argc > 2 ? std::atol(argv[2]) : 100000L, cmd == "scaling-hard");
 #ifdef UAVCOVER_HAVE_GBENCH
@@ -274,6 +331,6 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: bench_plan paper [strict|coverage] [dir|-] [seed] | scaling|scaling-hard [max_cells] "
-               "| mission CELLS UAVS | cancel | gbench\n");
+               "| mission CELLS UAVS | cancel | nfz N [planner] [uavs] | gbench\n");
   return 2;
 }

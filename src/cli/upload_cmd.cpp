@@ -8,6 +8,7 @@
 
 #include "cli/command.hpp"
 #include "cli/validators.hpp"
+#include "export/export.hpp"
 #include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -53,7 +54,19 @@ void run_upload(const UploadArgs& a) {
     for (const auto& u : plan.uavs) ids += (ids.empty() ? "" : ", ") + u.id;
     throw InputError("--uav", fmt::format("no UAV '{}' in the plan (it has: {})", a.uav, ids));
   }
-  const auto exported = exporting::mission_items(plan, index, a.altitude);
+  if (exporting::idle(plan.uavs[index])) {  // like the exporters: no coverage, nothing to fly
+    std::cerr << fmt::format("uavcover: warning: UAV '{}' has no coverage path; nothing uploaded\n", a.uav);
+    return;
+  }
+  std::vector<exporting::MissionItem> exported;
+  try {
+    exported = exporting::mission_items(plan, index, a.altitude);
+  } catch (const InputError& e) {
+    // the library names its fields; on the command line they are these options
+    const std::string problem = std::string(e.what()).substr(e.field().empty() ? 0 : e.field().size() + 2);
+    if (e.field() == "altitude.transition_ceiling_m") throw InputError("--transition-ceiling", problem);
+    throw;
+  }
   std::optional<LonLat> home;
   if (!a.no_home) home = plan.mission.uavs.at(index).start_resolved;
   const auto items = mavlink::to_mission_items(exported, home);
@@ -117,6 +130,15 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
                   "Transition altitude added per UAV (m)")
       ->capture_default_str()
       ->check(number_in(0, 1'000));
+  cmd->add_option("--transition-ceiling", args->altitude.transition_ceiling_m,
+                  "Highest transition altitude (m above take-off; 0 = none); the step is compressed to fit "
+                  "while it stays >= --min-separation")
+      ->capture_default_str()
+      ->check(number_in(0, 10'000));
+  cmd->add_option("--min-separation", args->altitude.min_vertical_separation_m,
+                  "Smallest transition step (m) the ceiling may compress the step to")
+      ->capture_default_str()
+      ->check(number_in(0.1, 1'000));
   cmd->add_flag("--land", args->altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
   cmd->footer(
       "The mission is the one `uavcover export` writes (take-off, speed, transition altitudes, coverage,\n"

@@ -118,9 +118,9 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   ctx.report("transit", 0.0);
 
   auto make_part = [&](PartKind kind, std::vector<Point> pts) {
-    PathPart part{kind, std::move(pts), {}};
-    part.wgs84.reserve(part.local.size());
-    for (const auto& p : part.local) part.wgs84.push_back(lm.frame.to_wgs84(p));
+    // long segments near the poles get vertices so that GeoJSON's lon/lat edges follow the local ones
+    PathPart part{kind, {}, {}};
+    part.wgs84 = geometry::to_wgs84_dense(pts, lm.frame, &part.local);
     return part;
   };
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
@@ -133,6 +133,10 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     altitudes.transition_ceiling_m = 0;
     out.warnings.push_back(std::string("transition altitudes: ") + e.what());
   }
+  // one router for every transit leg: the no-fly zones' R-tree and visibility nodes are built once
+  const geometry::Router router(lm.no_fly);
+  std::size_t legs_total = 0, legs_done = 0;
+  for (const auto& r : res.uavs) legs_total += r.coverage.size() + 1;
   double region_total = 0.0;
   for (const auto& r : res.uavs) region_total += bg::area(r.region);
   for (std::size_t i = 0; i < out.mission.uavs.size(); ++i) {
@@ -152,9 +156,12 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     up.transition_altitude_m = exporting::transition_altitude(altitudes, i, out.mission.altitude_m);
     Point here = problem.starts[i];
     auto transit_to = [&](Point target) {
+      if (ctx.stop_requested()) throw Cancelled();
+      ++legs_done;
       if (bg::distance(here, target) < 1e-6) return;
-      up.parts.push_back(make_part(PartKind::Transit, geometry::route_around(lm.no_fly, here, target)));
+      up.parts.push_back(make_part(PartKind::Transit, router.route(here, target)));
       here = target;
+      ctx.report("transit", static_cast<double>(legs_done) / static_cast<double>(legs_total));
     };
     for (const auto& cov : r.coverage) {
       if (cov.empty()) continue;
@@ -167,7 +174,6 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     transit_to(problem.starts[i]);
     for (const auto& part : up.parts) up.length_m += geometry::length(part.local);
     out.uavs.push_back(std::move(up));
-    ctx.report("transit", static_cast<double>(i + 1) / static_cast<double>(out.mission.uavs.size()));
   }
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -201,20 +201,22 @@ json plan_json(const Plan& plan, const json& extra) {
 }
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& content) {
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::error_code mkdir_ec;
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), mkdir_ec);
+  if (mkdir_ec) throw OperationError("cannot create the folder " + path.parent_path().string());
   const std::filesystem::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    if (!out) throw OperationError("cannot write " + tmp.string());
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    if (!out) throw OperationError("cannot write " + tmp.string());
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path.string());
+    throw OperationError("cannot write " + path.string());
   }
 }
 
@@ -301,6 +303,9 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
     plan.mission = parse_mission(pj["mission"].dump(), ParseOptions{std::size_t{1} << 40});
     plan.origin = position(pj.at("origin"), "plan.json: origin");
     const geodesy::LocalFrame frame(plan.origin);
+    if (const Point c = frame.to_local(geodesy::centroid(plan.mission.area));
+        !(std::hypot(c.x(), c.y()) <= kMaxPlanExtentM))
+      throw InputError("plan.json: origin", "lies more than 500 km from the mission's area");
     auto local = [&](const LonLat& ll, const std::string& field) {
       const Point p = frame.to_local(ll);
       if (!(std::hypot(p.x(), p.y()) <= kMaxPlanExtentM))
@@ -353,6 +358,8 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
         }
         if (gp.empty()) throw InputError(f + ".region", "empty polygon");
         bg::correct(lp);
+        if (std::string why; !bg::is_valid(lp, why))
+          throw InputError(f + ".region", "not a valid polygon: " + why);
         up.region.push_back(std::move(gp));
         up.region_local.push_back(std::move(lp));
       }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "geodesy/local_frame.hpp"
+#include "uavcover/error.hpp"
 
 namespace uavcover::trajectory {
 
@@ -191,6 +192,12 @@ Sample Trajectory::at(double t) const {
 
 std::vector<Sample> Trajectory::sample(double dt) const {
   if (!(dt > 0)) throw std::invalid_argument("trajectory: dt must be positive");
+  const double need = std::floor(duration_ / dt) + 2;
+  if (!(need <= kMaxSamples))
+    throw InputError("trajectory",
+                     fmt::format("the flight of {:.0f} s would need {:.0f} samples at {} s, more "
+                                 "than the limit of {:.0f} per UAV (see docs/limits.md)",
+                                 duration_, need, dt, kMaxSamples));
   std::vector<Sample> out;
   const auto steps = static_cast<std::size_t>(std::floor(duration_ / dt));
   out.reserve(steps + 2);

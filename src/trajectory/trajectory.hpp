@@ -52,6 +52,9 @@ struct Piece {
   double radius = 0, angle = 0, speed = 0;
 };
 
+/// Most samples one trajectory may have (about 55 hours at dt 0.1 s): sample() refuses more.
+inline constexpr double kMaxSamples = 2'000'000;
+
 class Trajectory {
  public:
   /// `waypoints` are visited in order (consecutive duplicates are dropped). Needs >= 1 waypoint.
@@ -59,7 +62,8 @@ class Trajectory {
 
   [[nodiscard]] double duration() const { return duration_; }
   [[nodiscard]] Sample at(double t) const;
-  /// Samples at 0, dt, 2dt, ... and at the end time (t strictly increasing).
+  /// Samples at 0, dt, 2dt, ... and at the end time (t strictly increasing). Throws InputError
+  /// ("trajectory") when that would be more than kMaxSamples.
   [[nodiscard]] std::vector<Sample> sample(double dt) const;
   [[nodiscard]] std::vector<Sample> sample() const { return sample(options_.dt); }
   /// The waypoints after densification (the ones the trajectory passes by).

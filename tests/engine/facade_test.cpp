@@ -102,3 +102,85 @@ TEST(Facade, SpacingTooCoarseForAnyCellIsAnInputError) {
     EXPECT_FALSE(e.field().empty()) << e.what();
   }
 }
+
+namespace {
+
+// Near 80 degrees a strict path follows the area as GeoJSON readers draw it (edges straight in lon/lat):
+// every vertex and every edge's lon/lat midpoint lies inside the lon/lat area within 1 m.
+TEST(PolarPaths, StrictPathsStayInsideTheLonLatArea) {
+  Mission m;
+  m.name = "polar";
+  m.spacing_m = 100.0;
+  const double lat0 = 80.0, lon0 = 10.0, dlat = 0.05, dlon = 0.3;  // about 5.5 x 5.8 km
+  m.area.push_back(GeoPolygon{GeoRing{
+      {lon0, lat0}, {lon0 + dlon, lat0}, {lon0 + dlon, lat0 + dlat}, {lon0, lat0 + dlat}, {lon0, lat0}}});
+  for (int i = 0; i < 2; ++i) {
+    Uav u;
+    u.id = "u" + std::to_string(i);
+    u.share = 0.5;
+    m.uavs.push_back(u);
+  }
+  m.seed = 3;
+  const Plan p = plan(m);
+  // lon/lat as a plane, in metres at the area's latitude
+  const double kx = 111320.0 * std::cos(lat0 * M_PI / 180), ky = 111320.0;
+  auto flat = [&](const LonLat& ll) { return Point{(ll.lon - lon0) * kx, (ll.lat - lat0) * ky}; };
+  Polygon area;
+  for (const auto& ll : m.area[0][0]) area.outer().push_back(flat(ll));
+  bg::correct(area);
+  double worst = 0;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts) {
+      if (part.kind != PartKind::Coverage) continue;
+      for (std::size_t i = 0; i < part.wgs84.size(); ++i) {
+        worst = std::max(worst, geometry::distance(MultiPolygon{area}, flat(part.wgs84[i])));
+        if (i == 0) continue;
+        const LonLat mid{(part.wgs84[i - 1].lon + part.wgs84[i].lon) / 2,
+                         (part.wgs84[i - 1].lat + part.wgs84[i].lat) / 2};
+        worst = std::max(worst, geometry::distance(MultiPolygon{area}, flat(mid)));
+      }
+    }
+  EXPECT_LE(worst, 1.0);
+}
+
+}  // namespace
+
+namespace {
+
+// 10 000 small zones (a 100 x 100 lattice of 2 m squares in a 2 km field): DARP plans, and no path
+// segment enters a zone.
+TEST(ManyZones, TenThousandZonesPlanAndPathsAvoidThem) {
+  Mission m;
+  m.spacing_m = 40.0;
+  const double lat0 = 45.0, lon0 = 9.0, mlat = 1.0 / 111320.0, mlon = mlat / std::cos(lat0 * M_PI / 180);
+  auto rect = [&](double x0, double y0, double x1, double y1) {
+    return GeoPolygon{GeoRing{{lon0 + x0 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y0 * mlat}}};
+  };
+  m.area.push_back(rect(0, 0, 2000, 2000));
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      m.no_fly_zones.push_back(rect(i * 20 + 9, j * 20 + 9, i * 20 + 11, j * 20 + 11));
+  for (int i = 0; i < 3; ++i) {
+    Uav u;
+    u.id = "u" + std::to_string(i);
+    u.share = 1.0 / 3;
+    u.start = LonLat{lon0 + (0.5 + 20 * i) * mlon, lat0 + 0.5 * mlat};
+    m.uavs.push_back(u);
+  }
+  const Plan p = plan(m);
+  const engine::LocalMission lm = engine::to_local(p.mission);
+  ASSERT_EQ(lm.no_fly.size(), 10000u);
+  const geometry::Router router(lm.no_fly);
+  std::size_t segments = 0;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts)
+      for (std::size_t i = 1; i < part.local.size(); ++i, ++segments)
+        EXPECT_TRUE(router.clear(part.local[i - 1], part.local[i])) << u.id;
+  EXPECT_GT(segments, 100u);
+}
+
+}  // namespace

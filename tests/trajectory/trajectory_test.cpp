@@ -10,6 +10,7 @@
 #include <random>
 
 #include "export/fixture.hpp"
+#include "uavcover/error.hpp"
 
 using namespace uavcover;
 using namespace uavcover::trajectory;
@@ -270,4 +271,11 @@ TEST(Trajectory, RandomPolylinesKeepEveryProperty) {
     SCOPED_TRACE("trial " + std::to_string(trial));
     check_all(t, 0.05, opt.corners == CornerMode::Stop ? 0.0 : opt.fillet_radius_m);
   }
+}
+
+TEST(Trajectory, SampleCountIsBounded) {
+  // 2000 km at 1 m/s: 2e6 s, 2e7 samples at 0.1 s; refused before anything is allocated
+  const Trajectory t({{0, 0, 0}, {2e6, 0, 0}}, Limits{1.0, 2.0});
+  EXPECT_THROW((void)t.sample(0.1), uavcover::InputError);
+  EXPECT_NO_THROW((void)t.sample(2000.0));
 }

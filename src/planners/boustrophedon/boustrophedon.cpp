@@ -157,11 +157,20 @@ MultiPolygon inset_against(const MultiPolygon& region, const MultiPolygon& other
 /// Clearance kept from no-fly zones: legs that end at a no-fly zone's edge end this far from it, so
 /// that no waypoint lies on (and, after rounding to WGS84, inside) an exclusion polygon.
 constexpr double kNoFlyClearanceM = 0.5;
+/// The most (separate) no-fly zones it plans around.
+constexpr std::size_t kMaxNoFlyZones = 64;
 
 class BoustrophedonPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
                                 const Context& ctx) const override {
+    // its cell decomposition grows with the square of the zones (50 zones: 6 s, 100: 25 s): refuse
+    // what it cannot plan in seconds rather than hang
+    if (problem.no_fly.size() > kMaxNoFlyZones)
+      throw InputError("no_fly_zones",
+                       "the boustrophedon planner plans around at most " + std::to_string(kMaxNoFlyZones) +
+                           " no-fly zones, this mission has " + std::to_string(problem.no_fly.size()) +
+                           ": use the darp planner or merge nearby zones");
     if (problem.no_fly.empty()) return plan_with_clearance(problem, params, ctx);
     Problem q = problem;
     MultiPolygon zones = problem.no_fly;

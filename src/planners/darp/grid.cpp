@@ -207,8 +207,8 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
 
   auto by_ya = [](const QEdge& a, const QEdge& b) { return a.ya < b.ya; };
   std::sort(fe.begin(), fe.end(), by_ya);
-  std::vector<QEdge> ne;
-  if (!prep.nfz_edges.empty()) {
+  std::vector<QEdge> ne;  // no-fly zone edges: coverage mode only (strict mode scans the free area's)
+  if (prep.mode == Mode::Coverage && !prep.nfz_edges.empty()) {
     ne = to_q(prep.nfz_edges, g);
     std::sort(ne.begin(), ne.end(), by_ya);
   }
@@ -240,8 +240,11 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
   std::vector<std::uint8_t> no_link(n, 0);  // bit 0 right, bit 1 up
   const double h = 0.5 * ds;
   for (const auto& e : barrier) {
-    const double len = std::hypot(e.xb - e.xa, e.yb - e.ya);
-    const int pieces = std::max(1, static_cast<int>(std::ceil(len / dn)));
+    // an edge no longer than dn in |dx| + |dy| is one piece (skips hypot for the many small zones' edges)
+    const double dx = std::fabs(e.xb - e.xa), dy = std::fabs(e.yb - e.ya);
+    const int pieces =
+        dx + dy <= dn ? 1
+                      : std::max(1, static_cast<int>(std::ceil(std::hypot(e.xb - e.xa, e.yb - e.ya) / dn)));
     for (int p = 0; p < pieces; ++p) {
       const double t0 = static_cast<double>(p) / pieces, t1 = static_cast<double>(p + 1) / pieces;
       const double ax = e.xa + t0 * (e.xb - e.xa), ay = e.ya + t0 * (e.yb - e.ya);

@@ -491,3 +491,19 @@ TEST(Boustrophedon, ThesisRectangleThreeUavsGetStripsAlongItsLength) {
   expect_strict_inside(p, a);
   expect_no_crossings(a);
 }
+
+TEST(Boustrophedon, RefusesMoreNoFlyZonesThanItPlansInSeconds) {
+  MultiPolygon zones;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      zones.push_back(rect(100 + 100 * i, 100 + 100 * j, 102 + 100 * i, 102 + 100 * j));
+  MultiPolygon area;
+  area.push_back(rect(0, 0, 1000, 1000));
+  try {
+    (void)run(one_uav(area, zones));
+    FAIL() << "planned around 81 zones";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "no_fly_zones");
+    EXPECT_NE(std::string(e.what()).find("darp"), std::string::npos) << e.what();
+  }
+}
