@@ -73,12 +73,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   out.mission = mission;
   if (options.seed) out.mission.seed = *options.seed;
   if (out.mission.uavs.empty()) throw InputError("uavs", "at least one UAV is needed");
-  const planners::PlannerInfo* info = planners::find(out.mission.planner);
-  if (info == nullptr) {
-    std::string list;
-    for (const auto& p : planners::registry()) list += (list.empty() ? "" : ", ") + p.name;
-    throw InputError("planner", "unknown planner \"" + out.mission.planner + "\" (available: " + list + ")");
-  }
+  const planners::PlannerInfo* info = &planners::require(out.mission.planner);
   out.mission.planner_params = planners::validate_params(*info, out.mission.planner_params);
   check_capabilities(*info, out.mission);
   out.planner = info->name;

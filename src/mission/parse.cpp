@@ -452,11 +452,7 @@ Raw parse_v1(const json& j) {
   if (j.contains("planner")) {
     raw.planner = str(j["planner"], "planner");
   }
-  if (const auto* info = planners::find(raw.planner); info == nullptr) {
-    std::string list;
-    for (const auto& p : planners::registry()) list += (list.empty() ? "" : ", ") + p.name;
-    throw InputError("planner", "unknown planner \"" + raw.planner + "\" (available: " + list + ")");
-  }
+  (void)planners::require(raw.planner);
   if (j.contains("planner_params")) raw.planner_params = j["planner_params"];
   if (j.contains("seed")) {
     // nlohmann stores every non-negative JSON integer as unsigned
@@ -551,7 +547,7 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.source_format = raw.format;
   m.mode = raw.mode;
   m.planner = raw.planner;
-  m.planner_params = planners::validate_params(*planners::find(raw.planner), raw.planner_params);
+  m.planner_params = planners::validate_params(planners::require(raw.planner), raw.planner_params);
   m.seed = raw.seed;
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});

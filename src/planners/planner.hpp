@@ -99,6 +99,8 @@ struct PlannerInfo {
 const std::vector<PlannerInfo>& registry();
 /// The planner called `name`, or nullptr.
 const PlannerInfo* find(std::string_view name);
+/// The planner called `name`; InputError naming `field` and listing the available planners otherwise.
+const PlannerInfo& require(std::string_view name, const std::string& field = "planner");
 
 /// Checks `params` (a JSON object or null) against the planner's schema and returns it with every
 /// default filled in. Throws InputError naming the field, e.g.

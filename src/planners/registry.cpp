@@ -85,6 +85,13 @@ const PlannerInfo* find(std::string_view name) {
   return nullptr;
 }
 
+const PlannerInfo& require(std::string_view name, const std::string& field) {
+  if (const PlannerInfo* p = find(name)) return *p;
+  std::string list;
+  for (const auto& p : registry()) list += (list.empty() ? "" : ", ") + p.name;
+  throw InputError(field, "unknown planner \"" + std::string(name) + "\" (available: " + list + ")");
+}
+
 nlohmann::json validate_params(const PlannerInfo& planner, const nlohmann::json& params) {
   if (!params.is_null() && !params.is_object()) throw InputError("planner_params", "must be an object");
   nlohmann::json out = nlohmann::json::object();

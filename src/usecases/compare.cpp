@@ -15,12 +15,7 @@ Comparison compare(const Mission& mission, const CompareOptions& options, const 
   std::vector<std::string> names = options.planners;
   if (names.empty())
     for (const auto& p : planners::registry()) names.push_back(p.name);
-  for (const auto& n : names)
-    if (planners::find(n) == nullptr) {
-      std::string list;
-      for (const auto& p : planners::registry()) list += (list.empty() ? "" : ", ") + p.name;
-      throw InputError("planners", "unknown planner \"" + n + "\" (available: " + list + ")");
-    }
+  for (const auto& n : names) (void)planners::require(n, "planners");
   Comparison out;
   out.mission = mission.name;
   for (std::size_t k = 0; k < names.size(); ++k) {

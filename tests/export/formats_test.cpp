@@ -9,6 +9,7 @@
 #include <pugixml.hpp>
 #include <sstream>
 
+#include "export/check.hpp"
 #include "export/export.hpp"
 #include "export/fixture.hpp"
 #include "uavcover/error.hpp"
@@ -58,23 +59,11 @@ std::vector<std::string> lines(const std::string& s) {
 
 /// All entries of a ZIP archive, read with libzip.
 std::map<std::string, std::string> unzip(const fs::path& p) {
-  int err = 0;
-  zip_t* za = zip_open(p.c_str(), ZIP_RDONLY, &err);
-  EXPECT_NE(za, nullptr) << p;
-  std::map<std::string, std::string> out;
-  if (za == nullptr) return out;
-  const zip_int64_t n = zip_get_num_entries(za, 0);
-  for (zip_int64_t i = 0; i < n; ++i) {
-    zip_stat_t st;
-    zip_stat_index(za, static_cast<zip_uint64_t>(i), 0, &st);
-    zip_file_t* f = zip_fopen_index(za, static_cast<zip_uint64_t>(i), 0);
-    std::string data(st.size, '\0');
-    EXPECT_EQ(zip_fread(f, data.data(), st.size), static_cast<zip_int64_t>(st.size));
-    zip_fclose(f);
-    out[st.name] = data;
-  }
-  zip_close(za);
-  return out;
+  std::ifstream in(p, std::ios::binary);
+  EXPECT_TRUE(in) << p;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return check::unzip_bytes(ss.str());
 }
 
 std::vector<MissionItem> positioned(const std::vector<MissionItem>& items) {
