@@ -1,0 +1,83 @@
+// The server's own small HTTP value types, so API handlers stay independent of Boost.Beast: the
+// transport (server.cpp) turns Beast messages into Request and Response into Beast messages.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace uavcover::server {
+
+struct Request {
+  std::string method;  ///< "GET", "POST", ...
+  std::string path;    ///< decoded path without the query, e.g. "/api/v1/missions/3"
+  std::map<std::string, std::string> query;    ///< decoded query parameters (last one wins)
+  std::map<std::string, std::string> headers;  ///< lower-case names
+  std::string body;
+  std::string request_id;
+  /// Path parameters captured by the route pattern ("{id}" -> params["id"]).
+  std::map<std::string, std::string> params;
+
+  [[nodiscard]] std::optional<std::string> header(const std::string& lower_name) const {
+    const auto it = headers.find(lower_name);
+    if (it == headers.end()) return std::nullopt;
+    return it->second;
+  }
+};
+
+struct Response {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;  ///< extra headers (Location, Retry-After, ...)
+
+  static Response json(int status, const nlohmann::json& body);
+  /// {"error": {"field": field, "message": message}}
+  static Response error(int status, const std::string& field, const std::string& message);
+};
+
+/// An error a handler throws to answer with status and a field-named message.
+struct HttpError : std::runtime_error {
+  HttpError(int status, std::string field, const std::string& message)
+      : std::runtime_error(message), status(status), field(std::move(field)) {}
+  int status;
+  std::string field;
+  std::vector<std::pair<std::string, std::string>> headers;  ///< e.g. Retry-After
+};
+
+using Handler = std::function<Response(const Request&)>;
+
+/// Routes by method and path pattern; "{name}" matches one path segment into Request::params.
+/// `name` is the route's label in metrics and logs (the pattern itself, e.g. "/api/v1/missions/{id}").
+class Router {
+ public:
+  void add(const std::string& method, const std::string& pattern, Handler handler);
+
+  struct Match {
+    const Handler* handler = nullptr;
+    std::string route;                            ///< the pattern matched (for metrics)
+    std::map<std::string, std::string> params;
+    std::vector<std::string> allowed;             ///< methods allowed on the path when none matched (405)
+  };
+  /// handler == nullptr and allowed empty: 404; handler == nullptr and allowed not empty: 405.
+  [[nodiscard]] Match match(const std::string& method, const std::string& path) const;
+
+ private:
+  struct Route {
+    std::string method;
+    std::string pattern;
+    std::vector<std::string> segments;
+    Handler handler;
+  };
+  std::vector<Route> routes_;
+};
+
+/// A positive decimal id from a path or query parameter; HttpError 400 (field) otherwise.
+std::int64_t parse_id(const std::string& text, const std::string& field = "id");
+
+}  // namespace uavcover::server
