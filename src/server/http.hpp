@@ -14,8 +14,8 @@
 namespace uavcover::server {
 
 struct Request {
-  std::string method;  ///< "GET", "POST", ...
-  std::string path;    ///< decoded path without the query, e.g. "/api/v1/missions/3"
+  std::string method;                          ///< "GET", "POST", ...
+  std::string path;                            ///< decoded path without the query, e.g. "/api/v1/missions/3"
   std::map<std::string, std::string> query;    ///< decoded query parameters (last one wins)
   std::map<std::string, std::string> headers;  ///< lower-case names
   std::string body;
@@ -60,9 +60,9 @@ class Router {
 
   struct Match {
     const Handler* handler = nullptr;
-    std::string route;                            ///< the pattern matched (for metrics)
+    std::string route;  ///< the pattern matched (for metrics)
     std::map<std::string, std::string> params;
-    std::vector<std::string> allowed;             ///< methods allowed on the path when none matched (405)
+    std::vector<std::string> allowed;  ///< methods allowed on the path when none matched (405)
   };
   /// handler == nullptr and allowed empty: 404; handler == nullptr and allowed not empty: 405.
   [[nodiscard]] Match match(const std::string& method, const std::string& path) const;

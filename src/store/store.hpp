@@ -76,10 +76,11 @@ struct MissionSummary {
 };
 
 struct MissionQuery {
-  std::optional<std::string> name_contains;  ///< case-insensitive substring of the name (plain text, no wildcards)
-  std::optional<Bbox> intersects;            ///< missions whose bbox intersects this one
-  int limit = 50;                            ///< 1..1000
-  Id after = 0;                              ///< keyset paging: ids greater than this, ascending
+  std::optional<std::string>
+      name_contains;               ///< case-insensitive substring of the name (plain text, no wildcards)
+  std::optional<Bbox> intersects;  ///< missions whose bbox intersects this one
+  int limit = 50;                  ///< 1..1000
+  Id after = 0;                    ///< keyset paging: ids greater than this, ascending
 };
 
 struct MissionPage {
@@ -102,8 +103,8 @@ inline bool terminal(JobState s) {
 struct NewJob {
   JobKind kind = JobKind::Plan;
   Id mission_id = 0;
-  int revision = 0;                                    ///< the revision planned (the latest when queued)
-  nlohmann::json params = nlohmann::json::object();   ///< validated job parameters
+  int revision = 0;                                  ///< the revision planned (the latest when queued)
+  nlohmann::json params = nlohmann::json::object();  ///< validated job parameters
 };
 
 struct ArtifactRef {
