@@ -40,6 +40,15 @@ class Context {
     return c;
   }
 
+  /// The same progress and stop token, with the deadline brought forward to now + `limit` (never later
+  /// than the current one).
+  [[nodiscard]] Context with_time_limit(Clock::duration limit) const {
+    Context c = *this;
+    const auto d = Clock::now() + limit;
+    if (!c.deadline_ || d < *c.deadline_) c.deadline_ = d;
+    return c;
+  }
+
   [[nodiscard]] const std::optional<Clock::time_point>& deadline() const noexcept { return deadline_; }
 
  private:

@@ -58,9 +58,23 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     ctx.report("exports", 0.0);
     exporting::ExportOptions eo;
     eo.warnings = &out.warnings;
-    auto exported = exporting::export_artifacts(plan, options.exports, eo);
-    out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
-                         std::make_move_iterator(exported.end()));
+    eo.kmz = options.kmz;
+    auto add = [&](const std::vector<std::string>& formats) {
+      auto exported = exporting::export_artifacts(plan, formats, eo);
+      out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
+                           std::make_move_iterator(exported.end()));
+    };
+    if (!options.refused_exports_are_warnings) {
+      add(options.exports);
+    } else {
+      for (const auto& format : exporting::parse_formats(options.exports)) {
+        try {
+          add({format});
+        } catch (const InputError& e) {
+          out.warnings.push_back(format + " export refused: " + e.what());
+        }
+      }
+    }
   }
   return out;
 }

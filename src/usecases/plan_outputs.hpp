@@ -17,6 +17,10 @@ struct OutputOptions {
   bool evaluate = true;  ///< coverage simulation + time/cost model (eq. 15 and trajectories) into plan.json
   bool images = true;    ///< plan.png, plan.svg, heatmap.png, histogram.png
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
+  bool kmz = false;                  ///< with "kml": also <id>.kmz
+  /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
+  /// that is no file name, ...) into a warning instead of failing the whole output (the server's jobs).
+  bool refused_exports_are_warnings = false;
 };
 
 struct PlanOutputs {

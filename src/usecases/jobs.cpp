@@ -1,0 +1,314 @@
+#include "usecases/jobs.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "export/export.hpp"
+#include "export/zip.hpp"
+#include "planners/planner.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
+#include "usecases/compare.hpp"
+#include "usecases/plan_outputs.hpp"
+#include "usecases/study.hpp"
+
+namespace uavcover::usecases {
+
+using nlohmann::json;
+
+namespace {
+
+/// The largest time limit a job may ask for (a day).
+constexpr double kMaxTimeLimitS = 86'400.0;
+
+void reject_unknown(const json& params, std::initializer_list<const char*> known) {
+  for (auto it = params.begin(); it != params.end(); ++it)
+    if (std::none_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; })) {
+      std::string list;
+      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      throw InputError(it.key(), "unknown parameter (known: " + list + ")");
+    }
+}
+
+void check_seed(const json& params) {
+  if (!params.contains("seed")) return;
+  const json& s = params["seed"];
+  if (!s.is_number_integer() ||
+      (s.is_number_integer() && !s.is_number_unsigned() && s.get<std::int64_t>() < 0))
+    throw InputError("seed", "must be an integer >= 0, got " + s.dump());
+}
+
+void check_time_limit(const json& params) {
+  if (!params.contains("time_limit_s")) return;
+  const json& t = params["time_limit_s"];
+  if (!t.is_number() || !std::isfinite(t.get<double>()) || t.get<double>() <= 0 ||
+      t.get<double>() > kMaxTimeLimitS)
+    throw InputError("time_limit_s", fmt::format("must be a number in (0, {}] seconds, got {}",
+                                                 kMaxTimeLimitS, t.dump().substr(0, 40)));
+}
+
+std::optional<std::uint64_t> seed_of(const json& params) {
+  if (!params.contains("seed")) return std::nullopt;
+  return params["seed"].get<std::uint64_t>();
+}
+
+Context limited(const Context& ctx, const json& params) {
+  if (!params.contains("time_limit_s")) return ctx;
+  return ctx.with_time_limit(std::chrono::duration_cast<Context::Clock::duration>(
+      std::chrono::duration<double>(params["time_limit_s"].get<double>())));
+}
+
+/// Progress of one phase mapped into [from, to] of the job.
+Context phase(const Context& ctx, double from, double to) {
+  return ctx.with_progress(
+      [ctx, from, to](std::string_view stage, double f) { ctx.report(stage, from + (to - from) * f); });
+}
+
+/// The mission with the job's planner and parameters applied.
+Mission with_planner(const Mission& mission, const json& params) {
+  Mission m = mission;
+  if (params.contains("planner")) {
+    const std::string name = params["planner"].get<std::string>();
+    if (name != m.planner) m.planner_params = json::object();
+    m.planner = name;
+  }
+  if (params.contains("planner_params")) m.planner_params = params["planner_params"];
+  return m;
+}
+
+JobResult plan_job(const Mission& mission, const json& params, const Context& ctx) {
+  const Mission m = with_planner(mission, params);
+  PlanOptions po;
+  po.seed = seed_of(params);
+  const Plan p = plan(m, po, phase(limited(ctx, params), 0.0, 0.85));
+  OutputOptions oo;
+  oo.exports = exporting::known_formats();
+  oo.kmz = true;
+  oo.refused_exports_are_warnings = true;
+  // the time limit is the planner's; the outputs still stop when the job is cancelled
+  PlanOutputs out = plan_outputs(p, oo, phase(ctx, 0.85, 1.0));
+
+  // evaluation.json: the coverage and cost blocks of plan.json
+  json evaluation = json::object();
+  for (const auto& a : out.artifacts)
+    if (a.name == "plan.json") {
+      const json doc = json::parse(a.bytes);
+      for (const char* key : {"coverage", "cost", "cost_trajectory"})
+        if (doc.contains(key)) evaluation[key] = doc[key];
+    }
+  out.artifacts.push_back({"evaluation.json", "application/json", evaluation.dump(1) + "\n"});
+
+  // Litchi missions of more than 99 waypoints come in parts: one zip per UAV holds them all
+  std::map<std::string, std::map<std::string, std::string>> litchi_parts;
+  for (const auto& a : out.artifacts)
+    if (a.name.starts_with("export/") && a.name.ends_with(".litchi.csv")) {
+      const std::string stem = a.name.substr(7, a.name.size() - 7 - 11);  // "<id>" or "<id>.<k>"
+      const auto dot = stem.rfind('.');
+      if (dot != std::string::npos && stem.find_first_not_of("0123456789", dot + 1) == std::string::npos)
+        litchi_parts[stem.substr(0, dot)][a.name.substr(7)] = a.bytes;
+    }
+  for (const auto& [id, parts] : litchi_parts)
+    out.artifacts.push_back({"export/" + id + ".litchi.zip", "application/zip", exporting::zip_bytes(parts)});
+
+  json uavs = json::array();
+  double length = 0;
+  long turns = 0;
+  for (const auto& u : p.uavs) {
+    uavs.push_back({{"id", u.id},
+                    {"share_requested", u.share_requested},
+                    {"share_actual", u.share_actual},
+                    {"regions", u.regions},
+                    {"coverage_length_m", u.coverage_length_m},
+                    {"length_m", u.length_m},
+                    {"turns", u.turns},
+                    {"transition_altitude_m", u.transition_altitude_m}});
+    length += u.length_m;
+    turns += u.turns;
+  }
+  std::vector<std::string> warnings = p.warnings;
+  warnings.insert(warnings.end(), out.warnings.begin(), out.warnings.end());
+  json metrics = {{"length_m", length}, {"turns", turns}, {"compute_time_s", p.compute_time_s}};
+  if (out.poc >= 0) {
+    metrics["poc"] = out.poc;
+    metrics["pooc"] = out.pooc;
+    metrics["flight_time_min"] = out.flight_time_min;
+    metrics["trajectory_flight_time_min"] = out.trajectory_flight_time_min;
+    metrics["total_time_min"] = out.total_time_min;
+    metrics["cost_eur"] = out.cost_eur;
+  }
+  JobResult r;
+  r.result = {{"planner", p.planner},    {"seed", p.mission.seed},        {"complete", p.complete},
+              {"uavs", std::move(uavs)}, {"metrics", std::move(metrics)}, {"warnings", std::move(warnings)}};
+  r.artifacts = std::move(out.artifacts);
+  return r;
+}
+
+JobResult study_job(const Mission& mission, const json& params, const Context& ctx) {
+  StudyOptions so;
+  so.counts = parse_uav_counts(params["uavs"].get<std::string>(), "uavs");
+  so.seed = seed_of(params);
+  const Study study = run_study(mission, so, limited(ctx, params));
+  JobResult r;
+  r.result = study_json(study);
+  r.artifacts = {{"study.json", "application/json", r.result.dump(1) + "\n"}, study_picture(study)};
+  return r;
+}
+
+JobResult comparison_job(const Mission& mission, const json& params, const Context& ctx) {
+  Mission m = mission;
+  if (const auto seed = seed_of(params)) m.seed = *seed;
+  CompareOptions co;
+  if (params.contains("planners")) co.planners = params["planners"].get<std::vector<std::string>>();
+  const Comparison c = compare(m, co, limited(ctx, params));
+  JobResult r;
+  r.result = compare_json(c);
+  r.artifacts = compare_outputs(c, true);
+  return r;
+}
+
+}  // namespace
+
+json validate_job_params(JobType type, const Mission& mission, const json& params_in) {
+  json params = params_in.is_null() ? json::object() : params_in;
+  if (!params.is_object()) throw InputError("body", "expected a JSON object of job parameters");
+  check_seed(params);
+  check_time_limit(params);
+  switch (type) {
+    case JobType::Plan: {
+      reject_unknown(params, {"planner", "planner_params", "seed", "time_limit_s"});
+      std::string name = mission.planner;
+      if (params.contains("planner")) {
+        if (!params["planner"].is_string()) throw InputError("planner", "must be a planner name (a string)");
+        name = params["planner"].get<std::string>();
+      }
+      const auto& info = planners::require(name, "planner");
+      json given = json::object();
+      if (params.contains("planner_params"))
+        given = params["planner_params"];
+      else if (name == mission.planner)
+        given = mission.planner_params;
+      params["planner"] = name;
+      params["planner_params"] = planners::validate_params(info, given);
+      break;
+    }
+    case JobType::Study: {
+      reject_unknown(params, {"uavs", "seed", "time_limit_s"});
+      if (!params.contains("uavs")) throw InputError("uavs", "required: the UAV counts, e.g. \"1..5\"");
+      if (params["uavs"].is_number_unsigned())
+        params["uavs"] = std::to_string(params["uavs"].get<std::uint64_t>());
+      if (!params["uavs"].is_string()) throw InputError("uavs", "expected counts like \"1..5\" or \"1,2,4\"");
+      (void)parse_uav_counts(params["uavs"].get<std::string>(), "uavs");
+      break;
+    }
+    case JobType::Comparison: {
+      reject_unknown(params, {"planners", "seed", "time_limit_s"});
+      if (params.contains("planners")) {
+        const json& p = params["planners"];
+        if (!p.is_array() || p.empty() || p.size() > 32)
+          throw InputError("planners", "expected a list of 1 to 32 planner names");
+        for (std::size_t i = 0; i < p.size(); ++i) {
+          if (!p[i].is_string()) throw InputError(fmt::format("planners[{}]", i), "must be a planner name");
+          (void)planners::require(p[i].get<std::string>(), fmt::format("planners[{}]", i));
+        }
+      }
+      break;
+    }
+  }
+  return params;
+}
+
+JobResult run_job(JobType type, const Mission& mission, const json& params, const Context& ctx) {
+  switch (type) {
+    case JobType::Plan:
+      return plan_job(mission, params, ctx);
+    case JobType::Study:
+      return study_job(mission, params, ctx);
+    case JobType::Comparison:
+      return comparison_job(mission, params, ctx);
+  }
+  throw OperationError("unknown job type");
+}
+
+std::optional<std::string> export_artifact_name(const std::vector<std::string>& names,
+                                                const std::string& format, const std::string& uav) {
+  // the file of each format, in order of preference (Litchi: the zip of all parts when split)
+  static const std::map<std::string, std::vector<std::string>> patterns{
+      {"qgc", {"export/{}.plan"}},          {"wpl", {"export/{}.waypoints"}},
+      {"kml", {"export/{}.kml"}},           {"kmz", {"export/{}.kmz"}},
+      {"dji", {"export/{}.wpml.kmz"}},      {"litchi", {"export/{}.litchi.zip", "export/{}.litchi.csv"}},
+      {"csv", {"export/{}.csv"}},           {"geojson", {"export/{}.geojson"}},
+      {"trajectory", {"trajectory/{}.csv"}}};
+  const auto it = patterns.find(format);
+  if (it == patterns.end()) return std::nullopt;
+  auto has = [&](const std::string& n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+  if (!uav.empty()) {
+    for (const auto& pattern : it->second) {
+      const std::string n = fmt::format(fmt::runtime(pattern), uav);
+      if (has(n)) return n;
+    }
+    return std::nullopt;
+  }
+  // no UAV named: the one UAV's file, when exactly one UAV has one
+  std::optional<std::string> found;
+  for (const auto& pattern : it->second) {
+    const auto brace = pattern.find("{}");
+    const std::string prefix = pattern.substr(0, brace), suffix = pattern.substr(brace + 2);
+    for (const auto& n : names) {
+      if (n.size() <= prefix.size() + suffix.size() || !n.starts_with(prefix) || !n.ends_with(suffix))
+        continue;
+      const std::string id = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
+      if (id.find('/') != std::string::npos || fmt::format(fmt::runtime(pattern), id) != n) continue;
+      // "a.kmz" also ends like "a.wpml.kmz" of dji and "a.1.litchi.csv" like a Litchi part: skip those
+      if (format == "kmz" && id.ends_with(".wpml")) continue;
+      if (format == "litchi" && suffix == ".litchi.csv" && id.find('.') != std::string::npos) continue;
+      if (found && *found != n) return std::nullopt;  // several UAVs: the caller must choose
+      found = n;
+    }
+    if (found) return found;
+  }
+  return found;
+}
+
+json resolve_catalog_refs(const json& document, const CatalogLookup& uav, const CatalogLookup& camera) {
+  json doc = document;
+  if (!doc.is_object()) return doc;
+  auto ref_id = [](const json& v, const std::string& field) {
+    if (!v.is_number_integer() || v.get<std::int64_t>() <= 0 || v.get<std::int64_t>() > (1LL << 53))
+      throw InputError(field, "expected a catalog id (a positive integer), got " + v.dump().substr(0, 40));
+    return static_cast<long long>(v.get<std::int64_t>());
+  };
+  auto fill = [](json& target, const json& entry, std::initializer_list<const char*> keys) {
+    for (const char* k : keys)
+      if (!target.contains(k) && entry.contains(k) && !entry[k].is_null()) target[k] = entry[k];
+  };
+  if (doc.contains("uavs") && doc["uavs"].is_array()) {
+    auto& list = doc["uavs"];
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      json& u = list[i];
+      if (!u.is_object() || !u.contains("catalog_id")) continue;
+      const std::string field = fmt::format("uavs[{}].catalog_id", i);
+      const auto entry = uav(ref_id(u["catalog_id"], field));
+      if (!entry) throw InputError(field, "no UAV with this id in the catalog (GET /api/v1/uavs)");
+      u.erase("catalog_id");
+      fill(u, *entry, {"speed_mps", "max_accel_mps2", "endurance_min"});
+    }
+  }
+  if (doc.contains("camera") && doc["camera"].is_object() && doc["camera"].contains("catalog_id")) {
+    json& c = doc["camera"];
+    const auto entry = camera(ref_id(c["catalog_id"], "camera.catalog_id"));
+    if (!entry)
+      throw InputError("camera.catalog_id", "no camera with this id in the catalog (GET /api/v1/cameras)");
+    c.erase("catalog_id");
+    if (c.contains("overlap") || c.contains("hfov_deg"))
+      fill(c, *entry, {"hfov_deg"});  // the paper's convention (eq. 14)
+    else
+      fill(c, *entry, {"sensor_width_mm", "focal_length_mm", "image_width_px"});  // QGroundControl's
+  }
+  return doc;
+}
+
+}  // namespace uavcover::usecases
