@@ -277,8 +277,8 @@ TEST_F(ApiTest, CatalogEntriesAreValidatedField_by_field) {
   a = call("GET", "/api/v1/uavs");
   ASSERT_EQ(a.status, 200);
   bool found = false;
-  for (const auto& e : a.json().at("items"))
-    found = found || (e.at("id") == uav_id && e.at("speed_mps") == 12);
+  const json listed = a.json();
+  for (const auto& e : listed.at("items")) found = found || (e.at("id") == uav_id && e.at("speed_mps") == 12);
   EXPECT_TRUE(found) << a.body;
 
   // a mission referencing the catalog UAV gets its speed, acceleration and endurance
@@ -361,7 +361,8 @@ TEST_F(ApiTest, PlannersAreListed) {
   const Answer a = call("GET", "/api/v1/planners");
   ASSERT_EQ(a.status, 200);
   std::vector<std::string> names;
-  for (const auto& p : a.json().at("items")) {
+  const json listed = a.json();
+  for (const auto& p : listed.at("items")) {
     names.push_back(p.at("name"));
     EXPECT_TRUE(p.at("schema").is_object());
   }
