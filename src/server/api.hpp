@@ -27,6 +27,11 @@ struct ApiContext {
 /// error body themselves (HttpError, store errors, InputError); `ctx` must outlive the router.
 void add_api_routes(Router& router, ApiContext& ctx);
 
+/// A submitted mission document made ready to store: catalog references resolved through the store's
+/// catalogs, parsed and normalised by the CLI's parser (InputError naming the field), its area's
+/// bounding box; `source` is the document as given.
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store);
+
 /// "2026-11-26T01:02:03.456Z" from Unix milliseconds.
 std::string iso_time(std::int64_t unix_ms);
 

@@ -9,7 +9,8 @@
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
 
-namespace uavcover::server::detail {
+namespace uavcover::server {
+namespace detail {
 namespace {
 
 /// Longest `name` filter accepted.
@@ -58,26 +59,8 @@ store::Bbox area_bbox(const Mission& mission) {
   return b;
 }
 
-/// Parses a submitted mission document: catalog references resolved, then the CLI's parser (422).
 store::NewRevision new_revision(const Request& req, ApiContext& ctx) {
-  const nlohmann::json body = parse_body(req, ctx, false);
-  auto lookup = [&ctx](store::CatalogKind kind) {
-    return [&ctx, kind](long long id) -> std::optional<nlohmann::json> {
-      if (id <= 0) return std::nullopt;
-      const auto entry = ctx.store.get_entry(kind, id);
-      if (!entry) return std::nullopt;
-      return entry->data;
-    };
-  };
-  const nlohmann::json resolved = usecases::resolve_catalog_refs(body, lookup(store::CatalogKind::Uav),
-                                                                 lookup(store::CatalogKind::Camera));
-  const Mission mission = parse_mission(resolved.dump());
-  store::NewRevision rev;
-  rev.name = mission.name;
-  rev.document = mission_to_json(mission);
-  rev.source = body.dump();
-  rev.bbox = area_bbox(mission);
-  return rev;
+  return prepare_mission(parse_body(req, ctx, false), ctx.store);
 }
 
 double parse_number(const std::string& text, const std::string& field) {
@@ -196,4 +179,26 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
              }));
 }
 
-}  // namespace uavcover::server::detail
+}  // namespace detail
+
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store) {
+  auto lookup = [&store](store::CatalogKind kind) {
+    return [&store, kind](long long id) -> std::optional<nlohmann::json> {
+      if (id <= 0) return std::nullopt;
+      const auto entry = store.get_entry(kind, id);
+      if (!entry) return std::nullopt;
+      return entry->data;
+    };
+  };
+  const nlohmann::json resolved = usecases::resolve_catalog_refs(document, lookup(store::CatalogKind::Uav),
+                                                                 lookup(store::CatalogKind::Camera));
+  const Mission mission = parse_mission(resolved.dump());
+  store::NewRevision rev;
+  rev.name = mission.name;
+  rev.document = mission_to_json(mission);
+  rev.source = document.dump();
+  rev.bbox = detail::area_bbox(mission);
+  return rev;
+}
+
+}  // namespace uavcover::server
