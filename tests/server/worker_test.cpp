@@ -189,3 +189,71 @@ TEST_F(WorkerTest, ShutdownLeavesARunningJobForTheNextLease) {
 
 }  // namespace
 }  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+TEST_F(WorkerTest, StudyAndComparisonJobsServeTheirArtifacts) {
+  const auto mission_id = create_mission(olive_grove());
+  const std::string base = "/api/v1/missions/" + std::to_string(mission_id);
+  Answer a = call("POST", base + "/studies", R"({"uavs": "1..2", "seed": 3})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  EXPECT_EQ(a.json().at("kind"), "study");
+  const std::string study = "/api/v1/studies/" + std::to_string(a.json().at("id").get<store::Id>());
+  a = call("POST", base + "/comparisons", R"({"planners": ["darp", "boustrophedon"], "seed": 3})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string comparison = "/api/v1/comparisons/" + std::to_string(a.json().at("id").get<store::Id>());
+  EXPECT_EQ(call("GET", study + "/study.json").status, 409);
+  start_workers();
+
+  json job = wait_job(study, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  a = call("GET", study + "/study.json");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.content_type, "application/json");
+  EXPECT_TRUE(json::parse(a.body).is_object());
+  a = call("GET", study + "/study.png");
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(a.body.substr(0, 4), "\x89PNG");
+  for (const auto& art : job.at("artifacts")) EXPECT_TRUE(art.at("url").is_string()) << art.dump();
+
+  job = wait_job(comparison, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  for (const char* name : {"compare.json", "compare.md", "compare.png"})
+    EXPECT_EQ(call("GET", comparison + "/" + name).status, 200) << name;
+  EXPECT_EQ(call("GET", comparison + "/plan.json").status, 404);
+  EXPECT_EQ(call("GET", "/api/v1/plans/" + job.at("id").dump()).status, 404);
+}
+
+TEST_F(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
+  // 70 separate no-fly zones: more than the boustrophedon planner plans around
+  json doc = json::parse(olive_grove());
+  doc["no_fly_zones"] = json::array();
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 7; ++k) {
+      const double lon = 22.9015 + i * 0.001, lat = 40.6012 + k * 0.0008;
+      doc["no_fly_zones"].push_back({{"type", "Polygon"},
+                                     {"coordinates",
+                                      {{{lon, lat},
+                                        {lon + 0.0001, lat},
+                                        {lon + 0.0001, lat + 0.0001},
+                                        {lon, lat + 0.0001},
+                                        {lon, lat}}}}});
+    }
+  const auto mission_id = create_mission(doc.dump());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans",
+                  R"({"planner": "boustrophedon"})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string url = "/api/v1/plans/" + std::to_string(a.json().at("id").get<store::Id>());
+  start_workers();
+  const json job = wait_job(url, terminal);
+  ASSERT_EQ(job.at("state"), "failed") << job.dump().substr(0, 2000);
+  EXPECT_EQ(job.at("error").at("field"), "no_fly_zones");
+  EXPECT_NE(job.at("error").at("message").get<std::string>().find("64"), std::string::npos);
+  EXPECT_TRUE(job.at("artifacts").empty());
+  EXPECT_EQ(call("GET", url + "/plan.json").status, 409);
+  EXPECT_EQ(plans_done_, 0);
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
