@@ -79,19 +79,25 @@ void WorkerPool::stop() {
 }
 
 void WorkerPool::loop(const std::stop_token& stop) {
+  int failures = 0;  // claims failed in a row (the database is down): wait longer, log once
   while (!stop.stop_requested()) {
     std::optional<store::Job> job;
     try {
       job = store_.claim_job(name_, config_.lease, config_.max_attempts);
+      if (failures > 0) spdlog::info("worker {}: the database answers again", name_);
+      failures = 0;
     } catch (const std::exception& e) {
-      spdlog::warn("worker {}: cannot take a job: {}", name_, e.what());
+      if (failures++ == 0) spdlog::warn("worker {}: cannot take a job: {}", name_, e.what());
     }
     if (job) {
       run(std::move(*job), stop);
       continue;
     }
+    const auto wait = failures == 0 ? config_.idle
+                                    : std::min(config_.idle * (1 << std::min(failures, 4)),
+                                               std::chrono::milliseconds(2000));
     std::unique_lock lock(mutex_);
-    wake_.wait_for(lock, stop, config_.idle, [] { return false; });
+    wake_.wait_for(lock, stop, wait, [] { return false; });
   }
 }
 
