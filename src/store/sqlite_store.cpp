@@ -92,10 +92,15 @@ class Connection {
     }
     sqlite3_extended_result_codes(db_, 1);
     sqlite3_busy_timeout(db_, kBusyTimeoutMs);
-    exec("PRAGMA foreign_keys = ON");
-    if (!memory) {
-      exec("PRAGMA journal_mode = WAL");
-      exec("PRAGMA synchronous = FULL");
+    try {
+      exec("PRAGMA foreign_keys = ON");
+      if (!memory) {
+        exec("PRAGMA journal_mode = WAL");
+        exec("PRAGMA synchronous = FULL");
+      }
+    } catch (const StoreError& e) {
+      sqlite3_close_v2(db_);  // the destructor does not run for a throwing constructor
+      throw StoreError("cannot open the SQLite database " + path + ": " + e.what());
     }
   }
   Connection(const Connection&) = delete;
