@@ -1,9 +1,11 @@
-// (named test_backends.hpp, not backends.hpp: "store/backends.hpp" must keep naming src/store/backends.hpp)
-// The stores the conformance suite runs against. Every test gets a store of its own URL:
-// - "sqlite:" -> a fresh temporary SQLite file for each test (removed afterwards);
-// - UAVCOVER_TEST_PG, when set, a PostgreSQL URL: one database for the whole run, so tests never
-//   assume empty tables (they use unique names, compare counts before and after, and leave no job
-//   queued or running).
+// The stores the conformance suite runs against (store_test_urls()); every test opens a fresh one:
+// - "sqlite:" -> a new SQLite file in a new temporary folder, removed afterwards;
+// - a PostgreSQL server, when $UAVCOVER_TEST_PG gives its URI or $UAVCOVER_TEST_PG_URL_FILE names a file
+//   holding it (the throwaway cluster of scripts/pg-test-cluster): a new database on that server for
+//   every test (CREATE DATABASE), dropped afterwards. So tests in parallel processes never share a queue.
+// The tests still do not assume empty tables (unique names, counts before and after), so they also
+// hold on a shared database.
+// (This file is not called backends.hpp: "store/backends.hpp" must keep naming src/store/backends.hpp.)
 #pragma once
 
 #include <unistd.h>
@@ -11,6 +13,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <random>
 #include <string>
@@ -18,11 +21,26 @@
 
 #include "store/backends.hpp"
 
+#ifdef UAVCOVER_STORE_HAS_POSTGRES
+#include <libpq-fe.h>
+#endif
+
 namespace uavcover::testing {
+
+/// The PostgreSQL server to test against too, or "".
+inline std::string pg_test_url() {
+  if (const char* pg = std::getenv("UAVCOVER_TEST_PG"); pg && *pg) return pg;
+  if (const char* file = std::getenv("UAVCOVER_TEST_PG_URL_FILE"); file && *file) {
+    std::ifstream in(file);
+    std::string url;
+    if (std::getline(in, url) && !url.empty()) return url;
+  }
+  return "";
+}
 
 inline std::vector<std::string> store_test_urls() {
   std::vector<std::string> urls{"sqlite:"};
-  if (const char* pg = std::getenv("UAVCOVER_TEST_PG"); pg && *pg) urls.emplace_back(pg);
+  if (const std::string pg = pg_test_url(); !pg.empty()) urls.push_back(pg);
   return urls;
 }
 
@@ -40,9 +58,56 @@ inline std::string fresh_sqlite_path() {
   return (dir / "store.db").string();
 }
 
-/// The URL a test opens: "sqlite:" becomes a fresh file, any other URL is used as it is.
+/// The database named by a libpq URI ("postgresql://host:port/NAME?params"), "" when none.
+inline std::string pg_database(const std::string& uri) {
+  const std::size_t scheme = uri.find("://");
+  if (scheme == std::string::npos) return "";
+  const std::size_t query = std::min(uri.find('?', scheme + 3), uri.size());
+  const std::size_t slash = uri.find('/', scheme + 3);
+  if (slash == std::string::npos || slash > query) return "";
+  return uri.substr(slash + 1, query - slash - 1);
+}
+
+/// The same URI naming database `name` instead.
+inline std::string pg_with_database(const std::string& uri, const std::string& name) {
+  const std::size_t scheme = uri.find("://");
+  if (scheme == std::string::npos) return uri;
+  const std::size_t query = std::min(uri.find('?', scheme + 3), uri.size());
+  const std::size_t slash = uri.find('/', scheme + 3);
+  if (slash == std::string::npos || slash > query)
+    return uri.substr(0, query) + "/" + name + uri.substr(query);
+  return uri.substr(0, slash + 1) + name + uri.substr(query);
+}
+
+#ifdef UAVCOVER_STORE_HAS_POSTGRES
+/// Runs one statement on the server of `uri`; throws with the server's message.
+inline void pg_admin(const std::string& uri, const std::string& sql) {
+  PGconn* c = PQconnectdb(uri.c_str());
+  std::string error;
+  if (PQstatus(c) != CONNECTION_OK) {
+    error = PQerrorMessage(c);
+  } else {
+    PGresult* r = PQexec(c, sql.c_str());
+    if (PQresultStatus(r) != PGRES_COMMAND_OK) error = PQerrorMessage(c);
+    PQclear(r);
+  }
+  PQfinish(c);
+  if (!error.empty()) throw store::StoreError(sql + ": " + error);
+}
+#endif
+
+/// The URL a test opens: a fresh SQLite file, or a fresh database on the PostgreSQL server.
 inline std::string fresh_store_url(const std::string& url) {
-  return url == "sqlite:" ? "sqlite:" + fresh_sqlite_path() : url;
+  if (url == "sqlite:") return "sqlite:" + fresh_sqlite_path();
+#ifdef UAVCOVER_STORE_HAS_POSTGRES
+  std::string name = "uavcover_conformance_" + unique_name("db");
+  for (char& ch : name)
+    if (ch == '-') ch = '_';
+  pg_admin(url, "CREATE DATABASE " + name);
+  return pg_with_database(url, name);
+#else
+  return url;
+#endif
 }
 
 /// Opens a test store: SQLite through open_sqlite, others through open_store (which needs the
@@ -56,13 +121,24 @@ inline std::unique_ptr<store::Store> open_test_store(const std::string& url) {
 #endif
 }
 
-/// Removes a fresh SQLite file's folder (nothing for other URLs).
+/// Removes what fresh_store_url() made: the SQLite folder, or the PostgreSQL database.
 inline void remove_test_store(const std::string& url) {
-  if (!url.starts_with("sqlite:/")) return;
-  const auto dir = std::filesystem::path(url.substr(7)).parent_path();
-  if (!dir.filename().string().starts_with("uavcover-store-test-")) return;  // not one of ours
-  std::error_code ec;
-  std::filesystem::remove_all(dir, ec);
+  if (url.starts_with("sqlite:/")) {
+    const auto dir = std::filesystem::path(url.substr(7)).parent_path();
+    if (!dir.filename().string().starts_with("uavcover-store-test-")) return;  // not one of ours
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+    return;
+  }
+#ifdef UAVCOVER_STORE_HAS_POSTGRES
+  const std::string name = pg_database(url);
+  if (!name.starts_with("uavcover_conformance_")) return;
+  try {
+    pg_admin(pg_with_database(url, "postgres"), "DROP DATABASE IF EXISTS " + name + " WITH (FORCE)");
+  } catch (const store::StoreError&) {
+    // a leftover database on a throwaway server is harmless
+  }
+#endif
 }
 
 }  // namespace uavcover::testing
