@@ -1,8 +1,9 @@
 // The stores the conformance suite runs against (store_test_urls()); every test opens a fresh one:
 // - "sqlite:" -> a new SQLite file in a new temporary folder, removed afterwards;
-// - a PostgreSQL server, when $UAVCOVER_TEST_PG gives its URI or $UAVCOVER_TEST_PG_URL_FILE names a file
-//   holding it (the throwaway cluster of scripts/pg-test-cluster): a new database on that server for
-//   every test (CREATE DATABASE), dropped afterwards. So tests in parallel processes never share a queue.
+// - a PostgreSQL server, when $UAVCOVER_TEST_PG gives its URI or a file holds it ($UAVCOVER_TEST_PG_URL_FILE,
+//   or the build's UAVCOVER_TEST_PG_URL_FILE: the throwaway cluster of scripts/pg-test-cluster): a new
+//   database on that server for every test (CREATE DATABASE), dropped afterwards. So tests in parallel
+//   processes never share a queue.
 // The tests still do not assume empty tables (unique names, counts before and after), so they also
 // hold on a shared database.
 // (This file is not called backends.hpp: "store/backends.hpp" must keep naming src/store/backends.hpp.)
@@ -17,6 +18,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "store/backends.hpp"
@@ -27,15 +29,33 @@
 
 namespace uavcover::testing {
 
-/// The PostgreSQL server to test against too, or "".
+/// A stand-in for the PostgreSQL URI that is read from a file when a test starts ("pg-url-file:PATH"):
+/// under ctest the throwaway cluster only comes up (and writes the file) after the tests are listed.
+inline constexpr std::string_view kPgUrlFile = "pg-url-file:";
+
+/// The PostgreSQL server to test against too, or "": $UAVCOVER_TEST_PG, else the file named by
+/// $UAVCOVER_TEST_PG_URL_FILE or by the build (UAVCOVER_TEST_PG_URL_FILE, scripts/pg-test-cluster's).
 inline std::string pg_test_url() {
   if (const char* pg = std::getenv("UAVCOVER_TEST_PG"); pg && *pg) return pg;
-  if (const char* file = std::getenv("UAVCOVER_TEST_PG_URL_FILE"); file && *file) {
-    std::ifstream in(file);
-    std::string url;
-    if (std::getline(in, url) && !url.empty()) return url;
-  }
+  if (const char* file = std::getenv("UAVCOVER_TEST_PG_URL_FILE"); file && *file)
+    return std::string(kPgUrlFile) + file;
+#if defined(UAVCOVER_STORE_HAS_POSTGRES) && defined(UAVCOVER_TEST_PG_URL_FILE)
+  return std::string(kPgUrlFile) + UAVCOVER_TEST_PG_URL_FILE;
+#else
   return "";
+#endif
+}
+
+/// The URI a "pg-url-file:PATH" stands for (the first line of PATH); other URLs as they are.
+inline std::string resolve_test_url(const std::string& url) {
+  if (!url.starts_with(kPgUrlFile)) return url;
+  const std::string file = url.substr(kPgUrlFile.size());
+  std::ifstream in(file);
+  std::string uri;
+  if (!std::getline(in, uri) || uri.empty())
+    throw store::StoreError("no PostgreSQL test server: " + file +
+                            " is missing (run through ctest, or scripts/pg-test-cluster start DIR)");
+  return uri;
 }
 
 inline std::vector<std::string> store_test_urls() {
@@ -97,8 +117,9 @@ inline void pg_admin(const std::string& uri, const std::string& sql) {
 #endif
 
 /// The URL a test opens: a fresh SQLite file, or a fresh database on the PostgreSQL server.
-inline std::string fresh_store_url(const std::string& url) {
-  if (url == "sqlite:") return "sqlite:" + fresh_sqlite_path();
+inline std::string fresh_store_url(const std::string& test_url) {
+  if (test_url == "sqlite:") return "sqlite:" + fresh_sqlite_path();
+  const std::string url = resolve_test_url(test_url);
 #ifdef UAVCOVER_STORE_HAS_POSTGRES
   std::string name = "uavcover_conformance_" + unique_name("db");
   for (char& ch : name)
