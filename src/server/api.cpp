@@ -39,6 +39,9 @@ Handler guarded(Handler handler) {
     } catch (const std::exception& e) {
       spdlog::error("request {} {} {}: internal error: {}", req.request_id, req.method, req.path, e.what());
       return Response::error(500, "", "internal error");
+    } catch (...) {
+      spdlog::error("request {} {} {}: unknown exception", req.request_id, req.method, req.path);
+      return Response::error(500, "", "internal error");
     }
   };
 }

@@ -199,6 +199,9 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
   } catch (const std::exception& e) {
     spdlog::error("worker {}: {} failed: {}", name_, label, e.what());
     error = error_json("", "internal error");
+  } catch (...) {
+    spdlog::error("worker {}: {} failed with an unknown exception", name_, label);
+    error = error_json("", "internal error");
   }
   {
     std::lock_guard lock(st.mutex);
