@@ -3,6 +3,7 @@
 #include <regex>
 
 #include "server/api_fixture.hpp"
+#include "uavcover/mission.hpp"
 
 namespace uavcover::server::testing {
 namespace {
@@ -367,6 +368,26 @@ TEST_F(ApiTest, PlannersAreListed) {
     EXPECT_TRUE(p.at("schema").is_object());
   }
   EXPECT_NE(std::find(names.begin(), names.end(), "darp"), names.end());
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+TEST_F(ApiTest, McppInputIsStoredNormalised) {
+  const std::string mcpp = uavcover::testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" /
+                                                    "mcpp-darp-input.json");
+  const auto id = create_mission(mcpp);
+  const Answer a = call("GET", "/api/v1/missions/" + std::to_string(id));
+  ASSERT_EQ(a.status, 200);
+  const nlohmann::json m = a.json();
+  EXPECT_EQ(m.at("source"), nlohmann::json::parse(mcpp));
+  // the normalised document is a uavcover v1 mission the parser reads back to the same document
+  const std::string normalised = m.at("mission").dump();
+  EXPECT_EQ(mission_to_json(parse_mission(normalised)), mission_to_json(parse_mission(mcpp)));
+  EXPECT_EQ(call("POST", "/api/v1/missions/" + std::to_string(id) + "/plans").status, 202);
 }
 
 }  // namespace
