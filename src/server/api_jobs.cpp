@@ -111,8 +111,8 @@ Response artifact_response(ApiContext& ctx, const store::Job& job, const std::st
   r.content_type = artifact->media_type.empty() ? "application/octet-stream" : artifact->media_type;
   r.body = std::move(artifact->bytes);
   if (attachment) {
-    std::string file =
-        name.substr(name.find_last_of('/') == std::string::npos ? 0 : name.find_last_of('/') + 1);
+    // "export/alpha.plan" -> alpha.plan, "trajectory/alpha.csv" -> trajectory_alpha.csv
+    std::string file = name.starts_with("export/") ? name.substr(7) : name;
     for (auto& c : file)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
     if (file.empty() || file.front() == '.') file.insert(0, "_");

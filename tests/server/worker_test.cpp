@@ -120,6 +120,9 @@ TEST_F(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
   EXPECT_NE(disposition.find("alpha"), std::string::npos) << disposition;
   EXPECT_EQ(disposition.find('/'), std::string::npos) << disposition;
   EXPECT_EQ(call("GET", url + "/exports/qgc?uav=nobody").status, 404);
+  a = call("GET", url + "/exports/trajectory?uav=bravo");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.header("Content-Disposition"), "attachment; filename=\"trajectory_bravo.csv\"");
   for (const auto& [name, art] : artifacts)
     if (art.at("url").is_string() && name.starts_with("export/")) {
       EXPECT_EQ(call("GET", art["url"].get<std::string>()).status, 200) << name;
