@@ -212,14 +212,14 @@ class PostgresStore final : public Store {
 
   bool ping() noexcept override {
     try {
-      return transaction([](PGconn* c) { return exec(c, "SELECT 1").rows() == 1; });
+      return read([](PGconn* c) { return exec(c, "SELECT 1").rows() == 1; });
     } catch (...) {
       return false;
     }
   }
 
   [[nodiscard]] int schema_version() override {
-    return transaction([](PGconn* c) {
+    return read([](PGconn* c) {
       return exec(c, "SELECT coalesce(max(version), 0) FROM schema_migrations").i32(0, 0);
     });
   }
@@ -256,7 +256,7 @@ class PostgresStore final : public Store {
   }
 
   std::optional<MissionRevision> get_mission(Id mission, std::optional<int> revision) override {
-    return transaction([&](PGconn* c) -> std::optional<MissionRevision> {
+    return read([&](PGconn* c) -> std::optional<MissionRevision> {
       const auto r =
           exec(c,
                "SELECT m.id, r.revision, m.latest_revision, r.name, r.document, r.source, r.min_lon, "
@@ -282,7 +282,7 @@ class PostgresStore final : public Store {
   MissionPage list_missions(const MissionQuery& query) override {
     const int limit = std::clamp(query.limit, 1, 1000);
     const auto& box = query.intersects;
-    return transaction([&](PGconn* c) {
+    return read([&](PGconn* c) {
       const auto r =
           exec(c,
                "SELECT id, name, latest_revision, min_lon, min_lat, max_lon, max_lat, created_ms, updated_ms "
@@ -321,7 +321,7 @@ class PostgresStore final : public Store {
   }
 
   [[nodiscard]] std::int64_t count_missions() override {
-    return transaction([](PGconn* c) { return exec(c, "SELECT count(*) FROM missions").i64(0, 0); });
+    return read([](PGconn* c) { return exec(c, "SELECT count(*) FROM missions").i64(0, 0); });
   }
 
   // ---- jobs ----
@@ -368,7 +368,7 @@ class PostgresStore final : public Store {
     std::string array = "{";
     for (std::size_t i = 0; i < ids.size(); ++i) array += (i ? "," : "") + std::to_string(ids[i]);
     array += "}";
-    return transaction([&](PGconn* c) {
+    return read([&](PGconn* c) {
       const auto r =
           exec(c, "SELECT " JOB_COLUMNS " FROM jobs WHERE id = ANY($1::bigint[]) ORDER BY id", {text(array)});
       std::vector<Job> out;
@@ -504,7 +504,7 @@ class PostgresStore final : public Store {
   }
 
   [[nodiscard]] JobCounts count_jobs() override {
-    return transaction([](PGconn* c) {
+    return read([](PGconn* c) {
       const auto r = exec(c, "SELECT state, count(*) FROM jobs GROUP BY state");
       JobCounts n;
       for (int i = 0; i < r.rows(); ++i) {
@@ -532,7 +532,7 @@ class PostgresStore final : public Store {
   }
 
   std::optional<Artifact> get_artifact(Id job, const std::string& name) override {
-    return transaction([&](PGconn* c) -> std::optional<Artifact> {
+    return read([&](PGconn* c) -> std::optional<Artifact> {
       // binary results: the media type's text and the blob's raw bytes
       const auto r =
           exec(c,
@@ -551,7 +551,7 @@ class PostgresStore final : public Store {
   }
 
   std::optional<CatalogEntry> get_entry(CatalogKind kind, Id id) override {
-    return transaction([&](PGconn* c) -> std::optional<CatalogEntry> {
+    return read([&](PGconn* c) -> std::optional<CatalogEntry> {
       const auto r = exec(c, "SELECT id, name, data, updated_ms FROM catalog WHERE kind = $1 AND id = $2",
                           {text(kind_name(kind)), integer(id)});
       if (r.rows() == 0) return std::nullopt;
@@ -560,7 +560,7 @@ class PostgresStore final : public Store {
   }
 
   std::vector<CatalogEntry> list_entries(CatalogKind kind) override {
-    return transaction([&](PGconn* c) {
+    return read([&](PGconn* c) {
       const auto r = exec(c, "SELECT id, name, data, updated_ms FROM catalog WHERE kind = $1 ORDER BY id",
                           {text(kind_name(kind))});
       std::vector<CatalogEntry> out;
@@ -618,6 +618,22 @@ class PostgresStore final : public Store {
     } catch (const StoreError&) {
       if (PQstatus(c) == CONNECTION_OK || !pool_.reset(c)) throw;
       exec(c, "BEGIN");
+    }
+  }
+
+  // One read-only statement (autocommit: one round trip). A connection that broke while idle is reset
+  // and the statement sent once more, which is safe for a read.
+  template <class F>
+  std::invoke_result_t<F&, PGconn*> read(F&& fn) {
+    auto conn = pool_.acquire();
+    PGconn* c = conn.get();
+    try {
+      return fn(c);
+    } catch (const pg::PgError&) {
+      throw;
+    } catch (const StoreError&) {
+      if (PQstatus(c) == CONNECTION_OK || !pool_.reset(c)) throw;
+      return fn(c);
     }
   }
 

@@ -183,7 +183,8 @@ TEST(PostgresStore, AnExpiredLeaseMovesToTheOtherServerAndTheJobFinishesOnce) {
   EXPECT_FALSE(a->finish_job(id, "server-a", JobState::Done, {{"by", "a"}}, nullptr,
                              {Artifact{"plan.json", "application/json", "{\"by\":\"a\"}"}}));
   EXPECT_TRUE(b->finish_job(id, "server-b", JobState::Done, {{"by", "b"}}, nullptr,
-                            {Artifact{"plan.json", "application/json", "{\"by\":\"b\"}"}}));
+                            {Artifact{"plan.json", "application/json", "{\"by\":\"b\"}"},
+                             Artifact{"abc.txt", "text/plain", "abc"}}));
   EXPECT_FALSE(b->finish_job(id, "server-b", JobState::Done, {{"by", "b"}}, nullptr, {}))
       << "at most one finish succeeds";
   const auto job = a->get_job(id);
@@ -192,6 +193,11 @@ TEST(PostgresStore, AnExpiredLeaseMovesToTheOtherServerAndTheJobFinishesOnce) {
   EXPECT_EQ(job->completions, 1);
   EXPECT_EQ(job->result["by"], "b");
   EXPECT_EQ(a->get_artifact(id, "plan.json")->bytes, "{\"by\":\"b\"}");
+  ASSERT_EQ(job->artifacts.size(), 2u);  // by name
+  EXPECT_EQ(job->artifacts[0].name, "abc.txt");
+  EXPECT_EQ(job->artifacts[0].media_type, "text/plain");
+  EXPECT_EQ(job->artifacts[0].size, 3);
+  EXPECT_EQ(job->artifacts[0].sha256, "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }
 
 TEST(PostgresStore, AJobInterruptedMaxAttemptsTimesFails) {
@@ -303,6 +309,12 @@ TEST(PostgresStore, ALostConnectionIsReopened) {
   EXPECT_TRUE(store->ping());
   EXPECT_EQ(store->count_missions(), 1);
   EXPECT_TRUE(store->get_mission(mission));
+  // and again before a write (a transaction)
+  ASSERT_GE(admin(db.base(), "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE datname = '" +
+                                 db.name() + "' AND pid <> pg_backend_pid()"),
+            1);
+  EXPECT_GT(store->create_mission(sample_revision("after reconnect")), mission);
+  EXPECT_EQ(store->count_missions(), 2);
 }
 
 TEST(PostgresStore, MissionsPageAndFilterLikeTheContractSays) {
