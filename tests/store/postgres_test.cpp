@@ -150,6 +150,32 @@ TEST(PostgresStore, TwoServersShareTheQueueAndFinishEveryJobExactlyOnce) {
   EXPECT_EQ(counts.queued + counts.running + counts.failed + counts.cancelled, 0);
 }
 
+TEST(PostgresStore, TheQueueLimitHoldsAcrossServers) {
+  FreshDatabase db;
+  ASSERT_TRUE(db.ok());
+  auto a = open_postgres(db.url());
+  auto b = open_postgres(db.url());
+  const Id mission = a->create_mission(sample_revision("limit"));
+  std::atomic<int> queued{0}, full{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t)
+    threads.emplace_back([&, t] {
+      Store* store = t % 2 ? a.get() : b.get();
+      for (int i = 0; i < 10; ++i) {
+        try {
+          store->enqueue(NewJob{JobKind::Plan, mission, 1, {}}, 30);
+          ++queued;
+        } catch (const QueueFull&) {
+          ++full;
+        }
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(queued, 30);
+  EXPECT_EQ(full, 50);
+  EXPECT_EQ(b->count_jobs().queued, 30);
+}
+
 TEST(PostgresStore, AnExpiredLeaseMovesToTheOtherServerAndTheJobFinishesOnce) {
   FreshDatabase db;
   ASSERT_TRUE(db.ok());
