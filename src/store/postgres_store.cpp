@@ -22,7 +22,7 @@ using pg::text;
 // Unix milliseconds from the database's clock, so leases agree between servers.
 #define NOW_MS "(extract(epoch from clock_timestamp()) * 1000)::bigint"
 
-constexpr std::int64_t kMigrationLock = 0x7561766376657221;  // "uavcover!"
+constexpr std::int64_t kMigrationLock = 0x7561766376657221;  // "uavcver!"
 constexpr std::int64_t kEnqueueLock = 0x7561766371756575;    // "uavcqueu"
 constexpr std::size_t kPoolSize = 8;
 
