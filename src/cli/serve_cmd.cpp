@@ -95,7 +95,8 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
   cmd->add_flag("--log-json", args->log_json, "Log one JSON object per line");
   cmd->footer(
       "Every response carries X-Request-Id; GET /healthz, /readyz and /metrics are for operations.\n"
-      "SIGINT / SIGTERM stop the server: open connections are closed, running jobs are released.");
+      "SIGINT / SIGTERM stop the server: open connections are closed; running jobs are taken up again\nafter "
+      "their lease (by this server's next start or another server on the same database).");
   cmd->callback([args] { run_serve(*args); });
 });
 

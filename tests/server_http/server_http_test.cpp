@@ -317,6 +317,33 @@ TEST_F(ServerHttp, BodyOverTheLimitIs413) {
   EXPECT_EQ(chunked.read().result_int(), 413);
 }
 
+TEST_F(ServerHttp, ExpectContinuePipeliningAndHeaderLimit) {
+  start();
+  Client c(port_);
+  c.write_raw("POST /api/v1/things HTTP/1.1\r\nHost: x\r\nContent-Length: 5\r\nExpect: 100-continue\r\n\r\n");
+  std::string text;
+  ASSERT_FALSE(c.read_raw_until("\r\n\r\n", text));
+  EXPECT_EQ(text.rfind("HTTP/1.1 100 Continue\r\n", 0), 0U) << text;
+  c.write_raw("hello");
+  const auto res = c.read();
+  EXPECT_EQ(res.result_int(), 201);
+  EXPECT_EQ(body_of(res)["size"], 5);
+  // two requests in one write, two answers in order
+  c.write_raw(
+      "GET /api/v1/things/1 HTTP/1.1\r\nHost: x\r\n\r\nGET /api/v1/things/2 HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(body_of(c.read())["id"], "1");
+  EXPECT_EQ(body_of(c.read())["id"], "2");
+
+  Client big(port_);
+  const auto huge =
+      big.send(http::verb::get, "/api/v1/things/1", "", {{"X-Filler", std::string(20000, 'a')}});
+  EXPECT_EQ(huge.result_int(), 431);
+  EXPECT_TRUE(body_of(huge).contains("error"));
+  Client garbage(port_);
+  garbage.write_raw("NOT AN HTTP REQUEST\r\n\r\n");
+  EXPECT_EQ(garbage.read().result_int(), 400);
+}
+
 TEST_F(ServerHttp, TokenRule) {
   ServerConfig cfg;
   cfg.token = "0123456789abcdef-secret";
