@@ -1,6 +1,7 @@
 // The transport against a live HttpServer on a free loopback port, driven by a Beast client: routing
 // errors as JSON, limits, auth, request ids, metrics, CORS, static files, timeouts and live events.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/connect.hpp>
@@ -8,6 +9,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -692,6 +694,105 @@ TEST(StaticDir, ReadsServedFilesOnly) {
   EXPECT_THROW(io::read_static_dir(dir / "index.html", 1 << 20), InputError);
   EXPECT_THROW(io::read_static_dir(dir / "missing", 1 << 20), InputError);
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(EventHub, SendsChangesOnlyAndDropsGoneSubscribers) {
+  MapSource source;
+  source.set(1, "queued", 0);
+  EventHub hub(source, std::chrono::milliseconds(10));
+  hub.start();
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<json> got;
+  const auto sub = hub.open([&](const std::string& text) {
+    const std::lock_guard lock(m);
+    got.push_back(json::parse(text));
+    cv.notify_all();
+    return true;
+  });
+  auto wait_for = [&](std::size_t n) {
+    std::unique_lock lock(m);
+    return cv.wait_for(lock, std::chrono::seconds(10), [&] { return got.size() >= n; });
+  };
+  EXPECT_FALSE(hub.subscribe(sub, {1, 2, 3}, 2));  // over the cap: none added
+  EXPECT_TRUE(hub.subscribe(sub, {1, 2}, 2));
+  ASSERT_TRUE(wait_for(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // several polls, no change
+  {
+    const std::lock_guard lock(m);
+    ASSERT_EQ(got.size(), 1U);
+    EXPECT_EQ(got[0]["type"], "job");
+    EXPECT_EQ(got[0]["job"]["id"], 1);
+  }
+  source.set(2, "running", 0.1);  // job 2 appears
+  ASSERT_TRUE(wait_for(2));
+  hub.unsubscribe(sub, {1});
+  EXPECT_TRUE(hub.subscribe(sub, {1}, 2));  // again: the current state is sent again
+  ASSERT_TRUE(wait_for(3));
+  {
+    const std::lock_guard lock(m);
+    EXPECT_EQ(got[1]["job"]["id"], 2);
+    EXPECT_EQ(got[2]["job"]["id"], 1);
+  }
+  // a sink reporting its subscriber gone is dropped
+  const auto gone = hub.open([](const std::string&) { return false; });
+  hub.subscribe(gone, {1}, 10);
+  for (int i = 0; i < 500 && hub.subscriber_count() != 1; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(hub.subscriber_count(), 1U);
+  hub.close(sub);
+  EXPECT_EQ(hub.subscriber_count(), 0U);
+  hub.stop();
+}
+
+class CaptureSink : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  std::vector<std::string> lines() {
+    const std::lock_guard lock(mutex_);
+    return lines_;
+  }
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& msg) override {
+    lines_.emplace_back(msg.payload.data(), msg.payload.size());
+  }
+  void flush_() override {}
+
+ private:
+  std::vector<std::string> lines_;
+};
+
+TEST_F(ServerHttp, JsonRequestLog) {
+  auto sink = std::make_shared<CaptureSink>();
+  auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
+  spdlog::set_level(spdlog::level::info);
+  ServerConfig cfg;
+  cfg.log_json = true;
+  start(cfg);
+  {
+    Client c(port_);
+    c.send(http::verb::get, "/api/v1/things/42", "", {{"X-Request-Id", "log-test-1"}});
+  }
+  stop();
+  spdlog::set_default_logger(previous);
+  spdlog::set_level(spdlog::level::warn);
+  bool found = false;
+  for (const auto& line : sink->lines()) {
+    const auto j = json::parse(line, nullptr, false);
+    if (j.is_discarded() || j.value("request_id", "") != "log-test-1") continue;
+    found = true;
+    EXPECT_EQ(j["method"], "GET");
+    EXPECT_EQ(j["route"], "/api/v1/things/{id}");
+    EXPECT_EQ(j["status"], 200);
+    EXPECT_TRUE(j["duration_ms"].is_number());
+    EXPECT_TRUE(j["bytes"].is_number_unsigned());
+  }
+  EXPECT_TRUE(found);
 }
 
 }  // namespace
