@@ -48,7 +48,7 @@ const char* const kIndexPage =
     "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uavcover</title></head>\n"
     "<body><h1>uavcover</h1><p>The multi-UAV coverage planner's HTTP API.</p>\n"
     "<ul><li><a href=\"/api/v1/openapi.json\">OpenAPI description (/api/v1/openapi.json)</a></li>\n"
-    "<li><a href=\"https://github.com/\">docs/api.md</a> in the source tree: the guide</li>\n"
+    "<li>docs/api.md in the source tree: the guide</li>\n"
     "<li><a href=\"/healthz\">/healthz</a>, <a href=\"/metrics\">/metrics</a></li></ul></body></html>\n";
 
 // ---- small text helpers ----
