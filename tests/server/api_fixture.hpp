@@ -1,5 +1,6 @@
-// A real store in a temporary folder, the API router over it, and requests dispatched the way the
-// transport does (404 / 405 with Allow), without a network.
+// A real store (a fresh SQLite file; a fresh PostgreSQL database too when the throwaway cluster runs),
+// the API router over it, and requests dispatched the way the transport does (404 / 405 with Allow),
+// without a network.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include "server/api.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
+#include "store/test_backends.hpp"
 #include "support/files.hpp"
 
 namespace uavcover::server::testing {
@@ -47,21 +49,36 @@ struct Answer {
   [[nodiscard]] std::string error_field() const { return json().at("error").at("field").get<std::string>(); }
 };
 
-class ApiTest : public ::testing::Test {
+class ApiTest : public ::testing::TestWithParam<std::string> {
  protected:
-  void SetUp() override { open(); }
+  void SetUp() override {
+    dir_ = fresh_dir("api");
+    const std::string& param = GetParam();
+    if (param.starts_with(uavcover::testing::kPgUrlFile) &&
+        !std::filesystem::exists(param.substr(uavcover::testing::kPgUrlFile.size())))
+      GTEST_SKIP() << "no PostgreSQL test server (run through ctest, or scripts/pg-test-cluster start DIR)";
+    open();
+  }
   void TearDown() override {
-    store_.reset();
+    close();
     std::filesystem::remove_all(dir_);
   }
 
+  /// A fresh store of the test's backend with the router over it.
   void open(int max_queued = 100) {
-    dir_ = fresh_dir("api");
-    store_ = store::open_store("sqlite:" + (dir_ / "uavcover.db").string());
+    url_ = uavcover::testing::fresh_store_url(GetParam());
+    store_ = uavcover::testing::open_test_store(url_);
     ctx_ = std::make_unique<ApiContext>(ApiContext{*store_, ApiConfig{}});
     ctx_->config.max_queued = max_queued;
     router_ = std::make_unique<Router>();
     add_api_routes(*router_, *ctx_);
+  }
+  void close() {
+    router_.reset();
+    ctx_.reset();
+    store_.reset();
+    if (!url_.empty()) uavcover::testing::remove_test_store(url_);
+    url_.clear();
   }
 
   /// Dispatches like the transport: target may carry a query (no percent-decoding needed here).
@@ -109,10 +126,16 @@ class ApiTest : public ::testing::Test {
     return a.json().at("id").get<store::Id>();
   }
 
-  std::filesystem::path dir_;
+  std::filesystem::path dir_;  ///< scratch files
+  std::string url_;
   std::unique_ptr<store::Store> store_;
   std::unique_ptr<ApiContext> ctx_;
   std::unique_ptr<Router> router_;
 };
+
+/// "sqlite" or "postgresql", for the test names.
+inline std::string backend_name(const ::testing::TestParamInfo<std::string>& info) {
+  return info.param.starts_with("sqlite") ? "sqlite" : "postgresql";
+}
 
 }  // namespace uavcover::server::testing

@@ -37,7 +37,7 @@ TEST(IsoTime, FormatsUnixMilliseconds) {
   EXPECT_EQ(iso_time(1'795'741'323'456), "2026-11-27T01:02:03.456Z");
 }
 
-TEST_F(ApiTest, MissionLifecycleWithRevisions) {
+TEST_P(ApiTest, MissionLifecycleWithRevisions) {
   const Answer created = call("POST", "/api/v1/missions", olive_grove());
   ASSERT_EQ(created.status, 201) << created.body;
   const auto id = created.json().at("id").get<store::Id>();
@@ -89,7 +89,7 @@ TEST_F(ApiTest, MissionLifecycleWithRevisions) {
   EXPECT_EQ(call("PUT", "/api/v1/missions/" + std::to_string(id), olive_grove()).status, 404);
 }
 
-TEST_F(ApiTest, MissionListPagesAndFilters) {
+TEST_P(ApiTest, MissionListPagesAndFilters) {
   std::vector<store::Id> ids;
   for (int i = 0; i < 5; ++i)
     ids.push_back(
@@ -124,7 +124,7 @@ TEST_F(ApiTest, MissionListPagesAndFilters) {
   EXPECT_EQ(boxed["items"][0].at("id"), ids[2]);
 }
 
-TEST_F(ApiTest, BadQueryParametersAre400NamingThem) {
+TEST_P(ApiTest, BadQueryParametersAre400NamingThem) {
   for (const auto& [query, field] :
        std::vector<std::pair<std::string, std::string>>{{"limit=0", "limit"},
                                                         {"limit=1001", "limit"},
@@ -143,7 +143,7 @@ TEST_F(ApiTest, BadQueryParametersAre400NamingThem) {
   }
 }
 
-TEST_F(ApiTest, ErrorCodesAndBodies) {
+TEST_P(ApiTest, ErrorCodesAndBodies) {
   // 400: malformed JSON, duplicate keys, empty body, bad id
   Answer a = call("POST", "/api/v1/missions", "{\"name\": ");
   EXPECT_EQ(a.status, 400);
@@ -208,7 +208,7 @@ TEST_F(ApiTest, ErrorCodesAndBodies) {
   EXPECT_TRUE(a.json().contains("error"));
 }
 
-TEST_F(ApiTest, CatalogEntriesAreValidatedField_by_field) {
+TEST_P(ApiTest, CatalogEntriesAreValidatedField_by_field) {
   const json camera = {{"name", "Sony RX1R II"},
                        {"sensor_width_mm", 35.9},
                        {"focal_length_mm", 35},
@@ -301,7 +301,7 @@ TEST_F(ApiTest, CatalogEntriesAreValidatedField_by_field) {
   EXPECT_EQ(call("DELETE", "/api/v1/uavs/" + std::to_string(uav_id)).status, 404);
 }
 
-TEST_F(ApiTest, JobCreationValidatesParameters) {
+TEST_P(ApiTest, JobCreationValidatesParameters) {
   const auto id = create_mission(olive_grove());
   const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
   Answer a = call("POST", plans, R"({"seed": "seven"})");
@@ -345,8 +345,8 @@ TEST_F(ApiTest, JobCreationValidatesParameters) {
   EXPECT_EQ(call("DELETE", "/api/v1/plans/" + std::to_string(job_id)).json().at("state"), "cancelled");
 }
 
-TEST_F(ApiTest, FullQueueIs503WithRetryAfter) {
-  TearDown();
+TEST_P(ApiTest, FullQueueIs503WithRetryAfter) {
+  close();
   open(2);
   const auto id = create_mission(olive_grove());
   const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
@@ -358,7 +358,7 @@ TEST_F(ApiTest, FullQueueIs503WithRetryAfter) {
   EXPECT_TRUE(a.json().contains("error"));
 }
 
-TEST_F(ApiTest, PlannersAreListed) {
+TEST_P(ApiTest, PlannersAreListed) {
   const Answer a = call("GET", "/api/v1/planners");
   ASSERT_EQ(a.status, 200);
   std::vector<std::string> names;
@@ -376,7 +376,7 @@ TEST_F(ApiTest, PlannersAreListed) {
 namespace uavcover::server::testing {
 namespace {
 
-TEST_F(ApiTest, McppInputIsStoredNormalised) {
+TEST_P(ApiTest, McppInputIsStoredNormalised) {
   const std::string mcpp = uavcover::testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" /
                                                     "mcpp-darp-input.json");
   const auto id = create_mission(mcpp);
@@ -391,4 +391,9 @@ TEST_F(ApiTest, McppInputIsStoredNormalised) {
 }
 
 }  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+INSTANTIATE_TEST_SUITE_P(Stores, ApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         backend_name);
 }  // namespace uavcover::server::testing

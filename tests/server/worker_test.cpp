@@ -69,7 +69,7 @@ class WorkerTest : public ApiTest {
   std::atomic<int> plans_done_{0};
 };
 
-TEST_F(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
+TEST_P(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
   const auto mission_id = create_mission(olive_grove());
   Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", R"({"seed": 7})");
   ASSERT_EQ(a.status, 202) << a.body;
@@ -144,7 +144,7 @@ TEST_F(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
   EXPECT_EQ(api_plan, cli_plan) << nlohmann::json::diff(cli_plan, api_plan).dump(1).substr(0, 4000);
 }
 
-TEST_F(WorkerTest, CancellingARunningPlanStopsIt) {
+TEST_P(WorkerTest, CancellingARunningPlanStopsIt) {
   // the olive grove scanned every 1.5 m: DARP needs far longer than the test waits
   json doc = json::parse(olive_grove());
   doc.erase("camera");
@@ -171,7 +171,7 @@ TEST_F(WorkerTest, CancellingARunningPlanStopsIt) {
   EXPECT_EQ(plans_done_, 0);
 }
 
-TEST_F(WorkerTest, ShutdownLeavesARunningJobForTheNextLease) {
+TEST_P(WorkerTest, ShutdownLeavesARunningJobForTheNextLease) {
   json doc = json::parse(olive_grove());
   doc.erase("camera");
   doc["spacing_m"] = 1.5;
@@ -196,7 +196,7 @@ TEST_F(WorkerTest, ShutdownLeavesARunningJobForTheNextLease) {
 namespace uavcover::server::testing {
 namespace {
 
-TEST_F(WorkerTest, StudyAndComparisonJobsServeTheirArtifacts) {
+TEST_P(WorkerTest, StudyAndComparisonJobsServeTheirArtifacts) {
   const auto mission_id = create_mission(olive_grove());
   const std::string base = "/api/v1/missions/" + std::to_string(mission_id);
   Answer a = call("POST", base + "/studies", R"({"uavs": "1..2", "seed": 3})");
@@ -228,7 +228,7 @@ TEST_F(WorkerTest, StudyAndComparisonJobsServeTheirArtifacts) {
   EXPECT_EQ(call("GET", "/api/v1/plans/" + job.at("id").dump()).status, 404);
 }
 
-TEST_F(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
+TEST_P(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
   // 70 separate no-fly zones: more than the boustrophedon planner plans around
   json doc = json::parse(olive_grove());
   doc["no_fly_zones"] = json::array();
@@ -259,4 +259,9 @@ TEST_F(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
 }
 
 }  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+INSTANTIATE_TEST_SUITE_P(Stores, WorkerTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         backend_name);
 }  // namespace uavcover::server::testing
