@@ -1,0 +1,227 @@
+// The uavcover v1 mission document (docs/mission-format.md) as the web app edits it: geometry in and
+// out of the document, drafts, and matching the server's field paths to the inputs. Pure (unit-tested).
+
+export type Position = [number, number];
+export type Ring = Position[];
+/** a polygon: exterior ring then holes */
+export type PolygonCoords = Ring[];
+export type MissionDoc = Record<string, unknown>;
+
+interface GeoLike {
+  type?: unknown;
+  coordinates?: unknown;
+  geometry?: unknown;
+  geometries?: unknown;
+  features?: unknown;
+  properties?: unknown;
+}
+
+function isPosition(p: unknown): p is Position {
+  return Array.isArray(p) && p.length >= 2 && typeof p[0] === 'number' && typeof p[1] === 'number';
+}
+
+function cleanRing(r: unknown): Ring | null {
+  if (!Array.isArray(r)) return null;
+  const ring = r.filter(isPosition).map((p) => [p[0], p[1]] as Position);
+  return ring.length >= 3 ? ring : null;
+}
+
+function cleanPolygon(c: unknown): PolygonCoords | null {
+  if (!Array.isArray(c)) return null;
+  const rings = c.map(cleanRing);
+  if (!rings[0]) return null;
+  return rings.filter((r): r is Ring => r !== null);
+}
+
+/** the polygons of a GeoJSON Polygon/MultiPolygon (or a Feature wrapping one); others give [] */
+export function polygonsOf(g: unknown): PolygonCoords[] {
+  if (!g || typeof g !== 'object') return [];
+  const o = g as GeoLike;
+  if (o.type === 'Feature') return polygonsOf(o.geometry);
+  if (o.type === 'Polygon') {
+    const p = cleanPolygon(o.coordinates);
+    return p ? [p] : [];
+  }
+  if (o.type === 'MultiPolygon' && Array.isArray(o.coordinates))
+    return o.coordinates.map(cleanPolygon).filter((p): p is PolygonCoords => p !== null);
+  return [];
+}
+
+/** the area's polygons */
+export function areaPolygons(doc: MissionDoc | null): PolygonCoords[] {
+  return doc ? polygonsOf(doc.area) : [];
+}
+
+/** the no-fly zones, one polygon each */
+export function nfzPolygons(doc: MissionDoc | null): PolygonCoords[] {
+  const z = doc?.no_fly_zones;
+  return Array.isArray(z) ? z.flatMap(polygonsOf) : [];
+}
+
+/** a GeoJSON geometry for polygons: none → undefined, one → Polygon, several → MultiPolygon */
+export function geometryOf(polys: PolygonCoords[]): Record<string, unknown> | undefined {
+  if (polys.length === 0) return undefined;
+  if (polys.length === 1) return { type: 'Polygon', coordinates: polys[0] };
+  return { type: 'MultiPolygon', coordinates: polys };
+}
+
+/** a copy of the document with these area polygons (the area removed when there are none) */
+export function withArea(doc: MissionDoc, polys: PolygonCoords[]): MissionDoc {
+  const out = { ...doc };
+  const g = geometryOf(polys);
+  if (g) out.area = g;
+  else delete out.area;
+  return out;
+}
+
+/** a copy of the document with these no-fly zones */
+export function withNfz(doc: MissionDoc, polys: PolygonCoords[]): MissionDoc {
+  return { ...doc, no_fly_zones: polys.map((p) => ({ type: 'Polygon', coordinates: p })) };
+}
+
+/** [minlon, minlat, maxlon, maxlat] of the area and no-fly zones, or null */
+export function docBbox(doc: MissionDoc | null): [number, number, number, number] | null {
+  const pts = [...areaPolygons(doc), ...nfzPolygons(doc)].flat(2);
+  if (pts.length === 0) return null;
+  let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+  for (const [x, y] of pts) {
+    x0 = Math.min(x0, x);
+    y0 = Math.min(y0, y);
+    x1 = Math.max(x1, x);
+    y1 = Math.max(y1, y);
+  }
+  return [x0, y0, x1, y1];
+}
+
+/** |area| of a ring in square degrees scaled by cos(latitude) (enough to compare sizes) */
+export function ringArea(ring: Ring): number {
+  if (ring.length < 3) return 0;
+  const lat0 = (ring.reduce((a, p) => a + p[1], 0) / ring.length) * (Math.PI / 180);
+  let s = 0;
+  for (let i = 0; i < ring.length; i++) {
+    const [x1, y1] = ring[i];
+    const [x2, y2] = ring[(i + 1) % ring.length];
+    s += x1 * y2 - x2 * y1;
+  }
+  return Math.abs(s / 2) * Math.cos(lat0);
+}
+
+/** point in ring by ray casting */
+export function pointInRing(p: Position, ring: Ring): boolean {
+  let inside = false;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) {
+    const [xi, yi] = ring[i];
+    const [xj, yj] = ring[j];
+    if (yi > p[1] !== yj > p[1] && p[0] < ((xj - xi) * (p[1] - yi)) / (yj - yi) + xi) inside = !inside;
+  }
+  return inside;
+}
+
+/** every vertex of `inner`'s exterior lies inside `outer`'s exterior */
+export function polygonInside(inner: PolygonCoords, outer: PolygonCoords): boolean {
+  return inner[0].every((p) => pointInRing(p, outer[0]));
+}
+
+export type Role = 'area' | 'nfz' | undefined;
+
+/**
+ * Sort imported polygons into area and no-fly zones: those marked as no-fly zones are zones; of the
+ * rest, the largest is the area, polygons inside an area polygon are zones, and the others (outside
+ * it) are further area polygons.
+ */
+export function classify(items: { coords: PolygonCoords; role?: Role }[]): {
+  area: PolygonCoords[];
+  nfz: PolygonCoords[];
+} {
+  const nfz = items.filter((i) => i.role === 'nfz').map((i) => i.coords);
+  const rest = items.filter((i) => i.role !== 'nfz');
+  const marked = rest.filter((i) => i.role === 'area').map((i) => i.coords);
+  const open = rest
+    .filter((i) => i.role !== 'area')
+    .map((i) => i.coords)
+    .sort((a, b) => ringArea(b[0]) - ringArea(a[0]));
+  const area: PolygonCoords[] = [...marked];
+  for (const p of open) {
+    if (area.length === 0) area.push(p);
+    else if (area.some((a) => polygonInside(p, a))) nfz.push(p);
+    else area.push(p);
+  }
+  return { area, nfz };
+}
+
+const NFZ_ROLES = new Set(['no_fly_zone', 'nfz', 'no-fly-zone', 'no fly zone', 'obstacle']);
+
+/** a role from a feature's properties ({"role": "no_fly_zone"} / "nfz" / "area") */
+export function roleOf(props: unknown): Role {
+  if (!props || typeof props !== 'object') return undefined;
+  const r = (props as Record<string, unknown>).role;
+  if (typeof r !== 'string') return undefined;
+  const s = r.trim().toLowerCase();
+  if (NFZ_ROLES.has(s)) return 'nfz';
+  if (s === 'area') return 'area';
+  return undefined;
+}
+
+/** the polygons of any GeoJSON object (FeatureCollection, Feature, GeometryCollection, geometry), with roles */
+export function geojsonPolygons(g: unknown, role?: Role): { coords: PolygonCoords; role?: Role }[] {
+  if (!g || typeof g !== 'object') return [];
+  const o = g as GeoLike;
+  if (o.type === 'FeatureCollection' && Array.isArray(o.features))
+    return o.features.flatMap((f) => geojsonPolygons(f, role));
+  if (o.type === 'Feature') return geojsonPolygons(o.geometry, roleOf(o.properties) ?? role);
+  if (o.type === 'GeometryCollection' && Array.isArray(o.geometries))
+    return o.geometries.flatMap((x) => geojsonPolygons(x, role));
+  return polygonsOf(o).map((coords) => ({ coords, role }));
+}
+
+/** a new mission's defaults: one UAV, altitude 40 m, spacing 20 m */
+export function newDraft(name = 'New mission'): MissionDoc {
+  return {
+    name,
+    altitude_m: 40,
+    spacing_m: 20,
+    uavs: [{ id: 'uav1' }],
+    mode: 'strict',
+    planner: 'darp',
+    seed: 1,
+  };
+}
+
+/** a draft mission from imported polygons */
+export function draftFromPolygons(name: string, items: { coords: PolygonCoords; role?: Role }[]): MissionDoc {
+  const { area, nfz } = classify(items);
+  if (area.length === 0) throw new Error('the file has no polygon to use as the area');
+  return withNfz(withArea(newDraft(name), area), nfz);
+}
+
+/** a file name for the mission's JSON export */
+export function fileName(name: unknown, ext = 'json'): string {
+  const base = (typeof name === 'string' ? name : '')
+    .replace(/[^A-Za-z0-9._ -]+/g, '_')
+    .trim()
+    .replace(/^\.+/, '')
+    .slice(0, 100);
+  return `${base || 'mission'}.${ext}`;
+}
+
+/**
+ * The input that shows a server error: the anchor equal to the field path, or else the longest anchor
+ * that is a prefix of it at a '.' or '[' boundary ("area.coordinates[0]" → "area"); null when none.
+ */
+export function matchField(path: string, anchors: Iterable<string>): string | null {
+  if (!path) return null;
+  let best: string | null = null;
+  for (const a of anchors) {
+    if (!a) continue;
+    if (a === path) return a;
+    if (path.startsWith(a) && (path[a.length] === '.' || path[a.length] === '[') && (!best || a.length > best.length))
+      best = a;
+  }
+  return best;
+}
+
+/** a UAV id not yet used: uav1, uav2, … */
+export function nextUavId(ids: string[], prefix = 'uav'): string {
+  const used = new Set(ids.map((s) => s.toLowerCase()));
+  for (let i = 1; ; i++) if (!used.has(`${prefix}${i}`.toLowerCase())) return `${prefix}${i}`;
+}
