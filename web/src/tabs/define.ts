@@ -1,10 +1,1051 @@
-// The Define tab (issue 11).
+// The Define tab (issue 11): draw and edit the area and no-fly zones (geoman: vertex editing, holes by
+// cutting, snapping; Esc, Ctrl-Z, Delete), UAVs from the catalog or by hand with draggable starts,
+// shares that always sum to 100 %, camera/altitude/overlap with spacing, GSD and footprint computed by
+// the server (POST /missions/validate), mode, planner and its parameters, seed; save revision by
+// revision. The state's mission document is always what the operator sees.
+import L from 'leaflet';
+import '@geoman-io/leaflet-geoman-free';
+import '@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css';
+import { api, ApiError } from '../api.ts';
 import type { App, Tab } from '../state.ts';
+import {
+  areaPolygons,
+  matchField,
+  newDraft,
+  nextUavId,
+  nfzPolygons,
+  polygonsOf,
+  withArea,
+  withNfz,
+  type MissionDoc,
+  type PolygonCoords,
+} from '../mission-doc.ts';
+import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
+import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
+import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, uavColour } from '../palette.ts';
+import { errorText } from './missions.ts';
+
+interface CatalogUav {
+  id: number;
+  name: string;
+  speed_mps: number;
+  endurance_min: number;
+  camera_id?: number;
+}
+interface CatalogCamera {
+  id: number;
+  name: string;
+  sensor_width_mm: number;
+  focal_length_mm: number;
+  image_width_px: number;
+  hfov_deg: number;
+}
+interface Planner {
+  name: string;
+  summary: string;
+  schema: PlannerSchema;
+}
+interface Validated {
+  spacing_m: number;
+  gsd_m: number | null;
+  footprint_m: number | null;
+  altitude_m: number;
+  altitude_source: string;
+}
+type Uav = Record<string, unknown>;
+type Kind = 'area' | 'nfz';
+
+function el<K extends keyof HTMLElementTagNameMap>(
+  tag: K,
+  props: Partial<Record<string, string>> = {},
+  text?: string,
+): HTMLElementTagNameMap[K] {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(props)) if (v !== undefined) e.setAttribute(k, v);
+  if (text !== undefined) e.textContent = text;
+  return e;
+}
+
+function num(s: string): number | undefined {
+  if (s.trim() === '') return undefined;
+  const x = Number(s);
+  return Number.isFinite(x) ? x : undefined;
+}
+
+function round(x: number, digits: number): number {
+  const f = 10 ** digits;
+  return Math.round(x * f) / f;
+}
+
+const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
+
+const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.45 };
+const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
+
+function isEditable(t: EventTarget | null): boolean {
+  const e = t as HTMLElement | null;
+  return !!e && (e.tagName === 'INPUT' || e.tagName === 'TEXTAREA' || e.tagName === 'SELECT' || e.isContentEditable);
+}
+
+class DefinePanel {
+  private doc: MissionDoc = newDraft();
+  /** the document last given to app.update by this tab (to tell our own updates from others) */
+  private pushed: MissionDoc | null = null;
+  private savedJson: string | null = null;
+  private undoStack: MissionDoc[] = [];
+  private shareHistory: number[] = [];
+  private visible = false;
+
+  private uavCatalog: CatalogUav[] = [];
+  private cameras: CatalogCamera[] = [];
+  private planners: Planner[] = [];
+
+  private group = L.featureGroup();
+  private areaLayers: L.Polygon[] = [];
+  private nfzLayers: L.Polygon[] = [];
+  private startLayer = L.layerGroup();
+  private drawKind: Kind | 'cut' | null = null;
+  private placing: number | null = null;
+  private selLayer: L.Polygon | null = null;
+  private selVertex: { layer: L.Polygon; path: number[]; el?: HTMLElement } | null = null;
+  private syncTimer = 0;
+  private validateTimer = 0;
+  private validateSeq = 0;
+
+  // controls
+  private nameInput!: HTMLInputElement;
+  private status!: HTMLElement;
+  private saveBtn!: HTMLButtonElement;
+  private general!: HTMLElement;
+  private areaInfo!: HTMLElement;
+  private drawAreaBtn!: HTMLButtonElement;
+  private drawNfzBtn!: HTMLButtonElement;
+  private cutBtn!: HTMLButtonElement;
+  private uavRows!: HTMLElement;
+  private uavSelect!: HTMLSelectElement;
+  private cameraSelect!: HTMLSelectElement;
+  private altitudeInput!: HTMLInputElement;
+  private overlapInput!: HTMLInputElement;
+  private hfovInput!: HTMLInputElement;
+  private spacingInput!: HTMLInputElement;
+  private spacingValue!: HTMLElement;
+  private gsdValue!: HTMLElement;
+  private footprintValue!: HTMLElement;
+  private modeSelect!: HTMLSelectElement;
+  private plannerSelect!: HTMLSelectElement;
+  private plannerSummary!: HTMLElement;
+  private paramsBox!: HTMLElement;
+  private seedInput!: HTMLInputElement;
+
+  constructor(
+    private panel: HTMLElement,
+    private app: App,
+  ) {
+    this.build();
+    this.installMap();
+    document.addEventListener('keydown', (e) => this.onKey(e));
+    app.subscribe((s) => {
+      if (s.mission !== this.pushed) this.load(s.mission);
+      else this.showStatus();
+    });
+    void this.loadCatalogs();
+  }
+
+  // ---------------------------------------------------------------- layout
+
+  private section(title: string): HTMLElement {
+    const s = el('section', { class: 'define-section' });
+    s.appendChild(el('h3', {}, title));
+    this.panel.appendChild(s);
+    return s;
+  }
+
+  private field(parent: HTMLElement, label: string, anchors: string, input: HTMLElement, unit?: string): HTMLElement {
+    const row = el('label', { class: 'define-field', 'data-anchor': anchors });
+    row.appendChild(el('span', { class: 'define-label' }, label));
+    row.appendChild(input);
+    if (unit) row.appendChild(el('span', { class: 'define-unit' }, unit));
+    parent.appendChild(row);
+    return row;
+  }
+
+  private build(): void {
+    const p = this.panel;
+    p.classList.add('define-panel');
+
+    const head = el('div', { class: 'define-head' });
+    this.nameInput = el('input', { type: 'text', 'data-testid': 'mission-name', 'aria-label': 'Mission name', maxlength: '256', placeholder: 'Mission name' });
+    this.nameInput.addEventListener('change', () => this.commit({ ...this.doc, name: this.nameInput.value.trim() || 'mission' }));
+    this.saveBtn = el('button', { type: 'button', class: 'primary', 'data-testid': 'mission-save' }, 'Save');
+    this.saveBtn.addEventListener('click', () => void this.save());
+    const nameRow = el('div', { class: 'define-name', 'data-anchor': 'name' });
+    nameRow.append(this.nameInput, this.saveBtn);
+    this.status = el('div', { class: 'define-status muted', 'data-testid': 'mission-status', role: 'status', 'aria-live': 'polite' });
+    this.general = el('div', { class: 'define-general', 'data-testid': 'general-error', role: 'alert', hidden: '' });
+    head.append(nameRow, this.status, this.general);
+    p.appendChild(head);
+
+    // area
+    const area = this.section('Area and no-fly zones');
+    area.dataset.anchor = 'area no_fly_zones';
+    const tools = el('div', { class: 'define-tools' });
+    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one (or Finish) to close' }, 'Draw area');
+    this.drawNfzBtn = el('button', { type: 'button', 'data-testid': 'draw-nfz', class: 'define-nfz-btn', title: 'A zone the UAVs must not enter' }, 'Draw no-fly zone');
+    this.cutBtn = el('button', { type: 'button', 'data-testid': 'draw-hole', title: 'Cut a hole out of the area' }, 'Cut hole');
+    const undoBtn = el('button', { type: 'button', 'data-testid': 'define-undo', title: 'Undo (Ctrl-Z)' }, 'Undo');
+    const delBtn = el('button', { type: 'button', 'data-testid': 'define-delete', title: 'Delete the selected vertex or shape (Delete)' }, 'Delete selected');
+    this.drawAreaBtn.addEventListener('click', () => this.startDraw('area'));
+    this.drawNfzBtn.addEventListener('click', () => this.startDraw('nfz'));
+    this.cutBtn.addEventListener('click', () => this.startDraw('cut'));
+    undoBtn.addEventListener('click', () => this.undo());
+    delBtn.addEventListener('click', () => this.deleteSelection());
+    tools.append(this.drawAreaBtn, this.drawNfzBtn, this.cutBtn, undoBtn, delBtn);
+    this.areaInfo = el('p', { class: 'define-small muted' });
+    area.append(
+      tools,
+      this.areaInfo,
+      el('p', { class: 'define-small muted' }, 'Drag a vertex to move it, the middle of an edge to add one; click a vertex or shape then Delete to remove it. Esc cancels drawing, Ctrl-Z undoes.'),
+    );
+
+    // UAVs
+    const uavs = this.section('UAVs');
+    uavs.dataset.anchor = 'uavs';
+    const add = el('div', { class: 'define-tools' });
+    this.uavSelect = el('select', { 'data-testid': 'uav-add-catalog', 'aria-label': 'Add a UAV from the catalog' });
+    this.uavSelect.addEventListener('change', () => {
+      const id = Number(this.uavSelect.value);
+      this.uavSelect.value = '';
+      if (id) this.addUav({ catalog_id: id });
+    });
+    const manual = el('button', { type: 'button', 'data-testid': 'uav-add-manual' }, 'Add by hand');
+    manual.addEventListener('click', () => this.addUav({ speed_mps: 5 }));
+    add.append(this.uavSelect, manual);
+    this.uavRows = el('div', { class: 'define-uavs' });
+    uavs.append(add, this.uavRows);
+
+    // camera
+    const cam = this.section('Camera and spacing');
+    this.cameraSelect = el('select', { 'data-testid': 'camera-select' });
+    this.cameraSelect.addEventListener('change', () => this.cameraChanged(true));
+    this.field(cam, 'Camera', 'camera', this.cameraSelect);
+    this.altitudeInput = el('input', { type: 'number', min: '1', step: '1', 'data-testid': 'altitude-input' });
+    this.field(cam, 'Altitude', 'altitude_m camera.altitude_m', this.altitudeInput, 'm');
+    this.overlapInput = el('input', { type: 'number', min: '0', max: '99', step: '1', 'data-testid': 'overlap-input' });
+    this.field(cam, 'Side overlap', 'camera.overlap camera.side_overlap', this.overlapInput, '%');
+    this.hfovInput = el('input', { type: 'number', min: '1', max: '179', step: 'any', 'data-testid': 'hfov-input' });
+    this.field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
+    this.spacingInput = el('input', { type: 'number', min: '0.1', step: 'any', 'data-testid': 'spacing-input' });
+    this.field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
+    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput]) i.addEventListener('change', () => this.cameraChanged(false));
+    const out = el('dl', { class: 'define-values' });
+    const value = (label: string, testid: string, title: string) => {
+      out.append(el('dt', { title }, label));
+      const dd = el('dd', { 'data-testid': testid }, '—');
+      out.appendChild(dd);
+      return dd;
+    };
+    this.spacingValue = value('Spacing ds', 'spacing-value', 'distance between neighbouring sweep lines');
+    this.gsdValue = value('GSD', 'gsd-value', 'ground sampling distance (sensor cameras)');
+    this.footprintValue = value('Footprint', 'footprint-value', 'width of the image on the ground');
+    cam.appendChild(out);
+
+    // planning
+    const plan = this.section('Planning');
+    this.modeSelect = el('select', { 'data-testid': 'mode-select' });
+    for (const [v, t] of [
+      ['strict', 'Strict: paths stay inside the area'],
+      ['coverage', 'Coverage: paths may leave the area slightly to cover its edges'],
+    ])
+      this.modeSelect.appendChild(el('option', { value: v }, t));
+    this.modeSelect.addEventListener('change', () => this.commit({ ...this.doc, mode: this.modeSelect.value }));
+    this.field(plan, 'Mode', 'mode', this.modeSelect);
+    this.plannerSelect = el('select', { 'data-testid': 'planner-select' });
+    this.plannerSelect.addEventListener('change', () => {
+      const fields = fieldsFromSchema(this.planner(this.plannerSelect.value)?.schema);
+      const old = (this.doc.planner_params as Record<string, unknown> | undefined) ?? {};
+      const d: MissionDoc = { ...this.doc, planner: this.plannerSelect.value, planner_params: paramsForSchema(fields, old) };
+      if (Object.keys(d.planner_params as object).length === 0) delete d.planner_params;
+      this.commit(d);
+      this.renderParams();
+    });
+    this.field(plan, 'Planner', 'planner', this.plannerSelect);
+    this.plannerSummary = el('p', { class: 'define-small muted' });
+    plan.appendChild(this.plannerSummary);
+    this.paramsBox = el('div', { class: 'define-params', 'data-testid': 'planner-params', 'data-anchor': 'planner_params' });
+    plan.appendChild(this.paramsBox);
+    this.seedInput = el('input', { type: 'number', min: '0', step: '1', 'data-testid': 'seed-input' });
+    this.seedInput.addEventListener('change', () => {
+      const s = num(this.seedInput.value);
+      const d = { ...this.doc };
+      if (s === undefined) delete d.seed;
+      else d.seed = s;
+      this.commit(d);
+    });
+    this.field(plan, 'Seed', 'seed', this.seedInput);
+  }
+
+  // ---------------------------------------------------------------- catalogs
+
+  private async loadCatalogs(): Promise<void> {
+    const fails: string[] = [];
+    const get = async <T>(path: string): Promise<T[]> => {
+      try {
+        return (await api.get<{ items: T[] }>(path)).items;
+      } catch (e) {
+        fails.push(`${path}: ${errorText(e)}`);
+        return [];
+      }
+    };
+    [this.uavCatalog, this.cameras, this.planners] = await Promise.all([
+      get<CatalogUav>('/uavs'),
+      get<CatalogCamera>('/cameras'),
+      get<Planner>('/planners'),
+    ]);
+    if (fails.length) this.showGeneral(`Could not load the catalogs: ${fails.join('; ')}`);
+    this.uavSelect.replaceChildren(el('option', { value: '' }, 'Add from the catalog…'));
+    for (const u of this.uavCatalog)
+      this.uavSelect.appendChild(el('option', { value: String(u.id) }, `${u.name} (${u.speed_mps} m/s, ${u.endurance_min} min)`));
+    this.plannerSelect.replaceChildren();
+    for (const pl of this.planners) this.plannerSelect.appendChild(el('option', { value: pl.name }, pl.name));
+    this.refreshForm();
+  }
+
+  private planner(name: string): Planner | undefined {
+    return this.planners.find((p) => p.name === name);
+  }
+
+  // ---------------------------------------------------------------- state
+
+  /** a mission document arrives from elsewhere (opened, imported, new) */
+  private load(doc: MissionDoc | null): void {
+    let d = doc ?? newDraft();
+    if (typeof d.uavs === 'number' && Number.isInteger(d.uavs) && d.uavs > 0 && d.uavs <= 200)
+      d = { ...d, uavs: Array.from({ length: d.uavs as number }, (_, i) => ({ id: `uav${i + 1}` })) };
+    this.doc = d;
+    this.undoStack = [];
+    this.shareHistory = [];
+    this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
+    this.cancelModes();
+    this.clearErrors();
+    this.clearGeneral();
+    if (d !== doc) this.push(d);
+    this.refreshForm();
+    this.renderMap();
+    this.scheduleValidate(0);
+  }
+
+  private push(d: MissionDoc): void {
+    this.pushed = d;
+    this.app.update({ mission: d });
+  }
+
+  /** the operator changed the document */
+  private commit(d: MissionDoc, undoable = true): void {
+    if (undoable) {
+      this.undoStack.push(this.doc);
+      if (this.undoStack.length > 200) this.undoStack.shift();
+    }
+    this.doc = d;
+    this.push(d);
+    this.scheduleValidate();
+  }
+
+  private undo(): void {
+    const prev = this.undoStack.pop();
+    if (!prev) {
+      this.flash('Nothing to undo.');
+      return;
+    }
+    this.doc = prev;
+    this.push(prev);
+    this.refreshForm();
+    this.renderMap();
+    this.scheduleValidate();
+  }
+
+  private showStatus(): void {
+    const s = this.app.state;
+    const dirty = this.savedJson === null || JSON.stringify(this.doc) !== this.savedJson;
+    let text: string;
+    if (s.missionId === null) text = 'New mission, not saved yet.';
+    else text = `Mission #${s.missionId}, revision ${s.revision}${dirty ? ' — unsaved changes' : ' — saved'}`;
+    this.status.textContent = text;
+    this.status.classList.toggle('define-dirty', dirty);
+    this.saveBtn.textContent = s.missionId === null ? 'Save' : dirty ? 'Save revision' : 'Saved';
+  }
+
+  private flash(text: string): void {
+    this.status.textContent = text;
+    window.setTimeout(() => this.showStatus(), 2000);
+  }
+
+  // ---------------------------------------------------------------- form
+
+  private uavs(): Uav[] {
+    return Array.isArray(this.doc.uavs) ? (this.doc.uavs as Uav[]) : [];
+  }
+
+  private refreshForm(): void {
+    const d = this.doc;
+    this.nameInput.value = typeof d.name === 'string' ? d.name : '';
+    this.renderArea();
+    this.renderUavs();
+    this.refreshCamera();
+    this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
+    const planner = typeof d.planner === 'string' ? d.planner : 'darp';
+    if (this.planners.length && !this.planner(planner)) this.plannerSelect.appendChild(el('option', { value: planner }, planner));
+    this.plannerSelect.value = planner;
+    this.renderParams();
+    this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
+    this.seedInput.placeholder = '1';
+    this.showStatus();
+  }
+
+  private renderArea(): void {
+    const a = areaPolygons(this.doc);
+    const z = nfzPolygons(this.doc);
+    const holes = a.reduce((n, p) => n + p.length - 1, 0);
+    this.areaInfo.textContent =
+      a.length === 0
+        ? 'No area yet: press “Draw area” and click its corners on the map.'
+        : `${a.length} area polygon${a.length > 1 ? 's' : ''}${holes ? `, ${holes} hole${holes > 1 ? 's' : ''}` : ''}, ${z.length} no-fly zone${z.length === 1 ? '' : 's'}.`;
+  }
+
+  private renderParams(): void {
+    const pl = this.planner(this.plannerSelect.value);
+    this.plannerSummary.textContent = pl?.summary ?? '';
+    const fields = fieldsFromSchema(pl?.schema);
+    const values = (this.doc.planner_params as Record<string, unknown> | undefined) ?? {};
+    renderSchemaForm(this.paramsBox, fields, values, (params, name, error) => {
+      const d: MissionDoc = { ...this.doc, planner_params: params };
+      if (Object.keys(params).length === 0) delete d.planner_params;
+      this.commit(d);
+      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, `planner_params.${name}: ${error}`), 0);
+    });
+  }
+
+  private renderUavs(): void {
+    this.uavRows.replaceChildren();
+    const list = this.uavs();
+    const shares = sharesFromDoc(list.map((u) => u.share as number | undefined));
+    list.forEach((u, i) => this.uavRows.appendChild(this.uavRow(u, i, shares[i])));
+    if (list.length === 0) this.uavRows.appendChild(el('p', { class: 'muted define-small' }, 'No UAVs: add one from the catalog or by hand.'));
+    this.renderStarts();
+  }
+
+  private uavRow(u: Uav, i: number, share: number): HTMLElement {
+    const id = typeof u.id === 'string' ? u.id : `uav${i + 1}`;
+    const row = el('div', { class: 'define-uav', 'data-testid': 'uav-row', 'data-id': id, 'data-index': String(i), 'data-anchor': `uavs[${i}]` });
+    const top = el('div', { class: 'define-uav-top' });
+    const sw = el('span', { class: 'define-swatch', title: 'colour on the map and in the plan' });
+    sw.style.background = uavColour(i);
+    const idInput = el('input', { type: 'text', value: id, class: 'define-uav-id', 'aria-label': 'UAV id', 'data-testid': 'uav-id', maxlength: '64' });
+    const idWrap = el('span', { 'data-anchor': `uavs[${i}].id`, class: 'define-inline' });
+    idWrap.appendChild(idInput);
+    idInput.addEventListener('change', () => this.setUav(i, { id: idInput.value.trim() }));
+    top.append(sw, idWrap);
+    const cat = typeof u.catalog_id === 'number' ? this.uavCatalog.find((c) => c.id === u.catalog_id) : undefined;
+    if (typeof u.catalog_id === 'number') {
+      top.appendChild(el('span', { class: 'define-uav-cat', 'data-anchor': `uavs[${i}].catalog_id`, title: 'from the UAV catalog' }, cat ? cat.name : `catalog UAV #${u.catalog_id}`));
+    } else {
+      const speed = el('input', {
+        type: 'number',
+        min: '0.1',
+        max: '50',
+        step: 'any',
+        value: typeof u.speed_mps === 'number' ? String(u.speed_mps) : '',
+        placeholder: '5',
+        'aria-label': 'Speed',
+        'data-testid': 'uav-speed',
+        class: 'define-uav-speed',
+      });
+      speed.addEventListener('change', () => this.setUav(i, { speed_mps: num(speed.value) }));
+      const sp = el('span', { class: 'define-inline', 'data-anchor': `uavs[${i}].speed_mps` });
+      sp.append(speed, el('span', { class: 'define-unit' }, 'm/s'));
+      top.appendChild(sp);
+    }
+    const rm = el('button', { type: 'button', class: 'define-remove', 'data-testid': 'uav-remove', title: `Remove ${id}`, 'aria-label': `Remove ${id}` }, '×');
+    rm.addEventListener('click', () => this.removeUav(i));
+    top.appendChild(rm);
+
+    const bottom = el('div', { class: 'define-uav-bottom' });
+    const slider = el('input', { type: 'range', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
+    const number = el('input', { type: 'number', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
+    const shareWrap = el('span', { class: 'define-share', 'data-anchor': `uavs[${i}].share` });
+    shareWrap.append(slider, number, el('span', { class: 'define-unit' }, '%'));
+    if (this.uavs().length < 2) {
+      slider.disabled = true;
+      number.disabled = true;
+      shareWrap.title = 'a single UAV covers everything';
+    }
+    let timer = 0;
+    slider.addEventListener('input', () => this.previewShare(i, Number(slider.value)));
+    slider.addEventListener('change', () => this.setShareOf(i, Number(slider.value)));
+    number.addEventListener('input', () => {
+      clearTimeout(timer);
+      timer = window.setTimeout(() => {
+        if (num(number.value) !== undefined) this.setShareOf(i, Number(number.value));
+      }, 600);
+    });
+    number.addEventListener('change', () => {
+      clearTimeout(timer);
+      if (num(number.value) !== undefined) this.setShareOf(i, Number(number.value));
+      else this.refreshShares();
+    });
+    const place = el('button', { type: 'button', 'data-testid': 'uav-place-start', class: 'define-place' }, Array.isArray(u.start) ? 'Move start' : 'Place start');
+    place.title = 'Click, then click the map where this UAV takes off (or drag its marker)';
+    place.addEventListener('click', () => this.startPlacing(i));
+    const startWrap = el('span', { 'data-anchor': `uavs[${i}].start`, class: 'define-inline' });
+    startWrap.appendChild(place);
+    bottom.append(shareWrap, startWrap);
+    row.append(top, bottom);
+    return row;
+  }
+
+  private setUav(i: number, patch: Uav): void {
+    const list = this.uavs().map((u, k) => {
+      if (k !== i) return u;
+      const n = { ...u, ...patch };
+      for (const [key, v] of Object.entries(patch)) if (v === undefined || v === '') delete n[key];
+      return n;
+    });
+    this.commit({ ...this.doc, uavs: list });
+    this.renderUavs();
+  }
+
+  private withShares(list: Uav[], percent: number[]): Uav[] {
+    const f = toFractions(percent);
+    return list.map((u, k) => ({ ...u, share: f[k] }));
+  }
+
+  private addUav(u: Uav): void {
+    const list = this.uavs();
+    const id = nextUavId(list.map((x) => String(x.id ?? '')));
+    const next = [...list, { id, ...u }];
+    this.shareHistory = [];
+    this.commit({ ...this.doc, uavs: next.length > 1 ? this.withShares(next, equalShares(next.length)) : next });
+    this.renderUavs();
+  }
+
+  private removeUav(i: number): void {
+    const list = this.uavs();
+    const shares = sharesFromDoc(list.map((u) => u.share as number | undefined));
+    const rest = list.filter((_, k) => k !== i);
+    const restShares = roundTo100(shares.filter((_, k) => k !== i));
+    this.shareHistory = [];
+    const uavs = rest.length > 1 ? this.withShares(rest, restShares) : rest.map((u) => ({ ...u, share: 1 }));
+    this.commit({ ...this.doc, uavs });
+    this.renderUavs();
+  }
+
+  private currentShares(): number[] {
+    return sharesFromDoc(this.uavs().map((u) => u.share as number | undefined));
+  }
+
+  private nextShares(i: number, v: number): number[] {
+    const cur = this.currentShares();
+    return setShare(cur, i, v, lockedFor(this.shareHistory, i, cur.length));
+  }
+
+  private previewShare(i: number, v: number): void {
+    this.refreshShares(this.nextShares(i, v));
+  }
+
+  private setShareOf(i: number, v: number): void {
+    const next = this.nextShares(i, v);
+    this.shareHistory = [i, ...this.shareHistory.filter((k) => k !== i)];
+    this.commit({ ...this.doc, uavs: this.withShares(this.uavs(), next) });
+    this.refreshShares(next);
+  }
+
+  /** show shares in the rows without rebuilding them (keeps the focus) */
+  private refreshShares(shares = this.currentShares()): void {
+    this.uavRows.querySelectorAll<HTMLElement>('[data-testid="uav-row"]').forEach((row, k) => {
+      const s = String(shares[k] ?? 0);
+      const slider = row.querySelector<HTMLInputElement>('[data-testid="uav-share-slider"]');
+      const number = row.querySelector<HTMLInputElement>('[data-testid="uav-share"]');
+      if (slider && slider.value !== s) slider.value = s;
+      if (number && number.value !== s && document.activeElement !== number) number.value = s;
+      else if (number && document.activeElement === number && Number(number.value) !== shares[k]) number.value = s;
+    });
+  }
+
+  // camera: the document's camera block (or spacing) <-> the inputs
+  private cameraMode(): string {
+    const c = this.doc.camera as Record<string, unknown> | undefined;
+    if (!c || typeof c !== 'object') return 'none';
+    if (typeof c.catalog_id === 'number') return `cat:${c.catalog_id}`;
+    if (typeof c.hfov_deg === 'number' && c.sensor_width_mm === undefined) return 'paper';
+    const match = this.cameras.find(
+      (k) => k.sensor_width_mm === c.sensor_width_mm && k.focal_length_mm === c.focal_length_mm && k.image_width_px === c.image_width_px,
+    );
+    return match ? `cat:${match.id}` : 'custom';
+  }
+
+  private refreshCamera(): void {
+    const mode = this.cameraMode();
+    const sel = this.cameraSelect;
+    sel.replaceChildren(
+      el('option', { value: 'none' }, 'No camera: give the spacing'),
+      el('option', { value: 'paper' }, 'Field of view + overlap (paper)'),
+    );
+    if (mode === 'custom') sel.appendChild(el('option', { value: 'custom' }, 'Sensor from the mission file'));
+    if (this.cameras.length) {
+      const g = el('optgroup', { label: 'Camera catalog' });
+      for (const c of this.cameras) g.appendChild(el('option', { value: `cat:${c.id}` }, c.name));
+      sel.appendChild(g);
+    }
+    if (mode.startsWith('cat:') && !sel.querySelector(`option[value="${mode}"]`))
+      sel.appendChild(el('option', { value: mode }, `catalog camera #${mode.slice(4)}`));
+    sel.value = mode;
+    const c = (this.doc.camera as Record<string, unknown> | undefined) ?? {};
+    const pct = (x: unknown) => (typeof x === 'number' ? String(round(x * 100, 2)) : '');
+    const alt = mode === 'none' ? this.doc.altitude_m : c.altitude_m;
+    this.altitudeInput.value = typeof alt === 'number' ? String(alt) : '';
+    this.altitudeInput.placeholder = mode === 'none' ? '40' : '';
+    this.overlapInput.value = mode === 'paper' ? pct(c.overlap) : pct(c.side_overlap);
+    this.hfovInput.value = typeof c.hfov_deg === 'number' ? String(c.hfov_deg) : '';
+    this.spacingInput.value = typeof this.doc.spacing_m === 'number' ? String(this.doc.spacing_m) : '';
+    const show = (input: HTMLElement, on: boolean) => ((input.parentElement as HTMLElement).hidden = !on);
+    show(this.overlapInput, mode !== 'none');
+    show(this.hfovInput, mode === 'paper');
+    show(this.spacingInput, mode === 'none');
+  }
+
+  private cameraChanged(modeChanged: boolean): void {
+    const mode = this.cameraSelect.value;
+    const old = (this.doc.camera as Record<string, unknown> | undefined) ?? {};
+    const d: MissionDoc = { ...this.doc };
+    const alt = num(this.altitudeInput.value) ?? (typeof d.altitude_m === 'number' ? d.altitude_m : undefined) ?? 40;
+    let ov = num(this.overlapInput.value);
+    const frac = ov === undefined ? undefined : ov / 100;
+    const put = (o: Record<string, unknown>) => {
+      for (const k of Object.keys(o)) if (o[k] === undefined) delete o[k];
+      return o;
+    };
+    if (mode === 'none') {
+      delete d.camera;
+      d.altitude_m = num(this.altitudeInput.value) ?? 40;
+      const s = num(this.spacingInput.value);
+      d.spacing_m = modeChanged ? (s ?? 20) : s;
+      if (d.spacing_m === undefined) delete d.spacing_m;
+    } else {
+      delete d.spacing_m;
+      delete d.altitude_m;
+      if (mode === 'paper') {
+        d.camera = put({
+          altitude_m: alt,
+          hfov_deg: num(this.hfovInput.value) ?? (modeChanged ? 73.4 : undefined),
+          overlap: modeChanged && frac === undefined ? 0.5 : frac,
+        });
+      } else if (mode === 'custom') {
+        const c: Record<string, unknown> = { ...old, altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) };
+        delete c.overlap;
+        delete c.hfov_deg;
+        d.camera = put(c);
+      } else {
+        d.camera = put({ catalog_id: Number(mode.slice(4)), altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) });
+      }
+    }
+    this.commit(d);
+    if (modeChanged) this.refreshCamera();
+  }
+
+  // ---------------------------------------------------------------- validation and errors
+
+  private scheduleValidate(delay = 300): void {
+    clearTimeout(this.validateTimer);
+    this.validateTimer = window.setTimeout(() => void this.validate(), delay);
+  }
+
+  private async validate(): Promise<void> {
+    const seq = ++this.validateSeq;
+    const doc = this.doc;
+    if (areaPolygons(doc).length === 0) {
+      this.clearErrors();
+      for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
+      this.spacingValue.title = 'draw the area first';
+      return;
+    }
+    try {
+      const r = await api.post<Validated>('/missions/validate', doc);
+      if (seq !== this.validateSeq) return;
+      this.clearErrors();
+      this.clearGeneral();
+      this.spacingValue.textContent = `${r.spacing_m.toFixed(r.spacing_m < 10 ? 2 : 1)} m`;
+      this.spacingValue.title = `at ${r.altitude_m} m altitude (${r.altitude_source})`;
+      this.gsdValue.textContent = r.gsd_m === null ? '— (sensor cameras only)' : `${(r.gsd_m * 100).toFixed(2)} cm/px`;
+      this.footprintValue.textContent = r.footprint_m === null ? '—' : `${r.footprint_m.toFixed(1)} m`;
+    } catch (e) {
+      if (seq !== this.validateSeq) return;
+      this.clearErrors();
+      for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
+      if (e instanceof ApiError && e.status === 422) {
+        this.clearGeneral();
+        this.showError(e.field, e.message);
+      } else this.showGeneral(errorText(e));
+    }
+  }
+
+  private anchors(): Map<string, HTMLElement> {
+    const m = new Map<string, HTMLElement>();
+    for (const a of this.panel.querySelectorAll<HTMLElement>('[data-anchor]'))
+      for (const name of (a.dataset.anchor ?? '').split(/\s+/)) if (name && !m.has(name)) m.set(name, a);
+    return m;
+  }
+
+  /** show a server error next to the input that edits the field it names, or in the general box */
+  showError(field: string, message: string): void {
+    const anchors = this.anchors();
+    const match = matchField(field, anchors.keys());
+    if (!match) {
+      this.showGeneral(message, field);
+      return;
+    }
+    const target = anchors.get(match)!;
+    target.classList.add('define-invalid');
+    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert' }, message);
+    if (target.tagName === 'SECTION') target.querySelector('h3')!.after(box);
+    else if (target.classList.contains('define-inline') || target.classList.contains('define-share')) target.closest('.define-uav')!.appendChild(box);
+    else target.after(box);
+    if (target.closest('.tab-panel') && !(target.closest('.tab-panel') as HTMLElement).hidden) box.scrollIntoView({ block: 'nearest' });
+  }
+
+  private clearErrors(): void {
+    this.panel.querySelectorAll('[data-testid="field-error"]').forEach((e) => e.remove());
+    this.panel.querySelectorAll('.define-invalid').forEach((e) => e.classList.remove('define-invalid'));
+  }
+
+  private showGeneral(message: string, field = ''): void {
+    this.general.hidden = false;
+    this.general.dataset.field = field;
+    this.general.textContent = message;
+  }
+
+  private clearGeneral(): void {
+    this.general.hidden = true;
+    this.general.textContent = '';
+  }
+
+  // ---------------------------------------------------------------- save
+
+  private async save(): Promise<void> {
+    const s = this.app.state;
+    this.saveBtn.disabled = true;
+    this.clearGeneral();
+    const doc = this.doc;
+    try {
+      const r =
+        s.missionId === null
+          ? await api.post<{ id: number; revision: number }>('/missions', doc)
+          : await api.put<{ id: number; revision: number }>(`/missions/${s.missionId}`, doc);
+      this.savedJson = JSON.stringify(doc);
+      this.pushed = doc;
+      this.app.update({ missionId: r.id, revision: r.revision, mission: doc });
+      this.clearErrors();
+      this.status.textContent = `Saved: mission #${r.id}, revision ${r.revision}.`;
+      this.saveBtn.textContent = 'Saved';
+    } catch (e) {
+      this.clearErrors();
+      if (e instanceof ApiError && e.status === 422) {
+        this.showError(e.field, e.message);
+        this.status.textContent = 'Not saved: fix the field marked in red.';
+      } else {
+        this.showGeneral(`Not saved: ${errorText(e)}`, e instanceof ApiError ? e.field : '');
+        this.showStatus();
+      }
+    } finally {
+      this.saveBtn.disabled = false;
+    }
+  }
+
+  // ---------------------------------------------------------------- map
+
+  private installMap(): void {
+    const map = this.app.map;
+    map.pm.setGlobalOptions({ snappable: true, snapDistance: 15, allowSelfIntersection: false } as L.PM.GlobalOptions);
+    map.on('pm:create', (e) => {
+      const kind = this.drawKind;
+      this.drawKind = null;
+      this.updateButtons();
+      const layer = e.layer as L.Polygon;
+      const polys = polygonsOf(layer.toGeoJSON());
+      layer.remove();
+      if (kind !== 'area' && kind !== 'nfz') return;
+      if (kind === 'area') this.commit(withArea(this.doc, [...areaPolygons(this.doc), ...polys]));
+      else this.commit(withNfz(this.doc, [...nfzPolygons(this.doc), ...polys]));
+      this.renderArea();
+      this.renderMap();
+    });
+    map.on('pm:drawend', () => {
+      if (this.drawKind !== 'cut') this.drawKind = null;
+      this.updateButtons();
+    });
+    map.on('pm:globalcutmodetoggled', (e: { enabled: boolean }) => {
+      if (!e.enabled && this.drawKind === 'cut') this.drawKind = null;
+      this.updateButtons();
+    });
+    map.on('pm:cut', (e) => {
+      const original = e.originalLayer as L.Polygon;
+      const result = e.layer as L.Polygon;
+      for (const arr of [this.areaLayers, this.nfzLayers]) {
+        const k = arr.indexOf(original);
+        if (k >= 0) arr[k] = result;
+      }
+      this.scheduleSync();
+    });
+    map.on('click', (e: L.LeafletMouseEvent) => {
+      if (this.placing !== null && this.visible) {
+        const i = this.placing;
+        this.stopPlacing();
+        this.setUav(i, { start: [round(e.latlng.lng, 7), round(e.latlng.lat, 7)] });
+      } else if (!this.drawKind) this.select(null);
+    });
+  }
+
+  private layerStyle(kind: Kind, selected: boolean): L.PathOptions {
+    const base = kind === 'area' ? AREA_STYLE : NFZ_STYLE;
+    return selected ? { ...base, weight: 4 } : base;
+  }
+
+  private renderMap(): void {
+    if (this.selVertex?.el) this.selVertex.el.classList.remove('define-vertex-selected');
+    this.selLayer = null;
+    this.selVertex = null;
+    this.group.clearLayers();
+    this.areaLayers = [];
+    this.nfzLayers = [];
+    const add = (p: PolygonCoords, kind: Kind) => {
+      const layer = L.polygon(toLatLngs(p), this.layerStyle(kind, false));
+      layer.addTo(this.group);
+      layer.on('pm:edit', () => this.scheduleSync());
+      layer.on('pm:vertexclick', (e) => this.selectVertex(layer, e.indexPath as unknown as number[], e.markerEvent));
+      layer.on('click', (e: L.LeafletMouseEvent) => {
+        if (this.drawKind || this.placing !== null) return;
+        L.DomEvent.stopPropagation(e);
+        this.select(layer);
+      });
+      layer.bindTooltip(kind === 'area' ? 'area' : 'no-fly zone', { sticky: true, className: 'define-tip' });
+      (kind === 'area' ? this.areaLayers : this.nfzLayers).push(layer);
+    };
+    for (const p of areaPolygons(this.doc)) add(p, 'area');
+    for (const p of nfzPolygons(this.doc)) add(p, 'nfz');
+    this.renderStarts();
+    this.setEditing(this.visible);
+    this.renderArea();
+  }
+
+  private renderStarts(): void {
+    this.startLayer.clearLayers();
+    this.uavs().forEach((u, i) => {
+      const s = u.start;
+      if (!Array.isArray(s) || typeof s[0] !== 'number' || typeof s[1] !== 'number') return;
+      const id = typeof u.id === 'string' ? u.id : `uav${i + 1}`;
+      const icon = L.divIcon({
+        className: 'define-start-icon',
+        html: `<div class="define-start" data-testid="uav-start" data-id="${id.replace(/[^A-Za-z0-9_.-]/g, '')}" style="background:${uavColour(i)}">${i + 1}</div>`,
+        iconSize: [24, 24],
+        iconAnchor: [12, 12],
+      });
+      const m = L.marker([s[1], s[0]], { icon, draggable: true, pmIgnore: true, title: `${id} start`, keyboard: false, autoPan: true });
+      m.on('dragend', () => {
+        const ll = m.getLatLng();
+        this.setUav(i, { start: [round(ll.lng, 7), round(ll.lat, 7)] });
+      });
+      m.addTo(this.startLayer);
+    });
+  }
+
+  private setEditing(on: boolean): void {
+    for (const l of [...this.areaLayers, ...this.nfzLayers]) {
+      if (on) l.pm.enable({ snappable: true, snapDistance: 15, allowSelfIntersection: false, draggable: false } as L.PM.EditModeOptions);
+      else l.pm.disable();
+    }
+  }
+
+  /** read the geometry back from the edited layers into the document */
+  private scheduleSync(): void {
+    clearTimeout(this.syncTimer);
+    this.syncTimer = window.setTimeout(() => this.syncFromLayers(), 0);
+  }
+
+  private syncFromLayers(): void {
+    const read = (ls: L.Polygon[]) => ls.flatMap((l) => (this.app.map.hasLayer(l) || this.group.hasLayer(l) ? polygonsOf(l.toGeoJSON()) : []));
+    const area = read(this.areaLayers);
+    const nfz = read(this.nfzLayers);
+    // geoman adds cut results to the map itself: drop them, the document is redrawn
+    for (const l of [...this.areaLayers, ...this.nfzLayers]) if (!this.group.hasLayer(l)) l.remove();
+    this.commit(withNfz(withArea(this.doc, area), nfz));
+    this.renderMap();
+  }
+
+  private select(layer: L.Polygon | null): void {
+    if (this.selVertex?.el) this.selVertex.el.classList.remove('define-vertex-selected');
+    this.selVertex = null;
+    if (this.selLayer) this.selLayer.setStyle(this.layerStyle(this.nfzLayers.includes(this.selLayer) ? 'nfz' : 'area', false));
+    this.selLayer = layer;
+    if (layer) layer.setStyle(this.layerStyle(this.nfzLayers.includes(layer) ? 'nfz' : 'area', true));
+  }
+
+  private selectVertex(layer: L.Polygon, path: number[], markerEvent: unknown): void {
+    this.select(layer);
+    const target = (markerEvent as { target?: { getElement?: () => HTMLElement | undefined } } | undefined)?.target;
+    const elx = target?.getElement?.();
+    elx?.classList.add('define-vertex-selected');
+    this.selVertex = { layer, path: Array.isArray(path) ? path : [0, Number(path)], el: elx };
+  }
+
+  private deleteSelection(): void {
+    if (this.selVertex) {
+      const { layer, path } = this.selVertex;
+      const latlngs = layer.getLatLngs() as unknown;
+      // navigate to the ring holding the vertex: path = [ring, i] or [polygon, ring, i]
+      const rings: L.LatLng[][] = path.length === 3 ? (latlngs as L.LatLng[][][])[path[0]] : (latlngs as L.LatLng[][]);
+      const ringIndex = path[path.length - 2];
+      const ring = rings[ringIndex];
+      if (ring) {
+        ring.splice(path[path.length - 1], 1);
+        if (ring.length < 3) {
+          if (ringIndex === 0) {
+            this.removeLayer(layer);
+            return;
+          }
+          rings.splice(ringIndex, 1);
+        }
+        layer.setLatLngs(latlngs as L.LatLng[][]);
+        this.syncFromLayers();
+      }
+      return;
+    }
+    if (this.selLayer) {
+      this.removeLayer(this.selLayer);
+      return;
+    }
+    this.flash('Select a vertex or a shape on the map first.');
+  }
+
+  private removeLayer(layer: L.Polygon): void {
+    this.areaLayers = this.areaLayers.filter((l) => l !== layer);
+    this.nfzLayers = this.nfzLayers.filter((l) => l !== layer);
+    this.group.removeLayer(layer);
+    this.syncFromLayers();
+  }
+
+  private startDraw(kind: Kind | 'cut'): void {
+    const map = this.app.map;
+    const wasSame = this.drawKind === kind;
+    this.cancelModes();
+    if (wasSame) return; // the button toggles
+    this.select(null);
+    if (kind === 'cut') {
+      if (this.areaLayers.length === 0) {
+        this.flash('Draw the area first.');
+        return;
+      }
+      this.drawKind = 'cut';
+      map.pm.enableGlobalCutMode({ layersToCut: this.areaLayers, snappable: true, allowSelfIntersection: false } as L.PM.CutModeOptions);
+    } else {
+      this.drawKind = kind;
+      map.pm.enableDraw('Polygon', {
+        snappable: true,
+        snapDistance: 15,
+        allowSelfIntersection: false,
+        pathOptions: kind === 'area' ? AREA_STYLE : NFZ_STYLE,
+        templineStyle: { color: kind === 'area' ? AREA_STROKE : NFZ_STROKE },
+        hintlineStyle: { color: kind === 'area' ? AREA_STROKE : NFZ_STROKE, dashArray: '5 5' },
+      } as L.PM.DrawModeOptions);
+    }
+    this.updateButtons();
+  }
+
+  private cancelModes(): void {
+    const map = this.app.map;
+    this.drawKind = null;
+    if (map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
+    if (map.pm.globalCutModeEnabled()) map.pm.disableGlobalCutMode();
+    this.stopPlacing();
+    this.updateButtons();
+  }
+
+  private updateButtons(): void {
+    this.drawAreaBtn.classList.toggle('active', this.drawKind === 'area');
+    this.drawNfzBtn.classList.toggle('active', this.drawKind === 'nfz');
+    this.cutBtn.classList.toggle('active', this.drawKind === 'cut');
+    this.app.map.getContainer().classList.toggle('define-drawing', this.drawKind !== null);
+  }
+
+  private startPlacing(i: number): void {
+    this.cancelModes();
+    this.placing = i;
+    this.app.map.getContainer().classList.add('define-placing');
+    this.uavRows.querySelectorAll('[data-testid="uav-place-start"]').forEach((b, k) => b.classList.toggle('active', k === i));
+    this.status.textContent = `Click the map where ${String(this.uavs()[i]?.id ?? `UAV ${i + 1}`)} takes off (Esc cancels).`;
+  }
+
+  private stopPlacing(): void {
+    if (this.placing === null) return;
+    this.placing = null;
+    this.app.map.getContainer().classList.remove('define-placing');
+    this.uavRows.querySelectorAll('[data-testid="uav-place-start"]').forEach((b) => b.classList.remove('active'));
+    this.showStatus();
+  }
+
+  private onKey(e: KeyboardEvent): void {
+    if (!this.visible) return;
+    const map = this.app.map;
+    if (e.key === 'Escape') {
+      if (this.drawKind || this.placing !== null || map.pm.globalDrawModeEnabled()) {
+        this.cancelModes();
+        e.preventDefault();
+      } else this.select(null);
+      return;
+    }
+    if (isEditable(e.target)) return;
+    if ((e.ctrlKey || e.metaKey) && !e.shiftKey && e.key.toLowerCase() === 'z') {
+      e.preventDefault();
+      const draw = (map.pm.Draw as unknown as Record<string, { _enabled?: boolean; _layer?: L.Polyline; _removeLastVertex?: () => void }>).Polygon;
+      if (map.pm.globalDrawModeEnabled() && draw?._enabled && draw._layer && draw._layer.getLatLngs().length > 0) draw._removeLastVertex?.();
+      else this.undo();
+      return;
+    }
+    if (e.key === 'Delete' || e.key === 'Backspace') {
+      if (this.selVertex || this.selLayer) {
+        e.preventDefault();
+        this.deleteSelection();
+      }
+    }
+  }
+
+  show(): void {
+    this.visible = true;
+    if (this.app.state.mission === null) this.push(this.doc);
+    this.group.addTo(this.app.map);
+    this.startLayer.addTo(this.app.map);
+    this.setEditing(true);
+  }
+
+  hide(): void {
+    this.visible = false;
+    this.cancelModes();
+    this.select(null);
+    this.setEditing(false);
+    this.group.remove();
+    this.startLayer.remove();
+  }
+}
+
+let panelRef: DefinePanel | null = null;
 
 export const defineTab: Tab = {
   name: 'define',
   title: 'Define',
-  mount(panel: HTMLElement, _app: App) {
-    panel.innerHTML = '<p class="muted">Define</p>';
+  mount(panel: HTMLElement, app: App) {
+    panelRef = new DefinePanel(panel, app);
+  },
+  show() {
+    panelRef?.show();
+  },
+  hide() {
+    panelRef?.hide();
   },
 };
