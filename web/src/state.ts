@@ -7,6 +7,8 @@ export interface AppState {
   /** the uavcover v1 mission document being edited */
   mission: Record<string, unknown> | null;
   planId: number | null;
+  /** true while the Define tab holds changes to `mission` that are not saved as a revision yet */
+  dirty?: boolean;
 }
 
 type Listener = (s: AppState) => void;

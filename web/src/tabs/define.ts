@@ -10,6 +10,7 @@ import { api, ApiError } from '../api.ts';
 import type { App, Tab } from '../state.ts';
 import {
   areaPolygons,
+  geojsonPolygons,
   matchField,
   newDraft,
   nextUavId,
@@ -79,7 +80,7 @@ function round(x: number, digits: number): number {
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
-const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.45 };
+const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 
 function isEditable(t: EventTarget | null): boolean {
@@ -336,7 +337,7 @@ class DefinePanel {
 
   private push(d: MissionDoc): void {
     this.pushed = d;
-    this.app.update({ mission: d });
+    this.app.update({ mission: d, dirty: this.savedJson === null || JSON.stringify(d) !== this.savedJson });
   }
 
   /** the operator changed the document */
@@ -704,7 +705,9 @@ class DefinePanel {
     }
     const target = anchors.get(match)!;
     target.classList.add('define-invalid');
-    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert' }, message);
+    // overlaps are fractions in the file, percentages here: say so
+    const hint = /overlap$/.test(field) ? ` (entered here in %: ${this.overlapInput.value} %)` : '';
+    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert' }, message + hint);
     if (target.tagName === 'SECTION') target.querySelector('h3')!.after(box);
     else if (target.classList.contains('define-inline') || target.classList.contains('define-share')) target.closest('.define-uav')!.appendChild(box);
     else target.after(box);
@@ -741,7 +744,7 @@ class DefinePanel {
           : await api.put<{ id: number; revision: number }>(`/missions/${s.missionId}`, doc);
       this.savedJson = JSON.stringify(doc);
       this.pushed = doc;
-      this.app.update({ missionId: r.id, revision: r.revision, mission: doc });
+      this.app.update({ missionId: r.id, revision: r.revision, mission: doc, dirty: false });
       this.clearErrors();
       this.status.textContent = `Saved: mission #${r.id}, revision ${r.revision}.`;
       this.saveBtn.textContent = 'Saved';
@@ -766,12 +769,12 @@ class DefinePanel {
     map.pm.setGlobalOptions({ snappable: true, snapDistance: 15, allowSelfIntersection: false } as L.PM.GlobalOptions);
     map.on('pm:create', (e) => {
       const kind = this.drawKind;
+      if (kind !== 'area' && kind !== 'nfz') return; // not drawn by this tab
       this.drawKind = null;
       this.updateButtons();
       const layer = e.layer as L.Polygon;
       const polys = polygonsOf(layer.toGeoJSON());
       layer.remove();
-      if (kind !== 'area' && kind !== 'nfz') return;
       if (kind === 'area') this.commit(withArea(this.doc, [...areaPolygons(this.doc), ...polys]));
       else this.commit(withNfz(this.doc, [...nfzPolygons(this.doc), ...polys]));
       this.renderArea();
@@ -870,7 +873,8 @@ class DefinePanel {
   }
 
   private syncFromLayers(): void {
-    const read = (ls: L.Polygon[]) => ls.flatMap((l) => (this.app.map.hasLayer(l) || this.group.hasLayer(l) ? polygonsOf(l.toGeoJSON()) : []));
+    const read = (ls: L.Polygon[]) =>
+      ls.flatMap((l) => (this.app.map.hasLayer(l) || this.group.hasLayer(l) ? geojsonPolygons(l.toGeoJSON()).map((x) => x.coords) : []));
     const area = read(this.areaLayers);
     const nfz = read(this.nfzLayers);
     // geoman adds cut results to the map itself: drop them, the document is redrawn
@@ -943,7 +947,8 @@ class DefinePanel {
         return;
       }
       this.drawKind = 'cut';
-      map.pm.enableGlobalCutMode({ layersToCut: this.areaLayers, snappable: true, allowSelfIntersection: false } as L.PM.CutModeOptions);
+      // a copy: geoman removes the cut layers from the array it is given
+      map.pm.enableGlobalCutMode({ layersToCut: [...this.areaLayers], snappable: true, allowSelfIntersection: false } as L.PM.CutModeOptions);
     } else {
       this.drawKind = kind;
       map.pm.enableDraw('Polygon', {

@@ -103,7 +103,7 @@ class MissionsPanel {
     });
     const newBtn = el('button', { type: 'button', class: 'primary', 'data-testid': 'mission-new' }, 'New mission');
     newBtn.addEventListener('click', () => {
-      this.app.update({ missionId: null, revision: null, mission: newDraft(), planId: null });
+      this.app.update({ missionId: null, revision: null, mission: newDraft(), planId: null, dirty: true });
       this.app.showTab('define');
     });
     bar.append(this.search, newBtn);
@@ -286,7 +286,7 @@ class MissionsPanel {
     this.say('Opening…');
     try {
       const m = await this.fetchMission(id);
-      this.app.update({ missionId: m.id, revision: m.revision, mission: m.mission, planId: null });
+      this.app.update({ missionId: m.id, revision: m.revision, mission: m.mission, planId: null, dirty: false });
       const b = bboxBounds(m.bbox) ?? bboxBounds(docBbox(m.mission));
       if (b) this.app.map.fitBounds(b, { padding: [30, 30], maxZoom: 18 });
       this.say('');
@@ -342,7 +342,7 @@ class MissionsPanel {
       const full = await this.fetchMission(m.id);
       const doc = { ...full.mission, name };
       const r = await api.put<{ id: number; revision: number }>(`/missions/${m.id}`, doc);
-      if (this.app.state.missionId === m.id) this.app.update({ revision: r.revision, mission: { ...(this.app.state.mission ?? doc), name } });
+      if (this.app.state.missionId === m.id) this.app.update({ revision: r.revision, mission: { ...(this.app.state.mission ?? doc), name }, dirty: false });
       await this.reload(true);
       this.say(`Renamed to “${name}” (revision ${r.revision}).`);
     } catch (e) {
@@ -371,12 +371,8 @@ class MissionsPanel {
       await this.reload(true);
       this.say(`Deleted “${m.name}”.`);
     } catch (e) {
-      this.say(
-        e instanceof ApiError && e.status === 409
-          ? `“${m.name}” cannot be deleted while it has queued or running jobs: ${e.message}`
-          : `Could not delete “${m.name}”: ${errorText(e)}`,
-        true,
-      );
+      // 409: the mission has queued or running jobs; the server's message says so
+      this.say(`Could not delete “${m.name}”: ${e instanceof ApiError && e.status === 409 ? e.message : errorText(e)}`, true);
       this.render();
     }
   }
@@ -426,7 +422,7 @@ class MissionsPanel {
         this.say(`Imported ${f.name} as mission #${c.id}.`);
         await this.open(c.id);
       } else {
-        this.app.update({ missionId: null, revision: null, mission: r.doc, planId: null });
+        this.app.update({ missionId: null, revision: null, mission: r.doc, planId: null, dirty: true });
         const b = bboxBounds(docBbox(r.doc));
         if (b) this.app.map.fitBounds(b, { padding: [30, 30], maxZoom: 18 });
         this.say(`Read ${f.name} (${r.format === 'kml' ? 'KML' : 'GeoJSON'}): a draft mission — check it and save it in the Define tab.`);
