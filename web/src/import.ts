@@ -82,7 +82,10 @@ export function readImport(text: string, fileName: string, parseXml?: (s: string
   if (typeof o.type === 'string' && GEOJSON_TYPES.has(o.type)) {
     const polys = geojsonPolygons(o);
     if (polys.length === 0) throw new Error(`${fileName}: the GeoJSON has no Polygon or MultiPolygon`);
-    const title = typeof (o as { name?: unknown }).name === 'string' ? String((o as { name?: unknown }).name) : name;
+    // a name given in the file: {"name"} on a FeatureCollection, properties.name on a lone Feature
+    const props = o.properties as Record<string, unknown> | undefined;
+    const given = o.type === 'Feature' && props && typeof props.name === 'string' ? props.name : o.name;
+    const title = typeof given === 'string' && given.trim() ? given.trim() : name;
     return { kind: 'draft', doc: draftFromPolygons(title, polys), format: 'geojson' };
   }
   throw new Error(

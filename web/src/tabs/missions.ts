@@ -164,6 +164,9 @@ class MissionsPanel {
       this.items = r.items;
       this.nextCursor = r.next_cursor;
       this.render();
+      // nothing open yet: show where the listed missions are
+      if (this.app.state.mission === null && this.extents.getLayers().length > 0)
+        this.app.map.fitBounds(this.extents.getBounds(), { padding: [30, 30], maxZoom: 17 });
       if (this.status.classList.contains('error') === false) this.say('');
     } catch (e) {
       if (seq === this.loadSeq) this.say(errorText(e), true);

@@ -122,6 +122,12 @@ test('import: GeoJSON gives a draft with defaults', () => {
   assert.deepEqual(r.doc.uavs, [{ id: 'uav1' }]);
 });
 
+test('import: a lone Feature names the mission', () => {
+  const f = { type: 'Feature', properties: { name: 'Vineyard' }, geometry: { type: 'Polygon', coordinates: sq(1, 2, 1) } };
+  const r = readImport(JSON.stringify(f), 'x.geojson');
+  assert.equal(r.kind === 'draft' && r.doc.name, 'Vineyard');
+});
+
 test('import: bad files are refused in words', () => {
   assert.throws(() => readImport('{not json', 'x.json'), /x.json: neither JSON nor KML/);
   assert.throws(() => readImport('[1,2]', 'x.json'), /a JSON object is expected/);
