@@ -342,6 +342,7 @@ class DefinePanel {
 
   /** the operator changed the document */
   private commit(d: MissionDoc, undoable = true): void {
+    if (JSON.stringify(d) === JSON.stringify(this.doc)) return; // nothing changed (a change event repeated)
     if (undoable) {
       this.undoStack.push(this.doc);
       if (this.undoStack.length > 200) this.undoStack.shift();
@@ -1008,8 +1009,10 @@ class DefinePanel {
     if (isEditable(e.target)) return;
     if ((e.ctrlKey || e.metaKey) && !e.shiftKey && e.key.toLowerCase() === 'z') {
       e.preventDefault();
-      const draw = (map.pm.Draw as unknown as Record<string, { _enabled?: boolean; _layer?: L.Polyline; _removeLastVertex?: () => void }>).Polygon;
-      if (map.pm.globalDrawModeEnabled() && draw?._enabled && draw._layer && draw._layer.getLatLngs().length > 0) draw._removeLastVertex?.();
+      // while drawing (an area, a zone or a cut), Ctrl-Z takes back the last vertex
+      const shapes = map.pm.Draw as unknown as Record<string, { _enabled?: boolean; _layer?: L.Polyline; _removeLastVertex?: () => void }>;
+      const draw = [shapes.Polygon, shapes.Cut].find((d) => d?._enabled && d._layer && d._layer.getLatLngs().length > 0);
+      if (draw) draw._removeLastVertex?.();
       else this.undo();
       return;
     }
