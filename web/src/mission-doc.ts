@@ -174,13 +174,13 @@ export function geojsonPolygons(g: unknown, role?: Role): { coords: PolygonCoord
   return polygonsOf(o).map((coords) => ({ coords, role }));
 }
 
-/** a new mission's defaults: one UAV, altitude 40 m, spacing 20 m */
-export function newDraft(name = 'New mission'): MissionDoc {
+/** a new mission's defaults: altitude 40 m, spacing 20 m, `uavs` UAVs (uav1, …) */
+export function newDraft(name = 'New mission', uavs = 1): MissionDoc {
   return {
     name,
     altitude_m: 40,
     spacing_m: 20,
-    uavs: [{ id: 'uav1' }],
+    uavs: Array.from({ length: uavs }, (_, i) => ({ id: `uav${i + 1}` })),
     mode: 'strict',
     planner: 'darp',
     seed: 1,

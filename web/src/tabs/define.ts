@@ -89,7 +89,7 @@ function isEditable(t: EventTarget | null): boolean {
 }
 
 class DefinePanel {
-  private doc: MissionDoc = newDraft();
+  private doc: MissionDoc = newDraft('New mission', 0);
   /** the document last given to app.update by this tab (to tell our own updates from others) */
   private pushed: MissionDoc | null = null;
   private savedJson: string | null = null;
@@ -319,7 +319,7 @@ class DefinePanel {
 
   /** a mission document arrives from elsewhere (opened, imported, new) */
   private load(doc: MissionDoc | null): void {
-    let d = doc ?? newDraft();
+    let d = doc ?? newDraft('New mission', 0);
     if (typeof d.uavs === 'number' && Number.isInteger(d.uavs) && d.uavs > 0 && d.uavs <= 200)
       d = { ...d, uavs: Array.from({ length: d.uavs as number }, (_, i) => ({ id: `uav${i + 1}` })) };
     this.doc = d;

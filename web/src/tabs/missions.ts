@@ -103,7 +103,7 @@ class MissionsPanel {
     });
     const newBtn = el('button', { type: 'button', class: 'primary', 'data-testid': 'mission-new' }, 'New mission');
     newBtn.addEventListener('click', () => {
-      this.app.update({ missionId: null, revision: null, mission: newDraft(), planId: null, dirty: true });
+      this.app.update({ missionId: null, revision: null, mission: newDraft('New mission', 0), planId: null, dirty: true });
       this.app.showTab('define');
     });
     bar.append(this.search, newBtn);
@@ -252,7 +252,7 @@ class MissionsPanel {
     li.append(head, actions);
     li.addEventListener('mouseenter', () => this.hover(m));
     li.addEventListener('mouseleave', () => this.clearHover());
-    li.addEventListener('click', () => this.select(m.id, true));
+    li.addEventListener('click', () => void this.open(m.id));
     li.addEventListener('keydown', (e) => {
       if (e.key === 'Enter' && e.target === li) void this.open(m.id);
     });

@@ -40,6 +40,7 @@ await shot('02-drawn');
 // UAVs: one from the catalog, two by hand; shares 50/30/20
 await t('uav-add-catalog').selectOption({ index: 1 });
 await t('uav-add-manual').click();
+await t('uav-add-manual').click();
 await t('uav-row').nth(2).waitFor();
 const shares = t('uav-share');
 for (const [i, v] of [[0, 50], [1, 30], [2, 20]]) {

@@ -39,6 +39,8 @@ test('area and no-fly zones in and out of the document', () => {
   assert.deepEqual(docBbox(doc), [22.9, 40.6, 23.01, 40.61]);
   assert.equal(withArea(doc, []).area, undefined);
   assert.equal(docBbox(newDraft()), null);
+  assert.deepEqual(newDraft('x', 0).uavs, []);
+  assert.deepEqual(newDraft('x', 2).uavs, [{ id: 'uav1' }, { id: 'uav2' }]);
 });
 
 test('a Feature-wrapped area and MultiPolygon zones are read', () => {
