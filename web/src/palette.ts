@@ -1,6 +1,6 @@
-// The CLI's palette (src/render/render.cpp uav_colour): ten colour-blind-distinguishable colours, then
-// darker rounds (×0.8, ×0.6, ×0.8, …). Same colours on the map as in the CLI's pictures.
-const BASE: [number, number, number][] = [
+// The UAV colours of the CLI's pictures (src/render/render.cpp, uav_colour): ten colours, in order,
+// then darker rounds of the same ten (x0.6 for the 2nd, 4th, ... round; x0.8 for the 3rd, 5th, ...).
+export const PALETTE: ReadonlyArray<readonly [number, number, number]> = [
   [0.12, 0.47, 0.71],
   [1.0, 0.5, 0.05],
   [0.17, 0.63, 0.17],
@@ -13,26 +13,13 @@ const BASE: [number, number, number][] = [
   [0.09, 0.75, 0.81],
 ];
 
-function hex(r: number, g: number, b: number): string {
-  const c = (x: number) => Math.round(Math.min(1, Math.max(0, x)) * 255).toString(16).padStart(2, '0');
-  return `#${c(r)}${c(g)}${c(b)}`;
-}
-
-/** the base palette as CSS hex colours */
-export const PALETTE: string[] = BASE.map(([r, g, b]) => hex(r, g, b));
-
-/** colour of the i-th UAV (0-based), as render.cpp's uav_colour */
+/** The colour of the i-th UAV (0-based) as CSS #rrggbb, as the CLI draws it. */
 export function uavColour(i: number): string {
-  const [r, g, b] = BASE[((i % 10) + 10) % 10];
-  if (i < 10) return hex(r, g, b);
-  const f = Math.floor(i / 10) % 2 === 1 ? 0.6 : 0.8;
-  return hex(r * f, g * f, b * f);
+  const base = PALETTE[((i % 10) + 10) % 10];
+  const f = i < 10 ? 1 : Math.floor(i / 10) % 2 === 1 ? 0.6 : 0.8;
+  const hex = (v: number) =>
+    Math.round(Math.min(1, Math.max(0, v * f)) * 255)
+      .toString(16)
+      .padStart(2, '0');
+  return `#${hex(base[0])}${hex(base[1])}${hex(base[2])}`;
 }
-
-/** no-fly zones: red fill, dark red outline (render.cpp) */
-export const NFZ_FILL = hex(0.85, 0.2, 0.2);
-export const NFZ_STROKE = hex(0.7, 0.1, 0.1);
-
-/** the area: light fill, dark grey outline (render.cpp) */
-export const AREA_FILL = hex(0.95, 0.95, 0.93);
-export const AREA_STROKE = hex(0.25, 0.25, 0.25);

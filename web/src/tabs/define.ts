@@ -23,7 +23,9 @@ import {
 } from '../mission-doc.ts';
 import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
-import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, uavColour } from '../palette.ts';
+import { uavColour } from '../palette.ts';
+import '../missions.css';
+import '../define.css';
 import { errorText } from './missions.ts';
 
 interface CatalogUav {
@@ -80,6 +82,11 @@ function round(x: number, digits: number): number {
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
+// the area and no-fly zones as the CLI's pictures draw them (src/render/render.cpp draw_plan)
+const AREA_FILL = '#f2f2ed';
+const AREA_STROKE = '#404040';
+const NFZ_FILL = '#d93333';
+const NFZ_STROKE = '#b31a1a';
 const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 

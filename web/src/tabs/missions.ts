@@ -5,6 +5,7 @@ import { api, ApiError } from '../api.ts';
 import type { App, Tab } from '../state.ts';
 import { docBbox, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
+import '../missions.css';
 
 interface MissionSummary {
   id: number;

@@ -12,11 +12,11 @@ import {
   nfzPolygons,
   withArea,
   withNfz,
-  type PolygonCoords,
 } from '../../src/mission-doc.ts';
 import { readImport } from '../../src/import.ts';
 
-const sq = (x: number, y: number, d: number): PolygonCoords => [
+/** a closed square ring of side d at (x, y), as a polygon */
+const sq = (x, y, d) => [
   [
     [x, y],
     [x + d, y],
@@ -30,9 +30,9 @@ test('area and no-fly zones in and out of the document', () => {
   let doc = newDraft();
   assert.deepEqual(areaPolygons(doc), []);
   doc = withArea(doc, [sq(22.9, 40.6, 0.01)]);
-  assert.equal((doc.area as { type: string }).type, 'Polygon');
+  assert.equal(doc.area.type, 'Polygon');
   doc = withArea(doc, [sq(22.9, 40.6, 0.01), sq(23, 40.6, 0.01)]);
-  assert.equal((doc.area as { type: string }).type, 'MultiPolygon');
+  assert.equal(doc.area.type, 'MultiPolygon');
   assert.equal(areaPolygons(doc).length, 2);
   doc = withNfz(doc, [sq(22.902, 40.602, 0.001)]);
   assert.equal(nfzPolygons(doc).length, 1);

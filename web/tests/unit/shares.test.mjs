@@ -2,7 +2,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { apportion, equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../../src/shares.ts';
 
-const sum = (xs: number[]) => xs.reduce((a, b) => a + b, 0);
+const sum = (xs) => xs.reduce((a, b) => a + b, 0);
 
 test('equal shares sum to 100 with the remainder on the first', () => {
   assert.deepEqual(equalShares(3), [34, 33, 33]);
@@ -19,8 +19,8 @@ test('setShare rescales the others proportionally', () => {
 
 test('50/30/20 from equal shares, keeping the share set before', () => {
   let s = equalShares(3);
-  const history: number[] = [];
-  const set = (i: number, v: number) => {
+  const history = [];
+  const set = (i, v) => {
     s = setShare(s, i, v, lockedFor(history, i, s.length));
     history.unshift(i);
   };
