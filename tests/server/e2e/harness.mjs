@@ -521,6 +521,11 @@ export class Contract {
     this.deref = deref;
     this.ajv = new Ajv({ strict: false, allErrors: true });
     addFormats(this.ajv);
+    // OpenAPI's own formats
+    this.ajv.addFormat('int32', { type: 'number', validate: (n) => Number.isInteger(n) && n >= -(2 ** 31) && n < 2 ** 31 });
+    this.ajv.addFormat('int64', { type: 'number', validate: (n) => Number.isInteger(n) });
+    for (const f of ['float', 'double']) this.ajv.addFormat(f, { type: 'number', validate: () => true });
+    for (const f of ['byte', 'binary', 'password']) this.ajv.addFormat(f, () => true);
     this.cache = new Map();
     this.checked = []; // "METHOD template status" checked
     this.basePaths = [''];
