@@ -227,13 +227,18 @@ export async function api(server, method, pathname, opts = {}) {
   return out;
 }
 
-/** A raw HTTP/1.1 request through node:http (for bodies fetch would refuse or streams it would buffer). */
-export function rawRequest(server, method, pathname, { headers = {}, body } = {}) {
+/**
+ * A raw HTTP/1.1 request through node:http (for bodies fetch would refuse or streams it would buffer):
+ * {status, headers (plain object), text, json}. expectContinue: send `Expect: 100-continue` and the
+ * body only after the server's 100 (a server refusing the body answers at once instead).
+ */
+export function rawRequest(server, method, pathname, { headers = {}, body, expectContinue = false } = {}) {
   return new Promise((resolve, reject) => {
     const u = new URL(server.url); // the path goes out as given (no dot segments removed)
     const h = { ...headers };
     if (server.token && !h.authorization) h.authorization = `Bearer ${server.token}`;
     if (body !== undefined) h['content-length'] = Buffer.byteLength(body);
+    if (expectContinue) h.expect = '100-continue';
     let answered = false;
     const req = http.request({ host: u.hostname, port: u.port, path: pathname, method, headers: h }, (res) => {
       answered = true;
@@ -249,14 +254,15 @@ export function rawRequest(server, method, pathname, { headers = {}, body } = {}
         }
         resolve({ status: res.statusCode, headers: res.headers, text, json });
       });
-      res.on('error', (e) => (answered ? resolve({ status: res.statusCode, headers: res.headers, text: '', error: e }) : reject(e)));
+      res.on('error', () => resolve({ status: res.statusCode, headers: res.headers, text: '', json: undefined }));
     });
-    // the server may answer (413) and close before it has read the whole body: a write error then is
-    // no failure as long as an answer arrived
     req.on('error', (e) => {
-      if (!answered) setTimeout(() => (answered ? null : reject(e)), 500);
+      if (!answered) reject(e);
     });
-    if (body !== undefined) req.end(body);
+    if (expectContinue) {
+      req.on('continue', () => req.end(body));
+      req.flushHeaders();
+    } else if (body !== undefined) req.end(body);
     else req.end();
   });
 }
@@ -483,7 +489,10 @@ export class EventStream {
 
 // ---------------------------------------------------------------- OpenAPI contract
 
-/** OpenAPI 3.0 schema -> JSON Schema for ajv: `nullable: true` becomes a type that admits null. */
+/**
+ * OpenAPI 3.0 schema -> JSON Schema for ajv: `nullable: true` becomes a type that admits null, boolean
+ * exclusiveMinimum/exclusiveMaximum become numbers.
+ */
 export function toJsonSchema(s) {
   if (Array.isArray(s)) return s.map(toJsonSchema);
   if (!s || typeof s !== 'object') return s;
@@ -493,6 +502,18 @@ export function toJsonSchema(s) {
     if (k === 'properties' || k === 'patternProperties' || k === 'definitions' || k === '$defs') {
       out[k] = Object.fromEntries(Object.entries(v).map(([n, p]) => [n, toJsonSchema(p)]));
     } else out[k] = toJsonSchema(v);
+  }
+  // OpenAPI 3.0 (JSON Schema draft 4): exclusiveMinimum/Maximum are booleans qualifying minimum/maximum
+  for (const [ex, bound] of [
+    ['exclusiveMinimum', 'minimum'],
+    ['exclusiveMaximum', 'maximum'],
+  ]) {
+    if (typeof s[ex] === 'boolean') {
+      if (s[ex] && typeof s[bound] === 'number') {
+        out[ex] = s[bound];
+        delete out[bound];
+      } else delete out[ex];
+    }
   }
   if (s.nullable === true) {
     if (typeof out.type === 'string') out.type = [out.type, 'null'];

@@ -149,7 +149,8 @@ eachBackend(describe, (backend) => {
       'ascending ids, each once',
     );
     for (const m of items) {
-      assert.deepEqual(Object.keys(m).sort(), ['bbox', 'created', 'id', 'name', 'revision', 'updated']);
+      for (const k of ['bbox', 'created', 'id', 'name', 'revision', 'updated']) assert.ok(k in m, `${k} in ${JSON.stringify(m)}`);
+      assert.ok(!('mission' in m) && !('source' in m), 'a summary, not the document');
     }
     // case-insensitive substring
     const rect = await listAll(server, { name: 'PAGING-RECT', limit: '50' });
@@ -181,9 +182,9 @@ eachBackend(describe, (backend) => {
     assert.equal(first.json.next_cursor, null);
     // a deleted mission leaves the list
     assert.equal((await api(server, 'DELETE', `/api/v1/missions/${ids[1]}`)).status, 204);
-    const after = await listAll(server, { name: 'paging-rect' });
+    const remaining = await listAll(server, { name: 'paging-rect' });
     assert.deepEqual(
-      after.items.map((m) => m.id),
+      remaining.items.map((m) => m.id),
       [ids[3], ids[5]],
     );
   });
