@@ -161,6 +161,29 @@ eachBackend(describe, (backend) => {
     assertError(await api(server, 'GET', `/api/v1/plans/${id}/images/nope.png`), 404);
   });
 
+  it('answers malformed event messages and caps the subscriptions', async () => {
+    const ws = await EventSocket.open(server);
+    ws.send('{"subscribe": ');
+    const e1 = await ws.waitFor((m) => m.type === 'error', 10000);
+    assert.equal(typeof e1.error.field, 'string');
+    assert.equal(typeof e1.error.message, 'string');
+    ws.messages.length = 0;
+    ws.send({ subscribe: { jobs: ['x'] } });
+    await ws.waitFor((m) => m.type === 'error', 10000);
+    ws.messages.length = 0;
+    const many = Array.from({ length: 65 }, (_, i) => 1000000 + i);
+    ws.send({ subscribe: { jobs: many } });
+    const e3 = await ws.waitFor((m) => m.type === 'error', 10000);
+    assert.match(e3.error.message, /64/);
+    // the connection still works
+    const mission = await createMission(server, rectangle());
+    const job = await postPlan(server, mission, {});
+    ws.send({ subscribe: { jobs: [job.id] } });
+    const done = await ws.waitFor((m) => m.type === 'job' && m.job.id === job.id && isTerminal(m.job));
+    assert.equal(done.job.state, 'done');
+    ws.close();
+  });
+
   it('cancels a queued job at once and a running job within 1 s', async () => {
     const mission = await createMission(server, slowMission(2));
     const a = await postPlan(server, mission, { seed: 1 });

@@ -7,6 +7,7 @@ import {
   api,
   backends,
   createMission,
+  EventSocket,
   freshDb,
   leaseArgs,
   psql,
@@ -64,13 +65,21 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
     return s;
   };
 
-  it('two servers share the queue: 40 jobs done, each exactly once', async () => {
+  it('two servers share the queue: 40 jobs done, each exactly once', async (t) => {
     const db = freshDb('postgresql');
     const a = await start(db);
     const b = await start(db);
     const mission = await createMission(a, rectangle());
+    // a client of server A sees every job, those server B runs included (events come from the database)
+    const ws = await EventSocket.open(a);
     const ids = await queueJobs([a, b], mission);
+    ws.send({ subscribe: { jobs: ids } });
     await waitAllTerminal(db, 150000);
+    for (const id of ids) {
+      const m = await ws.waitFor((x) => x.type === 'job' && x.job.id === id && x.job.state === 'done', 20000);
+      assert.equal(m.job.progress, 1);
+    }
+    ws.close();
     const rows = jobRows(db);
     assert.deepEqual(
       rows.map((r) => r.id),
@@ -84,6 +93,7 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
     // both servers planned (the worker names are host-PID-random)
     const byA = rows.filter((r) => r.worker.includes(`-${a.pid}-`)).length;
     const byB = rows.filter((r) => r.worker.includes(`-${b.pid}-`)).length;
+    t.diagnostic(`jobs done by server A: ${byA}, by server B: ${byB}`);
     if (rows.every((r) => r.worker !== '')) {
       assert.equal(byA + byB, JOBS, JSON.stringify(rows.map((r) => r.worker)));
       assert.ok(byA > 0 && byB > 0, `jobs by A ${byA}, by B ${byB}`);
@@ -100,7 +110,7 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
     running.delete(b);
   });
 
-  it('one server killed mid-job: its jobs are leased again, all 40 done exactly once', async () => {
+  it('one server killed mid-job: its jobs are leased again, all 40 done exactly once', async (t) => {
     const db = freshDb('postgresql');
     const lease = leaseArgs(1500);
     const a = await start(db, lease);
@@ -121,6 +131,7 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
       ([id]) => Number(id),
     );
     assert.ok(orphaned.length > 0, 'B died holding a job');
+    t.diagnostic(`server B killed holding jobs ${orphaned.join(', ')}${lease.length ? ' (--lease-ms 1500)' : ' (default lease)'}`);
     await waitAllTerminal(db, 150000);
     const rows = jobRows(db);
     assert.deepEqual(
