@@ -64,8 +64,8 @@ async function requests() {
   const text = await (await fetch(`${base}/metrics`)).text();
   let total = 0;
   for (const line of text.split('\n')) {
-    const m = line.match(/^uavcover_http_requests_total(\{[^}]*\})?\s+([0-9.e+]+)/);
-    if (m) total += Number(m[2]);
+    // labels may hold braces (route="/api/v1/missions/{id}"): the value is the line's last field
+    if (line.startsWith('uavcover_http_requests_total')) total += Number(line.trim().split(/\s+/).pop());
   }
   console.log(String(Math.round(total)));
 }

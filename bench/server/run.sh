@@ -5,7 +5,8 @@
 #      10 000 missions stored (SQLite, the default database);
 #   2. plan jobs per minute for examples/olive-grove.json (JOBS jobs queued at once, --workers = cores);
 #   3. the server's RSS (VmRSS) after the first ~10 000 requests and after every wrk run (>= 100 000).
-# usage: bench/server/run.sh            (needs wrk: scripts/setup --bench; DURATION=20s JOBS=30 MISSIONS=10000)
+# usage: bench/server/run.sh   (needs wrk: scripts/setup --bench)
+#   environment: DURATION=20s JOBS=30 MISSIONS=10000; UAVCOVER_BIN (skip the build), OUT (results file)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 repo=$PWD
@@ -21,9 +22,13 @@ DURATION=${DURATION:-20s}
 JOBS=${JOBS:-30}
 MISSIONS=${MISSIONS:-10000}
 
-UAVCOVER_TESTS=OFF BUILD_DIR=build-bench scripts/build uavcover >/dev/null
-bin=$repo/build-bench/uavcover
-out=$repo/bench/results/server.md
+if [ -n "${UAVCOVER_BIN:-}" ]; then # a binary built elsewhere (trial runs)
+  bin=$UAVCOVER_BIN
+else
+  UAVCOVER_TESTS=OFF BUILD_DIR=build-bench scripts/build uavcover >/dev/null
+  bin=$repo/build-bench/uavcover
+fi
+out=${OUT:-$repo/bench/results/server.md}
 load="node $repo/bench/server/load.mjs"
 work=$(mktemp -d)
 pid=""
