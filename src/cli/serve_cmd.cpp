@@ -1,0 +1,104 @@
+// `uavcover serve`: the HTTP API (docs/api.md). Options are checked here; server::serve() (the API
+// side, src/server/app.cpp) opens the store, starts the workers and runs the HTTP server.
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <thread>
+
+#include "cli/command.hpp"
+#include "cli/interrupt.hpp"
+#include "cli/validators.hpp"
+#include "io/plan_io.hpp"
+#include "io/static_dir.hpp"
+#include "server/app.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::cli {
+namespace {
+
+constexpr std::size_t kMinTokenLength = 16;
+constexpr std::size_t kMaxStaticBytes = std::size_t{256} << 20;
+
+struct ServeArgs {
+  std::string listen = "127.0.0.1:8080";
+  std::string db = "sqlite:data/uavcover.db";
+  int workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  std::optional<std::string> token_file;
+  std::optional<std::string> static_dir;
+  std::optional<std::string> seed_dir;
+  std::optional<std::string> cors_origin;
+  std::size_t max_body = std::size_t{10} << 20;
+  int max_queued = 100;
+  bool log_json = false;
+};
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return "";
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return s.substr(first, last - first + 1);
+}
+
+std::string read_token(const std::string& file) {
+  const std::string token = trim(io::read_text_file(file, "--token-file", 4096));
+  if (token.empty()) throw InputError("--token-file", "'" + file + "' is empty");
+  if (token.size() < kMinTokenLength)
+    throw InputError("--token-file", "the token in '" + file + "' is shorter than " +
+                                         std::to_string(kMinTokenLength) + " characters");
+  for (const char c : token)
+    if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f)
+      throw InputError("--token-file", "the token in '" + file + "' holds spaces or control characters");
+  return token;
+}
+
+void run_serve(const ServeArgs& a) {
+  server::ServeOptions opt;
+  opt.http.listen = a.listen;
+  if (a.token_file) opt.http.token = read_token(*a.token_file);
+  server::check_listen_policy(opt.http);
+  opt.http.max_body = a.max_body;
+  opt.http.cors_origin = a.cors_origin;
+  opt.http.log_json = a.log_json;
+  opt.http.io_threads = 2;
+  opt.http.stop = interrupt_token();
+  if (a.static_dir)
+    for (auto& file : io::read_static_dir(*a.static_dir, kMaxStaticBytes))
+      opt.http.static_files["/" + file.name] = server::StaticFile{file.media_type, std::move(file.bytes)};
+  opt.db_url = a.db;
+  opt.workers = a.workers;
+  if (a.seed_dir) opt.seed_dir = std::filesystem::path(*a.seed_dir);
+  opt.max_queued = a.max_queued;
+  if (a.log_json) spdlog::set_pattern("%v");  // the request lines are whole JSON objects
+  server::serve(opt);
+}
+
+const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
+  auto args = std::make_shared<ServeArgs>();
+  auto* cmd = app.add_subcommand("serve", "Serve the HTTP API (REST + live job events; docs/api.md)");
+  cmd->add_option("--listen", args->listen,
+                  "Address to listen on, HOST:PORT or [IPv6]:PORT; other than loopback needs --token-file")
+      ->capture_default_str();
+  cmd->add_option("--db", args->db, "Database: sqlite:PATH or postgresql://...")->capture_default_str();
+  cmd->add_option("--workers", args->workers, "Planning threads (default: the number of cores)")
+      ->check(integer_in(1, 256));
+  cmd->add_option("--token-file", args->token_file,
+                  "File holding the bearer token (at least 16 characters) every request must carry");
+  cmd->add_option("--static", args->static_dir, "Serve the web app: the files in this folder, read at start");
+  cmd->add_option("--seed-dir", args->seed_dir, "Mission files stored when the database is first created");
+  cmd->add_option("--cors-origin", args->cors_origin, "Allow browser requests from this origin (CORS)");
+  cmd->add_option("--max-body", args->max_body, "Largest request body in bytes")
+      ->capture_default_str()
+      ->check(integer_in<std::size_t>(1024, std::size_t{1} << 30));
+  cmd->add_option("--max-queued", args->max_queued, "Queued jobs beyond which new ones get 503")
+      ->capture_default_str()
+      ->check(integer_in(1, 1000000));
+  cmd->add_flag("--log-json", args->log_json, "Log one JSON object per line");
+  cmd->footer(
+      "Every response carries X-Request-Id; GET /healthz, /readyz and /metrics are for operations.\n"
+      "SIGINT / SIGTERM stop the server: open connections are closed; running jobs are taken up again\nafter "
+      "their lease (by this server's next start or another server on the same database).");
+  cmd->callback([args] { run_serve(*args); });
+});
+
+}  // namespace
+}  // namespace uavcover::cli

@@ -1,0 +1,26 @@
+// `uavcover serve`: the CLI (src/cli/serve_cmd.cpp) fills ServeOptions; serve() (src/server/app.cpp)
+// opens the store, seeds a new database, builds the API router, starts the planning workers and runs
+// the HttpServer until it is stopped (SIGINT / SIGTERM).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "server/server.hpp"
+
+namespace uavcover::server {
+
+struct ServeOptions {
+  ServerConfig http;
+  std::string db_url = "sqlite:data/uavcover.db";
+  int workers = 0;  ///< planning threads; 0: the number of cores
+  std::optional<std::filesystem::path> seed_dir;
+  int max_queued = 100;
+  int lease_ms = 10000;  ///< job lease (tests shorten it)
+};
+
+/// Blocks until the server is stopped. Throws InputError / OperationError.
+void serve(const ServeOptions& options);
+
+}  // namespace uavcover::server

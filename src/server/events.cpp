@@ -1,0 +1,139 @@
+#include "server/events.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <set>
+
+namespace uavcover::server {
+
+EventHub::EventHub(EventSource& source, std::chrono::milliseconds period)
+    : source_(source), period_(period) {}
+
+EventHub::~EventHub() { stop(); }
+
+void EventHub::start() {
+  const std::lock_guard lock(mutex_);
+  if (poller_.joinable() || stopping_) return;
+  poller_ = std::thread([this] { poll_loop(); });
+}
+
+void EventHub::stop() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+    subscribers_.clear();
+  }
+  wake_.notify_all();
+  if (poller_.joinable() && poller_.get_id() != std::this_thread::get_id()) poller_.join();
+}
+
+std::uint64_t EventHub::open(Sink sink) {
+  const std::lock_guard lock(mutex_);
+  const std::uint64_t id = next_id_++;
+  if (!stopping_) subscribers_[id] = Subscriber{std::move(sink), {}};
+  return id;
+}
+
+void EventHub::close(std::uint64_t subscriber) {
+  const std::lock_guard lock(mutex_);
+  subscribers_.erase(subscriber);
+}
+
+bool EventHub::subscribe(std::uint64_t subscriber, const std::vector<std::int64_t>& ids, std::size_t max) {
+  {
+    const std::lock_guard lock(mutex_);
+    const auto it = subscribers_.find(subscriber);
+    if (it == subscribers_.end()) return true;  // closed meanwhile: nothing to follow
+    auto& followed = it->second.last_sent;
+    std::set<std::int64_t> added;
+    for (const auto id : ids)
+      if (!followed.count(id)) added.insert(id);
+    if (followed.size() + added.size() > max) return false;
+    if (added.empty()) return true;
+    for (const auto id : added) followed.emplace(id, std::string());
+    pending_ = true;
+  }
+  wake_.notify_all();
+  return true;
+}
+
+void EventHub::unsubscribe(std::uint64_t subscriber, const std::vector<std::int64_t>& ids) {
+  const std::lock_guard lock(mutex_);
+  const auto it = subscribers_.find(subscriber);
+  if (it == subscribers_.end()) return;
+  for (const auto id : ids) it->second.last_sent.erase(id);
+}
+
+std::size_t EventHub::subscriber_count() const {
+  const std::lock_guard lock(mutex_);
+  return subscribers_.size();
+}
+
+void EventHub::poll_loop() {
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, period_, [this] { return stopping_ || pending_; });
+    if (stopping_) break;
+    pending_ = false;
+    lock.unlock();
+    try {
+      poll_once();
+    } catch (const std::exception& e) {
+      spdlog::warn("events: polling the jobs failed: {}", e.what());
+    }
+    lock.lock();
+  }
+}
+
+void EventHub::poll_once() {
+  std::set<std::int64_t> wanted;
+  {
+    const std::lock_guard lock(mutex_);
+    for (const auto& [sid, sub] : subscribers_)
+      for (const auto& [id, last] : sub.last_sent) wanted.insert(id);
+  }
+  if (wanted.empty()) return;
+  // the source may query a database: no lock is held meanwhile
+  const auto jobs = source_.snapshot(std::vector<std::int64_t>(wanted.begin(), wanted.end()));
+  std::map<std::int64_t, const nlohmann::json*> by_id;
+  std::map<std::int64_t, std::string> text;
+  for (const auto& job : jobs) {
+    if (!job.is_object() || !job.contains("id") || !job["id"].is_number_integer()) continue;
+    const auto id = job["id"].get<std::int64_t>();
+    by_id[id] = &job;
+    text[id] = job.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+  // sinks are called without the lock (a sink may drop the last reference to its session, whose
+  // destructor closes the subscription); only this thread calls them, so each sees its jobs in order
+  std::vector<std::pair<std::uint64_t, Sink>> sinks;
+  std::vector<std::vector<std::string>> messages;
+  {
+    const std::lock_guard lock(mutex_);
+    if (stopping_) return;
+    for (auto& [sid, sub] : subscribers_) {
+      std::vector<std::string> out;
+      for (auto& [id, last] : sub.last_sent) {
+        const auto t = text.find(id);
+        if (t == text.end() || t->second == last) continue;
+        last = t->second;
+        const nlohmann::json message{{"type", "job"}, {"job", *by_id[id]}};
+        out.push_back(message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+      }
+      if (out.empty()) continue;
+      sinks.emplace_back(sid, sub.sink);
+      messages.push_back(std::move(out));
+    }
+  }
+  std::vector<std::uint64_t> gone;
+  for (std::size_t i = 0; i < sinks.size(); ++i)
+    for (const auto& m : messages[i])
+      if (!sinks[i].second(m)) {
+        gone.push_back(sinks[i].first);
+        break;
+      }
+  if (gone.empty()) return;
+  const std::lock_guard lock(mutex_);
+  for (const auto id : gone) subscribers_.erase(id);
+}
+
+}  // namespace uavcover::server

@@ -1,0 +1,710 @@
+// The PostgreSQL store: libpq, parameterised SQL only, a small connection pool. Several servers share
+// one database: the job queue is claimed with SELECT ... FOR UPDATE SKIP LOCKED and leases whose times
+// come from the database's clock; migrations run under a transaction-scoped advisory lock.
+#include <algorithm>
+#include <numeric>
+#include <type_traits>
+
+#include "store/backends.hpp"
+#include "store/pg_pool.hpp"
+
+namespace uavcover::store {
+namespace {
+
+using pg::exec;
+using pg::integer;
+using pg::null;
+using pg::Param;
+using pg::real;
+using pg::Result;
+using pg::text;
+
+// Unix milliseconds from the database's clock, so leases agree between servers.
+#define NOW_MS "(extract(epoch from clock_timestamp()) * 1000)::bigint"
+
+constexpr std::int64_t kMigrationLock = 0x7561766376657221;  // "uavcver!"
+constexpr std::int64_t kEnqueueLock = 0x7561766371756575;    // "uavcqueu"
+constexpr std::size_t kPoolSize = 8;
+
+// ---- migrations ----
+
+const char* const kSchemaV1 = R"sql(
+CREATE TABLE missions (
+  id BIGINT GENERATED ALWAYS AS IDENTITY PRIMARY KEY,
+  name TEXT NOT NULL,
+  latest_revision INTEGER NOT NULL,
+  min_lon DOUBLE PRECISION NOT NULL,
+  min_lat DOUBLE PRECISION NOT NULL,
+  max_lon DOUBLE PRECISION NOT NULL,
+  max_lat DOUBLE PRECISION NOT NULL,
+  created_ms BIGINT NOT NULL,
+  updated_ms BIGINT NOT NULL
+);
+CREATE TABLE mission_revisions (
+  mission_id BIGINT NOT NULL REFERENCES missions(id) ON DELETE CASCADE,
+  revision INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  document TEXT NOT NULL,
+  source TEXT NOT NULL,
+  min_lon DOUBLE PRECISION NOT NULL,
+  min_lat DOUBLE PRECISION NOT NULL,
+  max_lon DOUBLE PRECISION NOT NULL,
+  max_lat DOUBLE PRECISION NOT NULL,
+  created_ms BIGINT NOT NULL,
+  PRIMARY KEY (mission_id, revision)
+);
+CREATE TABLE jobs (
+  id BIGINT GENERATED ALWAYS AS IDENTITY PRIMARY KEY,
+  kind TEXT NOT NULL CHECK (kind IN ('plan', 'study', 'comparison')),
+  mission_id BIGINT NOT NULL REFERENCES missions(id),
+  revision INTEGER NOT NULL,
+  params TEXT NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('queued', 'running', 'done', 'failed', 'cancelled')),
+  progress DOUBLE PRECISION NOT NULL DEFAULT 0,
+  stage TEXT NOT NULL DEFAULT '',
+  attempts INTEGER NOT NULL DEFAULT 0,
+  completions INTEGER NOT NULL DEFAULT 0,
+  cancel_requested BOOLEAN NOT NULL DEFAULT false,
+  worker TEXT NOT NULL DEFAULT '',
+  lease_expires_ms BIGINT,
+  created_ms BIGINT NOT NULL,
+  started_ms BIGINT NOT NULL DEFAULT 0,
+  finished_ms BIGINT NOT NULL DEFAULT 0,
+  updated_ms BIGINT NOT NULL,
+  result TEXT NOT NULL DEFAULT '{}',
+  error TEXT NOT NULL DEFAULT 'null'
+);
+CREATE INDEX jobs_open ON jobs (created_ms, id) WHERE state IN ('queued', 'running');
+CREATE INDEX jobs_mission ON jobs (mission_id);
+CREATE TABLE blobs (
+  sha256 TEXT PRIMARY KEY,
+  size BIGINT NOT NULL,
+  data BYTEA NOT NULL
+);
+CREATE TABLE job_artifacts (
+  job_id BIGINT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL REFERENCES blobs(sha256),
+  size BIGINT NOT NULL,
+  PRIMARY KEY (job_id, name)
+);
+CREATE INDEX job_artifacts_blob ON job_artifacts (sha256);
+CREATE TABLE catalog (
+  id BIGINT GENERATED ALWAYS AS IDENTITY PRIMARY KEY,
+  kind TEXT NOT NULL CHECK (kind IN ('uav', 'camera')),
+  name TEXT NOT NULL,
+  data TEXT NOT NULL,
+  updated_ms BIGINT NOT NULL
+);
+CREATE INDEX catalog_kind ON catalog (kind, id);
+CREATE TABLE meta (
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL
+);
+)sql";
+
+Id insert_entry(PGconn* c, const char* kind, const std::string& name, const nlohmann::json& data) {
+  return exec(c,
+              "INSERT INTO catalog (kind, name, data, updated_ms) VALUES ($1, $2, $3, " NOW_MS
+              ") RETURNING id",
+              {text(kind), text(name), text(data.dump())})
+      .i64(0, 0);
+}
+
+// Migration 2: the UAV and camera catalogs the first start offers, the same entries as the SQLite
+// backend's (sqlite_migrations.hpp): datasheet values, hfov_deg the horizontal field of view
+// 2·atan(sensor width / 2·focal length), the paper's cost per minute (eq. 21) for every UAV.
+void seed_catalogs(PGconn* c) {
+  using nlohmann::json;
+  struct Camera {
+    const char* name;
+    double sw, f;
+    int px;
+    double hfov;
+  };
+  const Camera cameras[] = {{"DJI Phantom 4 Pro camera", 13.2, 8.8, 5472, 73.7},
+                            {"DJI Mavic 3 Enterprise wide camera", 17.3, 12.29, 5280, 70.3},
+                            {"DJI Zenmuse P1 (35 mm lens)", 35.9, 35.0, 8192, 54.3},
+                            {"Sony RX1R II", 35.9, 35.0, 7952, 54.3},
+                            {"MicaSense RedEdge-MX", 4.8, 5.4, 1280, 47.2}};
+  std::map<std::string, Id> camera_ids;
+  for (const auto& k : cameras)
+    camera_ids[k.name] = insert_entry(c, "camera", k.name,
+                                      {{"name", k.name},
+                                       {"sensor_width_mm", k.sw},
+                                       {"focal_length_mm", k.f},
+                                       {"image_width_px", k.px},
+                                       {"hfov_deg", k.hfov}});
+  struct Uav {
+    const char* name;
+    double speed, accel, endurance;
+    const char* camera;
+  };
+  const Uav uavs[] = {{"DJI Phantom 4 Pro V2.0", 10, 4, 28, "DJI Phantom 4 Pro camera"},
+                      {"DJI Mavic 3 Enterprise", 12, 5, 42, "DJI Mavic 3 Enterprise wide camera"},
+                      {"DJI Matrice 300 RTK", 15, 5, 55, "DJI Zenmuse P1 (35 mm lens)"},
+                      {"Generic quadrotor", 5, 2, 25, nullptr}};
+  for (const auto& u : uavs) {
+    json data = {{"name", u.name},
+                 {"speed_mps", u.speed},
+                 {"max_accel_mps2", u.accel},
+                 {"endurance_min", u.endurance},
+                 {"cost_per_min_eur", 0.017228}};
+    if (u.camera != nullptr) data["camera_id"] = camera_ids.at(u.camera);
+    insert_entry(c, "uav", u.name, data);
+  }
+}
+
+struct Migration {
+  int version;
+  void (*apply)(PGconn*);
+};
+
+const Migration kMigrations[] = {
+    {1, [](PGconn* c) { pg::exec_script(c, kSchemaV1); }},
+    {2, seed_catalogs},
+};
+constexpr int kLatestVersion = 2;
+
+// ---- rows ----
+
+nlohmann::json parse_json(const std::string& s) {
+  auto j = nlohmann::json::parse(s, nullptr, false);
+  if (j.is_discarded()) throw StoreError("database: a stored JSON value is corrupt");
+  return j;
+}
+
+const char* kind_name(CatalogKind kind) { return kind == CatalogKind::Uav ? "uav" : "camera"; }
+
+#define JOB_COLUMNS                                                                         \
+  "id, kind, mission_id, revision, params, state, progress, stage, attempts, completions, " \
+  "cancel_requested, "                                                                      \
+  "worker, created_ms, started_ms, finished_ms, updated_ms, result, error"
+
+Job job_from(const Result& r, int row) {
+  Job j;
+  j.id = r.i64(row, 0);
+  j.kind = job_kind_from_string(r.str(row, 1));
+  j.mission_id = r.i64(row, 2);
+  j.revision = r.i32(row, 3);
+  j.params = parse_json(r.str(row, 4));
+  j.state = job_state_from_string(r.str(row, 5));
+  j.progress = r.f64(row, 6);
+  j.stage = r.str(row, 7);
+  j.attempts = r.i32(row, 8);
+  j.completions = r.i32(row, 9);
+  j.cancel_requested = r.boolean(row, 10);
+  j.worker = r.str(row, 11);
+  j.created_ms = r.i64(row, 12);
+  j.started_ms = r.i64(row, 13);
+  j.finished_ms = r.i64(row, 14);
+  j.updated_ms = r.i64(row, 15);
+  j.result = parse_json(r.str(row, 16));
+  j.error = parse_json(r.str(row, 17));
+  return j;
+}
+
+CatalogEntry entry_from(const Result& r, int row) {
+  return CatalogEntry{r.i64(row, 0), r.str(row, 1), parse_json(r.str(row, 2)), r.i64(row, 3)};
+}
+
+nlohmann::json interrupted(int attempts) {
+  return {{"field", ""}, {"message", "the job was interrupted " + std::to_string(attempts) + " times"}};
+}
+
+class PostgresStore final : public Store {
+ public:
+  explicit PostgresStore(const std::string& uri) : pool_(uri, kPoolSize) { migrate(); }
+
+  [[nodiscard]] std::string backend() const override { return "postgresql"; }
+
+  bool ping() noexcept override {
+    try {
+      return read([](PGconn* c) { return exec(c, "SELECT 1").rows() == 1; });
+    } catch (...) {
+      return false;
+    }
+  }
+
+  [[nodiscard]] int schema_version() override {
+    return read([](PGconn* c) {
+      return exec(c, "SELECT coalesce(max(version), 0) FROM schema_migrations").i32(0, 0);
+    });
+  }
+
+  // ---- missions ----
+
+  Id create_mission(const NewRevision& rev) override {
+    return transaction([&](PGconn* c) {
+      const auto m = exec(c,
+                          "INSERT INTO missions (name, latest_revision, min_lon, min_lat, max_lon, max_lat, "
+                          "created_ms, updated_ms) VALUES ($1, 1, $2, $3, $4, $5, " NOW_MS ", " NOW_MS
+                          ") RETURNING id, created_ms",
+                          {text(rev.name), real(rev.bbox.min_lon), real(rev.bbox.min_lat),
+                           real(rev.bbox.max_lon), real(rev.bbox.max_lat)});
+      insert_revision(c, m.i64(0, 0), 1, rev, m.i64(0, 1));
+      return m.i64(0, 0);
+    });
+  }
+
+  int add_revision(Id mission, const NewRevision& rev) override {
+    return transaction([&](PGconn* c) {
+      const auto m =
+          exec(c,
+               "UPDATE missions SET latest_revision = latest_revision + 1, name = $2, min_lon = $3, "
+               "min_lat = $4, max_lon = $5, max_lat = $6, updated_ms = " NOW_MS
+               " WHERE id = $1 RETURNING latest_revision, updated_ms",
+               {integer(mission), text(rev.name), real(rev.bbox.min_lon), real(rev.bbox.min_lat),
+                real(rev.bbox.max_lon), real(rev.bbox.max_lat)});
+      if (m.rows() == 0) throw NotFound("mission " + std::to_string(mission) + " does not exist");
+      const int revision = m.i32(0, 0);
+      insert_revision(c, mission, revision, rev, m.i64(0, 1));
+      return revision;
+    });
+  }
+
+  std::optional<MissionRevision> get_mission(Id mission, std::optional<int> revision) override {
+    return read([&](PGconn* c) -> std::optional<MissionRevision> {
+      const auto r =
+          exec(c,
+               "SELECT m.id, r.revision, m.latest_revision, r.name, r.document, r.source, r.min_lon, "
+               "r.min_lat, r.max_lon, r.max_lat, m.created_ms, r.created_ms FROM missions m "
+               "JOIN mission_revisions r ON r.mission_id = m.id "
+               "AND r.revision = coalesce($2::integer, m.latest_revision) WHERE m.id = $1",
+               {integer(mission), revision ? integer(*revision) : null()});
+      if (r.rows() == 0) return std::nullopt;
+      MissionRevision out;
+      out.mission_id = r.i64(0, 0);
+      out.revision = r.i32(0, 1);
+      out.latest_revision = r.i32(0, 2);
+      out.name = r.str(0, 3);
+      out.document = r.str(0, 4);
+      out.source = r.str(0, 5);
+      out.bbox = {r.f64(0, 6), r.f64(0, 7), r.f64(0, 8), r.f64(0, 9)};
+      out.created_ms = r.i64(0, 10);
+      out.revised_ms = r.i64(0, 11);
+      return out;
+    });
+  }
+
+  MissionPage list_missions(const MissionQuery& query) override {
+    const int limit = std::clamp(query.limit, 1, 1000);
+    const auto& box = query.intersects;
+    return read([&](PGconn* c) {
+      const auto r =
+          exec(c,
+               "SELECT id, name, latest_revision, min_lon, min_lat, max_lon, max_lat, created_ms, updated_ms "
+               "FROM missions WHERE id > $1 "
+               "AND ($2::text IS NULL OR position(lower($2::text) IN lower(name)) > 0) "
+               "AND ($3::float8 IS NULL OR (min_lon <= $5::float8 AND max_lon >= $3::float8 "
+               "AND min_lat <= $6::float8 AND max_lat >= $4::float8)) "
+               "ORDER BY id LIMIT $7",
+               {integer(query.after), query.name_contains ? text(*query.name_contains) : null(),
+                box ? real(box->min_lon) : null(), box ? real(box->min_lat) : null(),
+                box ? real(box->max_lon) : null(), box ? real(box->max_lat) : null(), integer(limit + 1)});
+      MissionPage page;
+      const int n = std::min(r.rows(), limit);
+      for (int i = 0; i < n; ++i)
+        page.items.push_back(MissionSummary{r.i64(i, 0), r.str(i, 1), r.i32(i, 2),
+                                            Bbox{r.f64(i, 3), r.f64(i, 4), r.f64(i, 5), r.f64(i, 6)},
+                                            r.i64(i, 7), r.i64(i, 8)});
+      if (r.rows() > limit) page.next_after = page.items.back().id;
+      return page;
+    });
+  }
+
+  void delete_mission(Id mission) override {
+    transaction([&](PGconn* c) {
+      // the row lock waits for enqueues that reference the mission (they hold FOR KEY SHARE)
+      if (exec(c, "SELECT 1 FROM missions WHERE id = $1 FOR UPDATE", {integer(mission)}).rows() == 0)
+        throw NotFound("mission " + std::to_string(mission) + " does not exist");
+      if (exec(c, "SELECT 1 FROM jobs WHERE mission_id = $1 AND state IN ('queued', 'running') LIMIT 1",
+               {integer(mission)})
+              .rows() > 0)
+        throw Conflict("mission " + std::to_string(mission) + " has queued or running jobs");
+      exec(c, "DELETE FROM jobs WHERE mission_id = $1", {integer(mission)});
+      exec(c, "DELETE FROM missions WHERE id = $1", {integer(mission)});
+      return true;
+    });
+  }
+
+  [[nodiscard]] std::int64_t count_missions() override {
+    return read([](PGconn* c) { return exec(c, "SELECT count(*) FROM missions").i64(0, 0); });
+  }
+
+  // ---- jobs ----
+
+  Id enqueue(const NewJob& job, int max_queued) override {
+    return transaction([&](PGconn* c) {
+      if (exec(c, "SELECT 1 FROM missions WHERE id = $1 FOR KEY SHARE", {integer(job.mission_id)}).rows() ==
+          0)
+        throw NotFound("mission " + std::to_string(job.mission_id) + " does not exist");
+      if (exec(c, "SELECT 1 FROM mission_revisions WHERE mission_id = $1 AND revision = $2",
+               {integer(job.mission_id), integer(job.revision)})
+              .rows() == 0)
+        throw NotFound("mission " + std::to_string(job.mission_id) + " has no revision " +
+                       std::to_string(job.revision));
+      // one enqueue at a time across servers, so the queue never grows past max_queued
+      exec(c, "SELECT pg_advisory_xact_lock($1)", {integer(kEnqueueLock)});
+      if (exec(c, "SELECT count(*) FROM jobs WHERE state = 'queued'").i64(0, 0) >= max_queued)
+        throw QueueFull("the job queue is full (" + std::to_string(max_queued) + " jobs queued)");
+      return exec(c,
+                  "INSERT INTO jobs (kind, mission_id, revision, params, state, created_ms, updated_ms) "
+                  "VALUES ($1, $2, $3, $4, 'queued', " NOW_MS ", " NOW_MS ") RETURNING id",
+                  {text(to_string(job.kind)), integer(job.mission_id), integer(job.revision),
+                   text(job.params.dump())})
+          .i64(0, 0);
+    });
+  }
+
+  std::optional<Job> get_job(Id id) override {
+    return transaction([&](PGconn* c) -> std::optional<Job> {
+      const auto r = exec(c, "SELECT " JOB_COLUMNS " FROM jobs WHERE id = $1", {integer(id)});
+      if (r.rows() == 0) return std::nullopt;
+      Job job = job_from(r, 0);
+      const auto a =
+          exec(c, "SELECT name, media_type, sha256, size FROM job_artifacts WHERE job_id = $1 ORDER BY name",
+               {integer(id)});
+      for (int i = 0; i < a.rows(); ++i)
+        job.artifacts.push_back(ArtifactRef{a.str(i, 0), a.str(i, 1), a.str(i, 2), a.i64(i, 3)});
+      return job;
+    });
+  }
+
+  std::vector<Job> get_jobs(const std::vector<Id>& ids) override {
+    if (ids.empty()) return {};
+    std::string array = "{";
+    for (std::size_t i = 0; i < ids.size(); ++i) array += (i ? "," : "") + std::to_string(ids[i]);
+    array += "}";
+    return read([&](PGconn* c) {
+      const auto r =
+          exec(c, "SELECT " JOB_COLUMNS " FROM jobs WHERE id = ANY($1::bigint[]) ORDER BY id", {text(array)});
+      std::vector<Job> out;
+      for (int i = 0; i < r.rows(); ++i) out.push_back(job_from(r, i));
+      return out;
+    });
+  }
+
+  std::optional<Job> claim_job(const std::string& worker, std::chrono::milliseconds lease,
+                               int max_attempts) override {
+    max_attempts = std::max(max_attempts, 1);
+    return transaction([&](PGconn* c) -> std::optional<Job> {
+      for (;;) {
+        const auto r = exec(c,
+                            "SELECT id, attempts, cancel_requested FROM jobs WHERE state = 'queued' "
+                            "OR (state = 'running' AND lease_expires_ms < " NOW_MS
+                            ") ORDER BY created_ms, id LIMIT 1 FOR UPDATE SKIP LOCKED");
+        if (r.rows() == 0) return std::nullopt;
+        const Id id = r.i64(0, 0);
+        const int attempts = r.i32(0, 1);
+        if (r.boolean(0, 2)) {  // cancelled while its worker was gone
+          exec(c,
+               "UPDATE jobs SET state = 'cancelled', worker = '', lease_expires_ms = NULL, finished_ms "
+               "= " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+               {integer(id)});
+          continue;
+        }
+        if (attempts >= max_attempts) {
+          exec(c,
+               "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
+               "finished_ms = " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+               {integer(id), text(interrupted(attempts).dump())});
+          continue;
+        }
+        const auto j =
+            exec(c,
+                 "UPDATE jobs SET state = 'running', worker = $2, attempts = attempts + 1, "
+                 "lease_expires_ms = " NOW_MS " + $3, started_ms = CASE WHEN started_ms = 0 THEN " NOW_MS
+                 " ELSE started_ms END, updated_ms = " NOW_MS
+                 ", progress = 0, stage = '' WHERE id = $1 RETURNING " JOB_COLUMNS,
+                 {integer(id), text(worker), integer(lease.count())});
+        return job_from(j, 0);
+      }
+    });
+  }
+
+  LeaseStatus heartbeat(Id job, const std::string& worker, std::chrono::milliseconds lease, double progress,
+                        const std::string& stage) override {
+    if (!(progress >= 0.0)) progress = 0.0;  // NaN too
+    progress = std::min(progress, 1.0);
+    return transaction([&](PGconn* c) {
+      const auto r = exec(c,
+                          "UPDATE jobs SET lease_expires_ms = " NOW_MS
+                          " + $3, progress = $4, stage = $5, "
+                          "updated_ms = " NOW_MS
+                          " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING cancel_requested",
+                          {integer(job), text(worker), integer(lease.count()), real(progress), text(stage)});
+      if (r.rows() == 0) return LeaseStatus{false, false};
+      return LeaseStatus{true, r.boolean(0, 0)};
+    });
+  }
+
+  bool finish_job(Id job, const std::string& worker, JobState state, const nlohmann::json& result,
+                  const nlohmann::json& error, const Artifacts& artifacts) override {
+    if (!terminal(state))
+      throw std::invalid_argument("finish_job: the state must be done, failed or cancelled");
+    // blobs in one order (by content) so two finishing jobs sharing blobs cannot deadlock
+    std::vector<std::size_t> order(artifacts.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return artifacts[a].bytes < artifacts[b].bytes; });
+    return transaction([&](PGconn* c) {
+      const auto r =
+          exec(c,
+               "UPDATE jobs SET state = $3::text, result = $4, error = $5, "
+               "progress = CASE WHEN $3::text = 'done' THEN 1 ELSE progress END, "
+               "completions = completions + 1, worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
+               ", updated_ms = " NOW_MS " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING id",
+               {integer(job), text(worker), text(to_string(state)), text(result.dump()), text(error.dump())});
+      if (r.rows() == 0) return false;
+      for (const std::size_t i : order) {
+        const Artifact& a = artifacts[i];
+        // the key is the SHA-256 of the bytes, computed by the database (pgcrypto-free sha256(), PG 11+)
+        exec(c,
+             "WITH b AS (SELECT encode(sha256($4::bytea), 'hex') AS h, $4::bytea AS d), "
+             "ins AS (INSERT INTO blobs (sha256, size, data) SELECT h, length(d), d FROM b "
+             "ON CONFLICT (sha256) DO NOTHING) "
+             "INSERT INTO job_artifacts (job_id, name, media_type, sha256, size) "
+             "SELECT $1, $2, $3, h, length(d) FROM b",
+             {integer(job), text(a.name), text(a.media_type), pg::bytes(a.bytes)});
+      }
+      return true;
+    });
+  }
+
+  JobState request_cancel(Id job) override {
+    return transaction([&](PGconn* c) {
+      const auto r = exec(c, "SELECT state FROM jobs WHERE id = $1 FOR UPDATE", {integer(job)});
+      if (r.rows() == 0) throw NotFound("job " + std::to_string(job) + " does not exist");
+      const JobState state = job_state_from_string(r.str(0, 0));
+      if (state == JobState::Queued) {
+        exec(c,
+             "UPDATE jobs SET state = 'cancelled', cancel_requested = true, finished_ms = " NOW_MS
+             ", updated_ms = " NOW_MS " WHERE id = $1",
+             {integer(job)});
+        return JobState::Cancelled;
+      }
+      if (state == JobState::Running)
+        exec(c, "UPDATE jobs SET cancel_requested = true, updated_ms = " NOW_MS " WHERE id = $1",
+             {integer(job)});
+      return state;
+    });
+  }
+
+  int recover_running(int max_attempts) override {
+    max_attempts = std::max(max_attempts, 1);
+    return transaction([&](PGconn* c) {
+      exec(c,
+           "UPDATE jobs SET state = 'cancelled', worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
+           ", updated_ms = " NOW_MS " WHERE state = 'running' AND cancel_requested");
+      const auto failed =
+          exec(c, "SELECT id, attempts FROM jobs WHERE state = 'running' AND attempts >= $1 FOR UPDATE",
+               {integer(max_attempts)});
+      for (int i = 0; i < failed.rows(); ++i)
+        exec(c,
+             "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
+             "finished_ms = " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+             {integer(failed.i64(i, 0)), text(interrupted(failed.i32(i, 1)).dump())});
+      return exec(c,
+                  "UPDATE jobs SET state = 'queued', worker = '', lease_expires_ms = NULL, progress = 0, "
+                  "stage = '', updated_ms = " NOW_MS " WHERE state = 'running' RETURNING id")
+          .rows();
+    });
+  }
+
+  [[nodiscard]] JobCounts count_jobs() override {
+    return read([](PGconn* c) {
+      const auto r = exec(c, "SELECT state, count(*) FROM jobs GROUP BY state");
+      JobCounts n;
+      for (int i = 0; i < r.rows(); ++i) {
+        const std::int64_t count = r.i64(i, 1);
+        switch (job_state_from_string(r.str(i, 0))) {
+          case JobState::Queued:
+            n.queued = count;
+            break;
+          case JobState::Running:
+            n.running = count;
+            break;
+          case JobState::Done:
+            n.done = count;
+            break;
+          case JobState::Failed:
+            n.failed = count;
+            break;
+          case JobState::Cancelled:
+            n.cancelled = count;
+            break;
+        }
+      }
+      return n;
+    });
+  }
+
+  std::optional<Artifact> get_artifact(Id job, const std::string& name) override {
+    return read([&](PGconn* c) -> std::optional<Artifact> {
+      // binary results: the media type's text and the blob's raw bytes
+      const auto r =
+          exec(c,
+               "SELECT a.media_type, b.data FROM job_artifacts a JOIN blobs b ON b.sha256 = a.sha256 "
+               "WHERE a.job_id = $1 AND a.name = $2",
+               {integer(job), text(name)}, true);
+      if (r.rows() == 0) return std::nullopt;
+      return Artifact{name, r.str(0, 0), r.str(0, 1)};
+    });
+  }
+
+  // ---- catalogs ----
+
+  Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) override {
+    return transaction([&](PGconn* c) { return insert_entry(c, kind_name(kind), name, data); });
+  }
+
+  std::optional<CatalogEntry> get_entry(CatalogKind kind, Id id) override {
+    return read([&](PGconn* c) -> std::optional<CatalogEntry> {
+      const auto r = exec(c, "SELECT id, name, data, updated_ms FROM catalog WHERE kind = $1 AND id = $2",
+                          {text(kind_name(kind)), integer(id)});
+      if (r.rows() == 0) return std::nullopt;
+      return entry_from(r, 0);
+    });
+  }
+
+  std::vector<CatalogEntry> list_entries(CatalogKind kind) override {
+    return read([&](PGconn* c) {
+      const auto r = exec(c, "SELECT id, name, data, updated_ms FROM catalog WHERE kind = $1 ORDER BY id",
+                          {text(kind_name(kind))});
+      std::vector<CatalogEntry> out;
+      for (int i = 0; i < r.rows(); ++i) out.push_back(entry_from(r, i));
+      return out;
+    });
+  }
+
+  void update_entry(CatalogKind kind, Id id, const std::string& name, const nlohmann::json& data) override {
+    transaction([&](PGconn* c) {
+      if (exec(c,
+               "UPDATE catalog SET name = $3, data = $4, updated_ms = " NOW_MS
+               " WHERE kind = $1 AND id = $2 RETURNING id",
+               {text(kind_name(kind)), integer(id), text(name), text(data.dump())})
+              .rows() == 0)
+        throw NotFound(std::string(kind_name(kind)) + " " + std::to_string(id) + " does not exist");
+      return true;
+    });
+  }
+
+  void delete_entry(CatalogKind kind, Id id) override {
+    transaction([&](PGconn* c) {
+      if (exec(c, "DELETE FROM catalog WHERE kind = $1 AND id = $2 RETURNING id",
+               {text(kind_name(kind)), integer(id)})
+              .rows() == 0)
+        throw NotFound(std::string(kind_name(kind)) + " " + std::to_string(id) + " does not exist");
+      return true;
+    });
+  }
+
+  bool claim_first_start() override {
+    return transaction([](PGconn* c) {
+      return exec(c, "INSERT INTO meta (key, value) VALUES ('first_start_ms', (" NOW_MS
+                     ")::text) ON CONFLICT (key) DO NOTHING RETURNING key")
+                 .rows() == 1;
+    });
+  }
+
+ private:
+  static void insert_revision(PGconn* c, Id mission, int revision, const NewRevision& rev,
+                              std::int64_t created_ms) {
+    exec(c,
+         "INSERT INTO mission_revisions (mission_id, revision, name, document, source, min_lon, min_lat, "
+         "max_lon, max_lat, created_ms) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)",
+         {integer(mission), integer(revision), text(rev.name), text(rev.document), text(rev.source),
+          real(rev.bbox.min_lon), real(rev.bbox.min_lat), real(rev.bbox.max_lon), real(rev.bbox.max_lat),
+          integer(created_ms)});
+  }
+
+  // BEGIN on a pooled connection; a connection that broke while idle (server restart) is reset and
+  // BEGIN tried once more: nothing was sent yet, so that retry is safe.
+  void begin(PGconn* c) {
+    try {
+      exec(c, "BEGIN");
+    } catch (const StoreError&) {
+      if (PQstatus(c) == CONNECTION_OK || !pool_.reset(c)) throw;
+      exec(c, "BEGIN");
+    }
+  }
+
+  // One read-only statement (autocommit: one round trip). A connection that broke while idle is reset
+  // and the statement sent once more, which is safe for a read.
+  template <class F>
+  std::invoke_result_t<F&, PGconn*> read(F&& fn) {
+    auto conn = pool_.acquire();
+    PGconn* c = conn.get();
+    try {
+      return fn(c);
+    } catch (const pg::PgError&) {
+      throw;
+    } catch (const StoreError&) {
+      if (PQstatus(c) == CONNECTION_OK || !pool_.reset(c)) throw;
+      return fn(c);
+    }
+  }
+
+  // One transaction on one pooled connection; deadlocks and serialization failures are retried.
+  template <class F>
+  std::invoke_result_t<F&, PGconn*> transaction(F&& fn) {
+    for (int attempt = 0;; ++attempt) {
+      auto conn = pool_.acquire();
+      PGconn* c = conn.get();
+      begin(c);
+      try {
+        auto out = fn(c);
+        exec(c, "COMMIT");
+        return out;
+      } catch (const pg::PgError& e) {
+        if ((e.sqlstate == "40001" || e.sqlstate == "40P01") && attempt < 3)
+          continue;  // rolled back on release
+        throw;
+      }
+    }
+  }
+
+  void migrate() {
+    transaction([](PGconn* c) {
+      // several servers may start at once on a fresh database: one migrates, the others wait here
+      exec(c, "SELECT pg_advisory_xact_lock($1)", {integer(kMigrationLock)});
+      exec(c,
+           "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, applied_ms BIGINT NOT "
+           "NULL)");
+      const int current = exec(c, "SELECT coalesce(max(version), 0) FROM schema_migrations").i32(0, 0);
+      if (current > kLatestVersion)
+        throw StoreError("the database schema (version " + std::to_string(current) +
+                         ") is newer than this uavcover understands (" + std::to_string(kLatestVersion) +
+                         ")");
+      for (const Migration& m : kMigrations) {
+        if (m.version <= current) continue;
+        m.apply(c);
+        exec(c, "INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, " NOW_MS ")",
+             {integer(m.version)});
+      }
+      return true;
+    });
+  }
+
+  pg::Pool pool_;
+};
+
+}  // namespace
+
+std::unique_ptr<Store> open_postgres(const std::string& uri) {
+  // refuse what libpq cannot parse without echoing it (it may hold a password)
+  char* err = nullptr;
+  PQconninfoOption* options = PQconninfoParse(uri.c_str(), &err);
+  if (options == nullptr) {
+    std::string why = err != nullptr ? pg::redact(err, uri) : "out of memory";
+    PQfreemem(err);
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    throw StoreError("--db: not a valid PostgreSQL URI: " + why);
+  }
+  PQconninfoFree(options);
+  return std::make_unique<PostgresStore>(uri);
+}
+
+}  // namespace uavcover::store

@@ -1,0 +1,123 @@
+// The SQLite schema, as ordered migrations: migration i (1-based) takes the schema to version i. Each
+// is applied once, in its own transaction, and recorded in schema_migrations. Never edit a released
+// migration: add a new one.
+#pragma once
+
+#include <array>
+#include <string_view>
+
+namespace uavcover::store::sqlite_schema {
+
+inline constexpr std::array<std::string_view, 2> kMigrations{
+    // 1: missions with revisions, the job queue, artifacts over content-addressed blobs, catalogs, meta
+    R"sql(
+CREATE TABLE missions (
+  id INTEGER PRIMARY KEY,
+  name TEXT NOT NULL,
+  created_ms INTEGER NOT NULL,
+  updated_ms INTEGER NOT NULL,
+  latest_revision INTEGER NOT NULL,
+  min_lon REAL NOT NULL, min_lat REAL NOT NULL, max_lon REAL NOT NULL, max_lat REAL NOT NULL
+);
+CREATE INDEX missions_name ON missions(name);
+
+CREATE TABLE mission_revisions (
+  mission_id INTEGER NOT NULL REFERENCES missions(id) ON DELETE CASCADE,
+  revision INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  document TEXT NOT NULL,
+  source TEXT NOT NULL,
+  min_lon REAL NOT NULL, min_lat REAL NOT NULL, max_lon REAL NOT NULL, max_lat REAL NOT NULL,
+  created_ms INTEGER NOT NULL,
+  PRIMARY KEY (mission_id, revision)
+);
+
+CREATE TABLE jobs (
+  id INTEGER PRIMARY KEY,
+  kind TEXT NOT NULL CHECK (kind IN ('plan', 'study', 'comparison')),
+  mission_id INTEGER NOT NULL REFERENCES missions(id) ON DELETE CASCADE,
+  revision INTEGER NOT NULL,
+  params TEXT NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('queued', 'running', 'done', 'failed', 'cancelled')),
+  progress REAL NOT NULL DEFAULT 0,
+  stage TEXT NOT NULL DEFAULT '',
+  attempts INTEGER NOT NULL DEFAULT 0,
+  completions INTEGER NOT NULL DEFAULT 0,
+  cancel_requested INTEGER NOT NULL DEFAULT 0,
+  worker TEXT NOT NULL DEFAULT '',
+  lease_expires_ms INTEGER NOT NULL DEFAULT 0,
+  created_ms INTEGER NOT NULL,
+  started_ms INTEGER NOT NULL DEFAULT 0,
+  finished_ms INTEGER NOT NULL DEFAULT 0,
+  updated_ms INTEGER NOT NULL,
+  result TEXT NOT NULL DEFAULT '{}',
+  error TEXT NOT NULL DEFAULT 'null'
+);
+CREATE INDEX jobs_state_created ON jobs(state, created_ms);
+CREATE INDEX jobs_mission ON jobs(mission_id);
+
+CREATE TABLE blobs (
+  sha256 TEXT PRIMARY KEY,
+  bytes BLOB NOT NULL
+);
+
+CREATE TABLE job_artifacts (
+  job_id INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL REFERENCES blobs(sha256),
+  size INTEGER NOT NULL,
+  PRIMARY KEY (job_id, name)
+);
+CREATE INDEX job_artifacts_sha256 ON job_artifacts(sha256);
+
+CREATE TABLE catalog (
+  id INTEGER PRIMARY KEY,
+  kind TEXT NOT NULL CHECK (kind IN ('uav', 'camera')),
+  name TEXT NOT NULL,
+  data TEXT NOT NULL,
+  updated_ms INTEGER NOT NULL
+);
+CREATE INDEX catalog_kind ON catalog(kind, id);
+
+CREATE TABLE meta (
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL
+);
+)sql",
+    // 2: the catalogs' first entries: real cameras (datasheet values; hfov_deg is the horizontal field
+    // of view, 2·atan(sensor width / 2·focal length)) and real UAVs, each with its camera. The cost per
+    // minute is the paper's (eq. 21) for all: it is the operator's to set.
+    R"sql(
+INSERT INTO catalog (kind, name, data, updated_ms)
+SELECT 'camera', c.name,
+       json_object('name', c.name, 'sensor_width_mm', c.sw, 'focal_length_mm', c.f,
+                   'image_width_px', c.px, 'hfov_deg', c.hfov),
+       CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER)
+FROM (SELECT 1 AS o, 'DJI Phantom 4 Pro camera' AS name, 13.2 AS sw, 8.8 AS f, 5472 AS px, 73.7 AS hfov
+      UNION ALL SELECT 2, 'DJI Mavic 3 Enterprise wide camera', 17.3, 12.29, 5280, 70.3
+      UNION ALL SELECT 3, 'DJI Zenmuse P1 (35 mm lens)', 35.9, 35.0, 8192, 54.3
+      UNION ALL SELECT 4, 'Sony RX1R II', 35.9, 35.0, 7952, 54.3
+      UNION ALL SELECT 5, 'MicaSense RedEdge-MX', 4.8, 5.4, 1280, 47.2) AS c
+ORDER BY c.o;
+
+INSERT INTO catalog (kind, name, data, updated_ms)
+SELECT 'uav', u.name,
+       CASE WHEN u.camera IS NULL
+         THEN json_object('name', u.name, 'speed_mps', u.speed, 'max_accel_mps2', u.accel,
+                          'endurance_min', u.endurance, 'cost_per_min_eur', 0.017228)
+         ELSE json_object('name', u.name, 'speed_mps', u.speed, 'max_accel_mps2', u.accel,
+                          'endurance_min', u.endurance, 'cost_per_min_eur', 0.017228,
+                          'camera_id', (SELECT id FROM catalog WHERE kind = 'camera' AND name = u.camera))
+       END,
+       CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER)
+FROM (SELECT 1 AS o, 'DJI Phantom 4 Pro V2.0' AS name, 10 AS speed, 4 AS accel, 28 AS endurance,
+             'DJI Phantom 4 Pro camera' AS camera
+      UNION ALL SELECT 2, 'DJI Mavic 3 Enterprise', 12, 5, 42, 'DJI Mavic 3 Enterprise wide camera'
+      UNION ALL SELECT 3, 'DJI Matrice 300 RTK', 15, 5, 55, 'DJI Zenmuse P1 (35 mm lens)'
+      UNION ALL SELECT 4, 'Generic quadrotor', 5, 2, 25, NULL) AS u
+ORDER BY u.o;
+)sql",
+};
+
+}  // namespace uavcover::store::sqlite_schema

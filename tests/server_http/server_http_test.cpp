@@ -1,0 +1,798 @@
+// The transport against a live HttpServer on a free loopback port, driven by a Beast client: routing
+// errors as JSON, limits, auth, request ids, metrics, CORS, static files, timeouts and live events.
+#include <gtest/gtest.h>
+#include <spdlog/sinks/base_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "io/static_dir.hpp"
+#include "server/metrics.hpp"
+#include "server/server.hpp"
+#include "uavcover/error.hpp"
+
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using nlohmann::json;
+using namespace uavcover;
+using namespace uavcover::server;
+
+using Res = http::response<http::string_body>;
+constexpr auto kWait = std::chrono::seconds(10);
+
+class MapSource : public EventSource {
+ public:
+  std::vector<json> snapshot(const std::vector<std::int64_t>& ids) override {
+    const std::lock_guard lock(mutex_);
+    std::vector<json> out;
+    for (const auto id : ids)
+      if (const auto it = jobs_.find(id); it != jobs_.end()) out.push_back(it->second);
+    return out;
+  }
+  void set(std::int64_t id, const std::string& state, double progress) {
+    const std::lock_guard lock(mutex_);
+    jobs_[id] = {
+        {"id", id}, {"state", state}, {"progress", progress}, {"stage", "division"}, {"updated", "t"}};
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::int64_t, json> jobs_;
+};
+
+/// Asynchronous operations run with a bound, so a server bug fails the test instead of hanging it.
+class Client {
+ public:
+  explicit Client(std::uint16_t port) : stream_(ioc_) {
+    stream_.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+  }
+
+  Res send(http::verb verb, const std::string& target, const std::string& body = "",
+           const std::map<std::string, std::string>& headers = {}) {
+    http::request<http::string_body> req{verb, target, 11};
+    req.set(http::field::host, "127.0.0.1");
+    for (const auto& [k, v] : headers) req.set(k, v);
+    req.body() = body;
+    if (!body.empty() || verb == http::verb::post) req.prepare_payload();
+    write(req);
+    return read();
+  }
+  template <class Msg>
+  void write(Msg& msg) {
+    beast::error_code ec = net::error::timed_out;
+    http::async_write(stream_, msg, [&](beast::error_code e, std::size_t) { ec = e; });
+    run();
+    if (ec) throw std::runtime_error("write: " + ec.message());
+  }
+  Res read() {
+    Res res;
+    beast::error_code ec = net::error::timed_out;
+    http::async_read(stream_, buffer_, res, [&](beast::error_code e, std::size_t) { ec = e; });
+    run();
+    if (ec) throw std::runtime_error("read: " + ec.message());
+    return res;
+  }
+  void write_raw(const std::string& text) {
+    beast::error_code ec = net::error::timed_out;
+    net::async_write(stream_, net::buffer(text), [&](beast::error_code e, std::size_t) { ec = e; });
+    run();
+    if (ec) throw std::runtime_error("write: " + ec.message());
+  }
+  /// Reads raw bytes until `until` appears in what was read, or the connection ends (the error).
+  beast::error_code read_raw_until(const std::string& until, std::string& text) {
+    std::array<char, 4096> chunk{};
+    while (text.find(until) == std::string::npos || until.empty()) {
+      beast::error_code ec = net::error::timed_out;
+      std::size_t n = 0;
+      stream_.async_read_some(net::buffer(chunk), [&](beast::error_code e, std::size_t m) {
+        ec = e;
+        n = m;
+      });
+      run();
+      text.append(chunk.data(), n);
+      if (ec) return ec;
+    }
+    return {};
+  }
+
+ private:
+  void run() {
+    ioc_.restart();
+    ioc_.run_for(kWait);
+    if (!ioc_.stopped()) {  // timed out: cancel, and let the handler run before its captures go
+      stream_.close();
+      ioc_.restart();
+      ioc_.run();
+    }
+  }
+  net::io_context ioc_;
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+};
+
+class WsClient {
+ public:
+  WsClient(std::uint16_t port, const std::map<std::string, std::string>& headers = {}) : ws_(ioc_) {
+    beast::get_lowest_layer(ws_).connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+    ws_.set_option(websocket::stream_base::decorator([headers](websocket::request_type& req) {
+      for (const auto& [k, v] : headers) req.set(k, v);
+    }));
+    beast::error_code ec = net::error::timed_out;
+    ws_.async_handshake(res_, "127.0.0.1", "/api/v1/events", [&](beast::error_code e) { ec = e; });
+    run();
+    handshake_error = ec;
+  }
+  void send(const std::string& text) {
+    beast::error_code ec = net::error::timed_out;
+    ws_.async_write(net::buffer(text), [&](beast::error_code e, std::size_t) { ec = e; });
+    run();
+    if (ec) throw std::runtime_error("ws write: " + ec.message());
+  }
+  /// The next message, or nullopt when the connection ended (or nothing came in time).
+  std::optional<json> receive() {
+    beast::flat_buffer buffer;
+    beast::error_code ec = net::error::timed_out;
+    ws_.async_read(buffer, [&](beast::error_code e, std::size_t) { ec = e; });
+    run();
+    if (ec) return std::nullopt;
+    return json::parse(beast::buffers_to_string(buffer.data()));
+  }
+  /// Reads until a job message whose job matches `pred`.
+  std::optional<json> receive_job(const std::function<bool(const json&)>& pred) {
+    for (int i = 0; i < 50; ++i) {
+      auto m = receive();
+      if (!m) return std::nullopt;
+      if ((*m)["type"] == "job" && pred((*m)["job"])) return m;
+    }
+    return std::nullopt;
+  }
+  beast::error_code handshake_error;
+  websocket::response_type res_;
+
+ private:
+  void run() {
+    ioc_.restart();
+    ioc_.run_for(kWait);
+    if (!ioc_.stopped()) {
+      beast::get_lowest_layer(ws_).close();
+      ioc_.restart();
+      ioc_.run();
+    }
+  }
+  net::io_context ioc_;
+  websocket::stream<beast::tcp_stream> ws_;
+};
+
+json body_of(const Res& res) { return json::parse(res.body()); }
+
+class ServerHttp : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { spdlog::set_level(spdlog::level::warn); }
+
+  void start(ServerConfig cfg = {}) {
+    cfg.listen = "127.0.0.1:0";
+    router_.add("GET", "/api/v1/things/{id}", [](const Request& r) {
+      return Response::json(200, {{"id", r.params.at("id")}, {"query", r.query}, {"path", r.path}});
+    });
+    router_.add("PUT", "/api/v1/things/{id}",
+                [](const Request&) { return Response::json(200, json::object()); });
+    router_.add("POST", "/api/v1/things", [](const Request& r) {
+      return Response::json(201, {{"size", r.body.size()}, {"type", r.header("content-type").value_or("")}});
+    });
+    router_.add("GET", "/api/v1/boom",
+                [](const Request&) -> Response { throw std::runtime_error("secret detail"); });
+    router_.add("GET", "/api/v1/busy", [](const Request&) -> Response {
+      HttpError e(503, "", "queue full");
+      e.headers.emplace_back("Retry-After", "7");
+      throw e;
+    });
+    server_ = std::make_unique<HttpServer>(cfg, router_, source_);
+    port_ = server_->port();
+    thread_ = std::thread([this] { server_->run(); });
+  }
+  void stop() {
+    if (!server_) return;
+    server_->stop();
+    thread_.join();
+    server_.reset();
+  }
+  void TearDown() override { stop(); }
+
+  Router router_;
+  MapSource source_;
+  std::unique_ptr<HttpServer> server_;
+  std::thread thread_;
+  std::uint16_t port_ = 0;
+};
+
+bool hex16(const std::string& s) {
+  return s.size() == 16 && s.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
+TEST_F(ServerHttp, KeepAliveDecodingAndRequestIds) {
+  start();
+  ASSERT_NE(port_, 0);
+  Client c(port_);
+  std::set<std::string> ids;
+  for (int i = 0; i < 3; ++i) {  // one connection, three requests
+    const auto res = c.send(http::verb::get, "/api/v1/things/7?name=a%20b+c&x=%2F&flag");
+    ASSERT_EQ(res.result_int(), 200);
+    EXPECT_TRUE(res.keep_alive());
+    const auto b = body_of(res);
+    EXPECT_EQ(b["id"], "7");
+    EXPECT_EQ(b["query"]["name"], "a b c");
+    EXPECT_EQ(b["query"]["x"], "/");
+    EXPECT_EQ(b["query"]["flag"], "");
+    EXPECT_EQ(res[http::field::content_type], "application/json");
+    const std::string id(res["X-Request-Id"]);
+    EXPECT_TRUE(hex16(id)) << id;
+    ids.insert(id);
+  }
+  EXPECT_EQ(ids.size(), 3U);
+  // a client's id is kept when it is plain, replaced otherwise
+  EXPECT_EQ(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"X-Request-Id", "client-id_42"}})["X-Request-Id"],
+      "client-id_42");
+  EXPECT_TRUE(hex16(std::string(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"X-Request-Id", "bad id!"}})["X-Request-Id"])));
+  EXPECT_TRUE(hex16(std::string(c.send(http::verb::get, "/api/v1/things/1", "",
+                                       {{"X-Request-Id", std::string(65, 'a')}})["X-Request-Id"])));
+  // a body reaches the handler, headers lower-case
+  const auto posted =
+      c.send(http::verb::post, "/api/v1/things", R"({"a":1})", {{"Content-Type", "application/json"}});
+  EXPECT_EQ(posted.result_int(), 201);
+  EXPECT_EQ(body_of(posted)["size"], 7);
+  EXPECT_EQ(body_of(posted)["type"], "application/json");
+}
+
+TEST_F(ServerHttp, RoutingErrorsAreJson) {
+  start();
+  Client c(port_);
+  const auto missing = c.send(http::verb::get, "/api/v1/nothing/here");
+  EXPECT_EQ(missing.result_int(), 404);
+  EXPECT_TRUE(body_of(missing)["error"].contains("field"));
+  EXPECT_TRUE(body_of(missing)["error"]["message"].is_string());
+  EXPECT_FALSE(missing["X-Request-Id"].empty());
+
+  const auto wrong = c.send(http::verb::delete_, "/api/v1/things/3");
+  EXPECT_EQ(wrong.result_int(), 405);
+  EXPECT_EQ(wrong[http::field::allow], "GET, PUT");
+  EXPECT_TRUE(body_of(wrong).contains("error"));
+  // without --cors-origin, OPTIONS is a method like any other
+  const auto options = c.send(http::verb::options, "/api/v1/things/3");
+  EXPECT_EQ(options.result_int(), 405);
+  EXPECT_TRUE(options[http::field::access_control_allow_origin].empty());
+
+  const auto boom = c.send(http::verb::get, "/api/v1/boom");
+  EXPECT_EQ(boom.result_int(), 500);
+  EXPECT_EQ(body_of(boom), json::parse(R"({"error":{"field":"","message":"internal error"}})"));
+  EXPECT_EQ(boom.body().find("secret"), std::string::npos);
+
+  const auto busy = c.send(http::verb::get, "/api/v1/busy");
+  EXPECT_EQ(busy.result_int(), 503);
+  EXPECT_EQ(busy[http::field::retry_after], "7");
+}
+
+TEST_F(ServerHttp, BadPercentEncodingIs400) {
+  start();
+  for (const std::string target : {"/api/v1/things/%zz", "/api/v1/things/%4", "/api/v1/things/a%00b",
+                                   "/api/v1/things/1?a=%4", "/api/v1/things/1?%00=1"}) {
+    Client c(port_);
+    const auto res = c.send(http::verb::get, target);
+    EXPECT_EQ(res.result_int(), 400) << target;
+    const auto field = body_of(res)["error"]["field"].get<std::string>();
+    EXPECT_TRUE(field == "path" || field == "query") << target << " " << field;
+  }
+}
+
+TEST_F(ServerHttp, BodyOverTheLimitIs413) {
+  ServerConfig cfg;
+  cfg.max_body = 1024;
+  start(cfg);
+  Client ok(port_);
+  EXPECT_EQ(ok.send(http::verb::post, "/api/v1/things", std::string(1024, 'x')).result_int(), 201);
+  Client c(port_);
+  const auto res = c.send(http::verb::post, "/api/v1/things", std::string(1025, 'x'));
+  EXPECT_EQ(res.result_int(), 413);
+  EXPECT_EQ(body_of(res)["error"]["field"], "body");
+  EXPECT_FALSE(res.keep_alive());
+  // chunked bodies are held to the same limit
+  Client chunked(port_);
+  chunked.write_raw(
+      "POST /api/v1/things HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n"
+      "800\r\n" +
+      std::string(2048, 'y') + "\r\n0\r\n\r\n");
+  EXPECT_EQ(chunked.read().result_int(), 413);
+}
+
+TEST_F(ServerHttp, ExpectContinuePipeliningAndHeaderLimit) {
+  start();
+  Client c(port_);
+  c.write_raw("POST /api/v1/things HTTP/1.1\r\nHost: x\r\nContent-Length: 5\r\nExpect: 100-continue\r\n\r\n");
+  std::string text;
+  ASSERT_FALSE(c.read_raw_until("\r\n\r\n", text));
+  EXPECT_EQ(text.rfind("HTTP/1.1 100 Continue\r\n", 0), 0U) << text;
+  c.write_raw("hello");
+  const auto res = c.read();
+  EXPECT_EQ(res.result_int(), 201);
+  EXPECT_EQ(body_of(res)["size"], 5);
+  // two requests in one write, two answers in order
+  c.write_raw(
+      "GET /api/v1/things/1 HTTP/1.1\r\nHost: x\r\n\r\nGET /api/v1/things/2 HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(body_of(c.read())["id"], "1");
+  EXPECT_EQ(body_of(c.read())["id"], "2");
+
+  Client big(port_);
+  const auto huge =
+      big.send(http::verb::get, "/api/v1/things/1", "", {{"X-Filler", std::string(20000, 'a')}});
+  EXPECT_EQ(huge.result_int(), 431);
+  EXPECT_TRUE(body_of(huge).contains("error"));
+  Client garbage(port_);
+  garbage.write_raw("NOT AN HTTP REQUEST\r\n\r\n");
+  EXPECT_EQ(garbage.read().result_int(), 400);
+}
+
+TEST_F(ServerHttp, TokenRule) {
+  ServerConfig cfg;
+  cfg.token = "0123456789abcdef-secret";
+  start(cfg);
+  Client c(port_);
+  const auto none = c.send(http::verb::get, "/api/v1/things/1");
+  EXPECT_EQ(none.result_int(), 401);
+  EXPECT_EQ(none[http::field::www_authenticate], "Bearer");
+  EXPECT_TRUE(body_of(none).contains("error"));
+  EXPECT_EQ(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "Bearer 0123456789abcdef-secreT"}})
+          .result_int(),
+      401);
+  EXPECT_EQ(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "Bearer 0123456789abcdef-secret2"}})
+          .result_int(),
+      401);
+  EXPECT_EQ(c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "0123456789abcdef-secret"}})
+                .result_int(),
+            401);
+  EXPECT_EQ(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "Bearer 0123456789abcdef-secret"}})
+          .result_int(),
+      200);
+  EXPECT_EQ(
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "bearer 0123456789abcdef-secret"}})
+          .result_int(),
+      200);
+  EXPECT_EQ(c.send(http::verb::get, "/healthz").result_int(), 200);
+  EXPECT_EQ(c.send(http::verb::get, "/readyz").result_int(), 200);
+  EXPECT_EQ(c.send(http::verb::get, "/metrics").result_int(), 401);
+  EXPECT_EQ(c.send(http::verb::get, "/nothing").result_int(), 401);
+  // the WebSocket upgrade follows the same rule
+  WsClient refused(port_);
+  EXPECT_TRUE(refused.handshake_error);
+  WsClient accepted(port_, {{"Authorization", "Bearer 0123456789abcdef-secret"}});
+  EXPECT_FALSE(accepted.handshake_error) << accepted.handshake_error.message();
+}
+
+TEST_F(ServerHttp, HealthReadyAndMetrics) {
+  std::atomic<bool> ready{true};
+  ServerConfig cfg;
+  cfg.ready_check = [&] { return ready.load(); };
+  start(cfg);
+  metrics().set_job_counts_provider([] {
+    return std::map<std::string, std::int64_t>{{"queued", 3}, {"running", 1}};
+  });
+  observe_plan_duration(1.5);
+  Client c(port_);
+  EXPECT_EQ(body_of(c.send(http::verb::get, "/healthz")), json::parse(R"({"status":"ok"})"));
+  EXPECT_EQ(body_of(c.send(http::verb::get, "/readyz")), json::parse(R"({"status":"ready"})"));
+  ready = false;
+  EXPECT_EQ(c.send(http::verb::get, "/readyz").result_int(), 503);
+  c.send(http::verb::get, "/api/v1/things/5");
+  c.send(http::verb::get, "/api/v1/things/6");
+  c.send(http::verb::get, "/api/v1/nope");
+  const auto res = c.send(http::verb::get, "/metrics");
+  EXPECT_EQ(res.result_int(), 200);
+  EXPECT_EQ(res[http::field::content_type].substr(0, 25), "text/plain; version=0.0.4");
+  const std::string& text = res.body();
+  EXPECT_NE(text.find("# TYPE uavcover_http_requests_total counter"), std::string::npos);
+  EXPECT_NE(
+      text.find(R"(uavcover_http_requests_total{route="/api/v1/things/{id}",method="GET",code="200"} )"),
+      std::string::npos)
+      << text;
+  EXPECT_NE(text.find(R"(uavcover_http_requests_total{route="unmatched",method="GET",code="404"} )"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_requests_total{route="/readyz",method="GET",code="503"} )"),
+            std::string::npos);
+  EXPECT_NE(
+      text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/api/v1/things/{id}",le="+Inf"} )"),
+      std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/healthz",le="0.001"})"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_jobs{state="queued"} 3)"), std::string::npos);
+  EXPECT_NE(text.find("uavcover_plan_duration_seconds_count "), std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_plan_duration_seconds_bucket{le="+Inf"} )"), std::string::npos);
+  metrics().set_job_counts_provider({});
+}
+
+TEST(Metrics, HistogramBucketsAreCumulative) {
+  Metrics m;
+  m.observe_request("/r", "GET", 200, 0.0005);
+  m.observe_request("/r", "GET", 200, 0.003);
+  m.observe_request("/r", "GET", 500, 50);
+  const auto text = m.render();
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/r",le="0.001"} 1)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/r",le="0.005"} 2)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/r",le="10"} 2)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_bucket{route="/r",le="+Inf"} 3)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_request_duration_seconds_count{route="/r"} 3)"), std::string::npos);
+  EXPECT_NE(text.find(R"(uavcover_http_requests_total{route="/r",method="GET",code="500"} 1)"),
+            std::string::npos);
+  m.observe_request("a\"b\\c\nd", "GET", 200, 0);
+  EXPECT_NE(m.render().find(R"(route="a\"b\\c\nd")"), std::string::npos);
+}
+
+TEST_F(ServerHttp, Cors) {
+  ServerConfig cfg;
+  cfg.cors_origin = "https://app.example";
+  cfg.token = "0123456789abcdef-secret";
+  start(cfg);
+  Client c(port_);
+  const auto pre = c.send(http::verb::options, "/api/v1/things/1", "",
+                          {{"Origin", "https://app.example"}, {"Access-Control-Request-Method", "PUT"}});
+  EXPECT_EQ(pre.result_int(), 204);
+  EXPECT_EQ(pre[http::field::access_control_allow_origin], "https://app.example");
+  EXPECT_NE(pre[http::field::access_control_allow_methods].find("PUT"), std::string::npos);
+  EXPECT_NE(pre[http::field::access_control_allow_headers].find("Authorization"), std::string::npos);
+  const auto get =
+      c.send(http::verb::get, "/api/v1/things/1", "", {{"Authorization", "Bearer 0123456789abcdef-secret"}});
+  EXPECT_EQ(get.result_int(), 200);
+  EXPECT_EQ(get[http::field::access_control_allow_origin], "https://app.example");
+}
+
+TEST_F(ServerHttp, StaticFilesAreAMapLookup) {
+  ServerConfig cfg;
+  cfg.static_files["/index.html"] = {"text/html; charset=utf-8", "<html>app</html>"};
+  cfg.static_files["/assets/app.js"] = {"text/javascript; charset=utf-8", "console.log(1)"};
+  start(cfg);
+  Client c(port_);
+  const auto index = c.send(http::verb::get, "/");
+  EXPECT_EQ(index.result_int(), 200);
+  EXPECT_EQ(index.body(), "<html>app</html>");
+  EXPECT_EQ(index[http::field::content_type], "text/html; charset=utf-8");
+  const auto js = c.send(http::verb::get, "/assets/app.js");
+  EXPECT_EQ(js.body(), "console.log(1)");
+  EXPECT_EQ(js[http::field::content_type], "text/javascript; charset=utf-8");
+  for (const std::string t : {"/../etc/passwd", "/assets/../../etc/passwd", "/%2e%2e/etc/passwd",
+                              "/assets/app.js/", "/etc/passwd", "/assets//app.js/.."}) {
+    const auto res = c.send(http::verb::get, t);
+    EXPECT_EQ(res.result_int(), 404) << t;
+    EXPECT_TRUE(body_of(res).contains("error")) << t;
+  }
+  EXPECT_EQ(c.send(http::verb::post, "/index.html", "x").result_int(), 404);
+}
+
+TEST_F(ServerHttp, DefaultIndexWithoutStaticFiles) {
+  start();
+  Client c(port_);
+  const auto index = c.send(http::verb::get, "/");
+  EXPECT_EQ(index.result_int(), 200);
+  EXPECT_NE(index.body().find("/api/v1/openapi.json"), std::string::npos);
+}
+
+TEST_F(ServerHttp, SilentConnectionIsClosed) {
+  ServerConfig cfg;
+  cfg.header_timeout = std::chrono::seconds(1);
+  cfg.idle_timeout = std::chrono::seconds(1);
+  start(cfg);
+  Client silent(port_);
+  std::string text;
+  const auto ec = silent.read_raw_until("never", text);
+  EXPECT_NE(ec, net::error::timed_out) << "the server should close a silent connection";
+  EXPECT_TRUE(ec == net::error::eof || ec == net::error::connection_reset) << ec.message();
+  // an idle kept-alive connection too
+  Client idle(port_);
+  EXPECT_EQ(idle.send(http::verb::get, "/healthz").result_int(), 200);
+  text.clear();
+  const auto ec2 = idle.read_raw_until("never", text);
+  EXPECT_TRUE(ec2 == net::error::eof || ec2 == net::error::connection_reset) << ec2.message();
+}
+
+TEST_F(ServerHttp, WebSocketEvents) {
+  ServerConfig cfg;
+  cfg.max_subscriptions = 3;
+  cfg.event_poll = std::chrono::milliseconds(20);
+  source_.set(1, "queued", 0);
+  source_.set(2, "running", 0.5);
+  start(cfg);
+  WsClient ws(port_);
+  ASSERT_FALSE(ws.handshake_error) << ws.handshake_error.message();
+  EXPECT_TRUE(hex16(std::string(ws.res_["X-Request-Id"])));
+  ws.send(R"({"subscribe": {"jobs": [1, 99]}})");
+  auto first = ws.receive();
+  ASSERT_TRUE(first);
+  EXPECT_EQ((*first)["type"], "job");
+  EXPECT_EQ((*first)["job"]["id"], 1);
+  EXPECT_EQ((*first)["job"]["state"], "queued");
+  source_.set(1, "running", 0.25);
+  auto change = ws.receive_job([](const json& j) { return j["id"] == 1 && j["state"] == "running"; });
+  ASSERT_TRUE(change);
+  EXPECT_EQ((*change)["job"]["progress"], 0.25);
+
+  ws.send("{not json");
+  auto err = ws.receive();
+  ASSERT_TRUE(err);
+  EXPECT_EQ((*err)["type"], "error");
+  EXPECT_TRUE((*err)["error"]["message"].is_string());
+  ws.send(R"({"subscribe": {"jobs": "1"}})");
+  err = ws.receive();
+  ASSERT_TRUE(err);
+  EXPECT_EQ((*err)["error"]["field"], "subscribe.jobs");
+  ws.send(R"({"subscribe": {"jobs": [1, -2]}})");
+  err = ws.receive();
+  ASSERT_TRUE(err);
+  EXPECT_EQ((*err)["error"]["field"], "subscribe.jobs[1]");
+  ws.send(R"({"hello": 1})");
+  err = ws.receive();
+  ASSERT_TRUE(err);
+  EXPECT_EQ((*err)["type"], "error");
+  // 1 and 99 followed; 2 more would make 4 > 3
+  ws.send(R"({"subscribe": {"jobs": [2, 3]}})");
+  err = ws.receive();
+  ASSERT_TRUE(err);
+  EXPECT_EQ((*err)["type"], "error");
+  EXPECT_EQ((*err)["error"]["field"], "subscribe.jobs");
+  // the connection still works: after unsubscribing 99, job 2 fits
+  ws.send(R"({"unsubscribe": {"jobs": [99]}})");
+  ws.send(R"({"subscribe": {"jobs": [2]}})");
+  auto two = ws.receive_job([](const json& j) { return j["id"] == 2; });
+  ASSERT_TRUE(two);
+  EXPECT_EQ((*two)["job"]["state"], "running");
+  // a message over 64 KiB ends the connection
+  ws.send("[" + std::string(70 * 1024, ' ') + "]");
+  EXPECT_FALSE(ws.receive_job([](const json&) { return true; }));
+}
+
+TEST_F(ServerHttp, ServerStopClosesEventStreams) {
+  source_.set(1, "queued", 0);
+  start();
+  WsClient ws(port_);
+  ASSERT_FALSE(ws.handshake_error);
+  ws.send(R"({"subscribe": {"jobs": [1]}})");
+  ASSERT_TRUE(ws.receive());
+  Client sse(port_);
+  sse.write_raw("GET /api/v1/events?jobs=1 HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n\r\n");
+  std::string text;
+  ASSERT_FALSE(sse.read_raw_until("event: job", text));
+  stop();
+  EXPECT_FALSE(ws.receive());
+  const auto ec = sse.read_raw_until("never", text);
+  EXPECT_NE(ec, net::error::timed_out);
+}
+
+TEST_F(ServerHttp, ServerSentEvents) {
+  ServerConfig cfg;
+  cfg.event_poll = std::chrono::milliseconds(20);
+  source_.set(5, "queued", 0);
+  start(cfg);
+  {
+    Client bad(port_);
+    for (const std::string t :
+         {"/api/v1/events", "/api/v1/events?jobs=", "/api/v1/events?jobs=1,x", "/api/v1/events?jobs=0",
+          "/api/v1/events?jobs=1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,"
+          "17,18,19,20,21,22,23,24,25,26,27,28,29,30,31,32,33,34,35,36,"
+          "37,38,39,40,41,42,43,44,45,46,47,48,49,50,51,52,53,54,55,56,"
+          "57,58,59,60,61,62,63,64,65"}) {
+      const auto res = bad.send(http::verb::get, t);
+      EXPECT_EQ(res.result_int(), 400) << t;
+      EXPECT_EQ(body_of(res)["error"]["field"], "jobs") << t;
+    }
+  }
+  Client sse(port_);
+  sse.write_raw("GET /api/v1/events?jobs=5,6 HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n\r\n");
+  std::string text;
+  ASSERT_FALSE(sse.read_raw_until("\"state\":\"queued\"", text)) << text;
+  EXPECT_NE(text.find("HTTP/1.1 200"), std::string::npos);
+  EXPECT_NE(text.find("Content-Type: text/event-stream"), std::string::npos);
+  EXPECT_NE(text.find("Cache-Control: no-cache"), std::string::npos);
+  EXPECT_NE(text.find("event: job\ndata: {"), std::string::npos);
+  EXPECT_NE(text.find("\"id\":5"), std::string::npos);
+  source_.set(5, "done", 1);
+  ASSERT_FALSE(sse.read_raw_until("\"state\":\"done\"", text)) << text;
+}
+
+TEST(ListenPolicy, AddressesAndTokens) {
+  EXPECT_EQ(parse_listen("127.0.0.1:8080").host, "127.0.0.1");
+  EXPECT_EQ(parse_listen("127.0.0.1:8080").port, 8080);
+  EXPECT_EQ(parse_listen("[::1]:9000").host, "::1");
+  EXPECT_EQ(parse_listen("[::1]:9000").port, 9000);
+  EXPECT_EQ(parse_listen("localhost:0").port, 0);
+  for (const std::string bad : {"", "127.0.0.1", "127.0.0.1:", ":80", "127.0.0.1:65536", "127.0.0.1:-1",
+                                "::1:80", "[::1]80", "[::1]", "example.com:80", "127.0.0.1:8o"}) {
+    try {
+      parse_listen(bad);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--listen");
+    }
+  }
+  EXPECT_TRUE(is_loopback("127.0.0.1"));
+  EXPECT_TRUE(is_loopback("127.3.2.1"));
+  EXPECT_TRUE(is_loopback("::1"));
+  EXPECT_TRUE(is_loopback("localhost"));
+  EXPECT_TRUE(is_loopback("::ffff:127.0.0.1"));
+  EXPECT_FALSE(is_loopback("0.0.0.0"));
+  EXPECT_FALSE(is_loopback("::"));
+  EXPECT_FALSE(is_loopback("192.168.1.2"));
+
+  ServerConfig cfg;
+  EXPECT_NO_THROW(check_listen_policy(cfg));
+  cfg.listen = "0.0.0.0:8080";
+  try {
+    check_listen_policy(cfg);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--listen");
+    EXPECT_NE(std::string(e.what()).find("--token-file"), std::string::npos);
+  }
+  cfg.token = "0123456789abcdef";
+  EXPECT_NO_THROW(check_listen_policy(cfg));
+
+  EXPECT_TRUE(constant_time_equals("abc", "abc"));
+  EXPECT_FALSE(constant_time_equals("abc", "abd"));
+  EXPECT_FALSE(constant_time_equals("abc", "abcd"));
+  EXPECT_FALSE(constant_time_equals("", "a"));
+  EXPECT_TRUE(constant_time_equals("", ""));
+}
+
+TEST(StaticDir, ReadsServedFilesOnly) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("uavcover-static-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "assets");
+  fs::create_directories(dir / ".git");
+  auto write = [](const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; };
+  write(dir / "index.html", "<html></html>");
+  write(dir / "assets" / "app.js", "let a = 1;");
+  write(dir / "assets" / "logo.png", std::string("\x89PNG\0\1", 6));
+  write(dir / "notes.xyz", "unknown");
+  write(dir / ".git" / "config.txt", "hidden");
+  fs::create_symlink("/etc/passwd", dir / "passwd.txt");
+  const auto files = io::read_static_dir(dir, 1 << 20);
+  std::map<std::string, std::string> types;
+  for (const auto& f : files) types[f.name] = f.media_type;
+  EXPECT_EQ(types.size(), 3U);
+  EXPECT_EQ(types["index.html"], "text/html; charset=utf-8");
+  EXPECT_EQ(types["assets/app.js"], "text/javascript; charset=utf-8");
+  EXPECT_EQ(types["assets/logo.png"], "image/png");
+  for (const auto& f : files) {
+    if (f.name == "assets/logo.png") {
+      EXPECT_EQ(f.bytes.size(), 6U);
+    }
+  }
+  try {
+    io::read_static_dir(dir, 20);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--static");
+  }
+  EXPECT_THROW(io::read_static_dir(dir / "index.html", 1 << 20), InputError);
+  EXPECT_THROW(io::read_static_dir(dir / "missing", 1 << 20), InputError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(EventHub, SendsChangesOnlyAndDropsGoneSubscribers) {
+  MapSource source;
+  source.set(1, "queued", 0);
+  EventHub hub(source, std::chrono::milliseconds(10));
+  hub.start();
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<json> got;
+  const auto sub = hub.open([&](const std::string& text) {
+    const std::lock_guard lock(m);
+    got.push_back(json::parse(text));
+    cv.notify_all();
+    return true;
+  });
+  auto wait_for = [&](std::size_t n) {
+    std::unique_lock lock(m);
+    return cv.wait_for(lock, std::chrono::seconds(10), [&] { return got.size() >= n; });
+  };
+  EXPECT_FALSE(hub.subscribe(sub, {1, 2, 3}, 2));  // over the cap: none added
+  EXPECT_TRUE(hub.subscribe(sub, {1, 2}, 2));
+  ASSERT_TRUE(wait_for(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // several polls, no change
+  {
+    const std::lock_guard lock(m);
+    ASSERT_EQ(got.size(), 1U);
+    EXPECT_EQ(got[0]["type"], "job");
+    EXPECT_EQ(got[0]["job"]["id"], 1);
+  }
+  source.set(2, "running", 0.1);  // job 2 appears
+  ASSERT_TRUE(wait_for(2));
+  hub.unsubscribe(sub, {1});
+  EXPECT_TRUE(hub.subscribe(sub, {1}, 2));  // again: the current state is sent again
+  ASSERT_TRUE(wait_for(3));
+  {
+    const std::lock_guard lock(m);
+    EXPECT_EQ(got[1]["job"]["id"], 2);
+    EXPECT_EQ(got[2]["job"]["id"], 1);
+  }
+  // a sink reporting its subscriber gone is dropped
+  const auto gone = hub.open([](const std::string&) { return false; });
+  hub.subscribe(gone, {1}, 10);
+  for (int i = 0; i < 500 && hub.subscriber_count() != 1; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(hub.subscriber_count(), 1U);
+  hub.close(sub);
+  EXPECT_EQ(hub.subscriber_count(), 0U);
+  hub.stop();
+}
+
+class CaptureSink : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  std::vector<std::string> lines() {
+    const std::lock_guard lock(mutex_);
+    return lines_;
+  }
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& msg) override {
+    lines_.emplace_back(msg.payload.data(), msg.payload.size());
+  }
+  void flush_() override {}
+
+ private:
+  std::vector<std::string> lines_;
+};
+
+TEST_F(ServerHttp, JsonRequestLog) {
+  auto sink = std::make_shared<CaptureSink>();
+  auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
+  spdlog::set_level(spdlog::level::info);
+  ServerConfig cfg;
+  cfg.log_json = true;
+  start(cfg);
+  {
+    Client c(port_);
+    c.send(http::verb::get, "/api/v1/things/42", "", {{"X-Request-Id", "log-test-1"}});
+  }
+  stop();
+  spdlog::set_default_logger(previous);
+  spdlog::set_level(spdlog::level::warn);
+  bool found = false;
+  for (const auto& line : sink->lines()) {
+    const auto j = json::parse(line, nullptr, false);
+    if (j.is_discarded() || j.value("request_id", "") != "log-test-1") continue;
+    found = true;
+    EXPECT_EQ(j["method"], "GET");
+    EXPECT_EQ(j["route"], "/api/v1/things/{id}");
+    EXPECT_EQ(j["status"], 200);
+    EXPECT_TRUE(j["duration_ms"].is_number());
+    EXPECT_TRUE(j["bytes"].is_number_unsigned());
+  }
+  EXPECT_TRUE(found);
+}
+
+}  // namespace

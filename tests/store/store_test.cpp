@@ -1,0 +1,725 @@
+// The store conformance suite: the same tests for every backend of store_test_urls() (SQLite always,
+// PostgreSQL when one is configured, see test_backends.hpp). Real databases, no mocks; every test on a
+// fresh database, yet written not to assume empty tables (unique names, counts before and after).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "store/backends.hpp"
+#include "store/sha256.hpp"
+#include "test_backends.hpp"
+
+using namespace uavcover;
+using namespace uavcover::store;
+using namespace std::chrono_literals;
+using uavcover::testing::unique_name;
+
+namespace {
+
+NewRevision revision(const std::string& name, Bbox bbox = {22.0, 40.0, 22.1, 40.1}) {
+  NewRevision r;
+  r.name = name;
+  r.document = R"({"version":1,"name":")" + name + R"("})";
+  r.source = R"({"name":")" + name + R"(","source":true})";
+  r.bbox = bbox;
+  return r;
+}
+
+class StoreConformance : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    url_ = uavcover::testing::fresh_store_url(GetParam());
+    store_ = uavcover::testing::open_test_store(url_);
+    drain();
+  }
+  void TearDown() override {
+    if (store_) drain();
+    store_.reset();
+    uavcover::testing::remove_test_store(url_);
+  }
+
+  /// Ends every claimable job (queued, or running with an expired lease) left by earlier tests.
+  void drain() {
+    while (auto j = store_->claim_job("test-drain", 60s, 1 << 20))
+      store_->finish_job(j->id, "test-drain", JobState::Cancelled, {}, nullptr, {});
+  }
+
+  Id mission(const std::string& prefix = "m") {
+    return store_->create_mission(revision(unique_name(prefix)));
+  }
+
+  Id job(Id mission_id, int rev = 1, nlohmann::json params = nlohmann::json::object()) {
+    NewJob j;
+    j.mission_id = mission_id;
+    j.revision = rev;
+    j.params = std::move(params);
+    return store_->enqueue(j, 1000000);
+  }
+
+  std::vector<Id> ids(const MissionQuery& q) {
+    std::vector<Id> out;
+    for (const auto& s : store_->list_missions(q).items) out.push_back(s.id);
+    return out;
+  }
+
+  std::string url_;
+  std::unique_ptr<Store> store_;
+};
+
+// ---- missions ----
+
+TEST_P(StoreConformance, MissionRevisionsStayReadable) {
+  const std::int64_t before = store_->count_missions();
+  const std::string name = unique_name("Ελλάδα mission");
+  const Id id = store_->create_mission(revision(name, {1, 2, 3, 4}));
+  EXPECT_GT(id, 0);
+  EXPECT_EQ(store_->count_missions(), before + 1);
+
+  auto m = store_->get_mission(id);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->mission_id, id);
+  EXPECT_EQ(m->revision, 1);
+  EXPECT_EQ(m->latest_revision, 1);
+  EXPECT_EQ(m->name, name);
+  EXPECT_EQ(m->document, revision(name).document);
+  EXPECT_EQ(m->source, revision(name).source);
+  EXPECT_EQ(m->bbox.min_lon, 1);
+  EXPECT_EQ(m->bbox.max_lat, 4);
+  EXPECT_GT(m->created_ms, 0);
+  EXPECT_GE(m->revised_ms, m->created_ms);
+
+  const std::string renamed = name + " v2";
+  EXPECT_EQ(store_->add_revision(id, revision(renamed, {5, 6, 7, 8})), 2);
+  EXPECT_EQ(store_->add_revision(id, revision(renamed + "3")), 3);
+  m = store_->get_mission(id, 2);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->revision, 2);
+  EXPECT_EQ(m->latest_revision, 3);
+  EXPECT_EQ(m->name, renamed);
+  EXPECT_EQ(m->bbox.min_lon, 5);
+  const auto first = store_->get_mission(id, 1);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->name, name) << "old revisions stay as they were";
+  EXPECT_EQ(first->latest_revision, 3);
+  EXPECT_EQ(first->created_ms, m->created_ms);
+  EXPECT_EQ(store_->get_mission(id)->revision, 3);
+
+  EXPECT_FALSE(store_->get_mission(id, 4));
+  EXPECT_FALSE(store_->get_mission(id, 0));
+  EXPECT_FALSE(store_->get_mission(id + 1000000));
+  EXPECT_THROW(store_->add_revision(id + 1000000, revision("x")), NotFound);
+  EXPECT_EQ(store_->count_missions(), before + 1);
+
+  // the summary follows the latest revision
+  MissionQuery q;
+  q.name_contains = renamed + "3";
+  const auto page = store_->list_missions(q);
+  ASSERT_EQ(page.items.size(), 1u);
+  EXPECT_EQ(page.items[0].id, id);
+  EXPECT_EQ(page.items[0].revision, 3);
+  EXPECT_EQ(page.items[0].name, renamed + "3");
+  EXPECT_GE(page.items[0].updated_ms, page.items[0].created_ms);
+}
+
+TEST_P(StoreConformance, MissionListPagesByIdAndFiltersByName) {
+  const std::string tag = unique_name("Paging");
+  std::vector<Id> made;
+  for (int i = 0; i < 7; ++i)
+    made.push_back(store_->create_mission(revision(tag + " #" + std::to_string(i))));
+  store_->create_mission(revision(unique_name("other")));
+
+  MissionQuery q;
+  std::string lower = tag;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  q.name_contains = lower;  // case-insensitive
+  q.limit = 3;
+  std::vector<Id> seen;
+  int pages = 0;
+  for (;;) {
+    const auto page = store_->list_missions(q);
+    ++pages;
+    for (const auto& s : page.items) seen.push_back(s.id);
+    if (!page.next_after) break;
+    EXPECT_EQ(page.items.size(), 3u);
+    EXPECT_EQ(*page.next_after, page.items.back().id);
+    q.after = *page.next_after;
+    ASSERT_LT(pages, 10);
+  }
+  EXPECT_EQ(pages, 3);
+  EXPECT_EQ(seen, made) << "every mission once, ids ascending";
+
+  // a page that ends exactly at the last row has no next page
+  q.after = 0;
+  q.limit = 7;
+  auto page = store_->list_missions(q);
+  EXPECT_EQ(page.items.size(), 7u);
+  EXPECT_FALSE(page.next_after);
+
+  // the limit is clamped to 1..1000
+  q.limit = 0;
+  page = store_->list_missions(q);
+  EXPECT_EQ(page.items.size(), 1u);
+  EXPECT_TRUE(page.next_after);
+  q.limit = 5000;
+  EXPECT_EQ(store_->list_missions(q).items.size(), 7u);
+
+  // without a filter, paging walks ids ascending
+  MissionQuery all;
+  all.after = made[2];
+  all.limit = 2;
+  EXPECT_EQ(ids(all), (std::vector<Id>{made[3], made[4]}));
+}
+
+TEST_P(StoreConformance, NameFilterIsPlainTextNotAPattern) {
+  const std::string tag = unique_name("lit");
+  const Id percent = store_->create_mission(revision(tag + " 50% off"));
+  const Id fifty = store_->create_mission(revision(tag + " 50X off"));
+  const Id underscore = store_->create_mission(revision(tag + " a_b"));
+  const Id axb = store_->create_mission(revision(tag + " aXb"));
+  const Id backslash = store_->create_mission(revision(tag + " c\\d"));
+  const Id cd = store_->create_mission(revision(tag + " cd"));
+  const Id quote = store_->create_mission(revision(tag + " it's \"quoted\""));
+
+  MissionQuery q;
+  q.name_contains = tag + " 50%";
+  EXPECT_EQ(ids(q), std::vector<Id>{percent});
+  q.name_contains = tag + " a_b";
+  EXPECT_EQ(ids(q), std::vector<Id>{underscore});
+  q.name_contains = tag + " c\\d";
+  EXPECT_EQ(ids(q), std::vector<Id>{backslash});
+  q.name_contains = tag + " it's \"";
+  EXPECT_EQ(ids(q), std::vector<Id>{quote});
+  q.name_contains = tag + " ";
+  EXPECT_EQ(ids(q), (std::vector<Id>{percent, fifty, underscore, axb, backslash, cd, quote}));
+  q.name_contains = unique_name("nothing has this name");
+  EXPECT_TRUE(ids(q).empty());
+  q.name_contains = "%";
+  for (const auto& s : store_->list_missions(q).items)
+    EXPECT_NE(s.name.find('%'), std::string::npos) << s.name;
+}
+
+TEST_P(StoreConformance, BboxFilterKeepsIntersectingMissions) {
+  const std::string tag = unique_name("bbox");
+  const Id a = store_->create_mission(revision(tag + " a", {10, 10, 11, 11}));
+  const Id b = store_->create_mission(revision(tag + " b", {12, 10, 13, 11}));
+  const Id c = store_->create_mission(revision(tag + " c", {-50, -40, 50, 40}));  // contains the others
+  MissionQuery q;
+  q.name_contains = tag;
+  q.intersects = Bbox{10.5, 10.5, 11.5, 11.5};
+  EXPECT_EQ(ids(q), (std::vector<Id>{a, c}));
+  q.intersects = Bbox{11, 11, 12, 12};  // touching corners intersect
+  EXPECT_EQ(ids(q), (std::vector<Id>{a, b, c}));
+  q.intersects = Bbox{60, 60, 61, 61};
+  EXPECT_TRUE(ids(q).empty());
+  q.intersects = Bbox{12.2, 10.2, 12.3, 10.3};  // inside b
+  EXPECT_EQ(ids(q), (std::vector<Id>{b, c}));
+}
+
+TEST_P(StoreConformance, DeleteMissionRefusesWhileJobsAreQueuedOrRunning) {
+  const std::int64_t before = store_->count_missions();
+  const Id m = mission();
+  store_->add_revision(m, revision(unique_name("m2")));
+  const Id j = job(m, 2);
+  EXPECT_THROW(store_->delete_mission(m), Conflict);
+  auto claimed = store_->claim_job("w1", 60s, 3);
+  ASSERT_TRUE(claimed);
+  ASSERT_EQ(claimed->id, j);
+  EXPECT_THROW(store_->delete_mission(m), Conflict);
+  ASSERT_TRUE(store_->finish_job(j, "w1", JobState::Done, {{"poc", 1.0}}, nullptr,
+                                 {{"plan.json", "application/json", "{}"}}));
+  EXPECT_TRUE(store_->get_mission(m)) << "nothing deleted by the refusals";
+
+  store_->delete_mission(m);
+  EXPECT_FALSE(store_->get_mission(m));
+  EXPECT_FALSE(store_->get_mission(m, 1));
+  EXPECT_FALSE(store_->get_job(j)) << "its finished jobs go with it";
+  EXPECT_FALSE(store_->get_artifact(j, "plan.json"));
+  EXPECT_EQ(store_->count_missions(), before);
+  EXPECT_THROW(store_->delete_mission(m), NotFound);
+  EXPECT_THROW(store_->delete_mission(987654321), NotFound);
+}
+
+// ---- jobs ----
+
+TEST_P(StoreConformance, EnqueueNeedsTheMissionRevision) {
+  const Id m = mission();
+  NewJob j;
+  j.mission_id = m + 1000000;
+  j.revision = 1;
+  EXPECT_THROW(store_->enqueue(j, 100), NotFound);
+  j.mission_id = m;
+  j.revision = 2;
+  EXPECT_THROW(store_->enqueue(j, 100), NotFound);
+  j.revision = 1;
+  j.kind = JobKind::Study;
+  j.params = {{"uavs", "1..5"}, {"seed", 7}};
+  const Id id = store_->enqueue(j, 100);
+  const auto got = store_->get_job(id);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->kind, JobKind::Study);
+  EXPECT_EQ(got->mission_id, m);
+  EXPECT_EQ(got->revision, 1);
+  EXPECT_EQ(got->params, j.params);
+  EXPECT_EQ(got->state, JobState::Queued);
+  EXPECT_EQ(got->attempts, 0);
+  EXPECT_EQ(got->completions, 0);
+  EXPECT_FALSE(got->cancel_requested);
+  EXPECT_EQ(got->worker, "");
+  EXPECT_GT(got->created_ms, 0);
+  EXPECT_EQ(got->started_ms, 0);
+  EXPECT_EQ(got->finished_ms, 0);
+  EXPECT_TRUE(got->error.is_null());
+  EXPECT_TRUE(got->artifacts.empty());
+  EXPECT_FALSE(store_->get_job(id + 1000000));
+}
+
+TEST_P(StoreConformance, EnqueueRefusesWhenTheQueueIsFull) {
+  const Id m = mission();
+  const std::int64_t queued = store_->count_jobs().queued;
+  NewJob j;
+  j.mission_id = m;
+  j.revision = 1;
+  const int max = static_cast<int>(queued) + 2;
+  store_->enqueue(j, max);
+  store_->enqueue(j, max);
+  EXPECT_THROW(store_->enqueue(j, max), QueueFull);
+  EXPECT_EQ(store_->count_jobs().queued, queued + 2);
+  EXPECT_THROW(store_->enqueue(j, 0), QueueFull);
+}
+
+TEST_P(StoreConformance, ClaimTakesTheOldestQueuedJob) {
+  const Id m = mission();
+  const Id a = job(m, 1, {{"planner", "darp"}, {"seed", 1}});
+  const Id b = job(m);
+  const Id c = job(m);
+  const JobCounts before = store_->count_jobs();
+
+  auto first = store_->claim_job("worker-1", 60s, 3);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->id, a);
+  EXPECT_EQ(first->state, JobState::Running);
+  EXPECT_EQ(first->attempts, 1);
+  EXPECT_EQ(first->worker, "worker-1");
+  EXPECT_GT(first->started_ms, 0);
+  EXPECT_EQ(first->params, (nlohmann::json{{"planner", "darp"}, {"seed", 1}}));
+  auto second = store_->claim_job("worker-2", 60s, 3);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->id, b);
+  auto third = store_->claim_job("worker-1", 60s, 3);
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->id, c);
+  EXPECT_FALSE(store_->claim_job("worker-3", 60s, 3)) << "running jobs with live leases are not taken";
+
+  const JobCounts after = store_->count_jobs();
+  EXPECT_EQ(after.queued, before.queued - 3);
+  EXPECT_EQ(after.running, before.running + 3);
+
+  const auto jobs = store_->get_jobs({c, a, 987654321, b});
+  ASSERT_EQ(jobs.size(), 3u);
+  std::map<Id, std::string> workers;
+  for (const auto& j : jobs) {
+    EXPECT_EQ(j.state, JobState::Running);
+    workers[j.id] = j.worker;
+  }
+  EXPECT_EQ(workers[a], "worker-1");
+  EXPECT_EQ(workers[b], "worker-2");
+  for (Id id : {a, c}) EXPECT_TRUE(store_->finish_job(id, "worker-1", JobState::Done, {}, nullptr, {}));
+  EXPECT_TRUE(store_->finish_job(b, "worker-2", JobState::Failed, {},
+                                 {{"field", "planner"}, {"message", "no such planner"}}, {}));
+  const auto failed = store_->get_job(b);
+  EXPECT_EQ(failed->state, JobState::Failed);
+  EXPECT_EQ(failed->error, (nlohmann::json{{"field", "planner"}, {"message", "no such planner"}}));
+}
+
+TEST_P(StoreConformance, HeartbeatRecordsProgressWhileTheLeaseIsHeld) {
+  const Id m = mission();
+  const Id id = job(m);
+  const auto claimed = store_->claim_job("w1", 60s, 3);
+  ASSERT_TRUE(claimed);
+  ASSERT_EQ(claimed->id, id);
+
+  EXPECT_FALSE(store_->heartbeat(id, "w2", 60s, 0.9, "intruder").held);
+  EXPECT_FALSE(store_->heartbeat(id + 1000000, "w1", 60s, 0.9, "nobody").held);
+  auto status = store_->heartbeat(id, "w1", 60s, 0.5, "division");
+  EXPECT_TRUE(status.held);
+  EXPECT_FALSE(status.cancel_requested);
+  auto j = store_->get_job(id);
+  EXPECT_DOUBLE_EQ(j->progress, 0.5);
+  EXPECT_EQ(j->stage, "division");
+  EXPECT_GT(j->updated_ms, claimed->updated_ms) << "every change moves updated_ms (events poll it)";
+  const std::int64_t updated = j->updated_ms;
+  store_->heartbeat(id, "w1", 60s, 0.75, "paths");
+  j = store_->get_job(id);
+  EXPECT_DOUBLE_EQ(j->progress, 0.75);
+  EXPECT_EQ(j->stage, "paths");
+  EXPECT_GT(j->updated_ms, updated);
+
+  EXPECT_EQ(store_->request_cancel(id), JobState::Running);
+  j = store_->get_job(id);
+  EXPECT_TRUE(j->cancel_requested);
+  EXPECT_EQ(j->state, JobState::Running);
+  status = store_->heartbeat(id, "w1", 60s, 0.8, "paths");
+  EXPECT_TRUE(status.held);
+  EXPECT_TRUE(status.cancel_requested);
+  EXPECT_TRUE(store_->finish_job(id, "w1", JobState::Cancelled, {}, nullptr, {}));
+  j = store_->get_job(id);
+  EXPECT_EQ(j->state, JobState::Cancelled);
+  EXPECT_GT(j->finished_ms, 0);
+  EXPECT_EQ(j->worker, "");
+  EXPECT_EQ(store_->request_cancel(id), JobState::Cancelled);
+}
+
+TEST_P(StoreConformance, CancelAQueuedJobAtOnce) {
+  const Id m = mission();
+  const Id id = job(m);
+  EXPECT_EQ(store_->request_cancel(id), JobState::Cancelled);
+  const auto j = store_->get_job(id);
+  EXPECT_EQ(j->state, JobState::Cancelled);
+  EXPECT_GT(j->finished_ms, 0);
+  EXPECT_EQ(j->attempts, 0);
+  EXPECT_FALSE(store_->claim_job("w1", 60s, 3)) << "a cancelled job is never claimed";
+  EXPECT_EQ(store_->request_cancel(id), JobState::Cancelled);
+  EXPECT_THROW(store_->request_cancel(id + 1000000), NotFound);
+  store_->delete_mission(m);  // a cancelled job does not hold its mission
+}
+
+TEST_P(StoreConformance, FinishSucceedsOnceOnly) {
+  const Id m = mission();
+  const Id id = job(m);
+  ASSERT_EQ(store_->claim_job("w1", 60s, 3)->id, id);
+  const nlohmann::json result = {{"metrics", {{"poc", 0.98}}}, {"warnings", nlohmann::json::array()}};
+  EXPECT_TRUE(store_->finish_job(id, "w1", JobState::Done, result, nullptr,
+                                 {{"plan.json", "application/json", R"({"uavs":[]})"}}));
+  EXPECT_FALSE(store_->finish_job(id, "w1", JobState::Failed, {}, {{"field", ""}, {"message", "late"}}, {}));
+  EXPECT_FALSE(store_->finish_job(id, "w2", JobState::Done, {{"other", true}}, nullptr,
+                                  {{"plan.json", "application/json", "overwritten"}}));
+  EXPECT_FALSE(store_->heartbeat(id, "w1", 60s, 0.1, "again").held);
+  const auto j = store_->get_job(id);
+  EXPECT_EQ(j->state, JobState::Done);
+  EXPECT_EQ(j->completions, 1);
+  EXPECT_EQ(j->result, result);
+  EXPECT_TRUE(j->error.is_null());
+  EXPECT_DOUBLE_EQ(j->progress, 1.0);
+  EXPECT_EQ(j->worker, "");
+  EXPECT_GE(j->finished_ms, j->started_ms);
+  ASSERT_EQ(j->artifacts.size(), 1u);
+  EXPECT_EQ(store_->get_artifact(id, "plan.json")->bytes, R"({"uavs":[]})");
+  EXPECT_EQ(store_->request_cancel(id), JobState::Done);
+  EXPECT_THROW(store_->finish_job(id, "w1", JobState::Running, {}, nullptr, {}), std::invalid_argument);
+}
+
+TEST_P(StoreConformance, AnExpiredLeaseIsTakenOverAndTheOldWorkerCannotFinish) {
+  const Id m = mission();
+  const Id id = job(m);
+  const auto first = store_->claim_job("w1", 50ms, 3);
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->id, id);
+  EXPECT_FALSE(store_->claim_job("w2", 60s, 3)) << "the lease still holds";
+  std::this_thread::sleep_for(100ms);
+
+  const auto second = store_->claim_job("w2", 60s, 3);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->id, id);
+  EXPECT_EQ(second->attempts, 2);
+  EXPECT_EQ(second->worker, "w2");
+  EXPECT_EQ(second->started_ms, first->started_ms) << "started once";
+
+  EXPECT_FALSE(store_->heartbeat(id, "w1", 60s, 0.5, "stale").held);
+  EXPECT_FALSE(store_->finish_job(id, "w1", JobState::Done, {{"by", "w1"}}, nullptr, {}));
+  EXPECT_TRUE(store_->heartbeat(id, "w2", 60s, 0.5, "fresh").held);
+  EXPECT_TRUE(store_->finish_job(id, "w2", JobState::Done, {{"by", "w2"}}, nullptr, {}));
+  const auto j = store_->get_job(id);
+  EXPECT_EQ(j->completions, 1);
+  EXPECT_EQ(j->result, (nlohmann::json{{"by", "w2"}}));
+}
+
+TEST_P(StoreConformance, AJobInterruptedTooOftenFails) {
+  const Id m = mission();
+  const Id doomed = job(m);
+  const Id next = job(m);
+  ASSERT_EQ(store_->claim_job("w1", 1ms, 2)->id, doomed);
+  std::this_thread::sleep_for(20ms);
+  const auto again = store_->claim_job("w2", 1ms, 2);
+  ASSERT_TRUE(again);
+  ASSERT_EQ(again->id, doomed);
+  EXPECT_EQ(again->attempts, 2);
+  std::this_thread::sleep_for(20ms);
+
+  const auto claimed = store_->claim_job("w3", 60s, 2);
+  ASSERT_TRUE(claimed) << "the exhausted job is skipped and the next one taken";
+  EXPECT_EQ(claimed->id, next);
+  const auto j = store_->get_job(doomed);
+  EXPECT_EQ(j->state, JobState::Failed);
+  EXPECT_EQ(j->error, (nlohmann::json{{"field", ""}, {"message", "the job was interrupted 2 times"}}));
+  EXPECT_GT(j->finished_ms, 0);
+  EXPECT_EQ(j->completions, 0);
+  EXPECT_FALSE(store_->finish_job(doomed, "w2", JobState::Done, {}, nullptr, {}));
+  EXPECT_TRUE(store_->finish_job(next, "w3", JobState::Done, {}, nullptr, {}));
+}
+
+TEST_P(StoreConformance, RecoverRunningRequeuesOrFails) {
+  const Id m = mission();
+  const Id fresh = job(m);
+  const Id tired = job(m);
+  ASSERT_EQ(store_->claim_job("w1", 60s, 3)->id, fresh);
+  ASSERT_EQ(store_->claim_job("w1", 1ms, 3)->id, tired);
+  std::this_thread::sleep_for(20ms);
+  ASSERT_EQ(store_->claim_job("w2", 60s, 3)->id, tired);  // attempts 2
+
+  EXPECT_EQ(store_->recover_running(2), 1);
+  auto f = store_->get_job(fresh);
+  EXPECT_EQ(f->state, JobState::Queued);
+  EXPECT_EQ(f->worker, "");
+  EXPECT_EQ(f->attempts, 1);
+  const auto t = store_->get_job(tired);
+  EXPECT_EQ(t->state, JobState::Failed);
+  EXPECT_EQ(t->error.at("message"), "the job was interrupted 2 times");
+  EXPECT_FALSE(store_->finish_job(fresh, "w1", JobState::Done, {}, nullptr, {})) << "w1 lost it";
+
+  const auto reclaimed = store_->claim_job("w3", 60s, 3);
+  ASSERT_TRUE(reclaimed);
+  EXPECT_EQ(reclaimed->id, fresh);
+  EXPECT_EQ(reclaimed->attempts, 2);
+  EXPECT_TRUE(store_->finish_job(fresh, "w3", JobState::Done, {}, nullptr, {}));
+  EXPECT_EQ(store_->recover_running(2), 0);
+}
+
+// ---- artifacts ----
+
+TEST_P(StoreConformance, ArtifactsAreContentAddressedAndByteExact) {
+  std::string binary;
+  for (int i = 0; i < 256; ++i) binary += static_cast<char>(i);
+  binary += std::string(3, '\0');
+  std::string large;
+  unsigned x = 12345;
+  for (int i = 0; i < 1 << 20; ++i) {
+    x = x * 1103515245u + 12345u;
+    large += static_cast<char>(x >> 24);
+  }
+  const Artifacts outputs{{"plan.png", "image/png", binary},
+                          {"export/uav1.plan", "application/json", large},
+                          {"empty.csv", "text/csv", ""}};
+  const Id m = mission();
+  const Id a = job(m);
+  const Id b = job(m);
+  ASSERT_EQ(store_->claim_job("w", 60s, 3)->id, a);
+  ASSERT_TRUE(store_->finish_job(a, "w", JobState::Done, {}, nullptr, outputs));
+  ASSERT_EQ(store_->claim_job("w", 60s, 3)->id, b);
+  ASSERT_TRUE(store_->finish_job(b, "w", JobState::Done, {}, nullptr,
+                                 {{"copy.png", "image/png", binary}, {"other.txt", "text/plain", "other"}}));
+
+  const auto ja = store_->get_job(a);
+  ASSERT_EQ(ja->artifacts.size(), 3u);
+  std::map<std::string, ArtifactRef> refs;
+  for (const auto& r : ja->artifacts) refs[r.name] = r;
+  EXPECT_EQ(refs["plan.png"].sha256, sha256_hex(binary));
+  EXPECT_EQ(refs["plan.png"].size, 259);
+  EXPECT_EQ(refs["plan.png"].media_type, "image/png");
+  EXPECT_EQ(refs["export/uav1.plan"].size, 1 << 20);
+  EXPECT_EQ(refs["empty.csv"].size, 0);
+  const auto jb = store_->get_job(b);
+  ASSERT_EQ(jb->artifacts.size(), 2u);
+  for (const auto& r : jb->artifacts)
+    if (r.name == "copy.png") {
+      EXPECT_EQ(r.sha256, refs["plan.png"].sha256) << "the same bytes, the same blob";
+    }
+
+  for (const auto& o : outputs) {
+    const auto got = store_->get_artifact(a, o.name);
+    ASSERT_TRUE(got) << o.name;
+    EXPECT_EQ(got->name, o.name);
+    EXPECT_EQ(got->media_type, o.media_type);
+    EXPECT_TRUE(got->bytes == o.bytes) << o.name << ": bytes differ";
+  }
+  EXPECT_TRUE(store_->get_artifact(b, "copy.png")->bytes == binary);
+  EXPECT_FALSE(store_->get_artifact(a, "copy.png"));
+  EXPECT_FALSE(store_->get_artifact(a, "missing"));
+  EXPECT_FALSE(store_->get_artifact(a + 1000000, "plan.png"));
+  EXPECT_TRUE(store_->get_jobs({a}).at(0).artifacts.empty()) << "get_jobs leaves artifacts out";
+}
+
+// ---- catalogs ----
+
+TEST_P(StoreConformance, CatalogsAreSeededWithRealUavsAndCameras) {
+  const auto uavs = store_->list_entries(CatalogKind::Uav);
+  const auto cameras = store_->list_entries(CatalogKind::Camera);
+  auto find = [](const std::vector<CatalogEntry>& list, const std::string& part) -> const CatalogEntry* {
+    for (const auto& e : list)
+      if (e.name.find(part) != std::string::npos) return &e;
+    return nullptr;
+  };
+  const auto* phantom = find(uavs, "DJI Phantom 4 Pro V2.0");
+  ASSERT_NE(phantom, nullptr);
+  EXPECT_EQ(phantom->data.at("speed_mps"), 10);
+  EXPECT_EQ(phantom->data.at("max_accel_mps2"), 4);
+  EXPECT_EQ(phantom->data.at("endurance_min"), 28);
+  EXPECT_DOUBLE_EQ(phantom->data.at("cost_per_min_eur").get<double>(), 0.017228);
+  ASSERT_TRUE(phantom->data.contains("camera_id"));
+  const auto camera = store_->get_entry(CatalogKind::Camera, phantom->data.at("camera_id").get<Id>());
+  ASSERT_TRUE(camera);
+  EXPECT_NE(camera->name.find("Phantom 4 Pro"), std::string::npos) << camera->name;
+  EXPECT_DOUBLE_EQ(camera->data.at("sensor_width_mm").get<double>(), 13.2);
+  EXPECT_DOUBLE_EQ(camera->data.at("focal_length_mm").get<double>(), 8.8);
+  EXPECT_EQ(camera->data.at("image_width_px"), 5472);
+  EXPECT_DOUBLE_EQ(camera->data.at("hfov_deg").get<double>(), 73.7);
+  for (const char* name : {"DJI Mavic 3 Enterprise", "DJI Matrice 300 RTK"})
+    EXPECT_NE(find(uavs, name), nullptr);
+  for (const char* name : {"Sony RX1R II", "MicaSense RedEdge-MX"}) EXPECT_NE(find(cameras, name), nullptr);
+  for (const auto& u : uavs) {
+    if (u.data.contains("name")) {
+      EXPECT_EQ(u.data["name"], u.name);
+    }
+    if (u.data.contains("camera_id")) {
+      EXPECT_TRUE(store_->get_entry(CatalogKind::Camera, u.data["camera_id"].get<Id>())) << u.name;
+    }
+  }
+  EXPECT_FALSE(store_->get_entry(CatalogKind::Uav, camera->id)) << "kinds are apart";
+}
+
+TEST_P(StoreConformance, CatalogEntriesCanBeCreatedChangedAndDeleted) {
+  const std::string name = unique_name("Survey wing");
+  const nlohmann::json data = {{"name", name},
+                               {"speed_mps", 18},
+                               {"max_accel_mps2", 3},
+                               {"endurance_min", 90},
+                               {"cost_per_min_eur", 0.05}};
+  const std::size_t before = store_->list_entries(CatalogKind::Uav).size();
+  const Id id = store_->create_entry(CatalogKind::Uav, name, data);
+  auto e = store_->get_entry(CatalogKind::Uav, id);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->id, id);
+  EXPECT_EQ(e->name, name);
+  EXPECT_EQ(e->data, data);
+  EXPECT_GT(e->updated_ms, 0);
+  EXPECT_EQ(store_->list_entries(CatalogKind::Uav).size(), before + 1);
+  EXPECT_FALSE(store_->get_entry(CatalogKind::Camera, id));
+
+  nlohmann::json changed = data;
+  changed["speed_mps"] = 20;
+  changed["name"] = name + " II";
+  store_->update_entry(CatalogKind::Uav, id, name + " II", changed);
+  const auto after = store_->get_entry(CatalogKind::Uav, id);
+  EXPECT_EQ(after->name, name + " II");
+  EXPECT_EQ(after->data, changed);
+  EXPECT_GT(after->updated_ms, e->updated_ms);
+  EXPECT_THROW(store_->update_entry(CatalogKind::Camera, id, "x", {}), NotFound);
+  EXPECT_THROW(store_->update_entry(CatalogKind::Uav, id + 1000000, "x", {}), NotFound);
+
+  EXPECT_THROW(store_->delete_entry(CatalogKind::Camera, id), NotFound);
+  store_->delete_entry(CatalogKind::Uav, id);
+  EXPECT_FALSE(store_->get_entry(CatalogKind::Uav, id));
+  EXPECT_THROW(store_->delete_entry(CatalogKind::Uav, id), NotFound);
+  EXPECT_EQ(store_->list_entries(CatalogKind::Uav).size(), before);
+}
+
+// ---- first start, reopening ----
+
+TEST_P(StoreConformance, FirstStartIsClaimedOnce) {
+  std::atomic<int> wins{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&] {
+      if (store_->claim_first_start()) ++wins;
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(wins.load(), 1) << "every test has a fresh database";
+  EXPECT_FALSE(store_->claim_first_start());
+  store_.reset();
+  store_ = uavcover::testing::open_test_store(url_);
+  EXPECT_FALSE(store_->claim_first_start()) << "the claim outlives the process";
+}
+
+TEST_P(StoreConformance, ReopeningKeepsDataAndDoesNotMigrateAgain) {
+  EXPECT_GT(store_->schema_version(), 0);
+  EXPECT_TRUE(store_->ping());
+  const int version = store_->schema_version();
+  const std::string name = unique_name("kept");
+  const Id id = store_->create_mission(revision(name));
+  const std::size_t uavs = store_->list_entries(CatalogKind::Uav).size();
+  const std::string backend = store_->backend();
+  store_.reset();
+
+  store_ = uavcover::testing::open_test_store(url_);
+  EXPECT_EQ(store_->backend(), backend);
+  EXPECT_EQ(store_->schema_version(), version);
+  EXPECT_EQ(store_->list_entries(CatalogKind::Uav).size(), uavs) << "seeds not inserted twice";
+  const auto m = store_->get_mission(id);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->name, name);
+}
+
+// ---- concurrency ----
+
+TEST_P(StoreConformance, ConcurrentCreatesAllSucceedWithDistinctIds) {
+  const std::int64_t before = store_->count_missions();
+  constexpr int kThreads = 8, kEach = 50;
+  std::vector<std::vector<Id>> made(kThreads);
+  std::vector<std::thread> threads;
+  std::atomic<int> errors{0};
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      try {
+        for (int i = 0; i < kEach; ++i) {
+          made[t].push_back(store_->create_mission(revision(unique_name("concurrent"))));
+          if (i % 10 == 0) store_->list_missions({});  // readers alongside writers
+        }
+      } catch (const std::exception& e) {
+        ++errors;
+        ADD_FAILURE() << e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(errors.load(), 0);
+  std::set<Id> all;
+  for (const auto& v : made) all.insert(v.begin(), v.end());
+  EXPECT_EQ(all.size(), static_cast<std::size_t>(kThreads * kEach));
+  EXPECT_EQ(store_->count_missions(), before + kThreads * kEach);
+  for (Id id : all) ASSERT_TRUE(store_->get_mission(id)) << id;
+}
+
+TEST_P(StoreConformance, ConcurrentWorkersClaimEachJobOnce) {
+  const Id m = mission();
+  std::set<Id> queued;
+  for (int i = 0; i < 40; ++i) queued.insert(job(m));
+  std::mutex mu;
+  std::map<Id, int> claims;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      const std::string worker = "worker-" + std::to_string(t);
+      try {
+        while (auto j = store_->claim_job(worker, 60s, 3)) {
+          {
+            std::lock_guard lock(mu);
+            ++claims[j->id];
+          }
+          store_->heartbeat(j->id, worker, 60s, 0.5, "working");
+          if (!store_->finish_job(j->id, worker, JobState::Done, {{"by", worker}}, nullptr, {})) {
+            ADD_FAILURE() << "finish of " << j->id;
+          }
+        }
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (Id id : queued) {
+    EXPECT_EQ(claims[id], 1) << "job " << id;
+    const auto j = store_->get_job(id);
+    EXPECT_EQ(j->state, JobState::Done);
+    EXPECT_EQ(j->completions, 1);
+    EXPECT_EQ(j->attempts, 1);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, StoreConformance,
+                         ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param.starts_with("sqlite:") ? std::string("sqlite")
+                                                                    : std::string("postgresql");
+                         });
+
+}  // namespace
