@@ -29,16 +29,19 @@ async function queueJobs(servers, mission) {
   return ids;
 }
 
+/** Waits until no job is queued or running; returns the lease holders seen on running jobs meanwhile. */
 async function waitAllTerminal(db, timeoutMs) {
   const t0 = Date.now();
+  const workers = new Set();
   for (;;) {
-    const [[open]] = psql(db.url, "SELECT count(*) FROM jobs WHERE state IN ('queued', 'running')");
-    if (Number(open) === 0) return;
+    const rows = psql(db.url, "SELECT state, worker FROM jobs WHERE state IN ('queued', 'running')");
+    for (const [state, worker] of rows) if (state === 'running' && worker) workers.add(worker);
+    if (rows.length === 0) return workers;
     if (Date.now() - t0 > timeoutMs) {
-      const rows = psql(db.url, 'SELECT id, state, attempts, worker FROM jobs ORDER BY id');
-      throw new Error(`jobs still open after ${timeoutMs} ms: ${JSON.stringify(rows)}`);
+      const all = psql(db.url, 'SELECT id, state, attempts, worker FROM jobs ORDER BY id');
+      throw new Error(`jobs still open after ${timeoutMs} ms: ${JSON.stringify(all)}`);
     }
-    await sleep(200);
+    await sleep(50);
   }
 }
 
@@ -74,7 +77,7 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
     const ws = await EventSocket.open(a);
     const ids = await queueJobs([a, b], mission);
     ws.send({ subscribe: { jobs: ids } });
-    await waitAllTerminal(db, 150000);
+    const workers = await waitAllTerminal(db, 150000);
     for (const id of ids) {
       const m = await ws.waitFor((x) => x.type === 'job' && x.job.id === id && x.job.state === 'done', 20000);
       assert.equal(m.job.progress, 1);
@@ -90,14 +93,12 @@ describe('postgresql', { skip: !backends().includes('postgresql') && 'UAVCOVER_T
       assert.equal(r.completions, 1, JSON.stringify(r));
       assert.equal(r.attempts, 1, JSON.stringify(r));
     }
-    // both servers planned (the worker names are host-PID-random)
-    const byA = rows.filter((r) => r.worker.includes(`-${a.pid}-`)).length;
-    const byB = rows.filter((r) => r.worker.includes(`-${b.pid}-`)).length;
-    t.diagnostic(`jobs done by server A: ${byA}, by server B: ${byB}`);
-    if (rows.every((r) => r.worker !== '')) {
-      assert.equal(byA + byB, JOBS, JSON.stringify(rows.map((r) => r.worker)));
-      assert.ok(byA > 0 && byB > 0, `jobs by A ${byA}, by B ${byB}`);
-    }
+    // both servers planned (the worker names, seen on running jobs, are host-PID-random)
+    const seen = [...workers];
+    const byA = seen.filter((w) => w.includes(`-${a.pid}-`)).length;
+    const byB = seen.filter((w) => w.includes(`-${b.pid}-`)).length;
+    t.diagnostic(`lease holders seen: ${seen.join(', ')}`);
+    assert.ok(byA > 0 && byB > 0, `both servers ran jobs: ${seen}`);
     // the other server reports the jobs the same way
     for (const id of ids.slice(0, 5)) {
       const j = (await api(b, 'GET', `/api/v1/plans/${id}`)).json;
