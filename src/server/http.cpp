@@ -68,6 +68,13 @@ Router::Match Router::match(const std::string& method, const std::string& path) 
   return m;
 }
 
+std::vector<std::pair<std::string, std::string>> Router::routes() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  out.reserve(routes_.size());
+  for (const auto& r : routes_) out.emplace_back(r.method, r.pattern);
+  return out;
+}
+
 std::int64_t parse_id(const std::string& text, const std::string& field) {
   std::int64_t v = 0;
   const auto* end = text.data() + text.size();

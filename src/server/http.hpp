@@ -66,6 +66,8 @@ class Router {
   };
   /// handler == nullptr and allowed empty: 404; handler == nullptr and allowed not empty: 405.
   [[nodiscard]] Match match(const std::string& method, const std::string& path) const;
+  /// Every registered route as (method, pattern), in registration order (the OpenAPI document test).
+  [[nodiscard]] std::vector<std::pair<std::string, std::string>> routes() const;
 
  private:
   struct Route {

@@ -1,0 +1,120 @@
+#include "server/api.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "json/strict.hpp"
+#include "server/api_internal.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover::server {
+
+namespace detail {
+
+Handler guarded(Handler handler) {
+  return [handler = std::move(handler)](const Request& req) -> Response {
+    try {
+      return handler(req);
+    } catch (const HttpError& e) {
+      Response r = Response::error(e.status, e.field, e.what());
+      r.headers.insert(r.headers.end(), e.headers.begin(), e.headers.end());
+      return r;
+    } catch (const InputError& e) {
+      return Response::error(422, e.field(), e.what());
+    } catch (const store::NotFound& e) {
+      return Response::error(404, "id", e.what());
+    } catch (const store::Conflict& e) {
+      return Response::error(409, "", e.what());
+    } catch (const store::QueueFull&) {
+      Response r = Response::error(503, "", "the job queue is full; try again later");
+      r.headers.emplace_back("Retry-After", "5");
+      return r;
+    } catch (const store::StoreError& e) {
+      spdlog::error("request {} {} {}: database error: {}", req.request_id, req.method, req.path, e.what());
+      Response r = Response::error(503, "", "the database is unavailable; try again later");
+      r.headers.emplace_back("Retry-After", "5");
+      return r;
+    } catch (const std::exception& e) {
+      spdlog::error("request {} {} {}: internal error: {}", req.request_id, req.method, req.path, e.what());
+      return Response::error(500, "", "internal error");
+    } catch (...) {
+      spdlog::error("request {} {} {}: unknown exception", req.request_id, req.method, req.path);
+      return Response::error(500, "", "internal error");
+    }
+  };
+}
+
+nlohmann::json parse_body(const Request& req, const ApiContext& ctx, bool allow_empty) {
+  if (const auto type = req.header("content-type")) {
+    std::string media = type->substr(0, type->find(';'));
+    media.erase(0, media.find_first_not_of(" \t"));
+    media.erase(media.find_last_not_of(" \t") + 1);
+    for (auto& c : media) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (media != "application/json" && !(media.empty() && req.body.empty()))
+      throw HttpError(415, "body",
+                      "expected Content-Type application/json, got \"" + type->substr(0, 100) + "\"");
+  }
+  if (req.body.size() > ctx.config.max_body_bytes)
+    throw HttpError(413, "body",
+                    "the body is larger than " + std::to_string(ctx.config.max_body_bytes) + " bytes");
+  if (req.body.find_first_not_of(" \t\r\n") == std::string::npos) {
+    if (allow_empty) return nullptr;
+    throw HttpError(400, "body", "expected a JSON document, got an empty body");
+  }
+  try {
+    return strict::parse_json(req.body, "body");
+  } catch (const InputError& e) {
+    throw HttpError(400, e.field().empty() ? "body" : e.field(), e.what());
+  }
+}
+
+Response no_content() {
+  Response r;
+  r.status = 204;
+  r.content_type.clear();
+  return r;
+}
+
+std::int64_t id_param(const Request& req, const std::string& name, const std::string& field) {
+  const auto it = req.params.find(name);
+  return parse_id(it == req.params.end() ? std::string() : it->second, field);
+}
+
+}  // namespace detail
+
+std::string iso_time(std::int64_t unix_ms) {
+  using namespace std::chrono;
+  const sys_time<milliseconds> t{milliseconds(unix_ms)};
+  const auto day = floor<days>(t);
+  const year_month_day ymd{day};
+  const hh_mm_ss<milliseconds> hms{t - day};
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%04d-%02u-%02uT%02lld:%02lld:%02lld.%03lldZ", static_cast<int>(ymd.year()),
+                static_cast<unsigned>(ymd.month()), static_cast<unsigned>(ymd.day()),
+                static_cast<long long>(hms.hours().count()), static_cast<long long>(hms.minutes().count()),
+                static_cast<long long>(hms.seconds().count()),
+                static_cast<long long>(hms.subseconds().count()));
+  return buf;
+}
+
+void add_api_routes(Router& router, ApiContext& ctx) {
+  using detail::guarded;
+  detail::add_mission_routes(router, ctx);
+  detail::add_job_routes(router, ctx);
+  detail::add_catalog_routes(router, ctx);
+  router.add("GET", detail::kApi + "/planners", guarded([](const Request&) {
+               nlohmann::json items = nlohmann::json::array();
+               for (const auto& p : available_planners())
+                 items.push_back({{"name", p.name}, {"summary", p.summary}, {"schema", p.schema}});
+               return Response::json(200, {{"items", items}});
+             }));
+  router.add("GET", detail::kApi + "/openapi.json", guarded([](const Request&) {
+               Response r;
+               r.body = openapi_document();
+               return r;
+             }));
+}
+
+}  // namespace uavcover::server

@@ -1,0 +1,47 @@
+// The REST API of docs/api.md under /api/v1, as Router handlers over the store and the job use
+// cases: missions with revisions, plan/study/comparison jobs and their artifacts, the UAV and camera
+// catalogs, the planners and the OpenAPI document. Independent of the transport (Boost.Beast).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "server/http.hpp"
+#include "store/store.hpp"
+
+namespace uavcover::server {
+
+struct ApiConfig {
+  int max_queued = 100;                                ///< jobs queued at most (503 beyond)
+  std::size_t max_body_bytes = std::size_t{10} << 20;  ///< 413 beyond (the transport checks too)
+};
+
+struct ApiContext {
+  store::Store& store;
+  ApiConfig config;
+};
+
+/// Registers every /api/v1 route of docs/api.md on `router`. Handlers answer every error as the JSON
+/// error body themselves (HttpError, store errors, InputError); `ctx` must outlive the router.
+void add_api_routes(Router& router, ApiContext& ctx);
+
+/// A submitted mission document made ready to store: catalog references resolved through the store's
+/// catalogs, parsed and normalised by the CLI's parser (InputError naming the field), its area's
+/// bounding box; `source` is the document as given.
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store);
+
+/// "2026-11-26T01:02:03.456Z" from Unix milliseconds.
+std::string iso_time(std::int64_t unix_ms);
+
+/// The Job JSON of docs/api.md; with `with_artifacts` false the "artifacts" member is left out (events).
+nlohmann::json job_json(const store::Job& job, bool with_artifacts = true);
+
+/// The API path prefix of a job kind: "plans", "studies" or "comparisons".
+std::string job_collection(store::JobKind kind);
+
+/// The embedded OpenAPI 3 document (src/server/openapi.json).
+const std::string& openapi_document();
+
+}  // namespace uavcover::server

@@ -1,0 +1,33 @@
+// Shared pieces of the API handlers (api*.cpp): error mapping, body parsing, small responses.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "server/api.hpp"
+
+namespace uavcover::server::detail {
+
+inline const std::string kApi = "/api/v1";
+
+/// Wraps a handler so every error becomes its JSON answer: HttpError (its status and headers),
+/// InputError 422, store::NotFound 404, Conflict 409, QueueFull and StoreError 503 with Retry-After,
+/// anything else 500 "internal error" (logged, never shown).
+Handler guarded(Handler handler);
+
+/// The request body as JSON: Content-Type must be absent or application/json (415), at most
+/// max_body_bytes (413), strict syntax (400, field "body" or the duplicate key's path). An empty body
+/// gives null when `allow_empty`, 400 otherwise.
+nlohmann::json parse_body(const Request& req, const ApiContext& ctx, bool allow_empty);
+
+/// 204 without a body.
+Response no_content();
+
+/// The path parameter `name` as a positive id (400 naming `field`).
+std::int64_t id_param(const Request& req, const std::string& name, const std::string& field = "id");
+
+void add_mission_routes(Router& router, ApiContext& ctx);
+void add_job_routes(Router& router, ApiContext& ctx);
+void add_catalog_routes(Router& router, ApiContext& ctx);
+
+}  // namespace uavcover::server::detail

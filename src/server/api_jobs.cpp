@@ -1,0 +1,284 @@
+// Jobs: POST /missions/{id}/{plans,studies,comparisons}, GET/DELETE /{plans,studies,comparisons}/{id}
+// and the artifacts of finished jobs.
+#include <algorithm>
+#include <array>
+#include <cctype>
+
+#include "server/api_internal.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/mission.hpp"
+#include "usecases/jobs.hpp"
+
+namespace uavcover::server {
+
+std::string job_collection(store::JobKind kind) {
+  switch (kind) {
+    case store::JobKind::Plan:
+      return "plans";
+    case store::JobKind::Study:
+      return "studies";
+    case store::JobKind::Comparison:
+      return "comparisons";
+  }
+  return "plans";
+}
+
+namespace detail {
+namespace {
+
+const std::array<std::string, 4> kImages{"plan.png", "plan.svg", "heatmap.png", "histogram.png"};
+const std::array<std::string, 3> kPlanFiles{"plan.json", "paths.geojson", "evaluation.json"};
+const std::array<std::string, 9> kExportFormats{"qgc",    "wpl", "kml",     "kmz",       "dji",
+                                                "litchi", "csv", "geojson", "trajectory"};
+const std::array<std::string, 2> kStudyFiles{"study.json", "study.png"};
+const std::array<std::string, 3> kCompareFiles{"compare.json", "compare.md", "compare.png"};
+
+template <std::size_t N>
+bool contains(const std::array<std::string, N>& list, const std::string& s) {
+  return std::find(list.begin(), list.end(), s) != list.end();
+}
+
+usecases::JobType job_type(store::JobKind kind) {
+  switch (kind) {
+    case store::JobKind::Study:
+      return usecases::JobType::Study;
+    case store::JobKind::Comparison:
+      return usecases::JobType::Comparison;
+    case store::JobKind::Plan:
+      break;
+  }
+  return usecases::JobType::Plan;
+}
+
+std::vector<std::string> artifact_names(const store::Job& job) {
+  std::vector<std::string> names;
+  names.reserve(job.artifacts.size());
+  for (const auto& a : job.artifacts) names.push_back(a.name);
+  return names;
+}
+
+/// The UAV ids of a plan result ("uavs": [{"id": ...}]).
+std::vector<std::string> result_uavs(const store::Job& job) {
+  std::vector<std::string> ids;
+  const auto it = job.result.find("uavs");
+  if (it == job.result.end() || !it->is_array()) return ids;
+  for (const auto& u : *it)
+    if (u.is_object() && u.contains("id") && u["id"].is_string()) ids.push_back(u["id"].get<std::string>());
+  return ids;
+}
+
+/// The URL serving an artifact of a job, or null when no route serves it.
+nlohmann::json artifact_url(const store::Job& job, const std::string& name,
+                            const std::vector<std::string>& names, const std::vector<std::string>& uavs) {
+  const std::string base = kApi + "/" + job_collection(job.kind) + "/" + std::to_string(job.id);
+  switch (job.kind) {
+    case store::JobKind::Plan:
+      if (contains(kPlanFiles, name)) return base + "/" + name;
+      if (contains(kImages, name)) return base + "/images/" + name;
+      for (const auto& format : kExportFormats) {
+        if (usecases::export_artifact_name(names, format, "") == name) return base + "/exports/" + format;
+        for (const auto& uav : uavs)
+          if (usecases::export_artifact_name(names, format, uav) == name)
+            return base + "/exports/" + format + "?uav=" + uav;
+      }
+      return nullptr;
+    case store::JobKind::Study:
+      if (contains(kStudyFiles, name)) return base + "/" + name;
+      return nullptr;
+    case store::JobKind::Comparison:
+      if (contains(kCompareFiles, name)) return base + "/" + name;
+      return nullptr;
+  }
+  return nullptr;
+}
+
+/// The job of the collection's kind (404 for an unknown id or one of another kind).
+store::Job get_job_or_404(ApiContext& ctx, store::Id id, store::JobKind kind) {
+  auto job = ctx.store.get_job(id);
+  if (!job || job->kind != kind)
+    throw HttpError(404, "id", "no " + store::to_string(kind) + " job " + std::to_string(id));
+  return *std::move(job);
+}
+
+/// A finished job's artifact (409 while the job is not done, 404 when it has no such artifact).
+Response artifact_response(ApiContext& ctx, const store::Job& job, const std::string& name, bool attachment) {
+  if (job.state != store::JobState::Done)
+    throw HttpError(409, "state",
+                    "the job is " + store::to_string(job.state) + "; its artifacts exist once it is done");
+  auto artifact = ctx.store.get_artifact(job.id, name);
+  if (!artifact) throw HttpError(404, "artifact", "the job has no artifact " + name);
+  Response r;
+  r.content_type = artifact->media_type.empty() ? "application/octet-stream" : artifact->media_type;
+  r.body = std::move(artifact->bytes);
+  if (attachment) {
+    // "export/alpha.plan" -> alpha.plan, "trajectory/alpha.csv" -> trajectory_alpha.csv
+    std::string file = name.starts_with("export/") ? name.substr(7) : name;
+    for (auto& c : file)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
+    if (file.empty() || file.front() == '.') file.insert(0, "_");
+    r.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + file + "\"");
+  }
+  return r;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+Response export_response(ApiContext& ctx, const Request& req) {
+  const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
+  const std::string format = req.params.at("format");
+  if (!contains(kExportFormats, format))
+    throw HttpError(404, "format",
+                    "unknown export format \"" + format.substr(0, 40) +
+                        "\"; expected one of qgc, wpl, kml, kmz, dji, litchi, csv, geojson, trajectory");
+  if (job.state != store::JobState::Done)
+    throw HttpError(409, "state",
+                    "the job is " + store::to_string(job.state) + "; its artifacts exist once it is done");
+  const auto uav_it = req.query.find("uav");
+  const std::string uav = uav_it == req.query.end() ? std::string() : uav_it->second;
+  const auto names = artifact_names(job);
+  if (const auto name = usecases::export_artifact_name(names, format, uav))
+    return artifact_response(ctx, job, *name, true);
+  std::vector<std::string> flying;
+  for (const auto& id : result_uavs(job))
+    if (usecases::export_artifact_name(names, format, id)) flying.push_back(id);
+  if (flying.empty())
+    throw HttpError(404, "format", "the plan has no " + format + " export (see the job's warnings)");
+  if (uav.empty())
+    throw HttpError(422, "uav", "the plan has several flying UAVs; give one of: " + join(flying));
+  throw HttpError(404, "uav",
+                  "no " + format + " export for UAV \"" + uav.substr(0, 100) +
+                      "\"; the plan's flying UAVs: " + join(flying));
+}
+
+}  // namespace
+}  // namespace detail
+
+nlohmann::json job_json(const store::Job& job, bool with_artifacts) {
+  auto nullable_time = [](std::int64_t ms) -> nlohmann::json {
+    if (ms > 0) return iso_time(ms);
+    return nullptr;
+  };
+  nlohmann::json result = job.result.is_object() ? job.result : nlohmann::json::object();
+  nlohmann::json warnings = nlohmann::json::array();
+  nlohmann::json metrics = nlohmann::json::object();
+  if (auto it = result.find("warnings"); it != result.end()) {
+    if (it->is_array()) warnings = *it;
+    result.erase(it);
+  }
+  if (auto it = result.find("metrics"); it != result.end()) {
+    if (it->is_object()) metrics = *it;
+    result.erase(it);
+  }
+  nlohmann::json j = {{"id", job.id},
+                      {"kind", store::to_string(job.kind)},
+                      {"mission_id", job.mission_id},
+                      {"revision", job.revision},
+                      {"state", store::to_string(job.state)},
+                      {"progress", job.progress},
+                      {"stage", job.stage},
+                      {"attempts", job.attempts},
+                      {"cancel_requested", job.cancel_requested},
+                      {"params", job.params},
+                      {"created", nullable_time(job.created_ms)},
+                      {"started", nullable_time(job.started_ms)},
+                      {"finished", nullable_time(job.finished_ms)},
+                      {"result", result},
+                      {"warnings", warnings},
+                      {"metrics", metrics},
+                      {"error", job.error}};
+  if (with_artifacts) {
+    const auto names = detail::artifact_names(job);
+    const auto uavs = detail::result_uavs(job);
+    nlohmann::json artifacts = nlohmann::json::array();
+    for (const auto& a : job.artifacts)
+      artifacts.push_back({{"name", a.name},
+                           {"media_type", a.media_type},
+                           {"size", a.size},
+                           {"url", detail::artifact_url(job, a.name, names, uavs)}});
+    j["artifacts"] = std::move(artifacts);
+  }
+  return j;
+}
+
+namespace detail {
+
+void add_job_routes(Router& router, ApiContext& ctx) {
+  for (const store::JobKind kind :
+       {store::JobKind::Plan, store::JobKind::Study, store::JobKind::Comparison}) {
+    const std::string collection = job_collection(kind);
+    router.add("POST", kApi + "/missions/{id}/" + collection,
+               guarded([&ctx, kind, collection](const Request& req) {
+                 const store::Id mission_id = id_param(req, "id");
+                 const nlohmann::json body = parse_body(req, ctx, true);
+                 const auto rev = ctx.store.get_mission(mission_id);
+                 if (!rev) throw HttpError(404, "id", "no mission " + std::to_string(mission_id));
+                 const Mission mission = parse_mission(rev->document);
+                 store::NewJob job;
+                 job.kind = kind;
+                 job.mission_id = mission_id;
+                 job.revision = rev->revision;
+                 job.params = usecases::validate_job_params(job_type(kind), mission, body);
+                 store::Id id = 0;
+                 try {
+                   id = ctx.store.enqueue(job, ctx.config.max_queued);
+                 } catch (const store::QueueFull&) {
+                   HttpError e(503, "",
+                               "the job queue is full (" + std::to_string(ctx.config.max_queued) +
+                                   " queued jobs); try again later");
+                   e.headers.emplace_back("Retry-After", "5");
+                   throw e;
+                 }
+                 const auto stored = ctx.store.get_job(id);
+                 if (!stored)
+                   throw store::StoreError("job " + std::to_string(id) + " vanished after enqueue");
+                 Response r = Response::json(202, job_json(*stored));
+                 r.headers.emplace_back("Location", kApi + "/" + collection + "/" + std::to_string(id));
+                 return r;
+               }));
+    const std::string base = kApi + "/" + collection + "/{id}";
+    router.add("GET", base, guarded([&ctx, kind](const Request& req) {
+                 return Response::json(200, job_json(get_job_or_404(ctx, id_param(req, "id"), kind)));
+               }));
+    router.add("DELETE", base, guarded([&ctx, kind](const Request& req) {
+                 const store::Id id = id_param(req, "id");
+                 get_job_or_404(ctx, id, kind);
+                 ctx.store.request_cancel(id);
+                 return Response::json(200, job_json(get_job_or_404(ctx, id, kind)));
+               }));
+    auto file_route = [&](const std::string& name, const std::string& path) {
+      router.add("GET", path, guarded([&ctx, kind, name](const Request& req) {
+                   const store::Job job = get_job_or_404(ctx, id_param(req, "id"), kind);
+                   return artifact_response(ctx, job, name, false);
+                 }));
+    };
+    switch (kind) {
+      case store::JobKind::Plan:
+        for (const auto& f : kPlanFiles) file_route(f, base + "/" + f);
+        router.add("GET", base + "/images/{name}", guarded([&ctx](const Request& req) {
+                     const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
+                     const std::string name = req.params.at("name");
+                     if (!contains(kImages, name))
+                       throw HttpError(404, "name",
+                                       "unknown image \"" + name.substr(0, 40) +
+                                           "\"; expected plan.png, plan.svg, heatmap.png or histogram.png");
+                     return artifact_response(ctx, job, name, false);
+                   }));
+        router.add("GET", base + "/exports/{format}",
+                   guarded([&ctx](const Request& req) { return export_response(ctx, req); }));
+        break;
+      case store::JobKind::Study:
+        for (const auto& f : kStudyFiles) file_route(f, base + "/" + f);
+        break;
+      case store::JobKind::Comparison:
+        for (const auto& f : kCompareFiles) file_route(f, base + "/" + f);
+        break;
+    }
+  }
+}
+
+}  // namespace detail
+}  // namespace uavcover::server

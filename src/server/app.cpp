@@ -1,0 +1,111 @@
+// serve(): the store, the seed missions of a new database, the API router, the job events, the
+// planning workers and the HTTP server, wired together.
+#include "server/app.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <thread>
+
+#include "io/folder.hpp"
+#include "io/plan_io.hpp"
+#include "json/strict.hpp"
+#include "server/api.hpp"
+#include "server/events.hpp"
+#include "server/metrics.hpp"
+#include "server/worker.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::server {
+namespace {
+
+/// Job events straight from the database, so a client sees jobs other servers run.
+class StoreEvents : public EventSource {
+ public:
+  explicit StoreEvents(store::Store& store) : store_(store) {}
+  std::vector<nlohmann::json> snapshot(const std::vector<std::int64_t>& job_ids) override {
+    std::vector<nlohmann::json> out;
+    try {
+      for (const auto& job : store_.get_jobs(job_ids)) out.push_back(job_json(job, false));
+    } catch (const std::exception& e) {
+      spdlog::warn("job events: {}", e.what());
+    }
+    return out;
+  }
+
+ private:
+  store::Store& store_;
+};
+
+/// Stores every mission file of the folder; files that cannot be read or are not valid missions are
+/// skipped with a warning.
+void seed_missions(store::Store& store, const std::filesystem::path& dir) {
+  int stored = 0;
+  for (const auto& file : io::list_json_files(dir, "--seed-dir")) {
+    try {
+      const auto doc = strict::parse_json(io::read_text_file(file, "--seed-dir"), file.filename().string());
+      store.create_mission(prepare_mission(doc, store));
+      ++stored;
+    } catch (const InputError& e) {
+      spdlog::warn("seed mission {} skipped: {}", file.string(), e.what());
+    }
+  }
+  spdlog::info("seeded {} mission(s) from {}", stored, dir.string());
+}
+
+}  // namespace
+
+void serve(const ServeOptions& options) {
+  std::unique_ptr<store::Store> store;
+  try {
+    store = store::open_store(options.db_url);
+  } catch (const store::StoreError& e) {
+    throw OperationError(std::string("cannot open the database: ") + e.what());
+  }
+  spdlog::info("database: {} (schema version {})", store->backend(), store->schema_version());
+  constexpr int kMaxAttempts = 3;
+  if (store->backend() == "sqlite") {
+    // this server owns the database alone: the jobs it ran when it stopped are queued again
+    const int requeued = store->recover_running(kMaxAttempts);
+    if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
+  }
+  if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
+
+  ApiContext ctx{*store, ApiConfig{}};
+  ctx.config.max_queued = options.max_queued;
+  ctx.config.max_body_bytes = options.http.max_body;
+  Router router;
+  add_api_routes(router, ctx);
+  StoreEvents events(*store);
+
+  set_job_counts_provider([&store]() -> std::map<std::string, std::int64_t> {
+    const store::JobCounts c = store->count_jobs();
+    return {{"queued", c.queued},
+            {"running", c.running},
+            {"done", c.done},
+            {"failed", c.failed},
+            {"cancelled", c.cancelled}};
+  });
+
+  ServerConfig http = options.http;
+  http.ready_check = [&store] { return store->ping(); };
+
+  WorkerConfig wc;
+  wc.threads = options.workers > 0 ? options.workers
+                                   : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  wc.lease = std::chrono::milliseconds(std::max(options.lease_ms, 100));
+  wc.max_attempts = kMaxAttempts;
+  wc.on_job_finished = [](const store::Job& job, store::JobState state, double seconds) {
+    if (job.kind == store::JobKind::Plan && state == store::JobState::Done) observe_plan_duration(seconds);
+  };
+
+  HttpServer server(http, router, events);  // binds first: a busy port starts no worker
+  WorkerPool workers(*store, wc);
+  workers.start();
+  server.run();
+  spdlog::info("stopping: running jobs are left for the next lease");
+  workers.stop();
+  set_job_counts_provider(nullptr);
+}
+
+}  // namespace uavcover::server

@@ -1,0 +1,399 @@
+// The /api/v1 routes over a real SQLite store: missions with revisions, listing, catalogs, job
+// creation, and the error codes with their JSON bodies naming the field.
+#include <regex>
+
+#include "server/api_fixture.hpp"
+#include "uavcover/mission.hpp"
+
+namespace uavcover::server::testing {
+namespace {
+
+using nlohmann::json;
+
+/// The olive grove moved by (dlon, dlat) and renamed.
+std::string moved_mission(const std::string& name, double dlon, double dlat) {
+  json doc = json::parse(olive_grove());
+  doc["name"] = name;
+  auto shift = [&](json& ring) {
+    for (auto& p : ring) {
+      p[0] = p[0].get<double>() + dlon;
+      p[1] = p[1].get<double>() + dlat;
+    }
+  };
+  for (auto& ring : doc["area"]["coordinates"]) shift(ring);
+  for (auto& z : doc["no_fly_zones"])
+    for (auto& ring : z["coordinates"]) shift(ring);
+  for (auto& u : doc["uavs"]) {
+    u["start"][0] = u["start"][0].get<double>() + dlon;
+    u["start"][1] = u["start"][1].get<double>() + dlat;
+  }
+  return doc.dump();
+}
+
+const std::regex kIsoTime(R"(\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z)");
+
+TEST(IsoTime, FormatsUnixMilliseconds) {
+  EXPECT_EQ(iso_time(0), "1970-01-01T00:00:00.000Z");
+  EXPECT_EQ(iso_time(1'795'741'323'456), "2026-11-27T01:02:03.456Z");
+}
+
+TEST_P(ApiTest, MissionLifecycleWithRevisions) {
+  const Answer created = call("POST", "/api/v1/missions", olive_grove());
+  ASSERT_EQ(created.status, 201) << created.body;
+  const auto id = created.json().at("id").get<store::Id>();
+  EXPECT_EQ(created.json().at("revision"), 1);
+  EXPECT_EQ(created.header("Location"), "/api/v1/missions/" + std::to_string(id));
+
+  Answer got = call("GET", "/api/v1/missions/" + std::to_string(id));
+  ASSERT_EQ(got.status, 200) << got.body;
+  json m = got.json();
+  EXPECT_EQ(m.at("name"), "North olive grove");
+  EXPECT_EQ(m.at("revision"), 1);
+  EXPECT_EQ(m.at("latest_revision"), 1);
+  EXPECT_EQ(m.at("source"), json::parse(olive_grove()));
+  EXPECT_EQ(m.at("mission").at("name"), "North olive grove");
+  EXPECT_TRUE(std::regex_match(m.at("created").get<std::string>(), kIsoTime)) << m.at("created");
+  EXPECT_TRUE(std::regex_match(m.at("updated").get<std::string>(), kIsoTime));
+  ASSERT_EQ(m.at("bbox").size(), 4u);
+  EXPECT_NEAR(m["bbox"][0].get<double>(), 22.8990, 1e-9);
+  EXPECT_NEAR(m["bbox"][1].get<double>(), 40.6000, 1e-9);
+  EXPECT_NEAR(m["bbox"][2].get<double>(), 22.9145, 1e-9);
+  EXPECT_NEAR(m["bbox"][3].get<double>(), 40.6085, 1e-9);
+
+  json revised = json::parse(olive_grove());
+  revised["name"] = "South olive grove";
+  const Answer put = call("PUT", "/api/v1/missions/" + std::to_string(id), revised.dump());
+  ASSERT_EQ(put.status, 200) << put.body;
+  EXPECT_EQ(put.json(), (json{{"id", id}, {"revision", 2}}));
+
+  m = call("GET", "/api/v1/missions/" + std::to_string(id)).json();
+  EXPECT_EQ(m.at("name"), "South olive grove");
+  EXPECT_EQ(m.at("revision"), 2);
+  EXPECT_EQ(m.at("latest_revision"), 2);
+
+  const Answer old = call("GET", "/api/v1/missions/" + std::to_string(id) + "/revisions/1");
+  ASSERT_EQ(old.status, 200) << old.body;
+  EXPECT_EQ(old.json().at("name"), "North olive grove");
+  EXPECT_EQ(old.json().at("revision"), 1);
+  EXPECT_EQ(old.json().at("latest_revision"), 2);
+  const Answer missing_rev = call("GET", "/api/v1/missions/" + std::to_string(id) + "/revisions/3");
+  EXPECT_EQ(missing_rev.status, 404);
+  EXPECT_EQ(missing_rev.error_field(), "revision");
+  EXPECT_EQ(call("GET", "/api/v1/missions/" + std::to_string(id) + "/revisions/0").status, 400);
+
+  const Answer del = call("DELETE", "/api/v1/missions/" + std::to_string(id));
+  EXPECT_EQ(del.status, 204);
+  EXPECT_TRUE(del.body.empty());
+  EXPECT_EQ(call("GET", "/api/v1/missions/" + std::to_string(id)).status, 404);
+  EXPECT_EQ(call("DELETE", "/api/v1/missions/" + std::to_string(id)).status, 404);
+  EXPECT_EQ(call("PUT", "/api/v1/missions/" + std::to_string(id), olive_grove()).status, 404);
+}
+
+TEST_P(ApiTest, MissionListPagesAndFilters) {
+  std::vector<store::Id> ids;
+  for (int i = 0; i < 5; ++i)
+    ids.push_back(
+        create_mission(moved_mission((i % 2 ? "Vineyard " : "Orchard ") + std::to_string(i), i * 1.0, 0)));
+
+  std::vector<store::Id> seen;
+  std::string cursor;
+  for (int page = 0; page < 10; ++page) {
+    const Answer a = call("GET", "/api/v1/missions?limit=2" + (cursor.empty() ? "" : "&cursor=" + cursor));
+    ASSERT_EQ(a.status, 200) << a.body;
+    const json j = a.json();
+    EXPECT_LE(j.at("items").size(), 2u);
+    for (const auto& item : j["items"]) {
+      seen.push_back(item.at("id").get<store::Id>());
+      EXPECT_TRUE(item.contains("bbox") && item.contains("created") && item.contains("updated"));
+      EXPECT_EQ(item.at("revision"), 1);
+    }
+    if (j.at("next_cursor").is_null()) break;
+    cursor = std::to_string(j["next_cursor"].get<store::Id>());
+  }
+  EXPECT_EQ(seen, ids);
+
+  json named = call("GET", "/api/v1/missions?name=vineyard").json();
+  ASSERT_EQ(named.at("items").size(), 2u);
+  EXPECT_EQ(named["items"][0].at("name"), "Vineyard 1");
+  EXPECT_EQ(named["items"][1].at("name"), "Vineyard 3");
+  EXPECT_TRUE(named.at("next_cursor").is_null());
+
+  // the third one lies around longitude 24.9
+  json boxed = call("GET", "/api/v1/missions?bbox=24.5,40,25.5,41").json();
+  ASSERT_EQ(boxed.at("items").size(), 1u);
+  EXPECT_EQ(boxed["items"][0].at("id"), ids[2]);
+}
+
+TEST_P(ApiTest, BadQueryParametersAre400NamingThem) {
+  for (const auto& [query, field] :
+       std::vector<std::pair<std::string, std::string>>{{"limit=0", "limit"},
+                                                        {"limit=1001", "limit"},
+                                                        {"limit=abc", "limit"},
+                                                        {"cursor=-3", "cursor"},
+                                                        {"cursor=x", "cursor"},
+                                                        {"bbox=1,2,3", "bbox"},
+                                                        {"bbox=1,2,3,4,5", "bbox"},
+                                                        {"bbox=1,2,nan,4", "bbox"},
+                                                        {"bbox=3,2,1,4", "bbox"},
+                                                        {"bbox=-200,0,0,1", "bbox"},
+                                                        {"name=" + std::string(201, 'a'), "name"}}) {
+    const Answer a = call("GET", "/api/v1/missions?" + query);
+    EXPECT_EQ(a.status, 400) << query;
+    EXPECT_EQ(a.error_field(), field) << query;
+  }
+}
+
+TEST_P(ApiTest, ErrorCodesAndBodies) {
+  // 400: malformed JSON, duplicate keys, empty body, bad id
+  Answer a = call("POST", "/api/v1/missions", "{\"name\": ");
+  EXPECT_EQ(a.status, 400);
+  EXPECT_EQ(a.error_field(), "body");
+  EXPECT_FALSE(a.json()["error"]["message"].get<std::string>().empty());
+  EXPECT_EQ(call("POST", "/api/v1/missions", "{\"a\": 1, \"a\": 2}").status, 400);
+  a = call("POST", "/api/v1/missions", "");
+  EXPECT_EQ(a.status, 400);
+  EXPECT_EQ(a.error_field(), "body");
+  a = call("GET", "/api/v1/missions/abc");
+  EXPECT_EQ(a.status, 400);
+  EXPECT_EQ(a.error_field(), "id");
+  EXPECT_EQ(call("GET", "/api/v1/missions/0").status, 400);
+  EXPECT_EQ(call("GET", "/api/v1/missions/99999999999999999999").status, 400);
+
+  // 404: unknown route or id
+  EXPECT_EQ(call("GET", "/api/v1/nothing").status, 404);
+  a = call("GET", "/api/v1/missions/12345");
+  EXPECT_EQ(a.status, 404);
+  EXPECT_EQ(a.error_field(), "id");
+  EXPECT_EQ(call("GET", "/api/v1/plans/12345").status, 404);
+
+  // 405 with Allow
+  a = call("PATCH", "/api/v1/missions/1");
+  EXPECT_EQ(a.status, 405);
+  EXPECT_NE(a.header("Allow").find("GET"), std::string::npos);
+  EXPECT_NE(a.header("Allow").find("DELETE"), std::string::npos);
+  EXPECT_EQ(call("DELETE", "/api/v1/missions").status, 405);
+
+  // 415: not JSON; a charset parameter is fine
+  a = call("POST", "/api/v1/missions", olive_grove(), {{"content-type", "text/plain"}});
+  EXPECT_EQ(a.status, 415);
+  EXPECT_EQ(a.error_field(), "body");
+  EXPECT_EQ(
+      call("POST", "/api/v1/missions", olive_grove(), {{"content-type", "application/json; charset=utf-8"}})
+          .status,
+      201);
+
+  // 413: over the limit
+  ctx_->config.max_body_bytes = 100;
+  EXPECT_EQ(call("POST", "/api/v1/missions", olive_grove()).status, 413);
+  ctx_->config.max_body_bytes = std::size_t{10} << 20;
+
+  // 422: an invalid mission, with the parser's field
+  json bad = json::parse(olive_grove());
+  bad["uavs"][1]["share"] = -1;
+  a = call("POST", "/api/v1/missions", bad.dump());
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "uavs[1].share");
+  bad = json::parse(olive_grove());
+  bad.erase("area");
+  a = call("POST", "/api/v1/missions", bad.dump());
+  EXPECT_EQ(a.status, 422);
+  EXPECT_EQ(a.error_field(), "area");
+  EXPECT_EQ(call("POST", "/api/v1/missions", "[1, 2]").status, 422);
+
+  // 409: deleting a mission with a queued job
+  const auto id = create_mission(olive_grove());
+  ASSERT_EQ(call("POST", "/api/v1/missions/" + std::to_string(id) + "/plans").status, 202);
+  a = call("DELETE", "/api/v1/missions/" + std::to_string(id));
+  EXPECT_EQ(a.status, 409);
+  EXPECT_TRUE(a.json().contains("error"));
+}
+
+TEST_P(ApiTest, CatalogEntriesAreValidatedField_by_field) {
+  const json camera = {{"name", "Sony RX1R II"},
+                       {"sensor_width_mm", 35.9},
+                       {"focal_length_mm", 35},
+                       {"image_width_px", 7952},
+                       {"hfov_deg", 54.3}};
+  Answer a = call("POST", "/api/v1/cameras", camera.dump());
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto camera_id = a.json().at("id").get<store::Id>();
+  a = call("GET", "/api/v1/cameras/" + std::to_string(camera_id));
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(a.json().at("name"), "Sony RX1R II");
+  EXPECT_EQ(a.json().at("image_width_px"), 7952);
+  EXPECT_EQ(a.json().at("id"), camera_id);
+  EXPECT_TRUE(std::regex_match(a.json().at("updated").get<std::string>(), kIsoTime));
+
+  const json uav = {{"name", "Quad"},      {"speed_mps", 8},          {"max_accel_mps2", 3},
+                    {"endurance_min", 30}, {"cost_per_min_eur", 1.5}, {"camera_id", camera_id}};
+  a = call("POST", "/api/v1/uavs", uav.dump());
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto uav_id = a.json().at("id").get<store::Id>();
+
+  auto expect_422 = [&](const std::string& path, json body, const std::string& field) {
+    const Answer r = call("POST", path, body.dump());
+    EXPECT_EQ(r.status, 422) << body.dump() << " " << r.body;
+    if (r.status == 422) {
+      EXPECT_EQ(r.error_field(), field) << body.dump();
+    }
+  };
+  auto with = [](json j, const std::string& k, json v) {
+    j[k] = std::move(v);
+    return j;
+  };
+  auto without = [](json j, const std::string& k) {
+    j.erase(k);
+    return j;
+  };
+  expect_422("/api/v1/uavs", without(uav, "name"), "name");
+  expect_422("/api/v1/uavs", with(uav, "name", ""), "name");
+  expect_422("/api/v1/uavs", with(uav, "name", std::string(201, 'x')), "name");
+  expect_422("/api/v1/uavs", with(uav, "name", 5), "name");
+  expect_422("/api/v1/uavs", with(uav, "speed_mps", 0), "speed_mps");
+  expect_422("/api/v1/uavs", with(uav, "speed_mps", 50.5), "speed_mps");
+  expect_422("/api/v1/uavs", with(uav, "speed_mps", "fast"), "speed_mps");
+  expect_422("/api/v1/uavs", without(uav, "speed_mps"), "speed_mps");
+  expect_422("/api/v1/uavs", with(uav, "max_accel_mps2", -1), "max_accel_mps2");
+  expect_422("/api/v1/uavs", with(uav, "endurance_min", 1441), "endurance_min");
+  expect_422("/api/v1/uavs", with(uav, "cost_per_min_eur", -0.01), "cost_per_min_eur");
+  expect_422("/api/v1/uavs", with(uav, "camera_id", camera_id + 100), "camera_id");
+  expect_422("/api/v1/uavs", with(uav, "camera_id", "1"), "camera_id");
+  expect_422("/api/v1/uavs", with(uav, "colour", "red"), "colour");
+  expect_422("/api/v1/cameras", with(camera, "image_width_px", 1.5), "image_width_px");
+  expect_422("/api/v1/cameras", with(camera, "image_width_px", 100001), "image_width_px");
+  expect_422("/api/v1/cameras", with(camera, "hfov_deg", 180), "hfov_deg");
+  expect_422("/api/v1/cameras", with(camera, "sensor_width_mm", 0), "sensor_width_mm");
+  expect_422("/api/v1/cameras", with(camera, "focal_length_mm", 1001), "focal_length_mm");
+  expect_422("/api/v1/cameras", with(camera, "camera_id", 1), "camera_id");
+  EXPECT_EQ(call("POST", "/api/v1/cameras", "[]").status, 422);
+  EXPECT_EQ(call("POST", "/api/v1/cameras", "{").status, 400);
+
+  // replace, list, delete
+  a = call("PUT", "/api/v1/uavs/" + std::to_string(uav_id), with(uav, "speed_mps", 12).dump());
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.json().at("speed_mps"), 12);
+  EXPECT_EQ(call("PUT", "/api/v1/uavs/" + std::to_string(uav_id), with(uav, "speed_mps", 0).dump()).status,
+            422);
+  EXPECT_EQ(call("PUT", "/api/v1/uavs/999999", uav.dump()).status, 404);
+  a = call("GET", "/api/v1/uavs");
+  ASSERT_EQ(a.status, 200);
+  bool found = false;
+  const json listed = a.json();
+  for (const auto& e : listed.at("items")) found = found || (e.at("id") == uav_id && e.at("speed_mps") == 12);
+  EXPECT_TRUE(found) << a.body;
+
+  // a mission referencing the catalog UAV gets its speed, acceleration and endurance
+  json doc = json::parse(olive_grove());
+  for (const char* k : {"speed_mps", "max_accel_mps2", "endurance_min"}) doc["uavs"][0].erase(k);
+  doc["uavs"][0]["catalog_id"] = uav_id;
+  a = call("POST", "/api/v1/missions", doc.dump());
+  ASSERT_EQ(a.status, 201) << a.body;
+  const json stored =
+      call("GET", "/api/v1/missions/" + std::to_string(a.json().at("id").get<store::Id>())).json();
+  EXPECT_EQ(stored.at("source").at("uavs").at(0).at("catalog_id"), uav_id);
+  EXPECT_DOUBLE_EQ(stored.at("mission").at("uavs").at(0).at("speed_mps").get<double>(), 12.0);
+  EXPECT_DOUBLE_EQ(stored.at("mission").at("uavs").at(0).at("max_accel_mps2").get<double>(), 3.0);
+  doc["uavs"][0]["catalog_id"] = uav_id + 1000;
+  EXPECT_EQ(call("POST", "/api/v1/missions", doc.dump()).status, 422);
+
+  EXPECT_EQ(call("DELETE", "/api/v1/uavs/" + std::to_string(uav_id)).status, 204);
+  EXPECT_EQ(call("GET", "/api/v1/uavs/" + std::to_string(uav_id)).status, 404);
+  EXPECT_EQ(call("DELETE", "/api/v1/uavs/" + std::to_string(uav_id)).status, 404);
+}
+
+TEST_P(ApiTest, JobCreationValidatesParameters) {
+  const auto id = create_mission(olive_grove());
+  const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
+  Answer a = call("POST", plans, R"({"seed": "seven"})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "seed");
+  a = call("POST", plans, R"({"planner": "no-such-planner"})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "planner");
+  a = call("POST", "/api/v1/missions/" + std::to_string(id) + "/studies", "{}");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "uavs");
+  EXPECT_EQ(call("POST", "/api/v1/missions/424242/plans").status, 404);
+  EXPECT_EQ(call("POST", plans, "{").status, 400);
+
+  a = call("POST", plans, R"({"seed": 7})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const json job = a.json();
+  EXPECT_EQ(job.at("kind"), "plan");
+  EXPECT_EQ(job.at("state"), "queued");
+  EXPECT_EQ(job.at("mission_id"), id);
+  EXPECT_EQ(job.at("revision"), 1);
+  EXPECT_EQ(job.at("params").at("seed"), 7);
+  EXPECT_TRUE(job.at("started").is_null());
+  EXPECT_TRUE(job.at("error").is_null());
+  EXPECT_EQ(job.at("artifacts"), json::array());
+  const auto job_id = job.at("id").get<store::Id>();
+  EXPECT_EQ(a.header("Location"), "/api/v1/plans/" + std::to_string(job_id));
+
+  // a plan is not a study; artifacts of an unfinished job are a conflict
+  EXPECT_EQ(call("GET", "/api/v1/studies/" + std::to_string(job_id)).status, 404);
+  a = call("GET", "/api/v1/plans/" + std::to_string(job_id) + "/plan.json");
+  EXPECT_EQ(a.status, 409);
+  EXPECT_EQ(call("GET", "/api/v1/plans/" + std::to_string(job_id) + "/exports/qgc").status, 409);
+  EXPECT_EQ(call("GET", "/api/v1/plans/" + std::to_string(job_id) + "/images/secret.txt").status, 404);
+  EXPECT_EQ(call("GET", "/api/v1/plans/" + std::to_string(job_id) + "/exports/exe").status, 404);
+
+  // cancelling a queued job ends it at once
+  a = call("DELETE", "/api/v1/plans/" + std::to_string(job_id));
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.json().at("state"), "cancelled");
+  EXPECT_EQ(call("DELETE", "/api/v1/plans/" + std::to_string(job_id)).json().at("state"), "cancelled");
+}
+
+TEST_P(ApiTest, FullQueueIs503WithRetryAfter) {
+  close();
+  open(2);
+  const auto id = create_mission(olive_grove());
+  const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
+  EXPECT_EQ(call("POST", plans).status, 202);
+  EXPECT_EQ(call("POST", plans).status, 202);
+  const Answer a = call("POST", plans);
+  EXPECT_EQ(a.status, 503) << a.body;
+  EXPECT_EQ(a.header("Retry-After"), "5");
+  EXPECT_TRUE(a.json().contains("error"));
+}
+
+TEST_P(ApiTest, PlannersAreListed) {
+  const Answer a = call("GET", "/api/v1/planners");
+  ASSERT_EQ(a.status, 200);
+  std::vector<std::string> names;
+  const json listed = a.json();
+  for (const auto& p : listed.at("items")) {
+    names.push_back(p.at("name"));
+    EXPECT_TRUE(p.at("schema").is_object());
+  }
+  EXPECT_NE(std::find(names.begin(), names.end(), "darp"), names.end());
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+TEST_P(ApiTest, McppInputIsStoredNormalised) {
+  const std::string mcpp = uavcover::testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" /
+                                                    "mcpp-darp-input.json");
+  const auto id = create_mission(mcpp);
+  const Answer a = call("GET", "/api/v1/missions/" + std::to_string(id));
+  ASSERT_EQ(a.status, 200);
+  const nlohmann::json m = a.json();
+  EXPECT_EQ(m.at("source"), nlohmann::json::parse(mcpp));
+  // the normalised document is a uavcover v1 mission the parser reads back to the same document
+  const std::string normalised = m.at("mission").dump();
+  EXPECT_EQ(mission_to_json(parse_mission(normalised)), mission_to_json(parse_mission(mcpp)));
+  EXPECT_EQ(call("POST", "/api/v1/missions/" + std::to_string(id) + "/plans").status, 202);
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+INSTANTIATE_TEST_SUITE_P(Stores, ApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         backend_name);
+}  // namespace uavcover::server::testing

@@ -1,0 +1,267 @@
+// Jobs run end to end through a WorkerPool on a real store: a plan equal to the CLI's for the same
+// mission and seed, its artifacts served, and a long plan cancelled through DELETE.
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include "server/api_fixture.hpp"
+#include "server/worker.hpp"
+
+namespace uavcover::server::testing {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+/// Drops the keys whose values depend on the machine's speed.
+void drop_timings(json& j) {
+  if (j.is_object()) {
+    j.erase("compute_time_s");
+    for (auto& [k, v] : j.items()) drop_timings(v);
+  } else if (j.is_array()) {
+    for (auto& v : j) drop_timings(v);
+  }
+}
+
+class WorkerTest : public ApiTest {
+ protected:
+  void start_workers() {
+    WorkerConfig config;
+    config.threads = 1;
+    config.lease = std::chrono::milliseconds(2000);
+    config.heartbeat = std::chrono::milliseconds(100);
+    config.idle = std::chrono::milliseconds(50);
+    config.on_job_finished = [this](const store::Job& job, store::JobState state, double seconds) {
+      EXPECT_GE(seconds, 0.0);
+      if (job.kind == store::JobKind::Plan && state == store::JobState::Done) ++plans_done_;
+    };
+    pool_ = std::make_unique<WorkerPool>(*store_, config);
+    pool_->start();
+  }
+  void TearDown() override {
+    pool_.reset();
+    ApiTest::TearDown();
+  }
+
+  /// Polls the job until `until` holds or `timeout` passes; returns the last Job JSON.
+  json wait_job(const std::string& url, const std::function<bool(const json&)>& until,
+                std::chrono::seconds timeout = std::chrono::seconds(600)) {
+    const auto end = Clock::now() + timeout;
+    json job;
+    while (Clock::now() < end) {
+      const Answer a = call("GET", url);
+      EXPECT_EQ(a.status, 200) << a.body;
+      job = a.json();
+      if (until(job)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return job;
+  }
+
+  static bool terminal(const json& job) {
+    const std::string s = job.at("state");
+    return s == "done" || s == "failed" || s == "cancelled";
+  }
+
+  std::unique_ptr<WorkerPool> pool_;
+  std::atomic<int> plans_done_{0};
+};
+
+TEST_P(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
+  const auto mission_id = create_mission(olive_grove());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", R"({"seed": 7})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string url = "/api/v1/plans/" + std::to_string(a.json().at("id").get<store::Id>());
+  start_workers();
+  const json job = wait_job(url, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  EXPECT_EQ(job.at("attempts"), 1);
+  EXPECT_DOUBLE_EQ(job.at("progress").get<double>(), 1.0);
+  EXPECT_TRUE(job.at("error").is_null());
+  EXPECT_FALSE(job.at("finished").is_null());
+  EXPECT_FALSE(job.at("metrics").empty()) << job.dump();
+  pool_->stop();
+  EXPECT_EQ(plans_done_, 1);
+
+  std::map<std::string, json> artifacts;
+  for (const auto& art : job.at("artifacts")) artifacts[art.at("name")] = art;
+  for (const char* name :
+       {"plan.json", "paths.geojson", "plan.png", "plan.svg", "heatmap.png", "histogram.png"})
+    ASSERT_TRUE(artifacts.contains(name)) << name << " missing in " << job.at("artifacts").dump();
+  EXPECT_EQ(artifacts["plan.png"].at("url"), url + "/images/plan.png");
+  EXPECT_EQ(artifacts["plan.json"].at("url"), url + "/plan.json");
+
+  a = call("GET", url + "/plan.json");
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(a.content_type, "application/json");
+  EXPECT_EQ(static_cast<std::int64_t>(a.body.size()), artifacts["plan.json"].at("size").get<std::int64_t>());
+  json api_plan = json::parse(a.body);
+
+  a = call("GET", url + "/paths.geojson");
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(json::parse(a.body).at("type"), "FeatureCollection");
+  a = call("GET", url + "/images/plan.png");
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(a.content_type, "image/png");
+  EXPECT_EQ(a.body.substr(0, 4), "\x89PNG");
+  EXPECT_EQ(call("GET", url + "/images/other.png").status, 404);
+
+  // three UAVs fly: an export needs ?uav=
+  a = call("GET", url + "/exports/qgc");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "uav");
+  EXPECT_NE(a.body.find("alpha"), std::string::npos);
+  a = call("GET", url + "/exports/qgc?uav=alpha");
+  ASSERT_EQ(a.status, 200) << a.body;
+  const std::string disposition = a.header("Content-Disposition");
+  EXPECT_TRUE(disposition.starts_with("attachment; filename=\"")) << disposition;
+  EXPECT_NE(disposition.find("alpha"), std::string::npos) << disposition;
+  EXPECT_EQ(disposition.find('/'), std::string::npos) << disposition;
+  EXPECT_EQ(call("GET", url + "/exports/qgc?uav=nobody").status, 404);
+  a = call("GET", url + "/exports/trajectory?uav=bravo");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.header("Content-Disposition"), "attachment; filename=\"trajectory_bravo.csv\"");
+  for (const auto& [name, art] : artifacts)
+    if (art.at("url").is_string() && name.starts_with("export/")) {
+      EXPECT_EQ(call("GET", art["url"].get<std::string>()).status, 200) << name;
+    }
+
+  // the CLI plans the same mission with the same seed into the same plan.json
+  const auto out = dir_ / "cli";
+  const auto mission_file = dir_ / "mission.json";
+  {
+    std::ofstream f(mission_file);
+    f << olive_grove();
+  }
+  const std::string cmd = std::string("\"") + UAVCOVER_CLI + "\" plan \"" + mission_file.string() +
+                          "\" --out \"" + out.string() + "\" --seed 7 --quiet";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  json cli_plan = json::parse(uavcover::testing::slurp(out / "plan.json"));
+  drop_timings(api_plan);
+  drop_timings(cli_plan);
+  EXPECT_EQ(api_plan, cli_plan) << nlohmann::json::diff(cli_plan, api_plan).dump(1).substr(0, 4000);
+}
+
+TEST_P(WorkerTest, CancellingARunningPlanStopsIt) {
+  // the olive grove scanned every 1.5 m: DARP needs far longer than the test waits
+  json doc = json::parse(olive_grove());
+  doc.erase("camera");
+  doc["spacing_m"] = 1.5;
+  const auto mission_id = create_mission(doc.dump());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string url = "/api/v1/plans/" + std::to_string(a.json().at("id").get<store::Id>());
+  start_workers();
+  json job = wait_job(url, [](const json& j) { return j.at("state") != "queued"; });
+  ASSERT_EQ(job.at("state"), "running") << job.dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it get into the planner
+
+  const auto t0 = Clock::now();
+  a = call("DELETE", url);
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_TRUE(a.json().at("cancel_requested").get<bool>() || a.json().at("state") == "cancelled") << a.body;
+  job = wait_job(url, terminal, std::chrono::seconds(60));
+  const double latency = std::chrono::duration<double>(Clock::now() - t0).count();
+  EXPECT_EQ(job.at("state"), "cancelled") << job.dump();
+  EXPECT_TRUE(job.at("artifacts").empty());
+  RecordProperty("cancel_latency_s", std::to_string(latency));
+  std::printf("cancelled %.3f s after DELETE\n", latency);
+  EXPECT_EQ(plans_done_, 0);
+}
+
+TEST_P(WorkerTest, ShutdownLeavesARunningJobForTheNextLease) {
+  json doc = json::parse(olive_grove());
+  doc.erase("camera");
+  doc["spacing_m"] = 1.5;
+  const auto mission_id = create_mission(doc.dump());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const auto job_id = a.json().at("id").get<store::Id>();
+  const std::string url = "/api/v1/plans/" + std::to_string(job_id);
+  start_workers();
+  ASSERT_EQ(wait_job(url, [](const json& j) { return j.at("state") != "queued"; }).at("state"), "running");
+  pool_->stop();
+  json job = call("GET", url).json();
+  EXPECT_EQ(job.at("state"), "running") << job.dump();  // not cancelled: its lease runs out
+  EXPECT_FALSE(job.at("cancel_requested").get<bool>());
+  EXPECT_EQ(store_->recover_running(3), 1);
+  EXPECT_EQ(call("GET", url).json().at("state"), "queued");
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+TEST_P(WorkerTest, StudyAndComparisonJobsServeTheirArtifacts) {
+  const auto mission_id = create_mission(olive_grove());
+  const std::string base = "/api/v1/missions/" + std::to_string(mission_id);
+  Answer a = call("POST", base + "/studies", R"({"uavs": "1..2", "seed": 3})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  EXPECT_EQ(a.json().at("kind"), "study");
+  const std::string study = "/api/v1/studies/" + std::to_string(a.json().at("id").get<store::Id>());
+  a = call("POST", base + "/comparisons", R"({"planners": ["darp", "boustrophedon"], "seed": 3})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string comparison = "/api/v1/comparisons/" + std::to_string(a.json().at("id").get<store::Id>());
+  EXPECT_EQ(call("GET", study + "/study.json").status, 409);
+  start_workers();
+
+  json job = wait_job(study, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  a = call("GET", study + "/study.json");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.content_type, "application/json");
+  EXPECT_TRUE(json::parse(a.body).is_object());
+  a = call("GET", study + "/study.png");
+  ASSERT_EQ(a.status, 200);
+  EXPECT_EQ(a.body.substr(0, 4), "\x89PNG");
+  for (const auto& art : job.at("artifacts")) EXPECT_TRUE(art.at("url").is_string()) << art.dump();
+
+  job = wait_job(comparison, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  for (const char* name : {"compare.json", "compare.md", "compare.png"})
+    EXPECT_EQ(call("GET", comparison + "/" + name).status, 200) << name;
+  EXPECT_EQ(call("GET", comparison + "/plan.json").status, 404);
+  EXPECT_EQ(call("GET", "/api/v1/plans/" + job.at("id").dump()).status, 404);
+}
+
+TEST_P(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
+  // 70 separate no-fly zones: more than the boustrophedon planner plans around
+  json doc = json::parse(olive_grove());
+  doc["no_fly_zones"] = json::array();
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 7; ++k) {
+      const double lon = 22.9015 + i * 0.001, lat = 40.6012 + k * 0.0008;
+      doc["no_fly_zones"].push_back({{"type", "Polygon"},
+                                     {"coordinates",
+                                      {{{lon, lat},
+                                        {lon + 0.0001, lat},
+                                        {lon + 0.0001, lat + 0.0001},
+                                        {lon, lat + 0.0001},
+                                        {lon, lat}}}}});
+    }
+  const auto mission_id = create_mission(doc.dump());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans",
+                  R"({"planner": "boustrophedon"})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const std::string url = "/api/v1/plans/" + std::to_string(a.json().at("id").get<store::Id>());
+  start_workers();
+  const json job = wait_job(url, terminal);
+  ASSERT_EQ(job.at("state"), "failed") << job.dump().substr(0, 2000);
+  EXPECT_EQ(job.at("error").at("field"), "no_fly_zones");
+  EXPECT_NE(job.at("error").at("message").get<std::string>().find("64"), std::string::npos);
+  EXPECT_TRUE(job.at("artifacts").empty());
+  EXPECT_EQ(call("GET", url + "/plan.json").status, 409);
+  EXPECT_EQ(plans_done_, 0);
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+INSTANTIATE_TEST_SUITE_P(Stores, WorkerTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         backend_name);
+}  // namespace uavcover::server::testing
