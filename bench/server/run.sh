@@ -120,6 +120,8 @@ $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)"
   printf '%s\n' "${results[@]}"
   echo
   echo "Goal on the 2-core machine: at least 5 000 requests/s for cached GETs with p99 under 20 ms, no errors."
+  echo "The one mission and the plain list are primary-key lookups; the name filter is a case-insensitive"
+  echo "substring match (\`LIKE '%...%'\`, no index can serve it), so each of its pages scans the names."
   echo
   echo "## Plan jobs"
   echo
