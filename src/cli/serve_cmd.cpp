@@ -29,6 +29,7 @@ struct ServeArgs {
   std::optional<std::string> cors_origin;
   std::size_t max_body = std::size_t{10} << 20;
   int max_queued = 100;
+  int lease_ms = 10000;
   bool log_json = false;
 };
 
@@ -68,6 +69,7 @@ void run_serve(const ServeArgs& a) {
   opt.workers = a.workers;
   if (a.seed_dir) opt.seed_dir = std::filesystem::path(*a.seed_dir);
   opt.max_queued = a.max_queued;
+  opt.lease_ms = a.lease_ms;
   if (a.log_json) spdlog::set_pattern("%v");  // the request lines are whole JSON objects
   server::serve(opt);
 }
@@ -92,6 +94,11 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
   cmd->add_option("--max-queued", args->max_queued, "Queued jobs beyond which new ones get 503")
       ->capture_default_str()
       ->check(integer_in(1, 1000000));
+  cmd->add_option("--lease-ms", args->lease_ms,
+                  "How long a job stays leased to a worker without a heartbeat (a dead server's jobs are "
+                  "taken up again after it)")
+      ->capture_default_str()
+      ->check(integer_in(1000, 600000));
   cmd->add_flag("--log-json", args->log_json, "Log one JSON object per line");
   cmd->footer(
       "Every response carries X-Request-Id; GET /healthz, /readyz and /metrics are for operations.\n"

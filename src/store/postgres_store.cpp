@@ -21,6 +21,8 @@ using pg::text;
 
 // Unix milliseconds from the database's clock, so leases agree between servers.
 #define NOW_MS "(extract(epoch from clock_timestamp()) * 1000)::bigint"
+// updated_ms moves forward on every change, even within one millisecond (the event stream polls it)
+#define BUMP_UPDATED "updated_ms = GREATEST(" NOW_MS ", updated_ms + 1)"
 
 constexpr std::int64_t kMigrationLock = 0x7561766376657221;  // "uavcver!"
 constexpr std::int64_t kEnqueueLock = 0x7561766371756575;    // "uavcqueu"
@@ -253,7 +255,7 @@ class PostgresStore final : public Store {
       const auto m =
           exec(c,
                "UPDATE missions SET latest_revision = latest_revision + 1, name = $2, min_lon = $3, "
-               "min_lat = $4, max_lon = $5, max_lat = $6, updated_ms = " NOW_MS
+               "min_lat = $4, max_lon = $5, max_lat = $6, " BUMP_UPDATED
                " WHERE id = $1 RETURNING latest_revision, updated_ms",
                {integer(mission), text(rev.name), real(rev.bbox.min_lon), real(rev.bbox.min_lat),
                 real(rev.bbox.max_lon), real(rev.bbox.max_lat)});
@@ -401,14 +403,14 @@ class PostgresStore final : public Store {
         if (r.boolean(0, 2)) {  // cancelled while its worker was gone
           exec(c,
                "UPDATE jobs SET state = 'cancelled', worker = '', lease_expires_ms = NULL, finished_ms "
-               "= " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+               "= " NOW_MS ", " BUMP_UPDATED " WHERE id = $1",
                {integer(id)});
           continue;
         }
         if (attempts >= max_attempts) {
           exec(c,
                "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
-               "finished_ms = " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+               "finished_ms = " NOW_MS ", " BUMP_UPDATED " WHERE id = $1",
                {integer(id), text(interrupted(attempts).dump())});
           continue;
         }
@@ -416,7 +418,7 @@ class PostgresStore final : public Store {
             exec(c,
                  "UPDATE jobs SET state = 'running', worker = $2, attempts = attempts + 1, "
                  "lease_expires_ms = " NOW_MS " + $3, started_ms = CASE WHEN started_ms = 0 THEN " NOW_MS
-                 " ELSE started_ms END, updated_ms = " NOW_MS
+                 " ELSE started_ms END, " BUMP_UPDATED
                  ", progress = 0, stage = '' WHERE id = $1 RETURNING " JOB_COLUMNS,
                  {integer(id), text(worker), integer(lease.count())});
         return job_from(j, 0);
@@ -432,7 +434,7 @@ class PostgresStore final : public Store {
       const auto r = exec(c,
                           "UPDATE jobs SET lease_expires_ms = " NOW_MS
                           " + $3, progress = $4, stage = $5, "
-                          "updated_ms = " NOW_MS
+                          "" BUMP_UPDATED
                           " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING cancel_requested",
                           {integer(job), text(worker), integer(lease.count()), real(progress), text(stage)});
       if (r.rows() == 0) return LeaseStatus{false, false};
@@ -455,7 +457,7 @@ class PostgresStore final : public Store {
                "UPDATE jobs SET state = $3::text, result = $4, error = $5, "
                "progress = CASE WHEN $3::text = 'done' THEN 1 ELSE progress END, "
                "completions = completions + 1, worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
-               ", updated_ms = " NOW_MS " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING id",
+               ", " BUMP_UPDATED " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING id",
                {integer(job), text(worker), text(to_string(state)), text(result.dump()), text(error.dump())});
       if (r.rows() == 0) return false;
       for (const std::size_t i : order) {
@@ -481,13 +483,12 @@ class PostgresStore final : public Store {
       if (state == JobState::Queued) {
         exec(c,
              "UPDATE jobs SET state = 'cancelled', cancel_requested = true, finished_ms = " NOW_MS
-             ", updated_ms = " NOW_MS " WHERE id = $1",
+             ", " BUMP_UPDATED " WHERE id = $1",
              {integer(job)});
         return JobState::Cancelled;
       }
       if (state == JobState::Running)
-        exec(c, "UPDATE jobs SET cancel_requested = true, updated_ms = " NOW_MS " WHERE id = $1",
-             {integer(job)});
+        exec(c, "UPDATE jobs SET cancel_requested = true, " BUMP_UPDATED " WHERE id = $1", {integer(job)});
       return state;
     });
   }
@@ -497,18 +498,18 @@ class PostgresStore final : public Store {
     return transaction([&](PGconn* c) {
       exec(c,
            "UPDATE jobs SET state = 'cancelled', worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
-           ", updated_ms = " NOW_MS " WHERE state = 'running' AND cancel_requested");
+           ", " BUMP_UPDATED " WHERE state = 'running' AND cancel_requested");
       const auto failed =
           exec(c, "SELECT id, attempts FROM jobs WHERE state = 'running' AND attempts >= $1 FOR UPDATE",
                {integer(max_attempts)});
       for (int i = 0; i < failed.rows(); ++i)
         exec(c,
              "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
-             "finished_ms = " NOW_MS ", updated_ms = " NOW_MS " WHERE id = $1",
+             "finished_ms = " NOW_MS ", " BUMP_UPDATED " WHERE id = $1",
              {integer(failed.i64(i, 0)), text(interrupted(failed.i32(i, 1)).dump())});
       return exec(c,
                   "UPDATE jobs SET state = 'queued', worker = '', lease_expires_ms = NULL, progress = 0, "
-                  "stage = '', updated_ms = " NOW_MS " WHERE state = 'running' RETURNING id")
+                  "stage = '', " BUMP_UPDATED " WHERE state = 'running' RETURNING id")
           .rows();
     });
   }
@@ -582,7 +583,7 @@ class PostgresStore final : public Store {
   void update_entry(CatalogKind kind, Id id, const std::string& name, const nlohmann::json& data) override {
     transaction([&](PGconn* c) {
       if (exec(c,
-               "UPDATE catalog SET name = $3, data = $4, updated_ms = " NOW_MS
+               "UPDATE catalog SET name = $3, data = $4, " BUMP_UPDATED
                " WHERE kind = $1 AND id = $2 RETURNING id",
                {text(kind_name(kind)), integer(id), text(name), text(data.dump())})
               .rows() == 0)
