@@ -1,5 +1,5 @@
 // Durability: kill -9 during a burst of writes loses no acknowledged mission; a job running when the
-// server dies runs again after the restart (and fails after 3 interrupted attempts).
+// server dies runs again after the restart (and fails after 3 interrupted attempts), on both databases.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import {
@@ -7,6 +7,7 @@ import {
   createMission,
   eachBackend,
   freshDb,
+  leaseArgs,
   postPlan,
   rectangle,
   slowMission,
@@ -75,17 +76,21 @@ eachBackend(describe, (backend) => {
   });
 });
 
-describe('sqlite restart', () => {
-  it('a job running at kill -9 is queued again at restart and ends done (attempts >= 2)', async () => {
-    const db = freshDb('sqlite');
-    let server = await startServer({ db, seed: false, args: ['--workers', '1'] });
+eachBackend(describe, (backend) => {
+  // SQLite: the restarted server queues its running jobs again at once; PostgreSQL (shared by servers):
+  // the job is leased again when the dead server's lease expires (short leases here)
+  const args = ['--workers', '1', ...leaseArgs(1500)];
+
+  it('a job running at kill -9 runs again after the restart and ends done (attempts >= 2)', async () => {
+    const db = freshDb(backend);
+    let server = await startServer({ db, seed: false, args });
     const mission = await createMission(server, slowMission(4));
     const job = await postPlan(server, mission, { seed: 5 });
     await waitJob(server, job.id, (j) => j.state === 'running', { intervalMs: 20 });
     await sleep(300);
     await server.kill();
 
-    server = await startServer({ db, seed: false, args: ['--workers', '1'] });
+    server = await startServer({ db, seed: false, args });
     try {
       const seen = (await api(server, 'GET', `/api/v1/plans/${job.id}`)).json;
       assert.ok(['queued', 'running'].includes(seen.state), `after the restart: ${seen.state}`);
@@ -99,17 +104,17 @@ describe('sqlite restart', () => {
   });
 
   it('a job interrupted 3 times fails, and says so', async () => {
-    const db = freshDb('sqlite');
-    let server = await startServer({ db, seed: false, args: ['--workers', '1'] });
+    const db = freshDb(backend);
+    let server = await startServer({ db, seed: false, args });
     const mission = await createMission(server, slowMission(2));
     const job = await postPlan(server, mission, {});
     for (let attempt = 1; attempt <= 3; attempt++) {
       await waitJob(server, job.id, (j) => j.state === 'running' && j.attempts === attempt, { intervalMs: 20 });
       await server.kill();
-      server = await startServer({ db, seed: false, args: ['--workers', '1'] });
+      server = await startServer({ db, seed: false, args });
     }
     try {
-      const j = await waitDone(server, job.id, { timeoutMs: 10000 });
+      const j = await waitDone(server, job.id, { timeoutMs: 60000 });
       assert.equal(j.state, 'failed', JSON.stringify(j));
       assert.equal(j.attempts, 3);
       assert.ok(j.error && typeof j.error.message === 'string', JSON.stringify(j.error));
