@@ -10,6 +10,7 @@
 
 #include "server/http.hpp"
 #include "store/store.hpp"
+#include "uavcover/mission.hpp"
 
 namespace uavcover::server {
 
@@ -31,6 +32,8 @@ void add_api_routes(Router& router, ApiContext& ctx);
 /// catalogs, parsed and normalised by the CLI's parser (InputError naming the field), its area's
 /// bounding box; `source` is the document as given.
 store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store);
+/// The same document resolved and parsed only (POST /missions/validate).
+uavcover::Mission resolve_mission(const nlohmann::json& document, store::Store& store);
 
 /// "2026-11-26T01:02:03.456Z" from Unix milliseconds.
 std::string iso_time(std::int64_t unix_ms);

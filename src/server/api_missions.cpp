@@ -134,6 +134,21 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
                r.headers.emplace_back("Location", base + "/" + std::to_string(id));
                return r;
              }));
+  // a mission checked and normalised without storing it: the web app shows spacing, GSD and footprint
+  // as the operator types, computed by the library, and the field-named error of a bad value
+  router.add("POST", base + "/validate", guarded([&ctx](const Request& req) {
+               const Mission m = resolve_mission(parse_body(req, ctx, false), ctx.store);
+               auto opt = [](const std::optional<double>& v) {
+                 return v ? nlohmann::json(*v) : nlohmann::json();
+               };
+               return Response::json(200, {{"mission", stored_json(mission_to_json(m))},
+                                           {"spacing_m", m.spacing_m},
+                                           {"gsd_m", opt(m.gsd_m)},
+                                           {"footprint_m", opt(m.footprint_m)},
+                                           {"altitude_m", m.altitude_m},
+                                           {"altitude_source", m.altitude_source},
+                                           {"bbox", bbox_json(area_bbox(m))}});
+             }));
   router.add("GET", base, guarded([&ctx](const Request& req) {
                const store::MissionPage page = ctx.store.list_missions(parse_query(req));
                nlohmann::json items = nlohmann::json::array();
@@ -181,7 +196,7 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
 
 }  // namespace detail
 
-store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store) {
+Mission resolve_mission(const nlohmann::json& document, store::Store& store) {
   auto lookup = [&store](store::CatalogKind kind) {
     return [&store, kind](long long id) -> std::optional<nlohmann::json> {
       if (id <= 0) return std::nullopt;
@@ -192,7 +207,11 @@ store::NewRevision prepare_mission(const nlohmann::json& document, store::Store&
   };
   const nlohmann::json resolved = usecases::resolve_catalog_refs(document, lookup(store::CatalogKind::Uav),
                                                                  lookup(store::CatalogKind::Camera));
-  const Mission mission = parse_mission(resolved.dump());
+  return parse_mission(resolved.dump());
+}
+
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store) {
+  const Mission mission = resolve_mission(document, store);
   store::NewRevision rev;
   rev.name = mission.name;
   rev.document = mission_to_json(mission);

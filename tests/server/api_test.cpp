@@ -370,6 +370,34 @@ TEST_P(ApiTest, PlannersAreListed) {
   EXPECT_NE(std::find(names.begin(), names.end(), "darp"), names.end());
 }
 
+TEST_P(ApiTest, ValidateGivesTheLibrarysDerivedValuesWithoutStoring) {
+  const auto before = call("GET", "/api/v1/missions").json()["items"].size();
+  json doc = json::parse(olive_grove());
+  doc["camera"] = {{"altitude_m", 60},
+                   {"sensor_width_mm", 13.2},
+                   {"focal_length_mm", 8.8},
+                   {"image_width_px", 5472},
+                   {"side_overlap", 0.3}};
+  const Answer ok = call("POST", "/api/v1/missions/validate", doc.dump());
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  const json v = ok.json();
+  // the library's formulas: GSD = h * sw / (f * px), footprint = GSD * px, spacing = footprint * (1 -
+  // overlap)
+  const double gsd = 60.0 * 13.2 / (8.8 * 5472);
+  EXPECT_NEAR(v["gsd_m"].get<double>(), gsd, 1e-9);
+  EXPECT_NEAR(v["footprint_m"].get<double>(), gsd * 5472, 1e-6);
+  EXPECT_NEAR(v["spacing_m"].get<double>(), gsd * 5472 * 0.7, 1e-6);
+  EXPECT_EQ(v["altitude_m"], 60.0);
+  EXPECT_EQ(v["bbox"].size(), 4u);
+  EXPECT_TRUE(v["mission"].contains("camera")) << "the normalised mission comes back";
+  EXPECT_EQ(call("GET", "/api/v1/missions").json()["items"].size(), before) << "nothing stored";
+
+  doc["camera"]["side_overlap"] = 1.5;
+  const Answer bad = call("POST", "/api/v1/missions/validate", doc.dump());
+  EXPECT_EQ(bad.status, 422);
+  EXPECT_EQ(bad.json()["error"]["field"], "camera.side_overlap");
+}
+
 }  // namespace
 }  // namespace uavcover::server::testing
 

@@ -1,0 +1,43 @@
+// Entry point: the map on the right, a toolbar of tabs on the left (Apostolidis et al. 2022 Fig. 19).
+import './style.css';
+import { createMap } from './map.ts';
+import { App, type Tab } from './state.ts';
+import { missionsTab } from './tabs/missions.ts';
+import { defineTab } from './tabs/define.ts';
+import { planTab } from './tabs/plan.ts';
+import { flyTab } from './tabs/fly.ts';
+
+const tabs: Tab[] = [missionsTab, defineTab, planTab, flyTab];
+const nav = document.getElementById('tabs')!;
+const panel = document.getElementById('panel')!;
+const panels = new Map<string, HTMLElement>();
+let current: Tab | null = null;
+
+function showTab(name: string): void {
+  const tab = tabs.find((t) => t.name === name);
+  if (!tab) return;
+  if (current && current !== tab) current.hide?.(app);
+  for (const [n, el] of panels) el.hidden = n !== name;
+  for (const b of nav.querySelectorAll('button')) b.setAttribute('aria-selected', String(b.dataset.tab === name));
+  current = tab;
+  tab.show?.(app);
+}
+
+const app = new App(createMap(document.getElementById('map')!), showTab);
+for (const tab of tabs) {
+  const button = document.createElement('button');
+  button.type = 'button';
+  button.role = 'tab';
+  button.dataset.tab = tab.name;
+  button.textContent = tab.title;
+  button.addEventListener('click', () => showTab(tab.name));
+  nav.appendChild(button);
+  const el = document.createElement('div');
+  el.className = 'tab-panel';
+  el.dataset.tab = tab.name;
+  el.hidden = true;
+  panel.appendChild(el);
+  panels.set(tab.name, el);
+  tab.mount(el, app);
+}
+showTab('missions');
