@@ -5,6 +5,7 @@
 #include <cctype>
 
 #include "server/api_internal.hpp"
+#include "server/worker.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
@@ -36,18 +37,6 @@ const std::array<std::string, 3> kCompareFiles{"compare.json", "compare.md", "co
 template <std::size_t N>
 bool contains(const std::array<std::string, N>& list, const std::string& s) {
   return std::find(list.begin(), list.end(), s) != list.end();
-}
-
-usecases::JobType job_type(store::JobKind kind) {
-  switch (kind) {
-    case store::JobKind::Study:
-      return usecases::JobType::Study;
-    case store::JobKind::Comparison:
-      return usecases::JobType::Comparison;
-    case store::JobKind::Plan:
-      break;
-  }
-  return usecases::JobType::Plan;
 }
 
 std::vector<std::string> artifact_names(const store::Job& job) {
