@@ -62,7 +62,7 @@ function sideBySide(plans: { planner: string; plan: PlanJson; paths: PathsGeoJso
     const mapEl = el('div', { class: 'plan-overlay-map', 'data-planner': p.planner });
     cell.append(title, mapEl);
     grid.append(cell);
-    const m = L.map(mapEl, { preferCanvas: true, zoomSnap: 0.25 });
+    const m = L.map(mapEl, { preferCanvas: true, zoomSnap: 0.25 }).setView([0, 0], 2);
     if (url) L.tileLayer(url, { maxZoom: 20, attribution: '&copy; OpenStreetMap contributors' }).addTo(m);
     L.control.scale({ imperial: false }).addTo(m);
     const d = drawPlan(m, p.plan, p.paths, true);
@@ -71,7 +71,6 @@ function sideBySide(plans: { planner: string; plan: PlanJson; paths: PathsGeoJso
   }
   for (const m of maps) {
     if (bounds) m.fitBounds(bounds, { padding: [10, 10], animate: false });
-    else m.setView([0, 0], 2);
     m.on('move zoom', () => {
       if (syncing) return;
       syncing = true;

@@ -9,24 +9,25 @@ import type { PlanJson } from './plan-layers.ts';
 export interface MetricRow {
   name: string;
   label: string;
+  title: string;
   format: (v: number) => string;
 }
 
-const pct = (v: number) => `${(100 * v).toFixed(2)} %`;
-const metres = (v: number) => (v >= 10000 ? `${(v / 1000).toFixed(2)} km` : `${v.toFixed(0)} m`);
-const minutes = (v: number) => `${v.toFixed(1)} min`;
+const pct = (v: number) => (100 * v).toFixed(2);
+const km = (v: number) => (v / 1000).toFixed(2);
+const minutes = (v: number) => v.toFixed(1);
 const int = (v: number) => v.toFixed(0);
-const euros = (v: number) => `€ ${v.toFixed(2)}`;
+const euros = (v: number) => v.toFixed(2);
 
 export const METRICS: MetricRow[] = [
-  { name: 'poc', label: 'PoC', format: pct },
-  { name: 'pooc', label: 'PoOC', format: pct },
-  { name: 'turns', label: 'Turns', format: int },
-  { name: 'length_m', label: 'Length', format: metres },
-  { name: 'flight_time_min', label: 'Flight time', format: minutes },
-  { name: 'batteries', label: 'Batteries', format: int },
-  { name: 'total_time_min', label: 'Total time', format: minutes },
-  { name: 'cost_eur', label: 'Cost', format: euros },
+  { name: 'poc', label: 'PoC %', title: 'probability of coverage: the share of the area seen (per UAV: of the whole area)', format: pct },
+  { name: 'pooc', label: 'PoOC %', title: 'probability of over-coverage: the share seen more than once', format: pct },
+  { name: 'turns', label: 'Turns', title: 'turns along the path', format: int },
+  { name: 'length_m', label: 'Length km', title: 'path length', format: km },
+  { name: 'flight_time_min', label: 'Flight min', title: 'flight time (the mission: the longest UAV flight)', format: minutes },
+  { name: 'batteries', label: 'Batteries', title: 'batteries used (total: per UAV)', format: int },
+  { name: 'total_time_min', label: 'Total min', title: 'total time: deployment, flights and battery changes', format: minutes },
+  { name: 'cost_eur', label: 'Cost €', title: 'flight cost', format: euros },
 ];
 
 interface ResultUav {
@@ -65,7 +66,7 @@ export function metricValues(job: Job, plan: PlanJson | null): { id: string; val
 /** The metrics table (rows: metrics; columns: UAVs and the total). */
 export function metricsPanel(job: Job, plan: PlanJson | null): HTMLElement {
   const cols = metricValues(job, plan);
-  const wrap = el('div', { class: 'plan-metrics', 'data-testid': 'metrics-panel' });
+  const wrap = el('div', { class: 'plan-metrics', 'data-testid': 'metrics-panel', 'data-plan-id': String(job.id) });
   const table = el('table');
   const head = el('tr');
   head.append(el('th', {}, ''));
@@ -82,7 +83,7 @@ export function metricsPanel(job: Job, plan: PlanJson | null): HTMLElement {
   table.tHead!.append(head);
   for (const r of METRICS) {
     const tr = el('tr');
-    tr.append(el('th', { scope: 'row' }, r.label));
+    tr.append(el('th', { scope: 'row', title: r.title }, r.label));
     for (const c of cols) {
       const v = c.values[r.name];
       const attrs: Record<string, string> = { 'data-uav': c.id, 'data-metric': r.name };

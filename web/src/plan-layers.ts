@@ -126,7 +126,8 @@ export function drawPlan(map: L.Map, plan: PlanJson, paths: PathsGeoJson, withLa
   const labels = L.layerGroup().addTo(group);
   const refresh = () => {
     labels.clearLayers();
-    if (!withLabels || map.getZoom() < LABEL_ZOOM) return;
+    const zoom = map.getZoom();
+    if (!withLabels || zoom === undefined || zoom < LABEL_ZOOM) return;
     const view = map.getBounds().pad(0.1);
     let n = 0;
     for (const [id, list] of vertices) {

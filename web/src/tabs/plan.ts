@@ -182,6 +182,19 @@ export const planTab: Tab = {
     });
     updateHeader();
 
+    // a link to a mission: ?mission=ID opens it here when nothing else is open
+    const linked = Number(new URLSearchParams(window.location.search).get('mission'));
+    if (Number.isInteger(linked) && linked > 0)
+      api.get<{ id: number; revision: number; mission: Record<string, unknown> }>(`/missions/${linked}`).then(
+        (m) => {
+          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: m.mission });
+        },
+        (e: ApiError) => {
+          none.className = 'plan-error';
+          none.textContent = `Mission #${linked} cannot be opened: ${errorText(e)}`;
+        },
+      );
+
     this.show = () => {
       visible = true;
       updateHeader();
