@@ -23,17 +23,17 @@ export function studyPanel(getMission: () => number | null): HTMLElement {
     const job = await view.run(() => api.post<Job>(`/missions/${id}/studies`, { uavs: counts.value.trim() }));
     start.disabled = false;
     if (!job || job.state !== 'done') return;
-    const r = job.result as { recommended?: number; min_single_battery?: number | null };
+    const r = job.result as { recommended_uavs?: number; min_uavs_single_battery?: number | null };
     const rec = el('p', { 'data-testid': 'study-recommendation' });
     rec.append(
-      el('strong', {}, r.recommended !== undefined ? `Recommended: ${r.recommended} UAV${r.recommended === 1 ? '' : 's'}` : 'No recommendation'),
+      el('strong', {}, typeof r.recommended_uavs === 'number' ? `Recommended: ${r.recommended_uavs} UAV${r.recommended_uavs === 1 ? '' : 's'}` : 'No recommendation'),
     );
-    if (r.min_single_battery !== undefined)
+    if (r.min_uavs_single_battery !== undefined)
       rec.append(
         document.createTextNode(
-          r.min_single_battery === null
+          r.min_uavs_single_battery === null
             ? ' — no count in the range flies on a single battery'
-            : ` — ${r.min_single_battery} or more fly on a single battery each`,
+            : ` — ${r.min_uavs_single_battery} or more fly on a single battery each`,
         ),
       );
     const img = el('img', { src: `${API}/studies/${job.id}/study.png`, alt: 'Total time and cost against the number of UAVs', class: 'plan-figure', 'data-testid': 'study-chart' });
