@@ -118,6 +118,7 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   oo.exports = exporting::known_formats();
   oo.kmz = true;
   oo.refused_exports_are_warnings = true;
+  oo.heatmap_overlay = true;
   // the time limit is the planner's; the outputs still stop when the job is cancelled
   PlanOutputs out = plan_outputs(
       p, oo,
@@ -174,6 +175,7 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   JobResult r;
   r.result = {{"planner", p.planner},    {"seed", p.mission.seed},        {"complete", p.complete},
               {"uavs", std::move(uavs)}, {"metrics", std::move(metrics)}, {"warnings", std::move(warnings)}};
+  if (!out.heatmap_bounds.is_null()) r.result["heatmap_bounds"] = std::move(out.heatmap_bounds);
   r.artifacts = std::move(out.artifacts);
   return r;
 }
