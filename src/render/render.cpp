@@ -377,16 +377,8 @@ Rgb scan_colour(int k, int max_k) {
           ramp[i].b + f * (ramp[i + 1].b - ramp[i].b)};
 }
 
-void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width, int height,
-                  const std::string& title, const MultiPolygon* outline = nullptr) {
-  const double margin = 40;
-  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  text(cr, margin, margin, title, 20, 0.0, true);
-  text(cr, margin, margin + 22,
-       fmt::format("PoC {:.2f}%   PoOC {:.2f}%   max scans {}   lattice {:.2f} m", 100 * cov.total.poc,
-                   100 * cov.total.pooc, cov.total.max_scans, cov.lattice_m),
-       14);
-  if (cov.lattice_cols <= 0 || cov.lattice_rows <= 0) return;
+/// The lattice as an image: one pixel per sample, north up, transparent where k < 0.
+SurfacePtr lattice_surface(const evaluation::CoverageResult& cov) {
   const int max_k = std::max(cov.total.max_scans, 1);
   SurfacePtr img(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, cov.lattice_cols, cov.lattice_rows),
                  cairo_surface_destroy);
@@ -410,6 +402,21 @@ void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width,
     }
   }
   cairo_surface_mark_dirty(img.get());
+  return img;
+}
+
+void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width, int height,
+                  const std::string& title, const MultiPolygon* outline = nullptr) {
+  const double margin = 40;
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  text(cr, margin, margin, title, 20, 0.0, true);
+  text(cr, margin, margin + 22,
+       fmt::format("PoC {:.2f}%   PoOC {:.2f}%   max scans {}   lattice {:.2f} m", 100 * cov.total.poc,
+                   100 * cov.total.pooc, cov.total.max_scans, cov.lattice_m),
+       14);
+  if (cov.lattice_cols <= 0 || cov.lattice_rows <= 0) return;
+  const int max_k = std::max(cov.total.max_scans, 1);
+  SurfacePtr img = lattice_surface(cov);
   const double legend_w = 150;
   const double left = margin, top = margin + 40, right = width - legend_w - margin,
                bottom = height - margin - 30;
@@ -662,6 +669,19 @@ Artifact heatmap_png(const evaluation::CoverageResult& coverage, const MultiPoly
                      int width, int height, const std::string& title) {
   return png(std::move(name), width, height,
              [&](cairo_t* cr) { draw_heatmap(cr, coverage, width, height, title, free); });
+}
+
+Artifact heatmap_overlay_png(const evaluation::CoverageResult& coverage, std::string name) {
+  if (coverage.lattice_cols <= 0 || coverage.lattice_rows <= 0 || coverage.lattice_cols > 20000 ||
+      coverage.lattice_rows > 20000)
+    throw InputError("size", fmt::format("coverage lattice {}x{} cannot be drawn as an overlay",
+                                         coverage.lattice_cols, coverage.lattice_rows));
+  SurfacePtr img = lattice_surface(coverage);
+  if (cairo_surface_status(img.get()) != CAIRO_STATUS_SUCCESS) throw OperationError("cannot draw " + name);
+  Artifact out{std::move(name), "image/png", {}};
+  if (cairo_surface_write_to_png_stream(img.get(), append_bytes, &out.bytes) != CAIRO_STATUS_SUCCESS)
+    throw OperationError("cannot encode " + out.name);
+  return out;
 }
 
 Artifact histogram_png(const evaluation::CoverageStats& stats, std::string name, int width, int height,

@@ -32,6 +32,13 @@ Artifact heatmap_png(const evaluation::CoverageResult& coverage, const MultiPoly
                      std::string name = "heatmap.png", int width = 1200, int height = 900,
                      const std::string& title = "Coverage heatmap");
 
+/// The coverage lattice alone, to lay over a map: one pixel per sample, north up, the heatmap's colours,
+/// transparent outside the area; sample (c, r) is pixel (c, rows-1-r), so the picture spans
+/// [origin - lattice_m/2, origin + (cols or rows - 1/2) lattice_m] in the local frame.
+/// Refused (InputError "size") when the lattice is empty or over 20000 samples on a side.
+Artifact heatmap_overlay_png(const evaluation::CoverageResult& coverage,
+                             std::string name = "heatmap-overlay.png");
+
 /// Normalised histogram of scans (0, 1, 2, ...).
 Artifact histogram_png(const evaluation::CoverageStats& stats, std::string name = "histogram.png",
                        int width = 900, int height = 600, const std::string& title = "Histogram of coverage");

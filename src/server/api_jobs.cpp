@@ -5,6 +5,7 @@
 #include <cctype>
 
 #include "server/api_internal.hpp"
+#include "server/worker.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
@@ -26,7 +27,8 @@ std::string job_collection(store::JobKind kind) {
 namespace detail {
 namespace {
 
-const std::array<std::string, 4> kImages{"plan.png", "plan.svg", "heatmap.png", "histogram.png"};
+const std::array<std::string, 5> kImages{"plan.png", "plan.svg", "heatmap.png", "heatmap-overlay.png",
+                                         "histogram.png"};
 const std::array<std::string, 3> kPlanFiles{"plan.json", "paths.geojson", "evaluation.json"};
 const std::array<std::string, 9> kExportFormats{"qgc",    "wpl", "kml",     "kmz",       "dji",
                                                 "litchi", "csv", "geojson", "trajectory"};
@@ -36,18 +38,6 @@ const std::array<std::string, 3> kCompareFiles{"compare.json", "compare.md", "co
 template <std::size_t N>
 bool contains(const std::array<std::string, N>& list, const std::string& s) {
   return std::find(list.begin(), list.end(), s) != list.end();
-}
-
-usecases::JobType job_type(store::JobKind kind) {
-  switch (kind) {
-    case store::JobKind::Study:
-      return usecases::JobType::Study;
-    case store::JobKind::Comparison:
-      return usecases::JobType::Comparison;
-    case store::JobKind::Plan:
-      break;
-  }
-  return usecases::JobType::Plan;
 }
 
 std::vector<std::string> artifact_names(const store::Job& job) {
@@ -258,15 +248,17 @@ void add_job_routes(Router& router, ApiContext& ctx) {
     switch (kind) {
       case store::JobKind::Plan:
         for (const auto& f : kPlanFiles) file_route(f, base + "/" + f);
-        router.add("GET", base + "/images/{name}", guarded([&ctx](const Request& req) {
-                     const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
-                     const std::string name = req.params.at("name");
-                     if (!contains(kImages, name))
-                       throw HttpError(404, "name",
-                                       "unknown image \"" + name.substr(0, 40) +
-                                           "\"; expected plan.png, plan.svg, heatmap.png or histogram.png");
-                     return artifact_response(ctx, job, name, false);
-                   }));
+        router.add(
+            "GET", base + "/images/{name}", guarded([&ctx](const Request& req) {
+              const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
+              const std::string name = req.params.at("name");
+              if (!contains(kImages, name))
+                throw HttpError(
+                    404, "name",
+                    "unknown image \"" + name.substr(0, 40) +
+                        "\"; expected plan.png, plan.svg, heatmap.png, heatmap-overlay.png or histogram.png");
+              return artifact_response(ctx, job, name, false);
+            }));
         router.add("GET", base + "/exports/{format}",
                    guarded([&ctx](const Request& req) { return export_response(ctx, req); }));
         break;

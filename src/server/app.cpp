@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <thread>
 
 #include "io/folder.hpp"
@@ -102,6 +103,12 @@ void serve(const ServeOptions& options) {
   HttpServer server(http, router, events);  // binds first: a busy port starts no worker
   WorkerPool workers(*store, wc);
   workers.start();
+  // the URL on stdout, once the port is bound (scripts and tests read this line; port 0 picks one)
+  const ListenAddress where = parse_listen(http.listen);
+  const std::string host = where.host.find(':') != std::string::npos ? "[" + where.host + "]" : where.host;
+  std::printf("uavcover: serving on http://%s:%u (database: %s)\n", host.c_str(),
+              static_cast<unsigned>(server.port()), store->backend().c_str());
+  std::fflush(stdout);
   server.run();
   spdlog::info("stopping: running jobs are left for the next lease");
   workers.stop();

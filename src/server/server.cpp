@@ -41,7 +41,7 @@ constexpr std::size_t kHeaderLimit = 16 * 1024;
 constexpr std::size_t kWsMessageMax = 64 * 1024;
 constexpr std::size_t kMaxPendingMessages = 1000;
 constexpr std::size_t kMaxConnections = 10000;
-constexpr std::size_t kDrainBytes = 1 << 20;
+constexpr std::size_t kDrainBytes = std::size_t{64} << 20;  // bounded by the 2 s linger too
 constexpr const char* kEventsPath = "/api/v1/events";
 
 const char* const kIndexPage =

@@ -16,18 +16,6 @@
 namespace uavcover::server {
 namespace {
 
-usecases::JobType job_type(store::JobKind kind) {
-  switch (kind) {
-    case store::JobKind::Study:
-      return usecases::JobType::Study;
-    case store::JobKind::Comparison:
-      return usecases::JobType::Comparison;
-    case store::JobKind::Plan:
-      break;
-  }
-  return usecases::JobType::Plan;
-}
-
 nlohmann::json error_json(const std::string& field, const std::string& message) {
   return {{"field", field}, {"message", message}};
 }
@@ -45,6 +33,18 @@ struct RunState {
 };
 
 }  // namespace
+
+usecases::JobType job_type(store::JobKind kind) {
+  switch (kind) {
+    case store::JobKind::Study:
+      return usecases::JobType::Study;
+    case store::JobKind::Comparison:
+      return usecases::JobType::Comparison;
+    case store::JobKind::Plan:
+      break;
+  }
+  return usecases::JobType::Plan;
+}
 
 WorkerPool::WorkerPool(store::Store& store, WorkerConfig config, std::string name)
     : store_(store), config_(std::move(config)), name_(name.empty() ? unique_name() : std::move(name)) {

@@ -12,8 +12,12 @@
 #include <vector>
 
 #include "store/store.hpp"
+#include "usecases/jobs.hpp"
 
 namespace uavcover::server {
+
+/// The use case that runs a stored job of this kind.
+usecases::JobType job_type(store::JobKind kind);
 
 struct WorkerConfig {
   int threads = 1;

@@ -29,43 +29,20 @@ std::int64_t now_ms() {
       .count();
 }
 
-// the column values of the enums (the same words as the API)
-const char* kind_text(JobKind k) {
-  switch (k) {
-    case JobKind::Plan:
-      return "plan";
-    case JobKind::Study:
-      return "study";
-    case JobKind::Comparison:
-      return "comparison";
+// the column values of the enums are the API's words (store.cpp)
+JobKind kind_of(const std::string& s) {
+  try {
+    return job_kind_from_string(s);
+  } catch (const std::invalid_argument&) {
+    throw StoreError("sqlite: unknown job kind in the database");
   }
-  throw std::invalid_argument("job kind");
 }
-const char* state_text(JobState s) {
-  switch (s) {
-    case JobState::Queued:
-      return "queued";
-    case JobState::Running:
-      return "running";
-    case JobState::Done:
-      return "done";
-    case JobState::Failed:
-      return "failed";
-    case JobState::Cancelled:
-      return "cancelled";
+JobState state_of(const std::string& s) {
+  try {
+    return job_state_from_string(s);
+  } catch (const std::invalid_argument&) {
+    throw StoreError("sqlite: unknown job state in the database");
   }
-  throw std::invalid_argument("job state");
-}
-JobKind kind_of(std::string_view s) {
-  for (JobKind k : {JobKind::Plan, JobKind::Study, JobKind::Comparison})
-    if (s == kind_text(k)) return k;
-  throw StoreError("sqlite: unknown job kind in the database");
-}
-JobState state_of(std::string_view s) {
-  for (JobState k :
-       {JobState::Queued, JobState::Running, JobState::Done, JobState::Failed, JobState::Cancelled})
-    if (s == state_text(k)) return k;
-  throw StoreError("sqlite: unknown job state in the database");
 }
 const char* catalog_text(CatalogKind k) { return k == CatalogKind::Uav ? "uav" : "camera"; }
 
@@ -572,14 +549,11 @@ class SqliteStore final : public Store {
       }
       const std::int64_t now = now_ms();
       const std::string params = job.params.dump();
+      const std::string kind = to_string(job.kind);
       Query q(c,
               "INSERT INTO jobs (kind, mission_id, revision, params, state, created_ms, updated_ms) "
               "VALUES (?1, ?2, ?3, ?4, 'queued', ?5, ?5)");
-      q.bind(1, kind_text(job.kind))
-          .bind(2, job.mission_id)
-          .bind(3, job.revision)
-          .bind(4, params)
-          .bind(5, now);
+      q.bind(1, kind).bind(2, job.mission_id).bind(3, job.revision).bind(4, params).bind(5, now);
       q.run();
       return static_cast<Id>(sqlite3_last_insert_rowid(c.db()));
     });
@@ -696,7 +670,8 @@ class SqliteStore final : public Store {
                 "worker = '', lease_expires_ms = 0, finished_ms = ?6, updated_ms = MAX(?6, updated_ms + 1), "
                 "progress = CASE WHEN ?3 = 'done' THEN 1.0 ELSE progress END "
                 "WHERE id = ?1 AND worker = ?2 AND state = 'running'");
-        q.bind(1, job).bind(2, worker).bind(3, state_text(state)).bind(4, result_text).bind(5, error_text);
+        const std::string state_word = to_string(state);
+        q.bind(1, job).bind(2, worker).bind(3, state_word).bind(4, result_text).bind(5, error_text);
         q.bind(6, now);
         if (q.run() == 0) return false;  // the transaction rolls back: nothing written
       }

@@ -6,6 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <mutex>
+#include <tuple>
 
 #include "export/export.hpp"
 #include "export/zip.hpp"
@@ -62,10 +65,35 @@ Context limited(const Context& ctx, const json& params) {
       std::chrono::duration<double>(params["time_limit_s"].get<double>())));
 }
 
-/// Progress of one phase mapped into [from, to] of the job.
-Context phase(const Context& ctx, double from, double to) {
-  return ctx.with_progress(
-      [ctx, from, to](std::string_view stage, double f) { ctx.report(stage, from + (to - from) * f); });
+/// The job's progress from the stages' own fractions (each stage counts 0..1 on its own): every stage
+/// gets its slice of [0, 1] when it is known (`slices`), else half of what is left before `end` (the
+/// planners' stages: placement, division, paths, transit, ...); the fraction sent never goes backwards,
+/// so a progress bar only moves forward.
+Context job_progress(const Context& ctx, std::vector<std::tuple<std::string, double, double>> slices,
+                     double end) {
+  struct Ratchet {
+    std::mutex mutex;
+    double sent = 0.0;
+    std::string stage;
+    double from = 0.0;
+  };
+  auto r = std::make_shared<Ratchet>();
+  return ctx.with_progress([ctx, r, slices = std::move(slices), end](std::string_view stage, double f) {
+    double value = 0.0;
+    {
+      const std::lock_guard lock(r->mutex);
+      if (stage != r->stage) {
+        r->stage = std::string(stage);
+        r->from = r->sent;
+      }
+      double lo = r->from, hi = r->from + (end - r->from) / 2;
+      for (const auto& [name, a, b] : slices)
+        if (name == stage) lo = a, hi = b;
+      value = std::max(r->sent, lo + (hi - lo) * f);
+      r->sent = value;
+    }
+    ctx.report(stage, value);
+  });
 }
 
 /// The mission with the job's planner and parameters applied.
@@ -84,13 +112,17 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   const Mission m = with_planner(mission, params);
   PlanOptions po;
   po.seed = seed_of(params);
-  const Plan p = plan(m, po, phase(limited(ctx, params), 0.0, 0.85));
+  // planning: the planner's stages share [0, 0.75]; then evaluation, pictures and exports
+  const Plan p = plan(m, po, job_progress(limited(ctx, params), {}, 0.75));
   OutputOptions oo;
   oo.exports = exporting::known_formats();
   oo.kmz = true;
   oo.refused_exports_are_warnings = true;
+  oo.heatmap_overlay = true;
   // the time limit is the planner's; the outputs still stop when the job is cancelled
-  PlanOutputs out = plan_outputs(p, oo, phase(ctx, 0.85, 1.0));
+  PlanOutputs out = plan_outputs(
+      p, oo,
+      job_progress(ctx, {{"evaluation", 0.75, 0.9}, {"pictures", 0.9, 0.95}, {"exports", 0.95, 1.0}}, 1.0));
 
   // evaluation.json: the coverage and cost blocks of plan.json
   json evaluation = json::object();
@@ -143,6 +175,7 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   JobResult r;
   r.result = {{"planner", p.planner},    {"seed", p.mission.seed},        {"complete", p.complete},
               {"uavs", std::move(uavs)}, {"metrics", std::move(metrics)}, {"warnings", std::move(warnings)}};
+  if (!out.heatmap_bounds.is_null()) r.result["heatmap_bounds"] = std::move(out.heatmap_bounds);
   r.artifacts = std::move(out.artifacts);
   return r;
 }

@@ -16,6 +16,8 @@ namespace uavcover::usecases {
 struct OutputOptions {
   bool evaluate = true;  ///< coverage simulation + time/cost model (eq. 15 and trajectories) into plan.json
   bool images = true;    ///< plan.png, plan.svg, heatmap.png, histogram.png
+  /// with `images` and `evaluate`: also heatmap-overlay.png (the lattice alone) and heatmap_bounds
+  bool heatmap_overlay = false;
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
   bool kmz = false;                  ///< with "kml": also <id>.kmz
   /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
@@ -29,6 +31,9 @@ struct PlanOutputs {
   double poc = -1, pooc = -1;         ///< when evaluated
   double flight_time_min = -1, total_time_min = -1, cost_eur = -1;
   double trajectory_flight_time_min = -1;  ///< the same from the time-parameterised trajectories
+  /// With heatmap_overlay: the WGS84 box heatmap-overlay.png spans, [[south, west], [north, east]] (the
+  /// corners of its local-frame rectangle, enclosed); null otherwise.
+  nlohmann::json heatmap_bounds;
 };
 
 /// Everything the plan folder holds. The evaluation checks ctx for stops.

@@ -1,10 +1,214 @@
-// The Plan tab (issue 11).
+// The Plan tab (issue 11): plan the open mission with a live progress bar and a cancel button, draw
+// each UAV's region and path on the map, the metrics panel, the coverage heatmap overlay, exports,
+// the UAV-count study and the planner comparison.
+import L from 'leaflet';
+import { api, API, ApiError } from '../api.ts';
+import { comparePanel } from '../compare.ts';
+import type { Job } from '../events.ts';
+import { exportsPanel } from '../exports.ts';
+import { el, errorText, JobView } from '../job-ui.ts';
+import { metricsPanel } from '../metrics.ts';
+import { drawPlan, type DrawnPlan, type PathsGeoJson, type PlanJson } from '../plan-layers.ts';
 import type { App, Tab } from '../state.ts';
+import { studyPanel } from '../study.ts';
+
+interface Planner {
+  name: string;
+}
+
+let drawn: DrawnPlan | null = null;
+let heat: L.ImageOverlay | null = null;
+let visible = false;
+let lastPlan: { job: Job; plan: PlanJson; paths: PathsGeoJson } | null = null;
+
+function section(title: string, open = true, testid?: string): { box: HTMLDetailsElement; body: HTMLElement } {
+  const box = el('details', { class: 'plan-section' });
+  if (testid) box.dataset.testid = testid;
+  box.open = open;
+  box.append(el('summary', {}, title));
+  const body = el('div', { class: 'plan-section-body' });
+  box.append(body);
+  return { box, body };
+}
 
 export const planTab: Tab = {
   name: 'plan',
   title: 'Plan',
-  mount(panel: HTMLElement, _app: App) {
-    panel.innerHTML = '<p class="muted">Plan</p>';
+  mount(panel: HTMLElement, app: App) {
+    const missionId = () => app.state.missionId;
+    panel.classList.add('plan-panel');
+    const none = el('p', { class: 'muted', 'data-testid': 'plan-no-mission' }, 'Open or save a mission first (Missions or Define tab).');
+    const body = el('div', { class: 'plan-body' });
+    panel.append(none, body);
+
+    // --- header and run controls
+    const title = el('div', { class: 'plan-title', 'data-testid': 'plan-mission' });
+    const controls = el('div', { class: 'plan-row' });
+    const plannerSel = el('select', { 'data-testid': 'plan-planner', 'aria-label': 'Planner' });
+    plannerSel.append(el('option', { value: '' }, "mission's planner"));
+    const seed = el('input', { type: 'number', min: '0', step: '1', placeholder: 'seed', 'data-testid': 'plan-seed', 'aria-label': 'Seed', class: 'plan-seed' });
+    const start = el('button', { type: 'button', class: 'plan-primary', 'data-testid': 'plan-start' }, 'Plan');
+    controls.append(plannerSel, seed, start);
+    const view = new JobView('plan');
+    const warnings = el('ul', { class: 'plan-warnings', 'data-testid': 'plan-warnings' });
+    const stale = el('p', { class: 'plan-note', 'data-testid': 'plan-stale', hidden: '' });
+    body.append(title, controls, view.el, stale, warnings);
+
+    // --- results
+    const legend = el('div', { class: 'plan-legend', 'data-testid': 'plan-legend' });
+    const heatRow = el('label', { class: 'plan-check' });
+    const heatToggle = el('input', { type: 'checkbox', 'data-testid': 'heatmap-toggle', disabled: '' });
+    const heatNote = el('span', { class: 'muted' });
+    heatRow.append(heatToggle, document.createTextNode(' Coverage heatmap '), heatNote);
+    const metricsBox = section('Metrics', true, 'metrics-section');
+    const exportsBox = section('Exports', true, 'exports-section');
+    const results = el('div', { class: 'plan-results', hidden: '' });
+    results.append(legend, heatRow, metricsBox.box, exportsBox.box);
+    const study = section('Study: how many UAVs?', false, 'study-section');
+    study.body.append(studyPanel(missionId));
+    const compare = section('Compare planners', false, 'compare-section');
+    compare.body.append(comparePanel(missionId));
+    body.append(results, study.box, compare.box);
+
+    api.get<{ items: Planner[] }>('/planners').then(
+      (r) => {
+        for (const p of r.items) plannerSel.append(el('option', { value: p.name }, p.name));
+      },
+      () => {
+        /* the comparison panel reports it */
+      },
+    );
+
+    const clear = () => {
+      drawn?.remove();
+      drawn = null;
+      heat?.remove();
+      heat = null;
+      heatToggle.checked = false;
+      heatToggle.disabled = true;
+      results.hidden = true;
+      lastPlan = null;
+      warnings.replaceChildren();
+    };
+
+    const showHeatmap = () => {
+      heat?.remove();
+      heat = null;
+      if (!heatToggle.checked || !lastPlan || !visible) return;
+      const b = lastPlan.job.result.heatmap_bounds as [[number, number], [number, number]] | undefined;
+      if (!b) return;
+      heat = L.imageOverlay(`${API}/plans/${lastPlan.job.id}/images/heatmap-overlay.png`, b, {
+        opacity: 0.75,
+        className: 'plan-heatmap',
+        interactive: false,
+      }).addTo(app.map);
+    };
+    heatToggle.addEventListener('change', showHeatmap);
+
+    const render = (job: Job, plan: PlanJson, paths: PathsGeoJson) => {
+      clear();
+      lastPlan = { job, plan, paths };
+      const d = drawPlan(app.map, plan, paths);
+      const counts = d.counts;
+      if (visible) {
+        drawn = d;
+        if (d.bounds) app.map.fitBounds(d.bounds, { padding: [20, 20] });
+      } else d.remove();
+      legend.replaceChildren();
+      for (const [id, c] of counts) {
+        const item = el('div', { class: 'plan-legend-item', 'data-testid': 'plan-legend-item', 'data-uav': id, 'data-regions': String(c.polygons), 'data-paths': String(c.paths) });
+        const sw = el('span', { class: 'plan-swatch' });
+        sw.style.background = c.colour;
+        item.append(sw, document.createTextNode(`${id}: ${c.polygons} region polygon${c.polygons === 1 ? '' : 's'}, ${c.paths} path part${c.paths === 1 ? '' : 's'}, ${c.waypoints} waypoints`));
+        legend.append(item);
+      }
+      legend.append(el('div', { class: 'muted plan-legend-key' }, 'solid: coverage · dashed: transit · ● start · ○ return · numbers from zoom 17'));
+      const hasHeat = Array.isArray(job.result.heatmap_bounds);
+      heatToggle.disabled = !hasHeat;
+      heatNote.textContent = hasHeat ? '' : '(this plan has no heatmap overlay)';
+      for (const w of job.warnings ?? []) warnings.append(el('li', {}, w));
+      metricsBox.body.replaceChildren(metricsPanel(job, plan));
+      exportsBox.body.replaceChildren(exportsPanel(job.id, plan.uavs.map((u) => u.id)));
+      results.hidden = false;
+    };
+
+    const load = async (job: Job) => {
+      try {
+        const [plan, paths] = await Promise.all([
+          api.get<PlanJson>(`/plans/${job.id}/plan.json`),
+          api.get<PathsGeoJson>(`/plans/${job.id}/paths.geojson`),
+        ]);
+        render(job, plan, paths);
+        app.update({ planId: job.id });
+      } catch (e) {
+        const s = el('li', { class: 'plan-error' }, `The plan's files cannot be read: ${errorText(e as ApiError)}`);
+        warnings.append(s);
+      }
+    };
+
+    start.addEventListener('click', async () => {
+      const id = missionId();
+      if (id === null) return;
+      const req: Record<string, unknown> = {};
+      if (plannerSel.value) req.planner = plannerSel.value;
+      if (seed.value.trim() !== '') req.seed = Number(seed.value);
+      start.disabled = true;
+      clear();
+      const job = await view.run(() => api.post<Job>(`/missions/${id}/plans`, req));
+      start.disabled = false;
+      if (job?.state === 'done') await load(job);
+      updateHeader();
+    });
+
+    const updateHeader = () => {
+      const s = app.state;
+      none.hidden = s.missionId !== null;
+      body.hidden = s.missionId === null;
+      const name = (s.mission?.name as string | undefined) ?? '';
+      title.textContent = s.missionId === null ? '' : `Mission #${s.missionId}${name ? ` — ${name}` : ''}, revision ${s.revision ?? '?'}`;
+      const planned = lastPlan?.job;
+      if (planned && (planned.mission_id !== s.missionId || planned.revision !== s.revision)) {
+        stale.hidden = false;
+        stale.textContent = `This plan is of mission #${planned.mission_id} revision ${planned.revision}; plan again to follow the changes.`;
+      } else stale.hidden = true;
+    };
+    let lastMission: number | null = null;
+    app.subscribe((s) => {
+      if (s.missionId !== lastMission) {
+        lastMission = s.missionId;
+        if (lastPlan && lastPlan.job.mission_id !== s.missionId) clear();
+      }
+      updateHeader();
+    });
+    updateHeader();
+
+    // a link to a mission: ?mission=ID opens it here when nothing else is open
+    const linked = Number(new URLSearchParams(window.location.search).get('mission'));
+    if (Number.isInteger(linked) && linked > 0)
+      api.get<{ id: number; revision: number; mission: Record<string, unknown> }>(`/missions/${linked}`).then(
+        (m) => {
+          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: m.mission });
+        },
+        (e: ApiError) => {
+          none.className = 'plan-error';
+          none.textContent = `Mission #${linked} cannot be opened: ${errorText(e)}`;
+        },
+      );
+
+    this.show = () => {
+      visible = true;
+      updateHeader();
+      if (lastPlan && !drawn) {
+        drawn = drawPlan(app.map, lastPlan.plan, lastPlan.paths);
+        showHeatmap();
+      }
+    };
+    this.hide = () => {
+      visible = false;
+      drawn?.remove();
+      drawn = null;
+      heat?.remove();
+      heat = null;
+    };
   },
 };

@@ -1,0 +1,100 @@
+// The plan's metrics: PoC, PoOC, turns, length, flight time, batteries, total time and cost, per UAV
+// and in total, as the server computed them (GET /plans/{id} metrics and result.uavs, plan.json's
+// coverage and cost blocks). Nothing is recomputed here.
+import type { Job } from './events.ts';
+import { el } from './job-ui.ts';
+import { uavColour } from './palette.ts';
+import type { PlanJson } from './plan-layers.ts';
+
+export interface MetricRow {
+  name: string;
+  label: string;
+  title: string;
+  format: (v: number) => string;
+}
+
+const pct = (v: number) => (100 * v).toFixed(2);
+const km = (v: number) => (v / 1000).toFixed(2);
+const minutes = (v: number) => v.toFixed(1);
+const int = (v: number) => v.toFixed(0);
+const euros = (v: number) => v.toFixed(2);
+
+export const METRICS: MetricRow[] = [
+  { name: 'poc', label: 'PoC %', title: 'probability of coverage: the share of the area seen (per UAV: of the whole area)', format: pct },
+  { name: 'pooc', label: 'PoOC %', title: 'probability of over-coverage: the share seen more than once', format: pct },
+  { name: 'turns', label: 'Turns', title: 'turns along the path', format: int },
+  { name: 'length_m', label: 'Length km', title: 'path length', format: km },
+  { name: 'flight_time_min', label: 'Flight min', title: 'flight time (the mission: the longest UAV flight)', format: minutes },
+  { name: 'batteries', label: 'Batteries', title: 'batteries used (total: per UAV)', format: int },
+  { name: 'total_time_min', label: 'Total min', title: 'total time: deployment, flights and battery changes', format: minutes },
+  { name: 'cost_eur', label: 'Cost €', title: 'flight cost', format: euros },
+];
+
+interface ResultUav {
+  id: string;
+  turns?: number;
+  length_m?: number;
+  share_actual?: number;
+}
+
+/** The values of each column: per UAV (in plan order), then the total. */
+export function metricValues(job: Job, plan: PlanJson | null): { id: string; values: Record<string, number | undefined> }[] {
+  const uavs = ((job.result.uavs as ResultUav[] | undefined) ?? []).map((u, i) => {
+    const cov = plan?.coverage?.uavs?.find((c) => c.id === u.id);
+    const cost = plan?.cost?.uavs?.[i];
+    return {
+      id: u.id,
+      values: {
+        poc: cov?.poc,
+        pooc: cov?.pooc,
+        turns: u.turns,
+        length_m: u.length_m,
+        flight_time_min: cost?.flight_duration_min,
+        batteries: cost?.batteries,
+        total_time_min: undefined,
+        cost_eur: undefined,
+      } as Record<string, number | undefined>,
+    };
+  });
+  const m = job.metrics ?? {};
+  const total: Record<string, number | undefined> = {};
+  for (const r of METRICS) total[r.name] = typeof m[r.name] === 'number' ? m[r.name] : undefined;
+  total.batteries = plan?.cost?.batteries_per_uav;
+  return [...uavs, { id: 'total', values: total }];
+}
+
+/** The metrics table (rows: metrics; columns: UAVs and the total). */
+export function metricsPanel(job: Job, plan: PlanJson | null): HTMLElement {
+  const cols = metricValues(job, plan);
+  const wrap = el('div', { class: 'plan-metrics', 'data-testid': 'metrics-panel', 'data-plan-id': String(job.id) });
+  const table = el('table');
+  const head = el('tr');
+  head.append(el('th', {}, ''));
+  cols.forEach((c, i) => {
+    const th = el('th', { 'data-uav': c.id });
+    if (c.id !== 'total') {
+      const sw = el('span', { class: 'plan-swatch' });
+      sw.style.background = uavColour(i);
+      th.append(sw, document.createTextNode(c.id));
+    } else th.textContent = 'Total';
+    head.append(th);
+  });
+  table.append(el('thead'), el('tbody'));
+  table.tHead!.append(head);
+  for (const r of METRICS) {
+    const tr = el('tr');
+    tr.append(el('th', { scope: 'row', title: r.title }, r.label));
+    for (const c of cols) {
+      const v = c.values[r.name];
+      const attrs: Record<string, string> = { 'data-uav': c.id, 'data-metric': r.name };
+      if (c.id === 'total') attrs['data-testid'] = `metric-${r.name}`;
+      if (v !== undefined) attrs['data-value'] = String(v);
+      tr.append(el('td', attrs, v === undefined ? '—' : r.format(v)));
+    }
+    table.tBodies[0].append(tr);
+  }
+  wrap.append(table);
+  if (plan?.cost?.uavs === undefined)
+    wrap.append(el('p', { class: 'muted' }, 'Flight time and batteries per UAV: not in plan.json.'));
+  return wrap;
+}
