@@ -93,8 +93,11 @@ void SimVehicle::service_link() {
     if (st_.link_lost) continue;  // a lost link hears nothing
     handle(*r);
   }
-  if (st_.link_lost) return;
-  protocol_.on_timeout();
+  service_timeouts();
+}
+
+void SimVehicle::service_timeouts() {
+  if (!st_.link_lost) protocol_.on_timeout();
 }
 
 void SimVehicle::handle(const mav::Received& r) {
@@ -571,7 +574,7 @@ Fleet::Fleet(const std::vector<VehicleConfig>& configs, const FleetOptions& opti
   for (const auto& c : configs) vehicles_.push_back(std::make_unique<SimVehicle>(c));
 }
 
-void Fleet::run(std::stop_token stop, std::optional<double> max_sim_s) {
+void Fleet::run(const std::stop_token& stop, std::optional<double> max_sim_s) {
   using clock = std::chrono::steady_clock;
   const double dt = opt_.physics_dt;
   std::vector<pollfd> fds(vehicles_.size());
@@ -579,7 +582,7 @@ void Fleet::run(std::stop_token stop, std::optional<double> max_sim_s) {
   auto t0 = clock::now();
   long long tick = 0;
   while (!stop.stop_requested()) {
-    if (max_sim_s && sim_time_ >= *max_sim_s - 1e-9) return;
+    if (max_sim_s && sim_time_.load() >= *max_sim_s - 1e-9) return;
     const auto due = t0 + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(
                               static_cast<double>(tick + 1) * dt / opt_.speedup));
     // handle the network until the next step is due
@@ -599,11 +602,11 @@ void Fleet::run(std::stop_token stop, std::optional<double> max_sim_s) {
       if (clock::now() >= due) break;
     }
     for (auto& v : vehicles_) {
-      v->service_link();  // protocol timeouts (wall time), and a mission that arrived
+      v->service_timeouts();  // the mission protocol's re-requests (wall time)
       v->step(dt);
     }
     ++tick;
-    sim_time_ += dt;
+    sim_time_.store(sim_time_.load() + dt);
     // Fallen far behind (an overloaded machine): let simulated time slip instead of rushing.
     if (clock::now() - due > std::chrono::seconds(1)) {
       t0 = clock::now() - std::chrono::duration_cast<clock::duration>(

@@ -10,6 +10,7 @@
 // than wall time); the mission protocol's timeouts stay in wall time (they are about the network).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -111,6 +112,8 @@ class SimVehicle {
   /// Reads and handles every datagram waiting on the socket (non-blocking), then the protocol's
   /// wall-time timeouts. A vehicle whose link failed reads and discards.
   void service_link();
+  /// The mission protocol's wall-time timeouts only (service_link() does them too).
+  void service_timeouts();
   /// Advances simulated time by `dt` seconds: flight, battery, failures, telemetry.
   void step(double dt);
 
@@ -182,14 +185,15 @@ class Fleet {
  public:
   Fleet(const std::vector<VehicleConfig>& configs, const FleetOptions& options);
   [[nodiscard]] std::vector<std::unique_ptr<SimVehicle>>& vehicles() { return vehicles_; }
-  [[nodiscard]] double sim_time() const { return sim_time_; }
+  /// Simulated seconds run so far (may be read from another thread while run() runs).
+  [[nodiscard]] double sim_time() const { return sim_time_.load(); }
   /// Runs until `stop` is requested (or, when given, `max_sim_s` of simulated time has passed).
-  void run(std::stop_token stop, std::optional<double> max_sim_s = std::nullopt);
+  void run(const std::stop_token& stop, std::optional<double> max_sim_s = std::nullopt);
 
  private:
   FleetOptions opt_;
   std::vector<std::unique_ptr<SimVehicle>> vehicles_;
-  double sim_time_ = 0;
+  std::atomic<double> sim_time_{0.0};
 };
 
 /// Parses "ID@FRACTION[:link|:land]" (ID = system id 1..255, FRACTION in (0, 1)); throws InputError
