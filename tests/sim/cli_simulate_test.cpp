@@ -46,7 +46,8 @@ TEST(CliSimulate, PrintsOneLinePerVehicleAndStopsAfterDuration) {
 
 TEST(CliSimulate, StopsCleanlyOnSigterm) {
   // `timeout` sends SIGTERM after 1 s; the simulator stops at its next check and exits 0
-  const auto r = run("simulate --vehicles 2 --listen udp:127.0.0.1:0", "timeout --preserve-status -s TERM 1 ");
+  const auto r =
+      run("simulate --vehicles 2 --listen udp:127.0.0.1:0", "timeout --preserve-status -s TERM 1 ");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("vehicle 2:"), std::string::npos) << r.err;  // the summary
 }
