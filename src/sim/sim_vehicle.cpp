@@ -43,6 +43,12 @@ bool is_global(std::uint8_t frame) {
 }
 bool is_amsl(std::uint8_t frame) { return frame == 0 || frame == 5; }
 
+// The navigation commands flown (the others are done at once).
+bool is_nav(std::uint16_t command) {
+  return command == ex::kNavWaypoint || command == ex::kNavTakeoff || command == ex::kNavLand ||
+         command == ex::kNavReturnToLaunch || (command >= 17 && command <= 19) || command == 82;
+}
+
 bool for_me(std::uint8_t target, std::uint8_t sysid) { return target == 0 || target == sysid; }
 
 template <typename T>
@@ -152,9 +158,12 @@ void SimVehicle::load_mission() {
   // Home from the mission when none was given and the vehicle has not flown yet.
   if (!home_fixed_ && !st_.airborne && !st_.armed && !mission_.empty()) {
     std::optional<std::size_t> from;
-    if (is_home_item(0)) from = 0;
+    if (is_home_item(0) && std::abs(mission_[0].x) <= 900'000'000 && std::abs(mission_[0].y) <= 1'800'000'000)
+      from = 0;
     for (std::size_t i = 0; !from && i < mission_.size(); ++i)
-      if (is_global(mission_[i].frame) && (mission_[i].x != 0 || mission_[i].y != 0)) from = i;
+      if (is_global(mission_[i].frame) && (mission_[i].x != 0 || mission_[i].y != 0) &&
+          std::abs(mission_[i].x) <= 900'000'000 && std::abs(mission_[i].y) <= 1'800'000'000)
+        from = i;
     if (from) frame_.emplace(LonLat{mission_[*from].y * 1e-7, mission_[*from].x * 1e-7});
   }
   st_.current_seq.reset();
@@ -256,16 +265,25 @@ std::uint8_t SimVehicle::land_here() {
 std::vector<SimVehicle::Target> SimVehicle::item_targets(const mav::MissionItemInt& item,
                                                          const Vec3& from) const {
   const bool has_position = is_global(item.frame) && (item.x != 0 || item.y != 0);
-  Vec3 xy = has_position ? to_local(item.x, item.y) : Vec3{from.x, from.y, 0};
+  // Untrusted items: a position off the globe or an altitude that is not a number is not flown
+  // (begin_item() reports it); altitudes are kept within 0..10 km.
+  if (is_nav(item.command)) {
+    if (has_position && (std::abs(item.x) > 900'000'000 || std::abs(item.y) > 1'800'000'000)) return {};
+    if (item.command != ex::kNavLand && item.command != ex::kNavReturnToLaunch &&
+        !std::isfinite(item_alt(item)))
+      return {};
+  }
+  const Vec3 xy = has_position ? to_local(item.x, item.y) : Vec3{from.x, from.y, 0};
+  const double alt = std::isfinite(item_alt(item)) ? std::clamp(item_alt(item), 0.0, 10'000.0) : 0.0;
   switch (item.command) {
     case ex::kNavTakeoff:  // straight up where it stands
-      return {Target{{from.x, from.y, std::max(item_alt(item), 1.0)}, false}};
+      return {Target{{from.x, from.y, std::max(alt, 1.0)}, false}};
     case ex::kNavWaypoint:
     case 17:  // LOITER_UNLIM, LOITER_TURNS (18), LOITER_TIME (19): flown as waypoints
     case 18:
     case 19:
     case 82:  // SPLINE_WAYPOINT
-      return {Target{{xy.x, xy.y, item_alt(item)}, false}};
+      return {Target{{xy.x, xy.y, alt}, false}};
     case ex::kNavLand:
       return {Target{{xy.x, xy.y, from.z}, false}, Target{{xy.x, xy.y, 0}, true}};
     case ex::kNavReturnToLaunch:
@@ -280,11 +298,15 @@ void SimVehicle::begin_item(std::size_t seq) {
     item_ = seq;
     st_.current_seq = static_cast<std::uint16_t>(seq);
     const auto& item = mission_[seq];
-    if (item.command == ex::kDoChangeSpeed && item.param2 > 0) v_max_ = item.param2;
+    if (item.command == ex::kDoChangeSpeed && std::isfinite(item.param2) && item.param2 >= 0.1F &&
+        item.param2 <= 100.0F)
+      v_max_ = item.param2;
     targets_ = item_targets(item, st_.p);
     target_ = 0;
     send_current();
     if (!targets_.empty()) return;
+    if (is_nav(item.command))
+      status(mav::kSeverityWarning, "item " + std::to_string(seq) + " invalid: skipped");
     // a command without a position (speed, camera, ...): done at once
     send(mav::MissionItemReached{static_cast<std::uint16_t>(seq)});
     st_.reached.push_back(static_cast<std::uint16_t>(seq));

@@ -5,8 +5,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -429,4 +431,26 @@ TEST(SimVehicleModel, ParseFailure) {
   EXPECT_EQ(sim::parse_failure("1@0.25").second.kind, sim::FailureKind::Link);
   for (const char* bad : {"", "@0.4", "0@0.4", "256@0.4", "1@1", "1@0", "1@x", "1@0.4:crash", "1@0.4:"})
     EXPECT_THROW(sim::parse_failure(bad), InputError) << bad;
+}
+
+// Untrusted items: a waypoint off the globe or with a NaN altitude, an absurd speed, are not flown; the
+// rest of the mission is.
+TEST(SimVehicleModel, InvalidItemsAreSkipped) {
+  auto c = config(9);
+  c.home = kHome;
+  sim::SimVehicle v(c);
+  auto items = square_mission();
+  items[3].x = 1'000'000'000;  // latitude 100 degrees
+  items[4].z = std::numeric_limits<float>::quiet_NaN();
+  items[2].param2 = std::numeric_limits<float>::infinity();  // DO_CHANGE_SPEED: ignored
+  v.set_mission(items);
+  ASSERT_EQ(v.arm(true), kResultAccepted);
+  ASSERT_EQ(v.start_mission(), kResultAccepted);
+  for (int i = 0; i < 40000 && !v.state().mission_complete; ++i) v.step(0.05);
+  const auto& s = v.state();
+  EXPECT_TRUE(s.mission_complete);
+  EXPECT_FALSE(s.airborne);
+  EXPECT_TRUE(std::isfinite(s.p.x) && std::isfinite(s.p.y) && std::isfinite(s.p.z));
+  EXPECT_LT(std::hypot(s.p.x, s.p.y), 1.0);  // RTL brought it home
+  EXPECT_EQ(s.reached.size(), items.size() - 1);
 }
