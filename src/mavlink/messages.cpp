@@ -1,5 +1,6 @@
 #include "mavlink/messages.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -21,6 +22,8 @@ class Writer {
     u16(static_cast<std::uint16_t>(v >> 16));
   }
   void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
+  void i16(std::int16_t v) { u16(static_cast<std::uint16_t>(v)); }
+  void i8(std::int8_t v) { u8(static_cast<std::uint8_t>(v)); }
   void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }
   [[nodiscard]] std::size_t size() const { return pos_; }
 
@@ -48,6 +51,8 @@ class Reader {
     return lo | (hi << 16);
   }
   std::int32_t i32() { return static_cast<std::int32_t>(u32()); }
+  std::int16_t i16() { return static_cast<std::int16_t>(u16()); }
+  std::int8_t i8() { return static_cast<std::int8_t>(u8()); }
   float f32() { return std::bit_cast<float>(u32()); }
 
  private:
@@ -197,6 +202,156 @@ void read(Reader& r, MissionCurrent& m) {
 void write(Writer& w, const MissionItemReached& m) { w.u16(m.seq); }
 void read(Reader& r, MissionItemReached& m) { m.seq = r.u16(); }
 
+void write(Writer& w, const SysStatus& m) {
+  w.u32(m.onboard_control_sensors_present);
+  w.u32(m.onboard_control_sensors_enabled);
+  w.u32(m.onboard_control_sensors_health);
+  w.u16(m.load);
+  w.u16(m.voltage_battery);
+  w.i16(m.current_battery);
+  w.u16(m.drop_rate_comm);
+  w.u16(m.errors_comm);
+  w.u16(m.errors_count1);
+  w.u16(m.errors_count2);
+  w.u16(m.errors_count3);
+  w.u16(m.errors_count4);
+  w.i8(m.battery_remaining);
+  w.u32(m.onboard_control_sensors_present_extended);
+  w.u32(m.onboard_control_sensors_enabled_extended);
+  w.u32(m.onboard_control_sensors_health_extended);
+}
+void read(Reader& r, SysStatus& m) {
+  m.onboard_control_sensors_present = r.u32();
+  m.onboard_control_sensors_enabled = r.u32();
+  m.onboard_control_sensors_health = r.u32();
+  m.load = r.u16();
+  m.voltage_battery = r.u16();
+  m.current_battery = r.i16();
+  m.drop_rate_comm = r.u16();
+  m.errors_comm = r.u16();
+  m.errors_count1 = r.u16();
+  m.errors_count2 = r.u16();
+  m.errors_count3 = r.u16();
+  m.errors_count4 = r.u16();
+  m.battery_remaining = r.i8();
+  m.onboard_control_sensors_present_extended = r.u32();
+  m.onboard_control_sensors_enabled_extended = r.u32();
+  m.onboard_control_sensors_health_extended = r.u32();
+}
+
+void write(Writer& w, const GlobalPositionInt& m) {
+  w.u32(m.time_boot_ms);
+  w.i32(m.lat);
+  w.i32(m.lon);
+  w.i32(m.alt);
+  w.i32(m.relative_alt);
+  w.i16(m.vx);
+  w.i16(m.vy);
+  w.i16(m.vz);
+  w.u16(m.hdg);
+}
+void read(Reader& r, GlobalPositionInt& m) {
+  m.time_boot_ms = r.u32();
+  m.lat = r.i32();
+  m.lon = r.i32();
+  m.alt = r.i32();
+  m.relative_alt = r.i32();
+  m.vx = r.i16();
+  m.vy = r.i16();
+  m.vz = r.i16();
+  m.hdg = r.u16();
+}
+
+void write(Writer& w, const CommandLong& m) {
+  w.f32(m.param1);
+  w.f32(m.param2);
+  w.f32(m.param3);
+  w.f32(m.param4);
+  w.f32(m.param5);
+  w.f32(m.param6);
+  w.f32(m.param7);
+  w.u16(m.command);
+  w.u8(m.target_system);
+  w.u8(m.target_component);
+  w.u8(m.confirmation);
+}
+void read(Reader& r, CommandLong& m) {
+  m.param1 = r.f32();
+  m.param2 = r.f32();
+  m.param3 = r.f32();
+  m.param4 = r.f32();
+  m.param5 = r.f32();
+  m.param6 = r.f32();
+  m.param7 = r.f32();
+  m.command = r.u16();
+  m.target_system = r.u8();
+  m.target_component = r.u8();
+  m.confirmation = r.u8();
+}
+
+void write(Writer& w, const CommandAck& m) {
+  w.u16(m.command);
+  w.u8(m.result);
+  w.u8(m.progress);
+  w.i32(m.result_param2);
+  w.u8(m.target_system);
+  w.u8(m.target_component);
+}
+void read(Reader& r, CommandAck& m) {
+  m.command = r.u16();
+  m.result = r.u8();
+  m.progress = r.u8();
+  m.result_param2 = r.i32();
+  m.target_system = r.u8();
+  m.target_component = r.u8();
+}
+
+void write(Writer& w, const BatteryStatus& m) {
+  w.i32(m.current_consumed);
+  w.i32(m.energy_consumed);
+  w.i16(m.temperature);
+  for (std::uint16_t v : m.voltages) w.u16(v);
+  w.i16(m.current_battery);
+  w.u8(m.id);
+  w.u8(m.battery_function);
+  w.u8(m.type);
+  w.i8(m.battery_remaining);
+  w.i32(m.time_remaining);
+  w.u8(m.charge_state);
+  for (std::uint16_t v : m.voltages_ext) w.u16(v);
+  w.u8(m.mode);
+  w.u32(m.fault_bitmask);
+}
+void read(Reader& r, BatteryStatus& m) {
+  m.current_consumed = r.i32();
+  m.energy_consumed = r.i32();
+  m.temperature = r.i16();
+  for (std::uint16_t& v : m.voltages) v = r.u16();
+  m.current_battery = r.i16();
+  m.id = r.u8();
+  m.battery_function = r.u8();
+  m.type = r.u8();
+  m.battery_remaining = r.i8();
+  m.time_remaining = r.i32();
+  m.charge_state = r.u8();
+  for (std::uint16_t& v : m.voltages_ext) v = r.u16();
+  m.mode = r.u8();
+  m.fault_bitmask = r.u32();
+}
+
+void write(Writer& w, const StatusText& m) {
+  w.u8(m.severity);
+  for (char c : m.text) w.u8(static_cast<std::uint8_t>(c));
+  w.u16(m.id);
+  w.u8(m.chunk_seq);
+}
+void read(Reader& r, StatusText& m) {
+  m.severity = r.u8();
+  for (char& c : m.text) c = static_cast<char>(r.u8());
+  m.id = r.u16();
+  m.chunk_seq = r.u8();
+}
+
 template <typename M>
 std::optional<Message> decode_as(std::span<const std::uint8_t> payload) {
   M m{};
@@ -206,6 +361,20 @@ std::optional<Message> decode_as(std::span<const std::uint8_t> payload) {
 }
 
 }  // namespace
+
+std::string_view StatusText::str() const {
+  std::size_t n = 0;
+  while (n < text.size() && text[n] != '\0') ++n;
+  return {text.data(), n};
+}
+
+StatusText StatusText::make(std::uint8_t severity, std::string_view text) {
+  StatusText m;
+  m.severity = severity;
+  const std::size_t n = std::min(text.size(), m.text.size());
+  std::copy_n(text.begin(), n, m.text.begin());
+  return m;
+}
 
 std::string_view mission_result_name(std::uint8_t result) {
   switch (result) {
@@ -266,6 +435,18 @@ std::optional<MessageInfo> message_info(std::uint32_t msgid) {
       return MissionCurrent::info;
     case MissionItemReached::info.id:
       return MissionItemReached::info;
+    case SysStatus::info.id:
+      return SysStatus::info;
+    case GlobalPositionInt::info.id:
+      return GlobalPositionInt::info;
+    case CommandLong::info.id:
+      return CommandLong::info;
+    case CommandAck::info.id:
+      return CommandAck::info;
+    case BatteryStatus::info.id:
+      return BatteryStatus::info;
+    case StatusText::info.id:
+      return StatusText::info;
     default:
       return std::nullopt;
   }
@@ -302,6 +483,18 @@ std::optional<Message> decode_payload(std::uint32_t msgid, std::span<const std::
       return decode_as<MissionCurrent>(payload);
     case MissionItemReached::info.id:
       return decode_as<MissionItemReached>(payload);
+    case SysStatus::info.id:
+      return decode_as<SysStatus>(payload);
+    case GlobalPositionInt::info.id:
+      return decode_as<GlobalPositionInt>(payload);
+    case CommandLong::info.id:
+      return decode_as<CommandLong>(payload);
+    case CommandAck::info.id:
+      return decode_as<CommandAck>(payload);
+    case BatteryStatus::info.id:
+      return decode_as<BatteryStatus>(payload);
+    case StatusText::info.id:
+      return decode_as<StatusText>(payload);
     default:
       return std::nullopt;
   }

@@ -1,4 +1,5 @@
-// The MAVLink messages of the mission protocol (common.xml / minimal.xml), written by hand.
+// The MAVLink messages of the mission protocol, commands and the telemetry of a flying vehicle
+// (common.xml / minimal.xml), written by hand.
 // Each struct lists its fields; encode_payload() writes them in wire order: the base fields sorted
 // by type size (largest first, stable), then the extension fields in declaration order.
 // CRC_EXTRA values agree with the c_library_v2 MAVLINK_MESSAGE_CRCS table and are re-derived from
@@ -134,8 +135,130 @@ struct MissionItemReached {
   friend bool operator==(const MissionItemReached&, const MissionItemReached&) = default;
 };
 
+/// SYS_STATUS (1): the fields a GCS reads for battery and health.
+struct SysStatus {
+  static constexpr MessageInfo info{1, "SYS_STATUS", 124, 31, 43};
+  std::uint32_t onboard_control_sensors_present = 0;
+  std::uint32_t onboard_control_sensors_enabled = 0;
+  std::uint32_t onboard_control_sensors_health = 0;
+  std::uint16_t load = 0;             ///< d%
+  std::uint16_t voltage_battery = 0;  ///< mV (UINT16_MAX: unknown)
+  std::int16_t current_battery = -1;  ///< cA (-1: unknown)
+  std::uint16_t drop_rate_comm = 0;   ///< c%
+  std::uint16_t errors_comm = 0;
+  std::uint16_t errors_count1 = 0, errors_count2 = 0, errors_count3 = 0, errors_count4 = 0;
+  std::int8_t battery_remaining = -1;                          ///< % (-1: unknown)
+  std::uint32_t onboard_control_sensors_present_extended = 0;  // extension
+  std::uint32_t onboard_control_sensors_enabled_extended = 0;  // extension
+  std::uint32_t onboard_control_sensors_health_extended = 0;   // extension
+  friend bool operator==(const SysStatus&, const SysStatus&) = default;
+};
+
+/// GLOBAL_POSITION_INT (33): the fused global position.
+struct GlobalPositionInt {
+  static constexpr MessageInfo info{33, "GLOBAL_POSITION_INT", 104, 28, 28};
+  std::uint32_t time_boot_ms = 0;
+  std::int32_t lat = 0;           ///< degE7
+  std::int32_t lon = 0;           ///< degE7
+  std::int32_t alt = 0;           ///< mm above mean sea level
+  std::int32_t relative_alt = 0;  ///< mm above home
+  std::int16_t vx = 0;            ///< cm/s north
+  std::int16_t vy = 0;            ///< cm/s east
+  std::int16_t vz = 0;            ///< cm/s down
+  std::uint16_t hdg = 0;          ///< cdeg (UINT16_MAX: unknown)
+  friend bool operator==(const GlobalPositionInt&, const GlobalPositionInt&) = default;
+};
+
+/// MAV_CMD numbers of the commands a simulated vehicle answers.
+enum MavCommand : std::uint16_t {
+  kCmdNavReturnToLaunch = 20,
+  kCmdNavLand = 21,
+  kCmdDoPauseContinue = 193,
+  kCmdMissionStart = 300,
+  kCmdComponentArmDisarm = 400,
+};
+
+/// MAV_RESULT
+enum MavResult : std::uint8_t {
+  kResultAccepted = 0,
+  kResultTemporarilyRejected = 1,
+  kResultDenied = 2,
+  kResultUnsupported = 3,
+  kResultFailed = 4,
+};
+
+/// COMMAND_LONG (76)
+struct CommandLong {
+  static constexpr MessageInfo info{76, "COMMAND_LONG", 152, 33, 33};
+  float param1 = 0, param2 = 0, param3 = 0, param4 = 0, param5 = 0, param6 = 0, param7 = 0;
+  std::uint16_t command = 0;
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint8_t confirmation = 0;
+  friend bool operator==(const CommandLong&, const CommandLong&) = default;
+};
+
+/// COMMAND_ACK (77)
+struct CommandAck {
+  static constexpr MessageInfo info{77, "COMMAND_ACK", 143, 3, 10};
+  std::uint16_t command = 0;
+  std::uint8_t result = kResultAccepted;  ///< MAV_RESULT
+  std::uint8_t progress = 0;              // extension
+  std::int32_t result_param2 = 0;         // extension
+  std::uint8_t target_system = 0;         // extension
+  std::uint8_t target_component = 0;      // extension
+  friend bool operator==(const CommandAck&, const CommandAck&) = default;
+};
+
+/// BATTERY_STATUS (147)
+struct BatteryStatus {
+  static constexpr MessageInfo info{147, "BATTERY_STATUS", 154, 36, 54};
+  std::int32_t current_consumed = -1;        ///< mAh (-1: unknown)
+  std::int32_t energy_consumed = -1;         ///< hJ (-1: unknown)
+  std::int16_t temperature = INT16_MAX;      ///< cdegC (INT16_MAX: unknown)
+  std::array<std::uint16_t, 10> voltages{};  ///< mV per cell (UINT16_MAX: no such cell)
+  std::int16_t current_battery = -1;         ///< cA (-1: unknown)
+  std::uint8_t id = 0;
+  std::uint8_t battery_function = 0;            ///< MAV_BATTERY_FUNCTION (1 = all)
+  std::uint8_t type = 0;                        ///< MAV_BATTERY_TYPE (1 = LiPo)
+  std::int8_t battery_remaining = -1;           ///< % (-1: unknown)
+  std::int32_t time_remaining = 0;              // extension, s (0: unknown)
+  std::uint8_t charge_state = 0;                // extension, MAV_BATTERY_CHARGE_STATE
+  std::array<std::uint16_t, 4> voltages_ext{};  // extension
+  std::uint8_t mode = 0;                        // extension
+  std::uint32_t fault_bitmask = 0;              // extension
+  friend bool operator==(const BatteryStatus&, const BatteryStatus&) = default;
+};
+
+/// MAV_SEVERITY
+enum MavSeverity : std::uint8_t {
+  kSeverityEmergency = 0,
+  kSeverityAlert = 1,
+  kSeverityCritical = 2,
+  kSeverityError = 3,
+  kSeverityWarning = 4,
+  kSeverityNotice = 5,
+  kSeverityInfo = 6,
+  kSeverityDebug = 7,
+};
+
+/// STATUSTEXT (253): up to 50 characters (not NUL-terminated when all 50 are used).
+struct StatusText {
+  static constexpr MessageInfo info{253, "STATUSTEXT", 83, 51, 54};
+  std::uint8_t severity = kSeverityInfo;
+  std::array<char, 50> text{};
+  std::uint16_t id = 0;        // extension
+  std::uint8_t chunk_seq = 0;  // extension
+  /// The text up to the first NUL (or all 50 characters).
+  [[nodiscard]] std::string_view str() const;
+  /// A message with `text` (cut to 50 characters).
+  static StatusText make(std::uint8_t severity, std::string_view text);
+  friend bool operator==(const StatusText&, const StatusText&) = default;
+};
+
 using Message = std::variant<Heartbeat, MissionCount, MissionRequestInt, MissionRequest, MissionItemInt,
-                             MissionAck, MissionClearAll, MissionCurrent, MissionItemReached>;
+                             MissionAck, MissionClearAll, MissionCurrent, MissionItemReached, SysStatus,
+                             GlobalPositionInt, CommandLong, CommandAck, BatteryStatus, StatusText>;
 
 /// The messages this codec knows, or nullopt.
 std::optional<MessageInfo> message_info(std::uint32_t msgid);

@@ -232,19 +232,27 @@ void Vehicle::on_timeout() {
   ack(kMissionOperationCancelled, gcs_system_, gcs_component_);
 }
 
-void Vehicle::handle(const Received& r) {
+bool Vehicle::handle(const Received& r) {
   if (const auto* mc = std::get_if<MissionCount>(&r.message)) {
-    if (!for_me(mc->target_system, link_.sysid())) return;
+    if (!for_me(mc->target_system, link_.sysid())) return true;
     gcs_system_ = r.header.sysid;
     gcs_component_ = r.header.compid;
-    if (mc->mission_type != kMissionTypeMission) return ack(kMissionUnsupported, gcs_system_, gcs_component_);
-    if (mc->count > opt_.max_items) return ack(kMissionNoSpace, gcs_system_, gcs_component_);
+    if (mc->mission_type != kMissionTypeMission) {
+      ack(kMissionUnsupported, gcs_system_, gcs_component_);
+      return true;
+    }
+    if (mc->count > opt_.max_items) {
+      ack(kMissionNoSpace, gcs_system_, gcs_component_);
+      return true;
+    }
     if (mc->count == 0) {  // an empty upload clears the mission
       mission_.clear();
       receiving_ = false;
       ++stats_.uploads_accepted;
+      ++mission_version_;
       last_completed_count_ = 0;
-      return ack(kMissionAccepted, gcs_system_, gcs_component_);
+      ack(kMissionAccepted, gcs_system_, gcs_component_);
+      return true;
     }
     receiving_ = true;  // a new count (also a resent one) (re)starts the transfer
     count_ = mc->count;
@@ -254,24 +262,24 @@ void Vehicle::handle(const Received& r) {
     last_completed_count_.reset();
     request(0);
   } else if (const auto* item = std::get_if<MissionItemInt>(&r.message)) {
-    if (!for_me(item->target_system, link_.sysid())) return;
+    if (!for_me(item->target_system, link_.sysid())) return true;
     if (!receiving_) {
       // The GCS repeats the final item when our ACK was lost: repeat the ACK.
       if (last_completed_count_ && *last_completed_count_ > 0 && item->seq + 1 == *last_completed_count_) {
         ++stats_.acks_resent;
         ack(kMissionAccepted, r.header.sysid, r.header.compid);
       }
-      return;
+      return true;
     }
     if (item->seq < expected_) {  // a late duplicate (we re-requested too early): drop it
       ++stats_.duplicates;
-      return;
+      return true;
     }
     if (item->seq != expected_) {  // out of sequence: drop it and ask again for the expected one
       ++stats_.out_of_sequence;
       ++stats_.rerequests;
       request(expected_);
-      return;
+      return true;
     }
     incoming_.push_back(*item);
     ++expected_;
@@ -282,16 +290,21 @@ void Vehicle::handle(const Received& r) {
       receiving_ = false;
       last_completed_count_ = count_;
       ++stats_.uploads_accepted;
+      ++mission_version_;
       ack(kMissionAccepted, gcs_system_, gcs_component_);
     } else {
       request(expected_);
     }
   } else if (const auto* clear = std::get_if<MissionClearAll>(&r.message)) {
-    if (!for_me(clear->target_system, link_.sysid())) return;
+    if (!for_me(clear->target_system, link_.sysid())) return true;
     mission_.clear();
     receiving_ = false;
+    ++mission_version_;
     ack(kMissionAccepted, r.header.sysid, r.header.compid);
+  } else {
+    return false;
   }
+  return true;
 }
 
 void Vehicle::run(std::chrono::milliseconds limit, const std::atomic<bool>* stop, bool until_accepted) {

@@ -105,15 +105,25 @@ class Vehicle {
   /// `per_item`, MISSION_ITEM_REACHED(seq); finally MISSION_CURRENT with mission_state COMPLETE.
   void fly(std::uint16_t first_seq, std::chrono::milliseconds per_item);
 
+  /// For an owner that runs its own event loop (the simulated fleet polls many links at once):
+  /// handles one received message; true when it was a mission-protocol message (MISSION_COUNT,
+  /// MISSION_ITEM_INT, MISSION_CLEAR_ALL), false for anything else (left to the caller).
+  bool handle(const Received& r);
+  /// Re-requests the expected item (or cancels the transfer) when its timeout has passed; call it
+  /// regularly, at least every item_timeout, while a transfer is in progress.
+  void on_timeout();
+  /// A transfer is in progress (the stored mission is still the previous one).
+  [[nodiscard]] bool receiving() const { return receiving_; }
+
   [[nodiscard]] const std::vector<MissionItemInt>& mission() const { return mission_; }
   [[nodiscard]] const Stats& stats() const { return stats_; }
+  /// Counts every change of the stored mission (accepted uploads and clears).
+  [[nodiscard]] std::size_t mission_version() const { return mission_version_; }
 
  private:
   using clock = std::chrono::steady_clock;
-  void handle(const Received& r);
   void request(std::uint16_t seq);
   void ack(std::uint8_t type, std::uint8_t target_system, std::uint8_t target_component);
-  void on_timeout();
 
   UdpLink& link_;
   VehicleOptions opt_;
@@ -130,6 +140,7 @@ class Vehicle {
   std::optional<std::uint16_t> last_completed_count_;
   clock::time_point next_heartbeat_{};
   Stats stats_;
+  std::size_t mission_version_ = 0;
 };
 
 }  // namespace uavcover::mavlink

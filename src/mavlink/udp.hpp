@@ -48,6 +48,10 @@ class UdpLink {
   UdpLink& operator=(const UdpLink&) = delete;
 
   [[nodiscard]] std::uint16_t local_port() const { return local_port_; }
+  /// The socket, for poll() over many links (the simulated fleet); reading stays with receive().
+  [[nodiscard]] int native_handle() const { return fd_; }
+  /// A decoded message is already waiting (receive() returns it without touching the socket).
+  [[nodiscard]] bool has_pending() const { return !pending_.empty(); }
   [[nodiscard]] std::uint8_t sysid() const { return sysid_; }
   [[nodiscard]] std::uint8_t compid() const { return compid_; }
 
