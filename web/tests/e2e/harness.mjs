@@ -31,17 +31,17 @@ export function freePort() {
 }
 
 /**
- * Starts `uavcover serve` over a fresh SQLite database in a temporary folder, seeded with examples/,
- * serving web/dist. Resolves once /healthz answers: { base, api(path, init), log(), stop() }.
+ * Starts `uavcover serve` over a fresh SQLite database in a temporary folder (or the database file
+ * `db`, kept), seeded with examples/, serving web/dist. Resolves once /healthz answers: { base, api(path, init), log(), stop() }.
  */
-export async function startServer({ workers = 2, extraArgs = [] } = {}) {
+export async function startServer({ workers = 2, extraArgs = [], db = null } = {}) {
   assert.ok(existsSync(cli), `no uavcover binary at ${cli} (set UAVCOVER_CLI)`);
   assert.ok(existsSync(join(dist, 'index.html')), `no built app in ${dist} (run scripts/build-web)`);
   const tmp = mkdtempSync(join(tmpdir(), 'uavcover-web-e2e-'));
   const port = await freePort();
   const proc = spawn(
     cli,
-    ['serve', '--listen', `127.0.0.1:${port}`, '--db', `sqlite:${join(tmp, 't.db')}`, '--seed-dir', join(repo, 'examples'), '--static', dist, '--workers', String(workers), ...extraArgs],
+    ['serve', '--listen', `127.0.0.1:${port}`, '--db', `sqlite:${db ?? join(tmp, 't.db')}`, '--seed-dir', join(repo, 'examples'), '--static', dist, '--workers', String(workers), ...extraArgs],
     { stdio: ['ignore', 'pipe', 'pipe'] },
   );
   let log = '';
