@@ -13,7 +13,7 @@
 // read from paths.geojson).
 import { execFileSync } from 'node:child_process';
 import { cpus, loadavg, totalmem } from 'node:os';
-import { writeFileSync, mkdirSync } from 'node:fs';
+import { mkdirSync, readFileSync, statSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import * as h from '../../web/tests/e2e/harness.mjs';
 
@@ -24,6 +24,7 @@ const arg = (name, fallback) => {
 const sideM = Number(arg('side-m', 2100));
 const gapM = Number(arg('gap-m', 20));
 const outFile = arg('out', join(h.repo, 'bench/results/web.md'));
+const cliPlan = arg('cli-plan', null); // a folder of `uavcover plan --no-images --no-evaluate` of the same field
 const dbFile = arg('db', null); // keep the database: a later run reuses its plan instead of planning again
 
 const lat0 = 40.6, lon0 = 22.9;
@@ -80,6 +81,12 @@ try {
       break;
     }
   }
+  if (!job && cliPlan) {
+    // the server's exports of a path this long take too long on a loaded machine: plan the seeded
+    // example through the API and hand the app the CLI's plan.json and paths.geojson of the big field
+    missionId = (await server.api('/missions?name=olive')).items[0].id;
+    job = await server.api(`/missions/${missionId}/plans`, { ...json, body: '{}' });
+  }
   if (!job) {
     missionId = (await server.api('/missions', { ...json, body: JSON.stringify(doc) })).id;
     job = await server.api(`/missions/${missionId}/plans`, { ...json, body: '{}' });
@@ -90,15 +97,19 @@ try {
   }
   if (job.state !== 'done') throw new Error(`the plan ${job.state}: ${JSON.stringify(job.error)}`);
   const planS = (Date.now() - t0) / 1000;
-  const paths = await server.api(`/plans/${job.id}/paths.geojson`);
+  const paths = cliPlan ? JSON.parse(readFileSync(join(cliPlan, 'paths.geojson'), 'utf8')) : await server.api(`/plans/${job.id}/paths.geojson`);
   const lines = paths.features.filter((f) => f.geometry.type === 'LineString');
   const vertices = lines.reduce((n, f) => n + f.geometry.coordinates.length, 0);
   const sizes = {};
-  for (const name of ['plan.json', 'paths.geojson']) sizes[name] = job.artifacts.find((a) => a.name === name)?.size ?? 0;
+  for (const name of ['plan.json', 'paths.geojson'])
+    sizes[name] = cliPlan ? statSync(join(cliPlan, name)).size : job.artifacts.find((a) => a.name === name)?.size ?? 0;
   console.log(`plan #${job.id}: ${vertices} path vertices in ${lines.length} parts, planned in ${planS.toFixed(0)} s`);
 
   // 3. the app: first draw, then frames while zooming and panning
   const { page, problems } = await h.openPage(browser, { width: 1280, height: 800 });
+  if (cliPlan)
+    for (const name of ['plan.json', 'paths.geojson'])
+      await page.route(`**/api/v1/plans/${job.id}/${name}`, (r) => r.fulfill({ path: join(cliPlan, name), contentType: 'application/json' }));
   const nav0 = Date.now();
   await page.goto(`${server.base}/?tiles=off&mission=${missionId}#plan`);
   await page.waitForSelector(`[data-testid=metrics-panel][data-plan-id="${job.id}"]`, { timeout: 120000 });
@@ -170,7 +181,7 @@ Server: \`uavcover serve\` on 127.0.0.1 with a temporary SQLite database, 2 work
 
 A ${sideM} m square field with ${doc.no_fly_zones.length} diagonal hedges (1 m wide no-fly zones every ${(gapM / Math.SQRT2).toFixed(1)} m,
 at 45° to the DARP grid), spacing 4 m, one UAV, \`darp\` without placement search: STC loops follow
-each hedge as a staircase, so the paths turn often. ${reused ? `Planned by an earlier run (job #${job.id}, reused with \`--db\`).` : `Planned by the server in ${planS.toFixed(0)} s (job #${job.id}), while other builds loaded the machine.`}
+each hedge as a staircase, so the paths turn often. ${cliPlan ? `The server's plan job of a field this size spent over 20 minutes in its exports stage (the no-fly and separation checks of the mission items) on the loaded machine, so this run plans the seeded example through the API (job #${job.id}) and hands the app the \`plan.json\` and \`paths.geojson\` of \`uavcover plan --no-images --no-evaluate\` of the big field (Playwright \`page.route\` for those two files only).` : reused ? `Planned by an earlier run (job #${job.id}, reused with \`--db\`).` : `Planned by the server in ${planS.toFixed(0)} s (job #${job.id}), while other builds loaded the machine.`}
 
 - path vertices (LineString positions in \`paths.geojson\`): **${vertices.toLocaleString('en')}** in ${lines.length} parts
 - \`paths.geojson\` ${(sizes['paths.geojson'] / 2 ** 20).toFixed(1)} MiB, \`plan.json\` ${(sizes['plan.json'] / 2 ** 20).toFixed(1)} MiB
