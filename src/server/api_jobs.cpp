@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
 
 #include "server/api_internal.hpp"
 #include "server/worker.hpp"
@@ -144,6 +145,38 @@ Response export_response(ApiContext& ctx, const Request& req) {
                       "\"; the plan's flying UAVs: " + join(flying));
 }
 
+/// `limit` of a job listing: an integer in [1, 100], 20 when absent.
+int list_limit(const Request& req) {
+  const auto it = req.query.find("limit");
+  if (it == req.query.end()) return 20;
+  const std::string& text = it->second;
+  int v = 0;
+  const char* end = text.data() + text.size();
+  const auto [p, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || p != end || v < 1 || v > 100)
+    throw HttpError(400, "limit", "expected an integer in [1, 100], got \"" + text.substr(0, 40) + "\"");
+  return v;
+}
+
+/// A job in a mission's listing: what picking one needs, without the result's details.
+nlohmann::json job_summary_json(const store::Job& job) {
+  const nlohmann::json full = job_json(job, false);
+  nlohmann::json planner = nullptr;
+  if (const auto it = job.params.find("planner"); it != job.params.end() && it->is_string()) planner = *it;
+  return {{"id", job.id},
+          {"kind", full["kind"]},
+          {"mission_id", job.mission_id},
+          {"revision", job.revision},
+          {"state", full["state"]},
+          {"planner", planner},
+          {"params", job.params},
+          {"created", full["created"]},
+          {"finished", full["finished"]},
+          {"metrics", full["metrics"]},
+          {"warnings", full["warnings"]},
+          {"error", job.error}};
+}
+
 }  // namespace
 }  // namespace detail
 
@@ -228,6 +261,16 @@ void add_job_routes(Router& router, ApiContext& ctx) {
                  Response r = Response::json(202, job_json(*stored));
                  r.headers.emplace_back("Location", kApi + "/" + collection + "/" + std::to_string(id));
                  return r;
+               }));
+    router.add("GET", kApi + "/missions/{id}/" + collection, guarded([&ctx, kind](const Request& req) {
+                 const store::Id mission_id = id_param(req, "id");
+                 const int limit = list_limit(req);
+                 if (!ctx.store.get_mission(mission_id))
+                   throw HttpError(404, "id", "no mission " + std::to_string(mission_id));
+                 nlohmann::json items = nlohmann::json::array();
+                 for (const auto& job : ctx.store.list_jobs(mission_id, kind, limit))
+                   items.push_back(job_summary_json(job));
+                 return Response::json(200, {{"items", items}});
                }));
     const std::string base = kApi + "/" + collection + "/{id}";
     router.add("GET", base, guarded([&ctx, kind](const Request& req) {

@@ -388,6 +388,19 @@ class PostgresStore final : public Store {
     });
   }
 
+  std::vector<Job> list_jobs(Id mission, JobKind kind, int limit) override {
+    return read([&](PGconn* c) {
+      const auto r = exec(c,
+                          "SELECT " JOB_COLUMNS
+                          " FROM jobs WHERE mission_id = $1 AND kind = $2 "
+                          "ORDER BY created_ms DESC, id DESC LIMIT $3",
+                          {integer(mission), text(to_string(kind)), integer(std::clamp(limit, 1, 1000))});
+      std::vector<Job> out;
+      for (int i = 0; i < r.rows(); ++i) out.push_back(job_from(r, i));
+      return out;
+    });
+  }
+
   std::optional<Job> claim_job(const std::string& worker, std::chrono::milliseconds lease,
                                int max_attempts) override {
     max_attempts = std::max(max_attempts, 1);

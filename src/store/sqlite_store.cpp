@@ -580,6 +580,18 @@ class SqliteStore final : public Store {
     });
   }
 
+  std::vector<Job> list_jobs(Id mission, JobKind kind, int limit) override {
+    const std::string kind_text = to_string(kind);
+    return read([&](Connection& c) {
+      Query q(c, "SELECT " UAVCOVER_JOB_COLUMNS
+                 "WHERE mission_id = ?1 AND kind = ?2 ORDER BY created_ms DESC, id DESC LIMIT ?3");
+      q.bind(1, mission).bind(2, kind_text).bind(3, static_cast<std::int64_t>(std::clamp(limit, 1, 1000)));
+      std::vector<Job> out;
+      while (q.step()) out.push_back(read_job(q));
+      return out;
+    });
+  }
+
   std::optional<Job> claim_job(const std::string& worker, std::chrono::milliseconds lease,
                                int max_attempts) override {
     return write([&](Connection& c) -> std::optional<Job> {

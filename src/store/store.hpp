@@ -185,6 +185,9 @@ class Store {
   virtual std::optional<Job> get_job(Id job) = 0;
   /// Several jobs' states (without artifacts), for the event stream; missing ids are left out.
   virtual std::vector<Job> get_jobs(const std::vector<Id>& jobs) = 0;
+  /// A mission's jobs of one kind (without artifacts), newest first (created, then id, descending),
+  /// at most `limit` (clamped to 1..1000). Empty when the mission does not exist.
+  virtual std::vector<Job> list_jobs(Id mission, JobKind kind, int limit) = 0;
   /// Takes the oldest job that is queued, or running with an expired lease (its worker died), and
   /// leases it to `worker` for `lease`: state running, attempts + 1. A job whose attempts reached
   /// `max_attempts` is marked failed ("the job was interrupted N times") instead and skipped.

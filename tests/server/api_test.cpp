@@ -345,6 +345,71 @@ TEST_P(ApiTest, JobCreationValidatesParameters) {
   EXPECT_EQ(call("DELETE", "/api/v1/plans/" + std::to_string(job_id)).json().at("state"), "cancelled");
 }
 
+TEST_P(ApiTest, MissionPlansAreListedNewestFirst) {
+  using namespace std::chrono_literals;
+  const auto id = create_mission(olive_grove());
+  const auto other = create_mission(olive_grove());
+  const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
+  Answer a = call("GET", plans);
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.json(), (json{{"items", json::array()}}));
+
+  const auto first = call("POST", plans, R"({"planner": "boustrophedon", "seed": 3})").json().at("id");
+  const auto second = call("POST", plans, R"({"seed": 4})").json().at("id");
+  ASSERT_EQ(call("POST", "/api/v1/missions/" + std::to_string(other) + "/plans").status, 202);
+  ASSERT_EQ(call("POST", "/api/v1/missions/" + std::to_string(id) + "/studies", R"({"uavs": "1..2"})").status,
+            202);
+  // the first plan finishes with metrics (as a worker would record them)
+  const auto claimed = store_->claim_job("test-worker", 60s, 3);
+  ASSERT_TRUE(claimed);
+  ASSERT_EQ(claimed->id, first.get<store::Id>());
+  const json result = {{"planner", "boustrophedon"},
+                       {"metrics", {{"poc", 0.99}, {"flight_time_min", 12.5}}},
+                       {"warnings", json::array({"a warning"})},
+                       {"uavs", json::array()}};
+  ASSERT_TRUE(store_->finish_job(claimed->id, "test-worker", store::JobState::Done, result, nullptr,
+                                 {{"plan.json", "application/json", "{}"}}));
+
+  a = call("GET", plans);
+  ASSERT_EQ(a.status, 200) << a.body;
+  const json items = a.json().at("items");
+  ASSERT_EQ(items.size(), 2u) << "plans of this mission only, no studies";
+  EXPECT_EQ(items[0].at("id"), second);
+  EXPECT_EQ(items[0].at("state"), "queued");
+  EXPECT_TRUE(items[0].at("finished").is_null());
+  EXPECT_EQ(items[0].at("metrics"), json::object());
+  const json& done = items[1];
+  EXPECT_EQ(done.at("id"), first);
+  EXPECT_EQ(done.at("kind"), "plan");
+  EXPECT_EQ(done.at("mission_id"), id);
+  EXPECT_EQ(done.at("revision"), 1);
+  EXPECT_EQ(done.at("state"), "done");
+  EXPECT_EQ(done.at("planner"), "boustrophedon");
+  EXPECT_EQ(done.at("params").at("seed"), 3);
+  EXPECT_TRUE(std::regex_match(done.at("created").get<std::string>(), kIsoTime));
+  EXPECT_TRUE(std::regex_match(done.at("finished").get<std::string>(), kIsoTime));
+  EXPECT_EQ(done.at("metrics"), result.at("metrics"));
+  EXPECT_EQ(done.at("warnings"), json::array({"a warning"}));
+  EXPECT_TRUE(done.at("error").is_null());
+  EXPECT_FALSE(done.contains("artifacts"));
+  EXPECT_FALSE(done.contains("result"));
+
+  a = call("GET", plans + "?limit=1");
+  ASSERT_EQ(a.status, 200) << a.body;
+  ASSERT_EQ(a.json().at("items").size(), 1u);
+  EXPECT_EQ(a.json().at("items")[0].at("id"), second);
+  EXPECT_EQ(call("GET", "/api/v1/missions/" + std::to_string(id) + "/studies").json().at("items").size(), 1u);
+  for (const char* bad : {"0", "101", "ten", "", "5x"}) {
+    a = call("GET", plans + "?limit=" + bad);
+    EXPECT_EQ(a.status, 400) << bad;
+    EXPECT_EQ(a.error_field(), "limit") << bad;
+  }
+  a = call("GET", "/api/v1/missions/424242/plans");
+  EXPECT_EQ(a.status, 404);
+  EXPECT_EQ(a.error_field(), "id");
+  EXPECT_EQ(call("GET", "/api/v1/missions/x/plans").status, 400);
+}
+
 TEST_P(ApiTest, FullQueueIs503WithRetryAfter) {
   close();
   open(2);

@@ -386,6 +386,50 @@ TEST_P(StoreConformance, CancelAQueuedJobAtOnce) {
   store_->delete_mission(m);  // a cancelled job does not hold its mission
 }
 
+TEST_P(StoreConformance, ListJobsGivesOneMissionsJobsOfOneKindNewestFirst) {
+  const Id m = mission();
+  const Id other = mission();
+  const Id p1 = job(m, 1, {{"planner", "darp"}});
+  const Id p2 = job(m, 1, {{"planner", "boustrophedon"}});
+  NewJob study;
+  study.kind = JobKind::Study;
+  study.mission_id = m;
+  study.revision = 1;
+  const Id s1 = store_->enqueue(study, 1000000);
+  const Id p3 = job(m);
+  job(other);
+  // p1 done with metrics, p2 failed; p3 stays queued
+  ASSERT_EQ(store_->claim_job("w", 60s, 3)->id, p1);
+  const nlohmann::json result = {{"metrics", {{"poc", 0.97}}}, {"planner", "darp"}};
+  ASSERT_TRUE(store_->finish_job(p1, "w", JobState::Done, result, nullptr,
+                                 {{"plan.json", "application/json", "{}"}}));
+  ASSERT_EQ(store_->claim_job("w", 60s, 3)->id, p2);
+  ASSERT_TRUE(store_->finish_job(p2, "w", JobState::Failed, {}, {{"field", ""}, {"message", "no"}}, {}));
+
+  auto ids_of = [](const std::vector<Job>& jobs) {
+    std::vector<Id> out;
+    for (const auto& j : jobs) out.push_back(j.id);
+    return out;
+  };
+  const auto plans = store_->list_jobs(m, JobKind::Plan, 20);
+  EXPECT_EQ(ids_of(plans), (std::vector<Id>{p3, p2, p1}));
+  ASSERT_EQ(plans.size(), 3u);
+  EXPECT_EQ(plans[0].state, JobState::Queued);
+  EXPECT_EQ(plans[1].state, JobState::Failed);
+  EXPECT_EQ(plans[1].params, (nlohmann::json{{"planner", "boustrophedon"}}));
+  EXPECT_EQ(plans[2].state, JobState::Done);
+  EXPECT_EQ(plans[2].result, result);
+  EXPECT_EQ(plans[2].mission_id, m);
+  EXPECT_GT(plans[2].finished_ms, 0);
+  EXPECT_TRUE(plans[2].artifacts.empty()) << "listing leaves the artifacts out";
+  EXPECT_EQ(ids_of(store_->list_jobs(m, JobKind::Plan, 2)), (std::vector<Id>{p3, p2}));
+  EXPECT_EQ(ids_of(store_->list_jobs(m, JobKind::Plan, 0)), (std::vector<Id>{p3})) << "limit clamped to 1";
+  EXPECT_EQ(ids_of(store_->list_jobs(m, JobKind::Study, 20)), (std::vector<Id>{s1}));
+  EXPECT_TRUE(store_->list_jobs(m, JobKind::Comparison, 20).empty());
+  EXPECT_EQ(store_->list_jobs(other, JobKind::Plan, 20).size(), 1u);
+  EXPECT_TRUE(store_->list_jobs(987654321, JobKind::Plan, 20).empty());
+}
+
 TEST_P(StoreConformance, FinishSucceedsOnceOnly) {
   const Id m = mission();
   const Id id = job(m);

@@ -21,6 +21,21 @@ function showTab(name: string): void {
   for (const b of nav.querySelectorAll('button')) b.setAttribute('aria-selected', String(b.dataset.tab === name));
   current = tab;
   tab.show?.(app);
+  syncUrl();
+}
+
+/** A ?mission=ID link is kept in the address until that mission is open (the Plan tab opens it). */
+let linkPending = new URLSearchParams(window.location.search).has('mission');
+
+/** The open mission and tab live in the address (?mission=ID#plan), so a reload reopens them. */
+function syncUrl(): void {
+  const url = new URL(window.location.href);
+  const id = app.state.missionId;
+  if (id !== null) linkPending = false;
+  if (id !== null) url.searchParams.set('mission', String(id));
+  else if (!linkPending) url.searchParams.delete('mission');
+  url.hash = current ? current.name : '';
+  if (url.href !== window.location.href) window.history.replaceState(null, '', url.href);
 }
 
 const app = new App(createMap(document.getElementById('map')!), showTab);
@@ -40,4 +55,6 @@ for (const tab of tabs) {
   panels.set(tab.name, el);
   tab.mount(el, app);
 }
-showTab('missions');
+app.subscribe(syncUrl);
+const initial = window.location.hash.slice(1);
+showTab(tabs.some((t) => t.name === initial) ? initial : 'missions');

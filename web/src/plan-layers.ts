@@ -28,6 +28,8 @@ export interface PathsGeoJson {
 export const LABEL_ZOOM = 17;
 /** At most this many numbers at a time (the ones in view). */
 const MAX_LABELS = 400;
+/** Path vertices per polyline piece. */
+const CHUNK = 4000;
 
 const ll = (p: Position): L.LatLngTuple => [p[1], p[0]];
 
@@ -67,13 +69,21 @@ export function drawPlan(map: L.Map, plan: PlanJson, paths: PathsGeoJson, withLa
   plan.uavs.forEach((u, i) => {
     if (!u.region?.coordinates) return;
     const c = counts.get(u.id)!;
+    // many polygons per canvas layer (a region of 35 000 staircase polygons is ~100 layers, not 35 000)
+    const style = { color: uavColour(i), weight: 1, opacity: 0.6, fillColor: uavColour(i), fillOpacity: 0.22, interactive: false };
+    let batch: L.LatLngTuple[][][] = [];
+    let n = 0;
     for (const poly of u.region.coordinates) {
-      L.polygon(
-        poly.map((r) => r.map(ll)),
-        { color: uavColour(i), weight: 1, opacity: 0.6, fillColor: uavColour(i), fillOpacity: 0.22, interactive: false },
-      ).addTo(group);
+      batch.push(poly.map((r) => r.map(ll)));
+      for (const r of poly) n += r.length;
       c.polygons++;
+      if (n >= CHUNK) {
+        L.polygon(batch, style).addTo(group);
+        batch = [];
+        n = 0;
+      }
     }
+    if (batch.length) L.polygon(batch, style).addTo(group);
   });
 
   // paths: coverage solid, transit dashed; the vertices of each UAV's path in order for the numbers
@@ -81,19 +91,44 @@ export function drawPlan(map: L.Map, plan: PlanJson, paths: PathsGeoJson, withLa
   const parts = [...paths.features]
     .filter((f) => f.properties.uav !== undefined && f.geometry.type === 'LineString')
     .sort((a, b) => (a.properties.part ?? 0) - (b.properties.part ?? 0));
+  type Batch = { rings: L.LatLngTuple[][]; n: number; style: L.PolylineOptions };
+  const batches = new Map<string, Batch>();
+  const flush = (b: Batch) => {
+    if (b.rings.length) L.polyline(b.rings, b.style).addTo(group);
+    b.rings = [];
+    b.n = 0;
+  };
   for (const f of parts) {
     const id = f.properties.uav!;
     const i = index.get(id) ?? 0;
     const pts = (f.geometry.coordinates as Position[]).map(ll);
     const transit = f.properties.kind === 'transit';
-    L.polyline(pts, {
-      color: uavColour(i),
-      weight: transit ? 2 : 2.5,
-      opacity: transit ? 0.85 : 1,
-      dashArray: transit ? '6 5' : undefined,
-      smoothFactor: 1.5,
-      interactive: false,
-    }).addTo(group);
+    // one polyline per UAV, kind and ~CHUNK vertices, holding many parts as its rings: a plan of
+    // 37 000 parts is a few hundred canvas layers (one stroke each), and pieces out of view are
+    // culled before clipping and simplification (bench/web/pan-zoom.mjs)
+    const key = `${id}\u0000${transit ? 't' : 'c'}`;
+    let batch = batches.get(key);
+    if (!batch) {
+      batch = {
+        rings: [],
+        n: 0,
+        style: {
+          color: uavColour(i),
+          weight: transit ? 2 : 2.5,
+          opacity: transit ? 0.85 : 1,
+          dashArray: transit ? '6 5' : undefined,
+          smoothFactor: 1.5,
+          interactive: false,
+        },
+      };
+      batches.set(key, batch);
+    }
+    for (let s = 0; s === 0 || s < pts.length - 1; s += CHUNK) {
+      const piece = pts.slice(s, s + CHUNK + 1);
+      batch.rings.push(piece);
+      batch.n += piece.length;
+      if (batch.n >= CHUNK) flush(batch);
+    }
     const c = counts.get(id);
     if (c) c.paths++;
     const list = vertices.get(id) ?? [];
@@ -104,6 +139,7 @@ export function drawPlan(map: L.Map, plan: PlanJson, paths: PathsGeoJson, withLa
     }
     vertices.set(id, list);
   }
+  for (const b of batches.values()) flush(b);
 
   // start (filled circle) and return (ring) points
   plan.uavs.forEach((u, i) => {

@@ -8,6 +8,7 @@ import type { Job } from '../events.ts';
 import { exportsPanel } from '../exports.ts';
 import { el, errorText, JobView } from '../job-ui.ts';
 import { metricsPanel } from '../metrics.ts';
+import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
 import { drawPlan, type DrawnPlan, type PathsGeoJson, type PlanJson } from '../plan-layers.ts';
 import type { App, Tab } from '../state.ts';
 import { studyPanel } from '../study.ts';
@@ -52,7 +53,11 @@ export const planTab: Tab = {
     const view = new JobView('plan');
     const warnings = el('ul', { class: 'plan-warnings', 'data-testid': 'plan-warnings' });
     const stale = el('p', { class: 'plan-note', 'data-testid': 'plan-stale', hidden: '' });
-    body.append(title, controls, view.el, stale, warnings);
+    // the mission's earlier plans: the latest done one is shown when the mission is opened
+    const historyRow = el('label', { class: 'plan-row plan-history', hidden: '' });
+    const historySel = el('select', { 'data-testid': 'plan-history', 'aria-label': 'Plans of this mission' });
+    historyRow.append(el('span', { class: 'muted' }, 'Plans:'), historySel);
+    body.append(title, controls, historyRow, view.el, stale, warnings);
 
     // --- results
     const legend = el('div', { class: 'plan-legend', 'data-testid': 'plan-legend' });
@@ -133,18 +138,73 @@ export const planTab: Tab = {
     };
 
     const load = async (job: Job) => {
+      const seq = ++loadSeq;
       try {
         const [plan, paths] = await Promise.all([
           api.get<PlanJson>(`/plans/${job.id}/plan.json`),
           api.get<PathsGeoJson>(`/plans/${job.id}/paths.geojson`),
         ]);
+        if (seq !== loadSeq || job.mission_id !== app.state.missionId) return; // another plan or mission since
         render(job, plan, paths);
+        historySel.value = String(job.id);
         app.update({ planId: job.id });
       } catch (e) {
         const s = el('li', { class: 'plan-error' }, `The plan's files cannot be read: ${errorText(e as ApiError)}`);
         warnings.append(s);
       }
     };
+
+    let loadSeq = 0;
+    let historySeq = 0;
+    let history: PlanSummary[] = [];
+    /** Lists the mission's plans; `openLatest`: show the newest done one unless a plan of it is shown. */
+    const refreshHistory = async (openLatest: boolean) => {
+      const id = missionId();
+      const seq = ++historySeq;
+      if (id === null) {
+        history = [];
+        historySel.replaceChildren();
+        historyRow.hidden = true;
+        return;
+      }
+      let items: PlanSummary[];
+      try {
+        items = (await api.get<{ items: PlanSummary[] }>(`/missions/${id}/plans?limit=20`)).items;
+      } catch (e) {
+        if (seq !== historySeq) return;
+        warnings.append(el('li', { class: 'plan-error' }, `The mission's plans cannot be listed: ${errorText(e as ApiError)}`));
+        return;
+      }
+      if (seq !== historySeq || id !== missionId()) return;
+      history = items;
+      historySel.replaceChildren();
+      historySel.append(el('option', { value: '' }, items.length ? `${items.length === 20 ? 'latest 20' : items.length} plan${items.length === 1 ? '' : 's'} of this mission` : 'no plans yet'));
+      for (const p of items) {
+        const o = el('option', { value: String(p.id), 'data-state': p.state }, planLabel(p));
+        if (p.state !== 'done') o.disabled = true;
+        historySel.append(o);
+      }
+      historyRow.hidden = items.length === 0;
+      const shown = lastPlan?.job.mission_id === id ? lastPlan.job.id : null;
+      historySel.value = shown !== null && items.some((p) => p.id === shown) ? String(shown) : '';
+      if (openLatest && shown === null && !view.busy) {
+        const latest = latestDone(items);
+        if (latest) await openPlan(latest.id);
+      }
+    };
+    const openPlan = async (planId: number) => {
+      try {
+        const job = await api.get<Job>(`/plans/${planId}`);
+        if (job.mission_id !== missionId()) return;
+        await load(job);
+      } catch (e) {
+        warnings.append(el('li', { class: 'plan-error' }, `Plan #${planId} cannot be opened: ${errorText(e as ApiError)}`));
+      }
+    };
+    historySel.addEventListener('change', () => {
+      const planId = Number(historySel.value);
+      if (planId > 0 && planId !== lastPlan?.job.id && history.some((p) => p.id === planId && p.state === 'done')) void openPlan(planId);
+    });
 
     start.addEventListener('click', async () => {
       const id = missionId();
@@ -158,6 +218,7 @@ export const planTab: Tab = {
       start.disabled = false;
       if (job?.state === 'done') await load(job);
       updateHeader();
+      void refreshHistory(false);
     });
 
     const updateHeader = () => {
@@ -177,6 +238,7 @@ export const planTab: Tab = {
       if (s.missionId !== lastMission) {
         lastMission = s.missionId;
         if (lastPlan && lastPlan.job.mission_id !== s.missionId) clear();
+        void refreshHistory(true);
       }
       updateHeader();
     });

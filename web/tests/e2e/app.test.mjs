@@ -5,96 +5,26 @@
 //   UAVCOVER_CLI   the uavcover binary (default <repo>/build/uavcover)
 // The app must be built first (scripts/build-web → web/dist).
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
-import { createServer } from 'node:net';
-import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import * as h from './harness.mjs';
 
-const repo = resolve(dirname(fileURLToPath(import.meta.url)), '../../..');
-const cli = process.env.UAVCOVER_CLI || join(repo, 'build/uavcover');
-const shots = process.env.UAVCOVER_WEB_ARTIFACTS || join(repo, 'build/web-screenshots');
-const dist = join(repo, 'web/dist');
-
-let server, base, browser, page, tmp;
-const consoleProblems = [];
+const repo = h.repo;
+let server, base, browser, page, api;
+let consoleProblems = [];
 const state = { missionName: `e2e field ${Date.now()}`, missionId: null, planId: null, defineUi: false };
 
-function freePort() {
-  return new Promise((ok, fail) => {
-    const s = createServer();
-    s.on('error', fail);
-    s.listen(0, '127.0.0.1', () => {
-      const { port } = s.address();
-      s.close(() => ok(port));
-    });
-  });
-}
-
-async function api(path, init) {
-  const res = await fetch(`${base}/api/v1${path}`, init);
-  const body = await res.text();
-  assert.ok(res.ok, `${path}: HTTP ${res.status} ${body}`);
-  return body ? JSON.parse(body) : undefined;
-}
-
-async function shot(name) {
-  await page.screenshot({ path: join(shots, `${name}.png`) });
-}
-
-async function tab(name) {
-  await page.click(`#tabs button[data-tab=${name}]`);
-}
-
-/** Pixel of a map position [lat, lng] in the page. */
-async function mapPoint(fx, fy) {
-  const box = await page.locator('#map').boundingBox();
-  return [box.x + fx * box.width, box.y + fy * box.height];
-}
+const shot = (name) => h.shot(page, name);
+const tab = (name) => h.tab(page, name);
+const mapPoint = (fx, fy) => h.mapPoint(page, fx, fy);
 
 before(async () => {
-  assert.ok(existsSync(cli), `no uavcover binary at ${cli} (set UAVCOVER_CLI)`);
-  assert.ok(existsSync(join(dist, 'index.html')), `no built app in ${dist} (run scripts/build-web)`);
-  mkdirSync(shots, { recursive: true });
-  tmp = mkdtempSync(join(tmpdir(), 'uavcover-web-e2e-'));
-  const port = await freePort();
-  server = spawn(
-    cli,
-    ['serve', '--listen', `127.0.0.1:${port}`, '--db', `sqlite:${join(tmp, 't.db')}`, '--seed-dir', join(repo, 'examples'), '--static', dist, '--workers', '2'],
-    { stdio: ['ignore', 'pipe', 'pipe'] },
-  );
-  let log = '';
-  server.stdout.on('data', (d) => (log += d));
-  server.stderr.on('data', (d) => (log += d));
-  base = `http://127.0.0.1:${port}`;
-  const deadline = Date.now() + 20000;
-  for (;;) {
-    const m = log.match(/serving on (http:\/\/[\d.:]+)/);
-    if (m) base = m[1];
-    try {
-      if ((await fetch(`${base}/healthz`)).ok) break;
-    } catch {
-      /* not yet */
-    }
-    assert.ok(server.exitCode === null, `the server stopped: ${log}`);
-    assert.ok(Date.now() < deadline, `the server did not answer: ${log}`);
-    await new Promise((r) => setTimeout(r, 100));
-  }
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    args: ['--no-sandbox', '--headless', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--no-first-run', '--disable-sync'],
-  });
-  const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
-  page = await context.newPage();
-  page.on('console', (m) => {
-    // Chromium itself logs every 4xx answer; the app shows those in words (steps 9 and others)
-    if (/^Failed to load resource: the server responded with a status of 4\d\d/.test(m.text())) return;
-    if (m.type() === 'error' || m.type() === 'warning') consoleProblems.push(`${m.type()}: ${m.text()}`);
-  });
-  page.on('pageerror', (e) => consoleProblems.push(`pageerror: ${e.message}`));
+  server = await h.startServer();
+  base = server.base;
+  api = server.api;
+  browser = await h.launchBrowser();
+  ({ page, problems: consoleProblems } = await h.openPage(browser));
   await page.goto(`${base}/?tiles=off`);
   await page.waitForSelector('#tabs button[data-tab=plan]');
   await tab('define');
@@ -103,11 +33,7 @@ before(async () => {
 
 after(async () => {
   await browser?.close();
-  if (server && server.exitCode === null) {
-    server.kill('SIGTERM');
-    await new Promise((r) => server.once('exit', r));
-  }
-  if (tmp) rmSync(tmp, { recursive: true, force: true });
+  await server?.stop();
 });
 
 const needsDefine = (t) => {

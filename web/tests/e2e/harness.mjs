@@ -1,0 +1,118 @@
+// Shared pieces of the browser tests (and bench/web): the real `uavcover serve` on a free port with a
+// temporary SQLite database seeded from examples/, headless Debian Chromium through playwright-core,
+// a page that records console errors and warnings, and small helpers (API calls, screenshots, tabs,
+// map points).
+//   UAVCOVER_CLI            the uavcover binary (default <repo>/build/uavcover)
+//   UAVCOVER_WEB_ARTIFACTS  the screenshot folder (default <repo>/build/web-screenshots)
+//   CHROMIUM                the browser (default /usr/bin/chromium)
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { createServer } from 'node:net';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+export const repo = resolve(dirname(fileURLToPath(import.meta.url)), '../../..');
+export const cli = process.env.UAVCOVER_CLI || join(repo, 'build/uavcover');
+export const shots = process.env.UAVCOVER_WEB_ARTIFACTS || join(repo, 'build/web-screenshots');
+export const dist = join(repo, 'web/dist');
+
+export function freePort() {
+  return new Promise((ok, fail) => {
+    const s = createServer();
+    s.on('error', fail);
+    s.listen(0, '127.0.0.1', () => {
+      const { port } = s.address();
+      s.close(() => ok(port));
+    });
+  });
+}
+
+/**
+ * Starts `uavcover serve` over a fresh SQLite database in a temporary folder (or the database file
+ * `db`, kept), seeded with examples/, serving web/dist. Resolves once /healthz answers: { base, api(path, init), log(), stop() }.
+ */
+export async function startServer({ workers = 2, extraArgs = [], db = null } = {}) {
+  assert.ok(existsSync(cli), `no uavcover binary at ${cli} (set UAVCOVER_CLI)`);
+  assert.ok(existsSync(join(dist, 'index.html')), `no built app in ${dist} (run scripts/build-web)`);
+  const tmp = mkdtempSync(join(tmpdir(), 'uavcover-web-e2e-'));
+  const port = await freePort();
+  const proc = spawn(
+    cli,
+    ['serve', '--listen', `127.0.0.1:${port}`, '--db', `sqlite:${db ?? join(tmp, 't.db')}`, '--seed-dir', join(repo, 'examples'), '--static', dist, '--workers', String(workers), ...extraArgs],
+    { stdio: ['ignore', 'pipe', 'pipe'] },
+  );
+  let log = '';
+  proc.stdout.on('data', (d) => (log += d));
+  proc.stderr.on('data', (d) => (log += d));
+  let base = `http://127.0.0.1:${port}`;
+  const deadline = Date.now() + 20000;
+  for (;;) {
+    const m = log.match(/serving on (http:\/\/[\d.:]+)/);
+    if (m) base = m[1];
+    try {
+      if ((await fetch(`${base}/healthz`)).ok) break;
+    } catch {
+      /* not yet */
+    }
+    assert.ok(proc.exitCode === null, `the server stopped: ${log}`);
+    assert.ok(Date.now() < deadline, `the server did not answer: ${log}`);
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  const api = async (path, init) => {
+    const res = await fetch(`${base}/api/v1${path}`, init);
+    const body = await res.text();
+    assert.ok(res.ok, `${path}: HTTP ${res.status} ${body}`);
+    return body ? JSON.parse(body) : undefined;
+  };
+  return {
+    base,
+    api,
+    log: () => log,
+    async stop() {
+      if (proc.exitCode === null) {
+        proc.kill('SIGTERM');
+        await new Promise((r) => proc.once('exit', r));
+      }
+      rmSync(tmp, { recursive: true, force: true });
+    },
+  };
+}
+
+export function launchBrowser() {
+  mkdirSync(shots, { recursive: true });
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    args: ['--no-sandbox', '--headless', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--no-first-run', '--disable-sync'],
+  });
+}
+
+/** A page of its own context; `problems` collects console errors and warnings and page errors. */
+export async function openPage(browser, { width = 1280, height = 800 } = {}) {
+  const context = await browser.newContext({ viewport: { width, height }, acceptDownloads: true });
+  const page = await context.newPage();
+  const problems = [];
+  page.on('console', (m) => {
+    // Chromium itself logs every 4xx answer; the app shows those in words
+    if (/^Failed to load resource: the server responded with a status of 4\d\d/.test(m.text())) return;
+    if (m.type() === 'error' || m.type() === 'warning') problems.push(`${m.type()}: ${m.text()}`);
+  });
+  page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
+  return { page, context, problems };
+}
+
+export async function shot(page, name) {
+  await page.screenshot({ path: join(shots, `${name}.png`) });
+}
+
+export async function tab(page, name) {
+  await page.click(`#tabs button[data-tab=${name}]`);
+}
+
+/** The page pixel at fractions (fx, fy) of the map's box. */
+export async function mapPoint(page, fx, fy) {
+  const box = await page.locator('#map').boundingBox();
+  return [box.x + fx * box.width, box.y + fy * box.height];
+}
