@@ -173,7 +173,11 @@ void run_simulate(const SimulateArgs& a) {
                              a.speedup);
   std::optional<double> until;
   if (a.duration > 0) until = a.duration;
-  fleet->run(interrupt_token(), until);
+  try {
+    fleet->run(interrupt_token(), until);
+  } catch (const Cancelled&) {
+    // a stop (SIGINT/SIGTERM) is how a simulation ends: not an error, the summary follows
+  }
   if (!global_flags().quiet)
     for (const auto& v : fleet->vehicles()) {
       const auto& s = v->state();

@@ -45,9 +45,10 @@ TEST(CliSimulate, PrintsOneLinePerVehicleAndStopsAfterDuration) {
 }
 
 TEST(CliSimulate, StopsCleanlyOnSigterm) {
-  // `timeout` sends SIGTERM after 1 s; the simulator stops at its next check and exits 0
-  const auto r =
-      run("simulate --vehicles 2 --listen udp:127.0.0.1:0", "timeout --preserve-status -s TERM 1 ");
+  // `timeout` sends one SIGTERM after 1 s (--foreground: to the simulator only, not twice through the
+  // process group, which the CLI takes as "the user insists"); the simulator stops and exits 0
+  const auto r = run("simulate --vehicles 2 --listen udp:127.0.0.1:0",
+                     "timeout --foreground --preserve-status -s TERM 1 ");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("vehicle 2:"), std::string::npos) << r.err;  // the summary
 }
