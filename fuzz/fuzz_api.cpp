@@ -182,6 +182,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (match.handler == nullptr) return 0;  // 404 or 405, answered by the transport
   req.params = std::move(match.params);
   const Response res = (*match.handler)(req);
+  static const bool verbose = std::getenv("FUZZ_API_VERBOSE") != nullptr;  // corpus upkeep
+  if (verbose)
+    std::fprintf(stderr, "%s %s -> %d %.200s\n", req.method.c_str(), req.path.c_str(), res.status,
+                 res.body.c_str());
   check(req, res);
   return 0;
 }
