@@ -1,10 +1,72 @@
 #include "server/events.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <limits>
 #include <set>
+#include <string_view>
+
+#include "json/strict.hpp"
+#include "uavcover/error.hpp"
 
 namespace uavcover::server {
+
+ClientMessage parse_client_message(const std::string& text, std::size_t max) {
+  ClientMessage out;
+  auto invalid = [&out](std::string field, std::string message) {
+    out.op = ClientMessage::Op::Invalid;
+    out.jobs.clear();
+    out.error_field = std::move(field);
+    out.error_message = std::move(message);
+    return out;
+  };
+  nlohmann::json msg;
+  try {
+    msg = strict::parse_json(text, "message");
+  } catch (const InputError& e) {
+    return invalid(e.field(), e.what());
+  }
+  if (!msg.is_object() || msg.size() != 1 || !(msg.contains("subscribe") || msg.contains("unsubscribe")))
+    return invalid("", R"(expected {"subscribe": {"jobs": [ids]}} or {"unsubscribe": {"jobs": [ids]}})");
+  const bool subscribe = msg.contains("subscribe");
+  const std::string op = subscribe ? "subscribe" : "unsubscribe";
+  const auto& body = msg[op];
+  if (!body.is_object() || !body.contains("jobs")) return invalid(op, R"(expected {"jobs": [ids]})");
+  const auto& jobs = body["jobs"];
+  if (!jobs.is_array()) return invalid(op + ".jobs", "expected an array of job ids");
+  if (subscribe && jobs.size() > max)
+    return invalid(op + ".jobs", fmt::format("at most {} job subscriptions per connection", max));
+  out.jobs.reserve(jobs.size());
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const auto& j = jobs[i];
+    if (!j.is_number_unsigned() || j.get<std::uint64_t>() < 1 ||
+        j.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      return invalid(fmt::format("{}.jobs[{}]", op, i), "expected a positive integer job id");
+    out.jobs.push_back(static_cast<std::int64_t>(j.get<std::uint64_t>()));
+  }
+  out.op = subscribe ? ClientMessage::Op::Subscribe : ClientMessage::Op::Unsubscribe;
+  return out;
+}
+
+std::vector<std::int64_t> parse_jobs_param(const Request& req, std::size_t max) {
+  const auto it = req.query.find("jobs");
+  if (it == req.query.end() || it->second.empty())
+    throw HttpError(400, "jobs", "give the job ids to follow, e.g. ?jobs=12,13");
+  std::vector<std::int64_t> ids;
+  std::string_view rest = it->second;
+  while (true) {
+    const auto comma = rest.find(',');
+    ids.push_back(parse_id(std::string(rest.substr(0, comma)), "jobs"));
+    if (ids.size() > max) throw HttpError(400, "jobs", fmt::format("at most {} jobs per connection", max));
+    if (comma == std::string_view::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
 
 EventHub::EventHub(EventSource& source, std::chrono::milliseconds period)
     : source_(source), period_(period) {}

@@ -15,7 +15,25 @@
 #include <thread>
 #include <vector>
 
+#include "server/http.hpp"
+
 namespace uavcover::server {
+
+/// A WebSocket client message on /api/v1/events, parsed: {"subscribe": {"jobs": [ids]}} or
+/// {"unsubscribe": {"jobs": [ids]}}.
+struct ClientMessage {
+  enum class Op { Subscribe, Unsubscribe, Invalid };
+  Op op = Op::Invalid;
+  std::vector<std::int64_t> jobs;  ///< positive ids, in the message's order; at most `max` to subscribe
+  std::string error_field;         ///< when Invalid: the field ("", "subscribe.jobs[2]", ...)
+  std::string error_message;       ///< when Invalid: what is wrong
+};
+/// Parses one client text message (strict JSON); a subscribe list longer than `max` is Invalid.
+ClientMessage parse_client_message(const std::string& text, std::size_t max);
+
+/// The SSE request's ?jobs=12,13: sorted, unique positive ids; HttpError 400 "jobs" when missing,
+/// malformed or more than `max`.
+std::vector<std::int64_t> parse_jobs_param(const Request& req, std::size_t max);
 
 class EventSource {
  public:

@@ -23,7 +23,6 @@
 #include <set>
 #include <thread>
 
-#include "json/strict.hpp"
 #include "server/metrics.hpp"
 #include "uavcover/error.hpp"
 
@@ -251,24 +250,6 @@ StringResponse to_beast(Response&& r, unsigned version, bool keep_alive, const s
   return res;
 }
 
-std::vector<std::int64_t> parse_jobs_param(const Request& req, std::size_t max) {
-  const auto it = req.query.find("jobs");
-  if (it == req.query.end() || it->second.empty())
-    throw HttpError(400, "jobs", "give the job ids to follow, e.g. ?jobs=12,13");
-  std::vector<std::int64_t> ids;
-  std::string_view rest = it->second;
-  while (true) {
-    const auto comma = rest.find(',');
-    ids.push_back(parse_id(std::string(rest.substr(0, comma)), "jobs"));
-    if (ids.size() > max) throw HttpError(400, "jobs", fmt::format("at most {} jobs per connection", max));
-    if (comma == std::string_view::npos) break;
-    rest = rest.substr(comma + 1);
-  }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  return ids;
-}
-
 std::string error_message(const std::string& field, const std::string& message) {
   return nlohmann::json{{"type", "error"}, {"error", {{"field", field}, {"message", message}}}}.dump(
       -1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -336,38 +317,18 @@ class WsSession : public Session, public std::enable_shared_from_this<WsSession>
 
   void handle(const std::string& text) {
     const std::size_t max = static_cast<std::size_t>(std::max(0, core_.cfg.max_subscriptions));
-    nlohmann::json msg;
-    try {
-      msg = strict::parse_json(text, "message");
-    } catch (const InputError& e) {
-      return enqueue(error_message(e.field(), e.what()));
+    const ClientMessage msg = parse_client_message(text, max);
+    switch (msg.op) {
+      case ClientMessage::Op::Invalid:
+        return enqueue(error_message(msg.error_field, msg.error_message));
+      case ClientMessage::Op::Unsubscribe:
+        return core_.hub.unsubscribe(sub_, msg.jobs);
+      case ClientMessage::Op::Subscribe:
+        if (!core_.hub.subscribe(sub_, msg.jobs, max))
+          enqueue(error_message("subscribe.jobs",
+                                fmt::format("at most {} job subscriptions per connection", max)));
+        return;
     }
-    const std::string shape =
-        R"(expected {"subscribe": {"jobs": [ids]}} or {"unsubscribe": {"jobs": [ids]}})";
-    if (!msg.is_object() || msg.size() != 1 || !(msg.contains("subscribe") || msg.contains("unsubscribe")))
-      return enqueue(error_message("", shape));
-    const std::string op = msg.contains("subscribe") ? "subscribe" : "unsubscribe";
-    const auto& body = msg[op];
-    if (!body.is_object() || !body.contains("jobs"))
-      return enqueue(error_message(op, R"(expected {"jobs": [ids]})"));
-    const auto& jobs = body["jobs"];
-    if (!jobs.is_array()) return enqueue(error_message(op + ".jobs", "expected an array of job ids"));
-    if (op == "subscribe" && jobs.size() > max)
-      return enqueue(
-          error_message(op + ".jobs", fmt::format("at most {} job subscriptions per connection", max)));
-    std::vector<std::int64_t> ids;
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-      const auto& j = jobs[i];
-      if (!j.is_number_unsigned() || j.get<std::uint64_t>() < 1 ||
-          j.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
-        return enqueue(
-            error_message(fmt::format("{}.jobs[{}]", op, i), "expected a positive integer job id"));
-      ids.push_back(static_cast<std::int64_t>(j.get<std::uint64_t>()));
-    }
-    if (op == "unsubscribe") return core_.hub.unsubscribe(sub_, ids);
-    if (!core_.hub.subscribe(sub_, ids, max))
-      enqueue(
-          error_message("subscribe.jobs", fmt::format("at most {} job subscriptions per connection", max)));
   }
 
   void enqueue(const std::string& message) {
