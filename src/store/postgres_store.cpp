@@ -532,24 +532,7 @@ class PostgresStore final : public Store {
       const auto r = exec(c, "SELECT state, count(*) FROM jobs GROUP BY state");
       JobCounts n;
       for (int i = 0; i < r.rows(); ++i) {
-        const std::int64_t count = r.i64(i, 1);
-        switch (job_state_from_string(r.str(i, 0))) {
-          case JobState::Queued:
-            n.queued = count;
-            break;
-          case JobState::Running:
-            n.running = count;
-            break;
-          case JobState::Done:
-            n.done = count;
-            break;
-          case JobState::Failed:
-            n.failed = count;
-            break;
-          case JobState::Cancelled:
-            n.cancelled = count;
-            break;
-        }
+        n.add(job_state_from_string(r.str(i, 0)), r.i64(i, 1));
       }
       return n;
     });

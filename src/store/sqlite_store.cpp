@@ -773,24 +773,7 @@ class SqliteStore final : public Store {
       JobCounts n;
       Query q(c, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
       while (q.step()) {
-        const std::int64_t k = q.i64(1);
-        switch (state_of(q.text(0))) {
-          case JobState::Queued:
-            n.queued = k;
-            break;
-          case JobState::Running:
-            n.running = k;
-            break;
-          case JobState::Done:
-            n.done = k;
-            break;
-          case JobState::Failed:
-            n.failed = k;
-            break;
-          case JobState::Cancelled:
-            n.cancelled = k;
-            break;
-        }
+        n.add(state_of(q.text(0)), q.i64(1));
       }
       return n;
     });

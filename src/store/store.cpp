@@ -26,6 +26,26 @@ JobState job_state_from_string(const std::string& s) {
   throw std::invalid_argument("unknown job state \"" + s + "\"");
 }
 
+void JobCounts::add(JobState state, std::int64_t n) {
+  switch (state) {
+    case JobState::Queued:
+      queued += n;
+      break;
+    case JobState::Running:
+      running += n;
+      break;
+    case JobState::Done:
+      done += n;
+      break;
+    case JobState::Failed:
+      failed += n;
+      break;
+    case JobState::Cancelled:
+      cancelled += n;
+      break;
+  }
+}
+
 std::unique_ptr<Store> open_store(const std::string& url) {
   constexpr std::string_view sqlite = "sqlite:";
   if (url.starts_with(sqlite)) {

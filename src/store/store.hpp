@@ -141,6 +141,8 @@ struct LeaseStatus {
 
 struct JobCounts {
   std::int64_t queued = 0, running = 0, done = 0, failed = 0, cancelled = 0;
+  /// Adds `n` jobs in `state` to its counter.
+  void add(JobState state, std::int64_t n);
 };
 
 // ---- catalogs ----

@@ -125,14 +125,7 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
       job_progress(ctx, {{"evaluation", 0.75, 0.9}, {"pictures", 0.9, 0.95}, {"exports", 0.95, 1.0}}, 1.0));
 
   // evaluation.json: the coverage and cost blocks of plan.json
-  json evaluation = json::object();
-  for (const auto& a : out.artifacts)
-    if (a.name == "plan.json") {
-      const json doc = json::parse(a.bytes);
-      for (const char* key : {"coverage", "cost", "cost_trajectory"})
-        if (doc.contains(key)) evaluation[key] = doc[key];
-    }
-  out.artifacts.push_back({"evaluation.json", "application/json", evaluation.dump(1) + "\n"});
+  out.artifacts.push_back({"evaluation.json", "application/json", out.evaluation.dump(1) + "\n"});
 
   // Litchi missions of more than 99 waypoints come in parts: one zip per UAV holds them all
   std::map<std::string, std::map<std::string, std::string>> litchi_parts;

@@ -46,6 +46,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
   }
   out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
   out.artifacts.push_back({"plan.json", "application/json", io::plan_json(plan, extra).dump(1) + "\n"});
+  out.evaluation = std::move(extra);
   if (options.images) {
     ctx.report("pictures", 0.0);
     out.artifacts.push_back(render::plan_png(plan));

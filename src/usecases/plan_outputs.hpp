@@ -3,6 +3,7 @@
 // the server stores and serves the same bytes.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct OutputOptions {
 
 struct PlanOutputs {
   Artifacts artifacts;
+  /// When evaluated: the coverage, cost and cost_trajectory blocks that plan.json carries (else {}).
+  nlohmann::json evaluation = nlohmann::json::object();
   std::vector<std::string> warnings;  ///< from the exporters (limits, skipped UAVs, separation hazards)
   double poc = -1, pooc = -1;         ///< when evaluated
   double flight_time_min = -1, total_time_min = -1, cost_eur = -1;
