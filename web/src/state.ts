@@ -37,3 +37,27 @@ export interface Tab {
   show?(app: App): void;
   hide?(app: App): void;
 }
+
+/** A panel object with its own show/hide, created when the tab is mounted. */
+export interface Panel {
+  show(): void;
+  hide(): void;
+}
+
+/** The Tab of a panel class: mount creates the panel, show and hide go to it. */
+export function panelTab(name: string, title: string, create: (panel: HTMLElement, app: App) => Panel): Tab {
+  let current: Panel | null = null;
+  return {
+    name,
+    title,
+    mount(panel: HTMLElement, app: App) {
+      current = create(panel, app);
+    },
+    show() {
+      current?.show();
+    },
+    hide() {
+      current?.hide();
+    },
+  };
+}

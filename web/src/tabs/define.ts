@@ -7,7 +7,7 @@ import L from 'leaflet';
 import '@geoman-io/leaflet-geoman-free';
 import '@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css';
 import { api, ApiError } from '../api.ts';
-import type { App, Tab } from '../state.ts';
+import { panelTab, type App, type Tab } from '../state.ts';
 import {
   areaPolygons,
   geojsonPolygons,
@@ -1049,18 +1049,4 @@ class DefinePanel {
   }
 }
 
-let panelRef: DefinePanel | null = null;
-
-export const defineTab: Tab = {
-  name: 'define',
-  title: 'Define',
-  mount(panel: HTMLElement, app: App) {
-    panelRef = new DefinePanel(panel, app);
-  },
-  show() {
-    panelRef?.show();
-  },
-  hide() {
-    panelRef?.hide();
-  },
-};
+export const defineTab: Tab = panelTab('define', 'Define', (panel, app) => new DefinePanel(panel, app));

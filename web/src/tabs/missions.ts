@@ -2,7 +2,7 @@
 // duplicate, rename, delete, export; import a file by drag and drop (or a file picker); new mission.
 import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
-import type { App, Tab } from '../state.ts';
+import { panelTab, type App, type Tab } from '../state.ts';
 import { docBbox, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
 import '../missions.css';
@@ -438,18 +438,4 @@ class MissionsPanel {
   }
 }
 
-let panelRef: MissionsPanel | null = null;
-
-export const missionsTab: Tab = {
-  name: 'missions',
-  title: 'Missions',
-  mount(panel: HTMLElement, app: App) {
-    panelRef = new MissionsPanel(panel, app);
-  },
-  show() {
-    panelRef?.show();
-  },
-  hide() {
-    panelRef?.hide();
-  },
-};
+export const missionsTab: Tab = panelTab('missions', 'Missions', (panel, app) => new MissionsPanel(panel, app));
