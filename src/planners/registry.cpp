@@ -6,6 +6,15 @@
 
 #include "planners/boustrophedon/boustrophedon.hpp"
 #include "planners/darp/darp.hpp"
+#ifdef UAVCOVER_HAS_MILP
+#include "planners/milp/milp.hpp"
+#endif
+#ifdef UAVCOVER_HAS_SPIRAL
+#include "planners/spiral/spiral.hpp"
+#endif
+#ifdef UAVCOVER_HAS_SMT
+#include "planners/smt/smt.hpp"
+#endif
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 
@@ -18,6 +27,15 @@ std::vector<PlannerInfo> builtin() {
   // One line per planner module (src/planners/<name>/); optional ones behind their CMake option.
   all.push_back(darp_planner_info());
   all.push_back(boustrophedon_planner_info());
+#ifdef UAVCOVER_HAS_MILP
+  all.push_back(milp_planner_info());
+#endif
+#ifdef UAVCOVER_HAS_SPIRAL
+  all.push_back(spiral_planner_info());
+#endif
+#ifdef UAVCOVER_HAS_SMT
+  all.push_back(smt_planner_info());
+#endif
   return all;
 }
 
