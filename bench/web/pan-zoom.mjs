@@ -60,7 +60,7 @@ const ms = (x) => `${x.toFixed(1)} ms`;
 
 // 1. the app's bundle size, from Vite's own report
 const build = execFileSync('npm', ['run', 'build'], { cwd: join(h.repo, 'web'), encoding: 'utf8' });
-const jsLine = build.split('\n').find((l) => /assets\/.*\.js\s/.test(l))?.replace(/\x1b\[[0-9;]*m/g, '').trim() ?? '(not found)';
+const jsLine = build.split('\n').filter((l) => /assets\/.*\.js\s/.test(l)).map((l) => l.replace(/\x1b\[[0-9;]*m/g, '').trim()).join('\n    ') || '(not found)';
 
 // 2. the server and the plan
 const server = await h.startServer({ workers: 2, db: dbFile });
@@ -113,7 +113,7 @@ try {
   const nav0 = Date.now();
   await page.goto(`${server.base}/?tiles=off&mission=${missionId}#plan`);
   await page.waitForSelector(`[data-testid=metrics-panel][data-plan-id="${job.id}"]`, { timeout: 120000 });
-  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  await h.planDrawn(page);
   const firstDrawMs = Date.now() - nav0;
   const legend = await page.locator('[data-testid=plan-legend-item]').allInnerTexts();
   await page.waitForTimeout(500);

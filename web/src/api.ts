@@ -14,7 +14,7 @@ export class ApiError extends Error {
 
 export const API = '/api/v1';
 
-async function request<T>(method: string, path: string, body?: unknown): Promise<T> {
+async function send(method: string, path: string, body?: unknown): Promise<Response> {
   let res: Response;
   try {
     res = await fetch(API + path, {
@@ -25,6 +25,16 @@ async function request<T>(method: string, path: string, body?: unknown): Promise
   } catch {
     throw new ApiError(0, '', 'The server cannot be reached. Is `uavcover serve` running?');
   }
+  return res;
+}
+
+function failure(res: Response, json: unknown): ApiError {
+  const err = (json as { error?: { field?: string; message?: string } } | undefined)?.error;
+  return new ApiError(res.status, err?.field ?? '', err?.message ?? `HTTP ${res.status}`);
+}
+
+async function request<T>(method: string, path: string, body?: unknown): Promise<T> {
+  const res = await send(method, path, body);
   if (res.status === 204) return undefined as T;
   const text = await res.text();
   let json: unknown = undefined;
@@ -33,15 +43,26 @@ async function request<T>(method: string, path: string, body?: unknown): Promise
   } catch {
     /* not JSON: reported below */
   }
-  if (!res.ok) {
-    const err = (json as { error?: { field?: string; message?: string } } | undefined)?.error;
-    throw new ApiError(res.status, err?.field ?? '', err?.message ?? `HTTP ${res.status}`);
-  }
+  if (!res.ok) throw failure(res, json);
   return json as T;
+}
+
+/** A GET's body as bytes, unparsed (large files parsed off the main thread: plan-source.ts). */
+async function bytes(path: string): Promise<ArrayBuffer> {
+  const res = await send('GET', path);
+  if (res.ok) return res.arrayBuffer();
+  let json: unknown = undefined;
+  try {
+    json = await res.json();
+  } catch {
+    /* not JSON */
+  }
+  throw failure(res, json);
 }
 
 export const api = {
   get: <T>(path: string) => request<T>('GET', path),
+  bytes,
   post: <T>(path: string, body?: unknown) => request<T>('POST', path, body ?? {}),
   put: <T>(path: string, body: unknown) => request<T>('PUT', path, body),
   del: <T>(path: string) => request<T>('DELETE', path),

@@ -5,7 +5,8 @@ import { api, API, ApiError } from './api.ts';
 import type { Job } from './events.ts';
 import { el, errorText, JobView } from './job-ui.ts';
 import { tileUrl } from './map.ts';
-import { drawPlan, type PathsGeoJson, type PlanJson } from './plan-layers.ts';
+import { drawPlan } from './plan-layers.ts';
+import { dropPlan, loadPlan, type PreparedPlan } from './plan-source.ts';
 
 interface Planner {
   name: string;
@@ -44,7 +45,7 @@ export function compareTable(rows: Record<string, unknown>[]): HTMLElement {
 }
 
 /** N small maps whose pan and zoom follow each other, each with one plan. */
-function sideBySide(plans: { planner: string; plan: PlanJson; paths: PathsGeoJson }[]): void {
+function sideBySide(plans: { planner: string; prepared: PreparedPlan }[]): void {
   const overlay = el('div', { class: 'plan-overlay', 'data-testid': 'compare-maps', role: 'dialog', 'aria-label': 'Plans side by side' });
   const bar = el('div', { class: 'plan-overlay-bar' });
   const close = el('button', { type: 'button', 'data-testid': 'compare-close' }, 'Close');
@@ -65,7 +66,7 @@ function sideBySide(plans: { planner: string; plan: PlanJson; paths: PathsGeoJso
     const m = L.map(mapEl, { preferCanvas: true, zoomSnap: 0.25 }).setView([0, 0], 2);
     if (url) L.tileLayer(url, { maxZoom: 20, attribution: '&copy; OpenStreetMap contributors' }).addTo(m);
     L.control.scale({ imperial: false }).addTo(m);
-    const d = drawPlan(m, p.plan, p.paths, true);
+    const d = drawPlan(m, p.prepared);
     if (d.bounds) bounds = bounds ? bounds.extend(d.bounds) : L.latLngBounds(d.bounds.getSouthWest(), d.bounds.getNorthEast());
     maps.push(m);
   }
@@ -101,7 +102,7 @@ export function comparePanel(getMission: () => number | null): HTMLElement {
   const view = new JobView('compare');
   const out = el('div', { class: 'plan-compare-result' });
   wrap.append(list, row, view.el, note, out);
-  let plans: { planner: string; plan: PlanJson; paths: PathsGeoJson }[] = [];
+  let plans: { planner: string; prepared: PreparedPlan }[] = [];
 
   api.get<{ items: Planner[] }>('/planners').then(
     (r) => {
@@ -133,6 +134,7 @@ export function comparePanel(getMission: () => number | null): HTMLElement {
     start.disabled = true;
     side.disabled = true;
     out.replaceChildren();
+    for (const p of plans) dropPlan(p.prepared);
     plans = [];
     // one plan per planner for the maps, queued next to the comparison
     const planJobs = chosen.map((planner) =>
@@ -161,11 +163,7 @@ export function comparePanel(getMission: () => number | null): HTMLElement {
         continue;
       }
       try {
-        const [plan, paths] = await Promise.all([
-          api.get<PlanJson>(`/plans/${s.id}/plan.json`),
-          api.get<PathsGeoJson>(`/plans/${s.id}/paths.geojson`),
-        ]);
-        plans.push({ planner: s.planner, plan, paths });
+        plans.push({ planner: s.planner, prepared: await loadPlan(s.id) });
       } catch (e) {
         problems.push(`${s.planner}: ${errorText(e as ApiError)}`);
       }

@@ -9,7 +9,8 @@ import { exportsPanel } from '../exports.ts';
 import { el, errorText, JobView } from '../job-ui.ts';
 import { metricsPanel } from '../metrics.ts';
 import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
-import { drawPlan, type DrawnPlan, type PathsGeoJson, type PlanJson } from '../plan-layers.ts';
+import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
+import { dropPlan, loadPlan, type PreparedPlan } from '../plan-source.ts';
 import type { App, Tab } from '../state.ts';
 import { studyPanel } from '../study.ts';
 
@@ -20,7 +21,7 @@ interface Planner {
 let drawn: DrawnPlan | null = null;
 let heat: L.ImageOverlay | null = null;
 let visible = false;
-let lastPlan: { job: Job; plan: PlanJson; paths: PathsGeoJson } | null = null;
+let lastPlan: { job: Job; prepared: PreparedPlan } | null = null;
 
 function section(title: string, open = true, testid?: string): { box: HTMLDetailsElement; body: HTMLElement } {
   const box = el('details', { class: 'plan-section' });
@@ -92,6 +93,7 @@ export const planTab: Tab = {
       heatToggle.checked = false;
       heatToggle.disabled = true;
       results.hidden = true;
+      if (lastPlan) dropPlan(lastPlan.prepared);
       lastPlan = null;
       warnings.replaceChildren();
     };
@@ -110,10 +112,11 @@ export const planTab: Tab = {
     };
     heatToggle.addEventListener('change', showHeatmap);
 
-    const render = (job: Job, plan: PlanJson, paths: PathsGeoJson) => {
+    const render = (job: Job, prepared: PreparedPlan) => {
       clear();
-      lastPlan = { job, plan, paths };
-      const d = drawPlan(app.map, plan, paths);
+      lastPlan = { job, prepared };
+      const plan = prepared.plan;
+      const d = drawPlan(app.map, prepared);
       const counts = d.counts;
       if (visible) {
         drawn = d;
@@ -140,12 +143,12 @@ export const planTab: Tab = {
     const load = async (job: Job) => {
       const seq = ++loadSeq;
       try {
-        const [plan, paths] = await Promise.all([
-          api.get<PlanJson>(`/plans/${job.id}/plan.json`),
-          api.get<PathsGeoJson>(`/plans/${job.id}/paths.geojson`),
-        ]);
-        if (seq !== loadSeq || job.mission_id !== app.state.missionId) return; // another plan or mission since
-        render(job, plan, paths);
+        const prepared = await loadPlan(job.id);
+        if (seq !== loadSeq || job.mission_id !== app.state.missionId) {
+          dropPlan(prepared);
+          return; // another plan or mission since
+        }
+        render(job, prepared);
         historySel.value = String(job.id);
         app.update({ planId: job.id });
       } catch (e) {
@@ -261,7 +264,7 @@ export const planTab: Tab = {
       visible = true;
       updateHeader();
       if (lastPlan && !drawn) {
-        drawn = drawPlan(app.map, lastPlan.plan, lastPlan.paths);
+        drawn = drawPlan(app.map, lastPlan.prepared);
         showHeatmap();
       }
     };

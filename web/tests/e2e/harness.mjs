@@ -116,3 +116,19 @@ export async function mapPoint(page, fx, fy) {
   const box = await page.locator('#map').boundingBox();
   return [box.x + fx * box.width, box.y + fy * box.height];
 }
+
+/**
+ * Waits until the plan's tiles in view are drawn (plan-layers.ts: data-state="ready" on the tile
+ * layer, no tile loading, and still so after the map's zoom animation, two frames later).
+ */
+export async function planDrawn(page, selector = '#map', timeout = 120000) {
+  const settled = (sel) => {
+    const c = document.querySelector(`${sel} .plan-tiles`);
+    return !!c && c.dataset.state === 'ready' && !document.querySelector(`${sel} .leaflet-zoom-anim`) && c.querySelectorAll('.leaflet-tile:not(.leaflet-tile-loaded)').length === 0;
+  };
+  for (;;) {
+    await page.waitForFunction(settled, selector, { timeout });
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    if (await page.evaluate(settled, selector)) return;
+  }
+}
