@@ -47,7 +47,7 @@ export const LABEL_ZOOM = 17;
  * only the first waypoint (lowest UAV, then lowest number) is numbered. The choice depends on the cell
  * alone, so neighbouring tiles agree; once zoomed in far enough every waypoint has its number.
  */
-export const LABEL_CELL = [32, 16] as const;
+export const LABEL_CELL = [44, 18] as const;
 /** Waypoints per block (culling of the waypoint numbers). */
 const WP_BLOCK = 256;
 

@@ -29,13 +29,23 @@ async function page(size) {
   return p.page;
 }
 
-/** Pixels of the map's canvases close to an RGB colour (the plan is drawn on the canvas renderer). */
-function colouredPixels(page, hex) {
+/**
+ * Pixels of the map's canvases close to an RGB colour (the plan is drawn on canvas tiles, each holding
+ * a bitmap from the drawing worker: copied to a scratch canvas to be read).
+ */
+async function colouredPixels(page, hex) {
+  await h.planDrawn(page);
   return page.evaluate((hex) => {
     const [r, g, b] = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
     let n = 0;
     for (const c of document.querySelectorAll('#map canvas')) {
-      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      if (!c.width || !c.height) continue;
+      const scratch = document.createElement('canvas');
+      scratch.width = c.width;
+      scratch.height = c.height;
+      const ctx = scratch.getContext('2d');
+      ctx.drawImage(c, 0, 0);
+      const d = ctx.getImageData(0, 0, c.width, c.height).data;
       for (let i = 0; i < d.length; i += 4)
         if (d[i + 3] > 200 && Math.abs(d[i] - r) < 12 && Math.abs(d[i + 1] - g) < 12 && Math.abs(d[i + 2] - b) < 12) n++;
     }
