@@ -1,10 +1,10 @@
 // A plan on a Leaflet map: each UAV's region shaded and its path in its colour (the CLI's palette),
-// transit legs dashed, start and return points, and waypoint numbers once zoomed in (only those in
-// view). Regions and paths are drawn as 256-px canvas tiles of a GridLayer (plan-geometry.ts, drawn in
-// a worker by plan-source.ts): each zoom level's tiles are drawn once, simplified for that zoom
-// (Douglas–Peucker, 1 px), while Leaflet scales the previous level's during the zoom animation and
-// keeps them until the new ones are ready; panning only draws the tiles that come into view. The
-// area and no-fly zones (few vertices) are ordinary Leaflet polygons on the map's canvas renderer.
+// transit legs dashed, the area and its no-fly zones, start and return points, and waypoint numbers
+// from zoom 17. Everything but the start and return markers is drawn as 256-px canvas tiles of a
+// GridLayer (plan-geometry.ts, in a worker through plan-source.ts): each zoom's tiles are drawn once,
+// simplified for that zoom (Douglas–Peucker, 1 px), while Leaflet scales the previous zoom's tiles
+// during the zoom animation and keeps them until the new ones are ready; a pan draws only the tiles
+// that come into view (README: "Drawing large plans").
 import L from 'leaflet';
 import type { PathsGeoJson, PlanJson } from './plan-geometry.ts';
 import { drawPlanTile, type PreparedPlan } from './plan-source.ts';

@@ -3,6 +3,7 @@
 //   a. the newcomer: open the seeded example from the Missions tab, plan it, see its regions, export
 //      one UAV's QGC mission and parse it; reload and see the latest plan again; pick an earlier plan;
 //   b. the keyboard while drawing (Ctrl-Z, Esc) and Delete of a selected vertex or no-fly zone;
+//   a2. the plan's tiles drawn in the drawing worker, and in the page without OffscreenCanvas;
 //   c. a tablet-sized screen (768x1024): every tab usable, no horizontal overflow.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -139,6 +140,26 @@ test('a. newcomer: open the seeded example, plan, export QGC; reload shows the l
   await q.waitForSelector(`[data-testid=metrics-panel][data-plan-id="${second}"]`, { timeout: 20000 });
   await q.context().close();
   await p.context().close();
+});
+
+test('a2. the plan tiles: drawn in the worker, and in the page when the browser has no OffscreenCanvas', async () => {
+  assert.ok(flow.missionId && flow.plans.length, 'needs flow a');
+  const tileKinds = (p) =>
+    p.evaluate(() => [...document.querySelectorAll('#map canvas.plan-tile')].map((c) => (c.getContext('bitmaprenderer') ? 'bitmap' : '2d')));
+  for (const withWorker of [true, false]) {
+    const p = await page();
+    if (!withWorker) await p.addInitScript(() => delete window.OffscreenCanvas);
+    await p.goto(`${server.base}/?tiles=off&mission=${flow.missionId}#plan`);
+    await p.waitForSelector(`[data-testid=metrics-panel][data-plan-id="${flow.plans[0]}"]`, { timeout: 20000 });
+    assert.ok((await colouredPixels(p, '#1f78b5')) > 200, `the first UAV is drawn (${withWorker ? 'worker' : 'page'})`);
+    const kinds = await tileKinds(p);
+    assert.ok(kinds.length > 0);
+    // a tile shown from a worker's bitmap has a bitmaprenderer context; one drawn in the page a 2d one
+    if (withWorker) assert.ok(kinds.includes('bitmap'), kinds.join());
+    else assert.ok(kinds.every((k) => k === '2d'), kinds.join());
+    await h.shot(p, withWorker ? 'flow-a4-tiles-worker' : 'flow-a5-tiles-page');
+    await p.context().close();
+  }
 });
 
 test('b. keyboard: Ctrl-Z and Esc while drawing, Delete a selected vertex or no-fly zone', async () => {
