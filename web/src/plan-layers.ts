@@ -17,8 +17,6 @@ const PANE = 'planTiles';
 export interface DrawnPlan {
   group: L.LayerGroup;
   bounds: L.LatLngBounds | null;
-  /** per UAV id: regions (polygons) and path parts drawn */
-  counts: Map<string, { colour: string; polygons: number; paths: number; waypoints: number }>;
   remove(): void;
 }
 
@@ -43,8 +41,6 @@ const PlanTiles = L.GridLayer.extend({
 export function drawPlan(map: L.Map, prepared: PreparedPlan): DrawnPlan {
   const { summary } = prepared;
   const group = L.layerGroup();
-  const counts: DrawnPlan['counts'] = new Map();
-  for (const u of summary.uavs) counts.set(u.id, { colour: u.colour, polygons: u.polygons, paths: u.paths, waypoints: u.waypoints });
   const bounds = summary.bounds ? L.latLngBounds(summary.bounds) : null;
 
   // the area, no-fly zones, regions, paths and waypoint numbers
@@ -87,7 +83,6 @@ export function drawPlan(map: L.Map, prepared: PreparedPlan): DrawnPlan {
   return {
     group,
     bounds,
-    counts,
     remove() {
       group.remove();
     },

@@ -116,14 +116,15 @@ export const planTab: Tab = {
       clear();
       lastPlan = { job, prepared };
       const plan = prepared.plan;
-      const d = drawPlan(app.map, prepared);
-      const counts = d.counts;
+      const { summary } = prepared;
       if (visible) {
-        drawn = d;
-        if (d.bounds) app.map.fitBounds(d.bounds, { padding: [20, 20] });
-      } else d.remove();
+        // the plan's view first, without animation: the tiles are drawn once, for that view
+        if (summary.bounds) app.map.fitBounds(summary.bounds, { padding: [20, 20], animate: false });
+        drawn = drawPlan(app.map, prepared);
+      }
       legend.replaceChildren();
-      for (const [id, c] of counts) {
+      for (const c of summary.uavs) {
+        const id = c.id;
         const item = el('div', { class: 'plan-legend-item', 'data-testid': 'plan-legend-item', 'data-uav': id, 'data-regions': String(c.polygons), 'data-paths': String(c.paths) });
         const sw = el('span', { class: 'plan-swatch' });
         sw.style.background = c.colour;
