@@ -354,6 +354,14 @@ export function buildPlanGeometry(plan: PlanJson, paths: PathsGeoJson): { geomet
   };
 }
 
+/** plan.json and paths.geojson (bytes) → the geometry, the summary, and plan.json without its regions (for the page). */
+export function parsePlan(planBytes: ArrayBuffer, pathsBytes: ArrayBuffer): { geometry: Geometry; summary: PlanSummary; plan: PlanJson } {
+  const dec = new TextDecoder();
+  const plan = JSON.parse(dec.decode(planBytes)) as PlanJson;
+  const { geometry, summary } = buildPlanGeometry(plan, JSON.parse(dec.decode(pathsBytes)) as PathsGeoJson);
+  return { geometry, summary, plan: { ...plan, uavs: plan.uavs.map(({ region: _region, ...u }) => u) } };
+}
+
 /** The part of CanvasRenderingContext2D that drawTile uses. */
 export interface Ctx2D {
   setTransform(a: number, b: number, c: number, d: number, e: number, f: number): void;

@@ -2,7 +2,7 @@
 // has module workers and OffscreenCanvas, else in the page with the same code (plan-geometry.ts),
 // one tile per task.
 import { api, ApiError } from './api.ts';
-import { buildPlanGeometry, drawTile, type Geometry, type PathsGeoJson, type PlanJson, type PlanSummary } from './plan-geometry.ts';
+import { drawTile, parsePlan, type Geometry, type PlanJson, type PlanSummary } from './plan-geometry.ts';
 import type { ToWorker } from './plan-worker.ts';
 
 /** A plan ready to draw: plan.json without its regions (those stay with the drawing code), and what drawPlan needs. */
@@ -78,12 +78,10 @@ class WorkerBackend implements Backend {
 
 class PageBackend implements Backend {
   private plans = new Map<number, Geometry>();
-  async prepare(key: number, plan: ArrayBuffer, paths: ArrayBuffer) {
-    const dec = new TextDecoder();
-    const p = JSON.parse(dec.decode(plan)) as PlanJson;
-    const { geometry, summary } = buildPlanGeometry(p, JSON.parse(dec.decode(paths)) as PathsGeoJson);
+  async prepare(key: number, planBytes: ArrayBuffer, pathsBytes: ArrayBuffer) {
+    const { geometry, summary, plan } = parsePlan(planBytes, pathsBytes);
     this.plans.set(key, geometry);
-    return { plan: { ...p, uavs: p.uavs.map(({ region: _region, ...u }) => u) }, summary };
+    return { plan, summary };
   }
   tile(key: number, z: number, x: number, y: number, size: number, dpr: number, target: HTMLCanvasElement) {
     let timer = 0;

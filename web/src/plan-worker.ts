@@ -5,7 +5,7 @@
 //   in:  {type: 'prepare', key, plan: ArrayBuffer, paths: ArrayBuffer}   → {type: 'prepared', key, plan, summary} | {type: 'error', key, message}
 //        {type: 'tile', key, req, z, x, y, size, dpr}                    → {type: 'tile', req, bitmap | null}
 //        {type: 'cancel', req}  {type: 'drop', key}
-import { buildPlanGeometry, drawTile, type Geometry, type PathsGeoJson, type PlanJson } from './plan-geometry.ts';
+import { drawTile, parsePlan, type Geometry } from './plan-geometry.ts';
 
 export type ToWorker =
   | { type: 'prepare'; key: number; plan: ArrayBuffer; paths: ArrayBuffer }
@@ -49,14 +49,9 @@ self.onmessage = (e: MessageEvent<ToWorker>) => {
   const m = e.data;
   if (m.type === 'prepare') {
     try {
-      const dec = new TextDecoder();
-      const plan = JSON.parse(dec.decode(m.plan)) as PlanJson;
-      const paths = JSON.parse(dec.decode(m.paths)) as PathsGeoJson;
-      const { geometry, summary } = buildPlanGeometry(plan, paths);
+      const { geometry, summary, plan } = parsePlan(m.plan, m.paths);
       plans.set(m.key, geometry);
-      // the page gets plan.json without the regions (drawn here): the metrics and the UAV list
-      const slim = { ...plan, uavs: plan.uavs.map(({ region: _region, ...u }) => u) };
-      post({ type: 'prepared', key: m.key, plan: slim, summary });
+      post({ type: 'prepared', key: m.key, plan, summary });
     } catch (err) {
       post({ type: 'error', key: m.key, message: `the plan's files cannot be read: ${(err as Error).message}` });
     }

@@ -252,3 +252,18 @@ test('waypoint numbers: none below LABEL_ZOOM; neighbouring tiles agree; all num
     else assert.ok(seen.size > 0 && seen.size < 801, `zoom ${z}: ${seen.size} numbers (decluttered)`);
   }
 });
+
+test('parsePlan: the files as bytes; the page gets plan.json without its regions', async () => {
+  const { parsePlan } = await import('../../src/plan-geometry.ts');
+  const P = (i, j) => [22.9 + i * 1e-4, 40.6 + j * 1e-4];
+  const region = { type: 'MultiPolygon', coordinates: [[[P(0, 0), P(1, 0), P(1, 1), P(0, 0)]]] };
+  const plan = { uavs: [{ id: 'a', region, start: P(0, 0) }], coverage: { uavs: [{ id: 'a', poc: 0.9 }] } };
+  const paths = { type: 'FeatureCollection', features: [{ type: 'Feature', properties: { uav: 'a', kind: 'coverage', part: 0 }, geometry: { type: 'LineString', coordinates: [P(0, 0), P(1, 1)] } }] };
+  const bytes = (o) => new TextEncoder().encode(JSON.stringify(o)).buffer;
+  const r = parsePlan(bytes(plan), bytes(paths));
+  assert.equal(r.plan.uavs[0].region, undefined);
+  assert.deepEqual(r.plan.uavs[0].start, P(0, 0));
+  assert.deepEqual(r.plan.coverage, plan.coverage);
+  assert.deepEqual([r.summary.uavs[0].polygons, r.summary.uavs[0].paths, r.summary.uavs[0].waypoints], [1, 1, 2]);
+  assert.throws(() => parsePlan(bytes(plan), new TextEncoder().encode('{"type": ').buffer), SyntaxError);
+});
