@@ -289,18 +289,14 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
     }
 
   std::vector<int> use(g.edges.size(), 0), label;
-  long long bound = out.length - options.bound_offset * unit;  // the tree walk is known: ask for better
-  while (bound >= lower) {
+  // One bound: check, cut the model's subtours, check again until a connected model (1), unsat (0) or
+  // no answer in the budget (-1). The bound and the cuts stay in the solver's current scope.
+  auto attempt = [&](long long bound) {
     s.add(z3::pble(length_terms, length_coeffs.data(),
                    static_cast<int>(std::min<long long>(bound, std::numeric_limits<int>::max()))));
-    bool connected = false;
-    bool stop = false;
-    for (int round = 0; round < options.max_cut_rounds && !connected; ++round) {
+    for (int round = 0; round < options.max_cut_rounds; ++round) {
       const double left = options.timeout_s - std::chrono::duration<double>(Clock::now() - t0).count();
-      if (left <= 0.0 || (interrupter && interrupter->interrupted())) {
-        stop = true;
-        break;
-      }
+      if (left <= 0.0 || (interrupter && interrupter->interrupted())) return -1;
       z3::params p(c);
       p.set("timeout", static_cast<unsigned>(std::max(1.0, std::min(left * 1000.0, 4.0e9))));
       if (options.rlimit > 0) p.set("rlimit", options.rlimit);
@@ -313,41 +309,23 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
       } catch (const z3::exception&) {  // interrupted or out of resources
         r = z3::unknown;
       }
-      if (r == z3::unsat) {
-        out.optimal = true;
-        stop = true;
-        break;
-      }
-      if (r != z3::sat) {
-        stop = true;
-        break;
-      }
+      if (r == z3::unsat) return 0;
+      if (r != z3::sat) return -1;
       const z3::model m = s.get_model();
       for (std::size_t e = 0; e < g.edges.size(); ++e)
         use[e] = (m.eval(once[e], true).is_true() ? 1 : 0) + (m.eval(twice[e], true).is_true() ? 1 : 0);
       const int count = components(g, inc, use, label);
-      if (count == 1) {
-        connected = true;
-        break;
-      }
+      if (count == 1) return 1;
       for (int k = 0; k < count; ++k) {  // a closed walk leaves every proper subset at least twice
-        z3::expr_vector leaving(c);
-        std::vector<int> ones;
-        for (std::size_t e = 0; e < g.edges.size(); ++e)
-          if ((label[static_cast<std::size_t>(g.edges[e][0])] == k) !=
-              (label[static_cast<std::size_t>(g.edges[e][1])] == k)) {
-            leaving.push_back(once[e]);
-            leaving.push_back(twice[e]);
-            ones.insert(ones.end(), {1, 1});
-          }
-        s.add(z3::pbge(leaving, ones.data(), 2));
-        ++out.cuts;
+        std::vector<int> set;
+        for (int v = 0; v < g.n; ++v)
+          if (label[static_cast<std::size_t>(v)] == k) set.push_back(v);
+        cut(set);
       }
     }
-    if (!connected) {
-      (void)stop;
-      break;
-    }
+    return -1;
+  };
+  auto take = [&] {
     long long len = 0;
     for (std::size_t e = 0; e < g.edges.size(); ++e) len += static_cast<long long>(use[e]) * g.weight[e];
     if (out.first_length < 0) out.first_length = len;
@@ -356,11 +334,33 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
     out.walk = euler_walk(g, inc, use);
     out.length = len;
     out.fallback = false;
-    if (len <= lower) {
+  };
+  long long bound = out.length - options.bound_offset * unit;  // the tree walk is known: ask for better
+  bool probed = false;
+  while (bound >= lower) {
+    const int r = attempt(bound);
+    if (r == 0) out.optimal = true;
+    if (r != 1) break;
+    take();
+    if (out.length <= lower) {
       out.optimal = true;
       break;
     }
-    bound = len - options.bound_offset * unit;
+    if (!probed) {
+      // once: ask for the lower bound itself (a Hamiltonian cycle on most lattice tiles) in a scope of
+      // its own; if there is none, tightening goes on from the first model
+      probed = true;
+      s.push();
+      const int at_lower = attempt(lower);
+      if (at_lower == 1) take();
+      s.pop();
+      if (at_lower == 1) {
+        out.optimal = true;
+        break;
+      }
+      if (at_lower < 0) break;
+    }
+    bound = out.length - options.bound_offset * unit;
   }
   if (bound < lower && !out.fallback) out.optimal = true;
   if (out.fallback && out.optimal) out.fallback = false;  // z3 proved nothing beats the tree walk

@@ -53,10 +53,14 @@ class SmtPlanner final : public Planner {
   [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
                                 const Context& ctx) const override {
     const Options opt = read(params);
+    // a stop request ends planning; the deadline only cuts the z3 search short (best so far)
+    const auto check = [&] {
+      if (ctx.stop_requested()) ctx.check();
+    };
     ctx.report("smt lattice", 0.0);
-    ctx.check();
+    check();
     const smt::Lattice lat = smt::build_lattice(problem, opt.diagonal_edges, opt.max_nodes);
-    ctx.check();
+    check();
     const std::size_t k = problem.starts.size();
     const std::vector<int> owner = smt::divide(lat, problem.starts, problem.shares);
     std::vector<std::vector<int>> nodes_of(k);
@@ -98,7 +102,7 @@ class SmtPlanner final : public Planner {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
     }  // workers joined
-    if (ctx.stop_requested()) ctx.check();
+    check();
     const bool cut_short = interrupter.interrupted();
 
     Assignment out;
@@ -109,9 +113,6 @@ class SmtPlanner final : public Planner {
           "a spanning tree");
     const geometry::Router router(problem.no_fly);
     const smt::LegFn leg = [&](Point a, Point b) { return router.route(a, b); };
-    const auto check = [&] {
-      if (ctx.stop_requested()) ctx.check();
-    };
     std::vector<int> owner_cells(lat.node_of_cell.size(), -1);
     for (int v = 0; v < lat.size(); ++v) {
       const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];

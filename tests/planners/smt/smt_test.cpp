@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <queue>
 #include <set>
@@ -100,6 +101,20 @@ long long brute_force(const smt::Subgraph& g) {
   return -1;
 }
 
+/// Lattice nodes that lie on no segment of the paths.
+int off_path(const smt::Lattice& lat, const std::vector<std::vector<Point>>& paths) {
+  int off = 0;
+  for (const Point& q : lat.pos) {
+    bool on = false;
+    for (const auto& part : paths)
+      for (std::size_t k = 0; k < part.size() && !on; ++k)
+        on = k == 0 ? bg::distance(q, part[0]) < 1e-6
+                    : bg::distance(q, bg::model::segment<Point>(part[k - 1], part[k])) < 1e-6;
+    off += on ? 0 : 1;
+  }
+  return off;
+}
+
 smt::Subgraph grid_graph(int w, int h, const std::set<int>& removed = {}) {
   std::map<int, int> id;
   for (int k = 0; k < w * h; ++k)
@@ -192,6 +207,8 @@ TEST(SmtCover, ASubproblemWithoutTimeStillYieldsAValidCover) {
 
 TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
   const Problem p = problem(mp({rect(0, 0, 100, 80)}), {}, {Point{-10, -10}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  ASSERT_EQ(lat.size(), 80);
   std::size_t previous = 0, first = 0;
   for (const double limit : {1000.0, 400.0, 200.0, 120.0}) {
     const Assignment a = run(p, {{"max_flight_time_s", limit}});
@@ -206,21 +223,22 @@ TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
       ASSERT_GE(part.size(), 2u);
       EXPECT_LT(bg::distance(part.front(), part.back()), 1e-9);
     }
-    std::set<std::pair<long, long>> visited;  // the routes visit every node between them
-    for (const auto& part : a.uavs[0].coverage)
-      for (std::size_t k = 1; k < part.size(); ++k) {
-        const Point a0 = part[k - 1], b0 = part[k];
-        const double len = bg::distance(a0, b0);
-        for (double t = 0; t <= len + 1e-9; t += 10.0) {
-          const double f = len > 0 ? t / len : 0;
-          visited.insert(
-              {std::lround(a0.x() + f * (b0.x() - a0.x())), std::lround(a0.y() + f * (b0.y() - a0.y()))});
-        }
-      }
-    EXPECT_EQ(visited.size(), 80u);
+    EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
   }
   EXPECT_GT(previous, first) << "the shortest limit needs more routes than the longest";
   EXPECT_GE(previous, 4u);
+}
+
+TEST(SmtRoutes, ATimeLimitGivesAnIncompleteButValidCover) {
+  const Problem p = l_field();
+  const Context late({}, {}, std::chrono::milliseconds(0));
+  const Assignment a = run(p, {{"max_flight_time_s", 300}}, late);
+  EXPECT_FALSE(a.complete);
+  const auto& subs = a.diagnostics.at("subgraphs");
+  EXPECT_EQ(subs.at("checks"), 0) << "no z3 check after the deadline";
+  EXPECT_GT(subs.at("fallback").get<int>(), 0) << "subgraphs keep the walk around their spanning tree";
+  for (const auto& r : a.diagnostics.at("routes")) EXPECT_LE(r.at("time_s").get<double>(), 300.0);
+  EXPECT_EQ(off_path(smt::build_lattice(p, false, 10000), a.uavs[0].coverage), 0);
 }
 
 TEST(SmtRoutes, NoFlyZonesRemoveLatticeNodesAndEdges) {
