@@ -81,6 +81,7 @@ class SmtPlanner final : public Planner {
     const unsigned hw = std::max(1U, std::thread::hardware_concurrency());
     const std::size_t nthreads = std::min<std::size_t>(
         subs.size(), opt.threads > 0 ? static_cast<std::size_t>(opt.threads) : std::min(4U, hw));
+    if (ctx.time_up()) interrupter.interrupt_all();  // no time left: every subgraph keeps its tree walk
     {
       std::vector<std::jthread> workers;
       for (std::size_t t = 0; t < nthreads; ++t)
