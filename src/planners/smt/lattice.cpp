@@ -40,7 +40,8 @@ bool Lattice::adjacent(int a, int b) const {
   return std::binary_search(n.begin(), n.end(), b);
 }
 
-Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes) {
+Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes,
+                      const std::function<void()>& check) {
   const double ds = problem.spacing_m;
   if (!(ds > 0.0)) throw InputError("spacing_m", "must be > 0");
   bg::model::box<Point> box;
@@ -63,7 +64,8 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
       Point(box.min_corner().x() - (cols_d * ds - w) / 2.0, box.min_corner().y() - (rows_d * ds - h) / 2.0);
   lat.node_of_cell.assign(static_cast<std::size_t>(lat.cols) * static_cast<std::size_t>(lat.rows), -1);
   const bool strict = problem.mode == Mode::Strict;
-  for (int r = 0; r < lat.rows; ++r)
+  for (int r = 0; r < lat.rows; ++r) {
+    if (check) check();
     for (int c = 0; c < lat.cols; ++c) {
       const Point p(lat.origin.x() + (c + 0.5) * ds, lat.origin.y() + (r + 0.5) * ds);
       const bool ok = strict ? bg::covered_by(p, problem.free)
@@ -78,6 +80,7 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
       lat.pos.push_back(p);
       lat.cell.push_back({c, r});
     }
+  }
   if (lat.pos.empty())
     throw InputError("spacing_m",
                      fmt::format("no lattice node of the smt planner fits in the free area at {} m", ds));
@@ -90,6 +93,7 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
   std::vector<std::array<int, 2>> steps{{1, 0}, {0, 1}};
   if (eight_connected) steps.insert(steps.end(), {{1, 1}, {-1, 1}});
   for (int a = 0; a < lat.size(); ++a) {
+    if (check && a % 256 == 0) check();
     const auto [c, r] = lat.cell[static_cast<std::size_t>(a)];
     for (const auto& [dc, dr] : steps) {
       const int c2 = c + dc, r2 = r + dr;
@@ -269,9 +273,19 @@ Walk splice(const Lattice& lat, const Walk& r, const Walk& c) {
   const std::size_t m = r.size(), k = c.size();
   long long best = std::numeric_limits<long long>::max();
   Walk out;
+  Walk members = c;  // the route nodes next to c are few: only they can take part in a splice
+  std::sort(members.begin(), members.end());
+  auto touches = [&](int u) {
+    const auto& n = lat.adj[static_cast<std::size_t>(u)];
+    return std::any_of(n.begin(), n.end(),
+                       [&](int w) { return std::binary_search(members.begin(), members.end(), w); });
+  };
+  std::vector<char> near(m, 0);
+  for (std::size_t i = 0; i < m; ++i) near[i] = touches(r[i]) ? 1 : 0;
   if (m >= 2 && k >= 2)
     for (std::size_t i = 0; i < m; ++i) {
       const int u = r[i], v = r[(i + 1) % m];
+      if (!near[i] || !near[(i + 1) % m]) continue;
       for (std::size_t j = 0; j < k; ++j) {
         const int a = c[j], b = c[(j + 1) % k];
         for (int flip = 0; flip < 2; ++flip) {
@@ -292,7 +306,7 @@ Walk splice(const Lattice& lat, const Walk& r, const Walk& c) {
       }
     }
   for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t j = 0; j < k; ++j) {
+    for (std::size_t j = 0; j < k && near[i]; ++j) {
       if (!lat.adjacent(r[i], c[j])) continue;
       const long long delta = 2LL * lat.weight(r[i], c[j]);
       if (delta >= best) continue;

@@ -32,7 +32,9 @@ struct Lattice {
 /// Strict mode: nodes inside the free area, edges within it. Coverage mode: nodes within ds/2 of the
 /// free area and outside the no-fly zones, edges that do not enter a no-fly zone. Throws InputError
 /// ("spacing_m") when the lattice would exceed `max_nodes` or has no node.
-Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes);
+/// `check` (optional) is called once per lattice row.
+Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes,
+                      const std::function<void()>& check = {});
 
 /// Divides the nodes among the UAVs: each UAV grows from the free node nearest its start, over axis
 /// edges, always the UAV furthest below its share taking its frontier node nearest its seed; so every

@@ -6,6 +6,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <map>
+#include <mutex>
 #include <numeric>
 #include <thread>
 
@@ -59,7 +62,7 @@ class SmtPlanner final : public Planner {
     };
     ctx.report("smt lattice", 0.0);
     check();
-    const smt::Lattice lat = smt::build_lattice(problem, opt.diagonal_edges, opt.max_nodes);
+    const smt::Lattice lat = smt::build_lattice(problem, opt.diagonal_edges, opt.max_nodes, check);
     check();
     const std::size_t k = problem.starts.size();
     const std::vector<int> owner = smt::divide(lat, problem.starts, problem.shares);
@@ -78,6 +81,8 @@ class SmtPlanner final : public Planner {
     std::vector<smt::CoverResult> covers(subs.size());
     smt::Interrupter interrupter;
     std::atomic<std::size_t> next{0}, finished{0};
+    std::mutex failure_mutex;
+    std::exception_ptr failure;
     const unsigned hw = std::max(1U, std::thread::hardware_concurrency());
     const std::size_t nthreads = std::min<std::size_t>(
         subs.size(), opt.threads > 0 ? static_cast<std::size_t>(opt.threads) : std::min(4U, hw));
@@ -89,7 +94,13 @@ class SmtPlanner final : public Planner {
           for (std::size_t i = next++; i < subs.size(); i = next++) {
             smt::CoverOptions co = opt.cover;
             co.seed = static_cast<unsigned>((problem.seed * 1000003ULL + i) & 0x7fffffffU);
-            covers[i] = smt::solve_cover(smt::subgraph(lat, subs[i]), co, &interrupter);
+            try {
+              covers[i] = smt::solve_cover(smt::subgraph(lat, subs[i]), co, &interrupter);
+            } catch (...) {  // out of memory, say: reported on the planning thread
+              std::lock_guard lock(failure_mutex);
+              if (!failure) failure = std::current_exception();
+              interrupter.interrupt_all();
+            }
             ++finished;
           }
         });
@@ -103,6 +114,7 @@ class SmtPlanner final : public Planner {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
     }  // workers joined
+    if (failure) std::rethrow_exception(failure);
     check();
     const bool cut_short = interrupter.interrupted();
 
@@ -113,7 +125,14 @@ class SmtPlanner final : public Planner {
           "the time limit cut the z3 search short: subgraphs without a model are covered by the walk around "
           "a spanning tree");
     const geometry::Router router(problem.no_fly);
-    const smt::LegFn leg = [&](Point a, Point b) { return router.route(a, b); };
+    // the legs between a home and an entry node are asked for again and again while stitching
+    std::map<std::pair<std::pair<double, double>, std::pair<double, double>>, std::vector<Point>> legs;
+    const smt::LegFn leg = [&](Point a, Point b) {
+      const auto key = std::make_pair(std::make_pair(a.x(), a.y()), std::make_pair(b.x(), b.y()));
+      auto it = legs.find(key);
+      if (it == legs.end()) it = legs.emplace(key, router.route(a, b)).first;
+      return it->second;
+    };
     std::vector<int> owner_cells(lat.node_of_cell.size(), -1);
     for (int v = 0; v < lat.size(); ++v) {
       const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];
@@ -147,7 +166,7 @@ class SmtPlanner final : public Planner {
         };
         const double base = total(routes);
         const auto fewest = static_cast<std::size_t>(std::max(1.0, std::ceil(base / limit)));
-        for (std::size_t m = fewest; m < routes.size() && m < fewest + 3; ++m)
+        for (std::size_t m = fewest; m < routes.size() && m < fewest + 3 && !ctx.time_up(); ++m)
           for (const double slack : {0.0, 0.03, 0.06, 0.1, 0.15, 0.2}) {
             const double cap = std::min(limit, base / static_cast<double>(m) * (1.0 + slack));
             int over_cap = 0;
