@@ -76,7 +76,8 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
         throw InputError("spacing_m", fmt::format("the smt planner's lattice has more than {} nodes at {} m "
                                                   "(planner_params.max_nodes); use a larger spacing",
                                                   max_nodes, ds));
-      lat.node_of_cell[static_cast<std::size_t>(r * lat.cols + c)] = lat.size();
+      lat.node_of_cell[static_cast<std::size_t>(r) * static_cast<std::size_t>(lat.cols) +
+                       static_cast<std::size_t>(c)] = lat.size();
       lat.pos.push_back(p);
       lat.cell.push_back({c, r});
     }
@@ -98,7 +99,8 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
     for (const auto& [dc, dr] : steps) {
       const int c2 = c + dc, r2 = r + dr;
       if (c2 < 0 || r2 < 0 || c2 >= lat.cols || r2 >= lat.rows) continue;
-      const int b = lat.node_of_cell[static_cast<std::size_t>(r2 * lat.cols + c2)];
+      const int b = lat.node_of_cell[static_cast<std::size_t>(r2) * static_cast<std::size_t>(lat.cols) +
+                                     static_cast<std::size_t>(c2)];
       if (b < 0 || !clear(lat.pos[static_cast<std::size_t>(a)], lat.pos[static_cast<std::size_t>(b)]))
         continue;
       lat.adj[static_cast<std::size_t>(a)].push_back(b);

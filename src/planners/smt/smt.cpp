@@ -136,7 +136,8 @@ class SmtPlanner final : public Planner {
     std::vector<int> owner_cells(lat.node_of_cell.size(), -1);
     for (int v = 0; v < lat.size(); ++v) {
       const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];
-      owner_cells[static_cast<std::size_t>(r * lat.cols + c)] = owner[static_cast<std::size_t>(v)];
+      owner_cells[static_cast<std::size_t>(r) * static_cast<std::size_t>(lat.cols) +
+                  static_cast<std::size_t>(c)] = owner[static_cast<std::size_t>(v)];
     }
     nlohmann::json routes_json = nlohmann::json::array();
     std::vector<double> route_times;
