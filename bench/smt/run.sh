@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# SMT planner benchmark (issue 15): the thesis rectangle of Table 5.3 (bench/data/mondinelli2025) with
+# POPCORN's 5-minute flight-time limit, and the 20 regions of bench/data/apostolidis2022 (1 UAV, ds 40 m,
+# coverage mode) under a 25-minute limit, each with `uavcover compare --planners smt,darp` (one evaluator)
+# plus `uavcover plan` for the smt plan's route diagnostics. Writes bench/results/smt.md.
+# usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(cd "$here/../.." && pwd)"
+build="${1:-$repo/build}"
+bin="${UAVCOVER:-$build/uavcover}"
+data="$repo/bench/data"
+work="${WORK:-${TMPDIR:-/tmp}/uavcover-smt-bench}"
+rois="${ROIS:-$(seq -w 1 20 | tr '\n' ' ')}"
+mode="${MODE:-coverage}"
+out="${OUT:-$repo/bench/results/smt.md}"
+[[ -x "$bin" ]] || { echo "run.sh: no uavcover binary at $bin" >&2; exit 2; }
+rm -rf "$work"
+mkdir -p "$work"
+
+# mission variants: name, source, python edit of the mission dict m
+variant() {  # name source edit
+  mkdir -p "$work/$1"
+  python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); exec(sys.argv[2]); json.dump(m,open(sys.argv[3],"w"))' \
+    "$2" "$3" "$work/$1/mission.json"
+}
+run() {  # name: compare smt,darp and plan smt alone (for its route diagnostics)
+  local dir="$work/$1"
+  printf '%s\n' "$1" >&2
+  "$bin" -q compare "$dir/mission.json" --planners smt,darp --lattice 1 --no-images --out "$dir/compare" \
+    2>"$dir/err" || echo "  compare failed: $(head -c 300 "$dir/err")" >&2
+  "$bin" -q plan "$dir/mission.json" --no-evaluate --no-images --out "$dir/plan" \
+    2>>"$dir/err" || echo "  plan failed: $(head -c 300 "$dir/err")" >&2
+}
+rect="$data/mondinelli2025/rectangle_3uav.json"
+# the thesis's POPCORN run: 3 UAVs, 3 m/s, 5-minute limit (its 3 routes); DARP gets the same UAVs
+variant rect3 "$rect" 'm["planner"]="smt"; m["planner_params"]={"max_flight_time_s":300}'
+# one home point at the south-west corner, routes as sorties of one UAV
+variant rect1 "$rect" 'm["planner"]="smt"; m["uavs"]=[dict(m["uavs"][0], start=m["area"]["coordinates"][0][0])]; m["planner_params"]={"max_flight_time_s":300}'
+variant rect1_diag "$rect" 'm["planner"]="smt"; m["uavs"]=[dict(m["uavs"][0], start=m["area"]["coordinates"][0][0])]; m["planner_params"]={"max_flight_time_s":300,"diagonal_edges":True}'
+for name in rect3 rect1 rect1_diag; do run "$name"; done
+for n in $rois; do
+  roi="roi$(printf %02d "$((10#$n))")"
+  variant "$roi" "$data/apostolidis2022/$roi.json" \
+    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]={\"max_flight_time_s\":1500}"
+  run "$roi"
+done
+
+python3 - "$work" "$mode" "$rois" "$("$bin" --version)" "$(nproc)" "$(cut -d' ' -f1-3 /proc/loadavg)" <<'PY' | tee "$out"
+import json, os, sys
+work, mode, rois, version, cores, load = sys.argv[1:7]
+def load_json(p):
+    try:
+        return json.load(open(p))
+    except Exception:
+        return None
+def row(name):
+    c = load_json(f"{work}/{name}/compare/compare.json")
+    p = load_json(f"{work}/{name}/plan/plan.json")
+    res = {}
+    for e in (c or {}).get("planners", []):
+        res[e["planner"]] = e
+    d = (p or {}).get("planner_diagnostics", {})
+    return res, d
+print("# SMT planner (POPCORN-style, z3) against DARP\n")
+print(f"`bench/smt/run.sh`, {version}, Release build, measured on a {cores}-core machine shared with other "
+      f"jobs (load average {load} at the end): compute times are wall-clock on a busy machine, not a clean "
+      "measurement. One evaluator for both planners (`uavcover compare`: square footprint 1.5 ds swept along each "
+      "leg, 1 m lattice). Length = coverage plus transit legs from and back to the start; the smt routes' legs to and "
+      "from home between sorties are in the route times (plan diagnostics), not in the plan's path.\n")
+print("## Thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, 5-minute limit\n")
+print("| run | planner | routes | PoC % | turns | coverage m | length m | route times s | z3 subgraphs (optimal) | compute s |")
+print("|---|---|---:|---:|---:|---:|---:|---|---|---:|")
+for name, label in [("rect3", "3 UAVs, seeded starts"), ("rect1", "1 UAV, home SW corner"),
+                    ("rect1_diag", "1 UAV, home SW corner, 8-connected")]:
+    res, d = row(name)
+    for planner in ("smt", "darp"):
+        e = res.get(planner)
+        if not e:
+            continue
+        if planner == "smt":
+            routes = d.get("route_count", "")
+            times = ", ".join(f"{r['time_s']:.0f}" for r in d.get("routes", []))
+            sg = d.get("subgraphs", {})
+            subs = f"{sg.get('count','')} ({sg.get('optimal','')})"
+        else:
+            routes, times, subs = "", "", ""
+        print(f"| {label} | {planner} | {routes} | {100*e['poc']:.2f} | {e['turns']} | {e['coverage_length_m']:.0f} | "
+              f"{e['length_m']:.0f} | {times} | {subs} | {e['compute_time_s']:.2f} |")
+print("| thesis Table 5.3 | POPCORN | 3 | | 116 | 1960 | | 732 total | | 7 |")
+print("| thesis Table 5.3 | DARP (Java) | 3 | | 51 | 2002 | | 748 total | | 3 |")
+print(f"\n## The 20 regions of Apostolidis et al. 2022: 1 UAV, ds 40 m, {mode} mode, 25-minute limit\n")
+print("| region | smt routes | smt PoC % | darp PoC % | smt turns | darp turns | smt length km | darp length km | smt compute s | darp compute s |")
+print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+sums = {"n": 0}
+for n in rois.split():
+    roi = f"roi{int(n):02d}"
+    res, d = row(roi)
+    s, dp = res.get("smt"), res.get("darp")
+    if not s or not dp or not s.get("ok", True) or not dp.get("ok", True):
+        print(f"| {roi} | failed | | | | | | | | |")
+        continue
+    r = d.get("route_count", "")
+    print(f"| {roi} | {r} | {100*s['poc']:.2f} | {100*dp['poc']:.2f} | {s['turns']} | {dp['turns']} | "
+          f"{s['length_m']/1000:.2f} | {dp['length_m']/1000:.2f} | {s['compute_time_s']:.2f} | {dp['compute_time_s']:.2f} |")
+    sums["n"] += 1
+    for k, v in [("sp", s["poc"]), ("dpp", dp["poc"]), ("st", s["turns"]), ("dt", dp["turns"]),
+                 ("sl", s["length_m"]), ("dl", dp["length_m"]), ("sc", s["compute_time_s"]), ("dc", dp["compute_time_s"]),
+                 ("sr", r if isinstance(r, int) else 0)]:
+        sums[k] = sums.get(k, 0) + v
+k = sums["n"]
+if k:
+    print(f"| mean of {k} | {sums['sr']/k:.2f} | {100*sums['sp']/k:.2f} | {100*sums['dpp']/k:.2f} | {sums['st']/k:.1f} | "
+          f"{sums['dt']/k:.1f} | {sums['sl']/k/1000:.2f} | {sums['dl']/k/1000:.2f} | {sums['sc']/k:.2f} | {sums['dc']/k:.2f} |")
+PY
+echo "wrote $out" >&2

@@ -1,0 +1,406 @@
+#include "planners/smt/lattice.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <queue>
+
+#include "evaluation/cost.hpp"
+#include "geometry/geometry.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::smt {
+
+namespace {
+
+constexpr double kTol = 1e-3;  // metres
+
+double dist2(Point a, Point b) {
+  const double dx = a.x() - b.x(), dy = a.y() - b.y();
+  return dx * dx + dy * dy;
+}
+
+void normalise(Walk& w) {
+  while (w.size() > 1 && w.back() == w.front()) w.pop_back();
+}
+
+}  // namespace
+
+int Lattice::weight(int a, int b) const {
+  const auto& ca = cell[static_cast<std::size_t>(a)];
+  const auto& cb = cell[static_cast<std::size_t>(b)];
+  return (ca[0] != cb[0] && ca[1] != cb[1]) ? 1414 : 1000;  // in ds / 1000
+}
+
+bool Lattice::adjacent(int a, int b) const {
+  const auto& n = adj[static_cast<std::size_t>(a)];
+  return std::binary_search(n.begin(), n.end(), b);
+}
+
+Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes,
+                      const std::function<void()>& check) {
+  const double ds = problem.spacing_m;
+  if (!(ds > 0.0)) throw InputError("spacing_m", "must be > 0");
+  bg::model::box<Point> box;
+  bg::envelope(problem.free, box);
+  const double w = box.max_corner().x() - box.min_corner().x();
+  const double h = box.max_corner().y() - box.min_corner().y();
+  const double cols_d = std::max(1.0, std::ceil(w / ds - 1e-9));
+  const double rows_d = std::max(1.0, std::ceil(h / ds - 1e-9));
+  // the lattice's cells bound its nodes; refuse before allocating them
+  if (cols_d * rows_d > 8.0 * max_nodes)
+    throw InputError("spacing_m",
+                     fmt::format("the smt planner's lattice would have up to {:.0f} nodes at {} m "
+                                 "(planner_params.max_nodes: {}); use a larger spacing",
+                                 cols_d * rows_d, ds, max_nodes));
+  Lattice lat;
+  lat.ds = ds;
+  lat.cols = static_cast<int>(cols_d);
+  lat.rows = static_cast<int>(rows_d);
+  lat.origin =
+      Point(box.min_corner().x() - (cols_d * ds - w) / 2.0, box.min_corner().y() - (rows_d * ds - h) / 2.0);
+  lat.node_of_cell.assign(static_cast<std::size_t>(lat.cols) * static_cast<std::size_t>(lat.rows), -1);
+  const bool strict = problem.mode == Mode::Strict;
+  for (int r = 0; r < lat.rows; ++r) {
+    if (check) check();
+    for (int c = 0; c < lat.cols; ++c) {
+      const Point p(lat.origin.x() + (c + 0.5) * ds, lat.origin.y() + (r + 0.5) * ds);
+      const bool ok = strict ? bg::covered_by(p, problem.free)
+                             : geometry::distance(problem.free, p) <= 0.5 * ds &&
+                                   (problem.no_fly.empty() || !bg::covered_by(p, problem.no_fly));
+      if (!ok) continue;
+      if (lat.size() >= max_nodes)
+        throw InputError("spacing_m", fmt::format("the smt planner's lattice has more than {} nodes at {} m "
+                                                  "(planner_params.max_nodes); use a larger spacing",
+                                                  max_nodes, ds));
+      lat.node_of_cell[static_cast<std::size_t>(r) * static_cast<std::size_t>(lat.cols) +
+                       static_cast<std::size_t>(c)] = lat.size();
+      lat.pos.push_back(p);
+      lat.cell.push_back({c, r});
+    }
+  }
+  if (lat.pos.empty())
+    throw InputError("spacing_m",
+                     fmt::format("no lattice node of the smt planner fits in the free area at {} m", ds));
+  lat.adj.assign(lat.pos.size(), {});
+  lat.adj4.assign(lat.pos.size(), {});
+  auto clear = [&](Point a, Point b) {
+    return strict ? geometry::segment_within(problem.free, a, b, kTol)
+                  : problem.no_fly.empty() || !geometry::segment_enters(problem.no_fly, a, b, kTol);
+  };
+  std::vector<std::array<int, 2>> steps{{1, 0}, {0, 1}};
+  if (eight_connected) steps.insert(steps.end(), {{1, 1}, {-1, 1}});
+  for (int a = 0; a < lat.size(); ++a) {
+    if (check && a % 256 == 0) check();
+    const auto [c, r] = lat.cell[static_cast<std::size_t>(a)];
+    for (const auto& [dc, dr] : steps) {
+      const int c2 = c + dc, r2 = r + dr;
+      if (c2 < 0 || r2 < 0 || c2 >= lat.cols || r2 >= lat.rows) continue;
+      const int b = lat.node_of_cell[static_cast<std::size_t>(r2) * static_cast<std::size_t>(lat.cols) +
+                                     static_cast<std::size_t>(c2)];
+      if (b < 0 || !clear(lat.pos[static_cast<std::size_t>(a)], lat.pos[static_cast<std::size_t>(b)]))
+        continue;
+      lat.adj[static_cast<std::size_t>(a)].push_back(b);
+      lat.adj[static_cast<std::size_t>(b)].push_back(a);
+      if (dc == 0 || dr == 0) {
+        lat.adj4[static_cast<std::size_t>(a)].push_back(b);
+        lat.adj4[static_cast<std::size_t>(b)].push_back(a);
+      }
+    }
+  }
+  for (auto& n : lat.adj) std::sort(n.begin(), n.end());
+  for (auto& n : lat.adj4) std::sort(n.begin(), n.end());
+  return lat;
+}
+
+std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
+                        const std::vector<double>& shares) {
+  const std::size_t n = lat.pos.size(), k = starts.size();
+  if (k > n)
+    throw InputError("uavs", fmt::format("the smt planner's lattice has {} nodes for {} UAVs; use a smaller "
+                                         "spacing or fewer UAVs",
+                                         n, k));
+  std::vector<int> owner(n, -1), count(k, 0), seed(k, -1);
+  using Item = std::pair<double, int>;  // (squared distance to the seed, node)
+  std::vector<std::priority_queue<Item, std::vector<Item>, std::greater<>>> frontier(k);
+  for (std::size_t u = 0; u < k; ++u) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < n; ++v) {
+      const double d = dist2(lat.pos[v], starts[u]);
+      if (owner[v] < 0 && d < best) best = d, seed[u] = static_cast<int>(v);
+    }
+    owner[static_cast<std::size_t>(seed[u])] = static_cast<int>(u);
+    count[u] = 1;
+  }
+  auto push_neighbours = [&](std::size_t u, int v) {
+    for (int w : lat.adj4[static_cast<std::size_t>(v)])
+      if (owner[static_cast<std::size_t>(w)] < 0)
+        frontier[u].emplace(
+            dist2(lat.pos[static_cast<std::size_t>(w)], lat.pos[static_cast<std::size_t>(seed[u])]), w);
+  };
+  for (std::size_t u = 0; u < k; ++u) push_neighbours(u, seed[u]);
+  for (;;) {
+    int pick = -1;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t u = 0; u < k; ++u) {
+      while (!frontier[u].empty() && owner[static_cast<std::size_t>(frontier[u].top().second)] >= 0)
+        frontier[u].pop();
+      if (frontier[u].empty()) continue;
+      const double fill = count[u] / std::max(shares[u], 1e-9);
+      if (fill < lowest) lowest = fill, pick = static_cast<int>(u);
+    }
+    if (pick < 0) break;
+    const auto u = static_cast<std::size_t>(pick);
+    const int v = frontier[u].top().second;
+    frontier[u].pop();
+    owner[static_cast<std::size_t>(v)] = pick;
+    ++count[u];
+    push_neighbours(u, v);
+  }
+  // components no seed reached: whole, to the UAV whose start is nearest
+  for (std::size_t v = 0; v < n; ++v) {
+    if (owner[v] >= 0) continue;
+    int to = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t u = 0; u < k; ++u)
+      if (const double d = dist2(lat.pos[v], starts[u]); d < best) best = d, to = static_cast<int>(u);
+    std::vector<int> stack{static_cast<int>(v)};
+    owner[v] = to;
+    while (!stack.empty()) {
+      const int a = stack.back();
+      stack.pop_back();
+      for (int b : lat.adj4[static_cast<std::size_t>(a)])
+        if (owner[static_cast<std::size_t>(b)] < 0)
+          owner[static_cast<std::size_t>(b)] = to, stack.push_back(b);
+    }
+  }
+  return owner;
+}
+
+std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size) {
+  const int tw = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(size)))));
+  const int th = std::max(1, (size + tw - 1) / tw);
+  std::map<std::pair<int, int>, std::vector<int>> tiles;  // (tile row, tile column) -> nodes
+  for (int v : nodes) {
+    const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];
+    tiles[{r / th, c / tw}].push_back(v);
+  }
+  std::vector<std::vector<int>> out;
+  std::vector<char> in(lat.pos.size(), 0), seen(lat.pos.size(), 0);
+  for (auto& [key, members] : tiles) {
+    std::sort(members.begin(), members.end());
+    for (int v : members) in[static_cast<std::size_t>(v)] = 1;
+    for (int s : members) {
+      if (seen[static_cast<std::size_t>(s)]) continue;
+      std::vector<int> part{s}, stack{s};
+      seen[static_cast<std::size_t>(s)] = 1;
+      while (!stack.empty()) {
+        const int a = stack.back();
+        stack.pop_back();
+        for (int b : lat.adj[static_cast<std::size_t>(a)])
+          if (in[static_cast<std::size_t>(b)] && !seen[static_cast<std::size_t>(b)]) {
+            seen[static_cast<std::size_t>(b)] = 1;
+            part.push_back(b);
+            stack.push_back(b);
+          }
+      }
+      std::sort(part.begin(), part.end());
+      out.push_back(std::move(part));
+    }
+    for (int v : members) in[static_cast<std::size_t>(v)] = 0;
+  }
+  return out;
+}
+
+Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes) {
+  Subgraph g;
+  g.n = static_cast<int>(nodes.size());
+  std::map<int, int> local;
+  for (std::size_t k = 0; k < nodes.size(); ++k) local[nodes[k]] = static_cast<int>(k);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int b : lat.adj[static_cast<std::size_t>(nodes[k])]) {
+      const auto it = local.find(b);
+      if (it == local.end() || it->second <= static_cast<int>(k)) continue;
+      g.edges.push_back({static_cast<int>(k), it->second});
+      g.weight.push_back(lat.weight(nodes[k], b));
+    }
+  return g;
+}
+
+std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk) {
+  std::vector<Point> pts;
+  for (int v : walk) pts.push_back(lat.pos[static_cast<std::size_t>(v)]);
+  if (!walk.empty()) pts.push_back(lat.pos[static_cast<std::size_t>(walk.front())]);
+  if (pts.size() <= 2) return pts;
+  std::vector<Point> out{pts.front()};
+  for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
+    const double ax = pts[k].x() - out.back().x(), ay = pts[k].y() - out.back().y();
+    const double bx = pts[k + 1].x() - pts[k].x(), by = pts[k + 1].y() - pts[k].y();
+    const bool straight = std::fabs(ax * by - ay * bx) <= 1e-9 * (ax * ax + ay * ay + bx * bx + by * by) &&
+                          ax * bx + ay * by > 0.0;
+    if (!straight) out.push_back(pts[k]);
+  }
+  out.push_back(pts.back());
+  return out;
+}
+
+RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
+                     const LegFn& leg) {
+  Walk rotated = walk;
+  const auto it = std::find(rotated.begin(), rotated.end(), entry);
+  if (it != rotated.end()) std::rotate(rotated.begin(), it, rotated.end());
+  const Point e = lat.pos[static_cast<std::size_t>(entry)];
+  std::vector<Point> flight = leg(home, e);
+  auto append = [&](const std::vector<Point>& pts) {
+    for (const Point& p : pts)
+      if (flight.empty() || dist2(flight.back(), p) > 1e-12) flight.push_back(p);
+  };
+  append(walk_polyline(lat, rotated));
+  append(leg(e, home));
+  RouteCost out;
+  out.length_m = geometry::length(flight);
+  out.turns = geometry::count_turns(flight);
+  out.time_s = evaluation::flight_duration_min(out.length_m, out.turns, uav) * 60.0;
+  return out;
+}
+
+namespace {
+
+/// Splices walk `c` into route walk `r` at the cheapest place: two parallel edges exchanged, else a
+/// detour over one lattice edge (there and back). Empty when no lattice edge joins them.
+Walk splice(const Lattice& lat, const Walk& r, const Walk& c) {
+  const std::size_t m = r.size(), k = c.size();
+  long long best = std::numeric_limits<long long>::max();
+  Walk out;
+  Walk members = c;  // the route nodes next to c are few: only they can take part in a splice
+  std::sort(members.begin(), members.end());
+  auto touches = [&](int u) {
+    const auto& n = lat.adj[static_cast<std::size_t>(u)];
+    return std::any_of(n.begin(), n.end(),
+                       [&](int w) { return std::binary_search(members.begin(), members.end(), w); });
+  };
+  std::vector<char> near(m, 0);
+  for (std::size_t i = 0; i < m; ++i) near[i] = touches(r[i]) ? 1 : 0;
+  if (m >= 2 && k >= 2)
+    for (std::size_t i = 0; i < m; ++i) {
+      const int u = r[i], v = r[(i + 1) % m];
+      if (!near[i] || !near[(i + 1) % m]) continue;
+      for (std::size_t j = 0; j < k; ++j) {
+        const int a = c[j], b = c[(j + 1) % k];
+        for (int flip = 0; flip < 2; ++flip) {
+          const int u2 = flip ? b : a, v2 = flip ? a : b;  // joined to u and v
+          if (!lat.adjacent(u, u2) || !lat.adjacent(v, v2)) continue;
+          const long long delta = static_cast<long long>(lat.weight(u, u2)) + lat.weight(v, v2) -
+                                  lat.weight(u, v) - lat.weight(a, b);
+          if (delta >= best) continue;
+          best = delta;
+          out.assign(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(i + 1));
+          // around c from u2 to v2 without the edge (a, b)
+          if (!flip)
+            for (std::size_t s = 0; s < k; ++s) out.push_back(c[(j + k - s) % k]);  // a, back to b
+          else
+            for (std::size_t s = 0; s < k; ++s) out.push_back(c[(j + 1 + s) % k]);  // b, on to a
+          out.insert(out.end(), r.begin() + static_cast<std::ptrdiff_t>(i + 1), r.end());
+        }
+      }
+    }
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = 0; j < k && near[i]; ++j) {
+      if (!lat.adjacent(r[i], c[j])) continue;
+      const long long delta = 2LL * lat.weight(r[i], c[j]);
+      if (delta >= best) continue;
+      best = delta;
+      out.assign(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(i + 1));
+      for (std::size_t s = 0; s < k; ++s) out.push_back(c[(j + s) % k]);
+      if (k > 1) out.push_back(c[j]);
+      out.push_back(r[i]);
+      out.insert(out.end(), r.begin() + static_cast<std::ptrdiff_t>(i + 1), r.end());
+    }
+  normalise(out);
+  return out;
+}
+
+int nearest(const Lattice& lat, const Walk& w, Point home) {
+  int best = w.front();
+  double bd = std::numeric_limits<double>::infinity();
+  for (int v : w)
+    if (const double d = dist2(lat.pos[static_cast<std::size_t>(v)], home); d < bd || (d == bd && v < best))
+      bd = d, best = v;
+  return best;
+}
+
+}  // namespace
+
+std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Point home, const Uav& uav,
+                          double max_time_s, const LegFn& leg, int* over_limit,
+                          const std::function<void()>& check) {
+  std::vector<int> walk_of(lat.pos.size(), -1);
+  std::vector<double> home_d(walks.size());
+  for (std::size_t w = 0; w < walks.size(); ++w) {
+    for (int v : walks[w]) walk_of[static_cast<std::size_t>(v)] = static_cast<int>(w);
+    home_d[w] = dist2(lat.pos[static_cast<std::size_t>(nearest(lat, walks[w], home))], home);
+  }
+  std::vector<char> done(walks.size(), 0);
+  auto closer = [&](int a, int b) {
+    return home_d[static_cast<std::size_t>(a)] < home_d[static_cast<std::size_t>(b)] ||
+           (home_d[static_cast<std::size_t>(a)] == home_d[static_cast<std::size_t>(b)] && a < b);
+  };
+  std::vector<Route> routes;
+  if (over_limit) *over_limit = 0;
+  for (;;) {
+    int first = -1;
+    for (std::size_t w = 0; w < walks.size(); ++w)
+      if (!done[w] && (first < 0 || closer(static_cast<int>(w), first))) first = static_cast<int>(w);
+    if (first < 0) break;
+    done[static_cast<std::size_t>(first)] = 1;
+    Route route;
+    route.walk = walks[static_cast<std::size_t>(first)];
+    route.entry = nearest(lat, route.walk, home);
+    route.walks = 1;
+    RouteCost cost = route_cost(lat, route.walk, route.entry, home, uav, leg);
+    if (cost.time_s > max_time_s && over_limit) ++*over_limit;
+    std::vector<char> rejected(walks.size(), 0);
+    for (bool grown = true; grown;) {
+      grown = false;
+      std::vector<int> next;
+      for (int v : route.walk)
+        for (int b : lat.adj[static_cast<std::size_t>(v)]) {
+          const int w = walk_of[static_cast<std::size_t>(b)];
+          if (w >= 0 && !done[static_cast<std::size_t>(w)] && !rejected[static_cast<std::size_t>(w)])
+            next.push_back(w);
+        }
+      std::sort(next.begin(), next.end(), closer);
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      for (int w : next) {
+        if (check) check();
+        Walk merged = splice(lat, route.walk, walks[static_cast<std::size_t>(w)]);
+        if (merged.empty()) continue;
+        const int entry = nearest(lat, merged, home);
+        const RouteCost c = route_cost(lat, merged, entry, home, uav, leg);
+        if (c.time_s > max_time_s) {
+          rejected[static_cast<std::size_t>(w)] = 1;
+          continue;
+        }
+        route.walk = std::move(merged);
+        route.entry = entry;
+        ++route.walks;
+        cost = c;
+        done[static_cast<std::size_t>(w)] = 1;
+        grown = true;
+        break;
+      }
+    }
+    const auto it = std::find(route.walk.begin(), route.walk.end(), route.entry);
+    std::rotate(route.walk.begin(), it, route.walk.end());
+    route.time_s = cost.time_s;
+    route.length_m = cost.length_m;
+    route.turns = cost.turns;
+    routes.push_back(std::move(route));
+  }
+  return routes;
+}
+
+}  // namespace uavcover::smt

@@ -1,0 +1,87 @@
+// The SMT planner's lattice (POPCORN's capture points): nodes at the mission's spacing over the free
+// area, edges to the 4 (or 8) neighbours where the segment stays clear; its division among the UAVs,
+// its split into small connected subgraphs, and the stitching of the subgraphs' closed walks into
+// routes (sorties) from a home point under a flight-time limit.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "planners/planner.hpp"
+#include "planners/smt/cover.hpp"
+
+namespace uavcover::smt {
+
+struct Lattice {
+  double ds = 0.0;
+  Point
+      origin;  ///< lower-left corner of cell (0, 0); node (i, j) sits at origin + ((i + .5) ds, (j + .5) ds)
+  int cols = 0, rows = 0;
+  std::vector<int> node_of_cell;         ///< rows * cols, row-major; -1: no node
+  std::vector<Point> pos;                ///< per node
+  std::vector<std::array<int, 2>> cell;  ///< per node: (column, row)
+  std::vector<std::vector<int>> adj;     ///< per node: neighbours over clear edges (sorted)
+  std::vector<std::vector<int>> adj4;    ///< the same, axis neighbours only
+  [[nodiscard]] int size() const { return static_cast<int>(pos.size()); }
+  /// Edge weight in millimetres (the z3 length unit).
+  [[nodiscard]] int weight(int a, int b) const;
+  [[nodiscard]] bool adjacent(int a, int b) const;
+};
+
+/// Strict mode: nodes inside the free area, edges within it. Coverage mode: nodes within ds/2 of the
+/// free area and outside the no-fly zones, edges that do not enter a no-fly zone. Throws InputError
+/// ("spacing_m") when the lattice would exceed `max_nodes` or has no node.
+/// `check` (optional) is called once per lattice row.
+Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes,
+                      const std::function<void()>& check = {});
+
+/// Divides the nodes among the UAVs: each UAV grows from the free node nearest its start, over axis
+/// edges, always the UAV furthest below its share taking its frontier node nearest its seed; so every
+/// part is 4-connected. Nodes no seed reaches (another component) go to the UAV with the nearest seed.
+/// Returns the owner per node.
+std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
+                        const std::vector<double>& shares);
+
+/// Splits `nodes` (one UAV's part) into connected subgraphs of about `size` nodes: square-ish tiles of
+/// the lattice, each tile's part split into its connected components.
+std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size);
+
+/// The subgraph of `nodes` with the lattice's edges between them (local numbers follow `nodes`).
+Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes);
+
+/// A closed walk over lattice node ids (the step back to the first node implicit).
+using Walk = std::vector<int>;
+
+struct Route {
+  Walk walk;            ///< starts at `entry`
+  int entry = 0;        ///< the route's node nearest the home point
+  double time_s = 0;    ///< modelled flight time home -> entry -> walk -> entry -> home
+  double length_m = 0;  ///< the same flight's length
+  int turns = 0;        ///< its turns
+  int walks = 0;        ///< subgraph walks stitched into it
+};
+
+/// Flight time in seconds (eq. 15, with turns) and length of a route flown from `home`; `leg(a, b)`
+/// returns the transit polyline between two points (around no-fly zones).
+struct RouteCost {
+  double time_s = 0, length_m = 0;
+  int turns = 0;
+};
+using LegFn = std::function<std::vector<Point>(Point, Point)>;
+RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
+                     const LegFn& leg);
+
+/// Tree stitching: starting from the walk nearest `home`, grows a route by splicing in adjacent walks
+/// (a zero-cost exchange of two parallel edges where there is one, else a detour over one lattice
+/// edge), nearest to home first, while the route's flight time stays within `max_time_s`; then starts
+/// the next route at the nearest walk left. A walk that alone exceeds the limit is still a route
+/// (`over_limit` counts them).
+std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Point home, const Uav& uav,
+                          double max_time_s, const LegFn& leg, int* over_limit,
+                          const std::function<void()>& check = {});
+
+/// The polyline of a closed walk from its first node back to it, collinear vertices dropped.
+std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk);
+
+}  // namespace uavcover::smt

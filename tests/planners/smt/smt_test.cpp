@@ -1,0 +1,324 @@
+// The SMT route planner: the z3 cover of each subgraph (every node in exactly one closed walk, walks
+// valid, tightening monotone, optimal on small graphs against brute force, a timed-out subproblem still
+// covered), the routes (each within the flight-time limit, more of them as the limit shrinks), no-fly
+// zones, and parameters refused by name.
+#ifdef UAVCOVER_HAS_SMT
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <queue>
+#include <set>
+
+#include "geometry/geometry.hpp"
+#include "planners/planner.hpp"
+#include "planners/smt/cover.hpp"
+#include "planners/smt/lattice.hpp"
+#include "planners/smt/schedule.hpp"
+#include "support/shapes.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
+
+using namespace uavcover;
+using namespace uavcover::planners;
+using uavcover::testing::rect;
+
+namespace {
+
+Problem problem(const MultiPolygon& area, const MultiPolygon& nfz, std::vector<Point> starts, double spacing,
+                Mode mode = Mode::Strict) {
+  Problem p;
+  p.area = geometry::unite(area);
+  p.no_fly = geometry::unite(nfz);
+  p.free = geometry::free_space(p.area, p.no_fly);
+  p.starts = std::move(starts);
+  p.shares.assign(p.starts.size(), 1.0 / static_cast<double>(p.starts.size()));
+  p.uavs.resize(p.starts.size());
+  for (std::size_t i = 0; i < p.uavs.size(); ++i) p.uavs[i].id = "u" + std::to_string(i);
+  p.spacing_m = spacing;
+  p.footprint_m = 1.5 * spacing;
+  p.mode = mode;
+  return p;
+}
+
+MultiPolygon mp(std::initializer_list<Polygon> polys) {
+  MultiPolygon m;
+  for (const auto& p : polys) m.push_back(p);
+  return m;
+}
+
+// An L-shaped field with a square no-fly zone inside: odd tiles, dead ends and a hole.
+Problem l_field() {
+  MultiPolygon area;
+  bg::union_(mp({rect(0, 0, 130, 60)}), mp({rect(0, 0, 50, 110)}), area);
+  return problem(area, mp({rect(70, 20, 90, 40)}), {Point{-5, -5}}, 10.0);
+}
+
+const PlannerInfo& info() {
+  const PlannerInfo* i = find("smt");
+  if (!i) throw std::runtime_error("smt planner not registered");
+  return *i;
+}
+
+Assignment run(const Problem& p, const nlohmann::json& params = nullptr, const Context& ctx = Context{}) {
+  return info().create()->plan(p, validate_params(info(), params), ctx);
+}
+
+/// Multigraph degree of every node of a closed walk.
+std::map<int, int> degrees(const std::vector<int>& walk) {
+  std::map<int, int> d;
+  if (walk.size() < 2) return d;
+  for (std::size_t k = 0; k < walk.size(); ++k) {
+    ++d[walk[k]];
+    ++d[walk[(k + 1) % walk.size()]];
+  }
+  return d;
+}
+
+/// Shortest closed walk from node 0 visiting every node (Dijkstra over (node, visited set)).
+long long brute_force(const smt::Subgraph& g) {
+  const int full = (1 << g.n) - 1;
+  std::vector<std::vector<std::pair<int, int>>> adj(static_cast<std::size_t>(g.n));
+  for (std::size_t e = 0; e < g.edges.size(); ++e) {
+    adj[static_cast<std::size_t>(g.edges[e][0])].emplace_back(g.edges[e][1], g.weight[e]);
+    adj[static_cast<std::size_t>(g.edges[e][1])].emplace_back(g.edges[e][0], g.weight[e]);
+  }
+  std::vector<long long> dist(static_cast<std::size_t>(g.n) << g.n, -1);
+  using Item = std::pair<long long, std::pair<int, int>>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  q.push({0, {0, 1}});
+  while (!q.empty()) {
+    const auto [d, state] = q.top();
+    q.pop();
+    const auto [v, mask] = state;
+    auto& best = dist[(static_cast<std::size_t>(v) << g.n) | static_cast<std::size_t>(mask)];
+    if (best >= 0) continue;
+    best = d;
+    if (v == 0 && mask == full) return d;
+    for (const auto& [w, len] : adj[static_cast<std::size_t>(v)]) q.push({d + len, {w, mask | (1 << w)}});
+  }
+  return -1;
+}
+
+/// Lattice nodes that lie on no segment of the paths.
+int off_path(const smt::Lattice& lat, const std::vector<std::vector<Point>>& paths) {
+  int off = 0;
+  for (const Point& q : lat.pos) {
+    bool on = false;
+    for (const auto& part : paths)
+      for (std::size_t k = 0; k < part.size() && !on; ++k)
+        on = k == 0 ? bg::distance(q, part[0]) < 1e-6
+                    : bg::distance(q, bg::model::segment<Point>(part[k - 1], part[k])) < 1e-6;
+    off += on ? 0 : 1;
+  }
+  return off;
+}
+
+smt::Subgraph grid_graph(int w, int h, const std::set<int>& removed = {}) {
+  std::map<int, int> id;
+  for (int k = 0; k < w * h; ++k)
+    if (!removed.count(k)) id[k] = static_cast<int>(id.size());
+  smt::Subgraph g;
+  g.n = static_cast<int>(id.size());
+  for (const auto& [k, v] : id) {
+    const int i = k % w, j = k / w;
+    if (i + 1 < w && id.count(k + 1)) g.edges.push_back({v, id[k + 1]}), g.weight.push_back(1000);
+    if (j + 1 < h && id.count(k + w)) g.edges.push_back({v, id[k + w]}), g.weight.push_back(1000);
+  }
+  return g;
+}
+
+TEST(SmtCover, EveryLatticeNodeIsInExactlyOneValidClosedWalk) {
+  const Problem p = l_field();
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  ASSERT_GT(lat.size(), 50);
+  std::vector<int> all(static_cast<std::size_t>(lat.size()));
+  for (int v = 0; v < lat.size(); ++v) all[static_cast<std::size_t>(v)] = v;
+  const auto subs = smt::split(lat, all, 20);
+  std::vector<int> walks_of(static_cast<std::size_t>(lat.size()), 0);
+  for (const auto& nodes : subs) {
+    EXPECT_LE(nodes.size(), 20u);
+    const smt::Subgraph g = smt::subgraph(lat, nodes);
+    const smt::CoverResult r = smt::solve_cover(g, {}, nullptr);
+    std::set<int> seen(r.walk.begin(), r.walk.end());
+    EXPECT_EQ(seen.size(), nodes.size()) << "the walk visits every node of its subgraph";
+    for (int local : seen) ++walks_of[static_cast<std::size_t>(nodes[static_cast<std::size_t>(local)])];
+    EXPECT_EQ(smt::walk_length(g, r.walk), r.length) << "consecutive nodes are joined by lattice edges";
+    for (const auto& [v, d] : degrees(r.walk)) {
+      EXPECT_EQ(d % 2, 0) << "a closed walk enters every node as often as it leaves it";
+      EXPECT_GE(d, 2);
+    }
+    for (std::size_t k = 0; k + 1 < r.walk.size(); ++k) {  // every step stays inside the free area
+      const Point a = lat.pos[static_cast<std::size_t>(nodes[static_cast<std::size_t>(r.walk[k])])];
+      const Point b = lat.pos[static_cast<std::size_t>(nodes[static_cast<std::size_t>(r.walk[k + 1])])];
+      EXPECT_TRUE(geometry::segment_within(p.free, a, b, 1e-6));
+      EXPECT_FALSE(geometry::segment_enters(p.no_fly, a, b, 1e-6));
+    }
+    EXPECT_GE(r.length, smt::length_lower_bound(g));
+  }
+  for (int v = 0; v < lat.size(); ++v) EXPECT_EQ(walks_of[static_cast<std::size_t>(v)], 1) << "node " << v;
+}
+
+TEST(SmtCover, TighteningNeverReturnsALongerWalkThanTheFirstModel) {
+  int tightened = 0;
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{4, 5}, {5, 5}, {3, 7}, {2, 9}, {5, 3}}) {
+    const smt::CoverResult r = smt::solve_cover(grid_graph(w, h), {}, nullptr);
+    ASSERT_GE(r.first_length, 0) << w << "x" << h;
+    EXPECT_LE(r.length, r.first_length);
+    for (std::size_t k = 1; k < r.lengths.size(); ++k) EXPECT_LT(r.lengths[k], r.lengths[k - 1]);
+    EXPECT_EQ(r.length, r.lengths.back());
+    tightened += r.lengths.size() > 1 ? 1 : 0;
+  }
+  EXPECT_GT(tightened, 0) << "some instance needed more than one model";
+}
+
+TEST(SmtCover, SmallInstancesMatchABruteForceOptimum) {
+  const std::vector<smt::Subgraph> graphs{grid_graph(2, 2),
+                                          grid_graph(3, 1),
+                                          grid_graph(3, 3),
+                                          grid_graph(2, 4),
+                                          grid_graph(3, 3, {4}),
+                                          grid_graph(3, 3, {1, 7}),
+                                          grid_graph(4, 3, {0, 3, 8}),
+                                          grid_graph(3, 4, {5})};
+  for (const auto& g : graphs) {
+    const smt::CoverResult r = smt::solve_cover(g, {}, nullptr);
+    EXPECT_TRUE(r.optimal) << "n = " << g.n;
+    EXPECT_EQ(r.length, brute_force(g)) << "n = " << g.n;
+  }
+}
+
+TEST(SmtCover, ASubproblemWithoutTimeStillYieldsAValidCover) {
+  const smt::Subgraph g = grid_graph(4, 5);
+  smt::CoverOptions o;
+  o.timeout_s = 0.0;
+  smt::CoverResult r = smt::solve_cover(g, o, nullptr);
+  EXPECT_TRUE(r.fallback);
+  EXPECT_EQ(r.first_length, -1);
+  EXPECT_EQ(std::set<int>(r.walk.begin(), r.walk.end()).size(), 20u);
+  EXPECT_EQ(smt::walk_length(g, r.walk), r.length);
+  smt::Interrupter stopped;
+  stopped.interrupt_all();
+  r = smt::solve_cover(g, {}, &stopped);
+  EXPECT_TRUE(r.fallback);
+  EXPECT_EQ(std::set<int>(r.walk.begin(), r.walk.end()).size(), 20u);
+}
+
+TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
+  const Problem p = problem(mp({rect(0, 0, 100, 80)}), {}, {Point{-10, -10}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  ASSERT_EQ(lat.size(), 80);
+  std::size_t previous = 0, first = 0;
+  for (const double limit : {1000.0, 400.0, 200.0, 120.0}) {
+    const Assignment a = run(p, {{"max_flight_time_s", limit}});
+    ASSERT_EQ(a.uavs.size(), 1u);
+    const auto& routes = a.diagnostics.at("routes");
+    ASSERT_EQ(routes.size(), a.uavs[0].coverage.size());
+    for (const auto& r : routes) EXPECT_LE(r.at("time_s").get<double>(), limit);
+    EXPECT_GE(routes.size(), previous) << "limit " << limit;
+    if (first == 0) first = routes.size();
+    previous = routes.size();
+    for (const auto& part : a.uavs[0].coverage) {  // closed, from the route's node nearest home
+      ASSERT_GE(part.size(), 2u);
+      EXPECT_LT(bg::distance(part.front(), part.back()), 1e-9);
+    }
+    EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
+  }
+  EXPECT_GT(previous, first) << "the shortest limit needs more routes than the longest";
+  EXPECT_GE(previous, 4u);
+}
+
+TEST(SmtRoutes, ATimeLimitGivesAnIncompleteButValidCover) {
+  const Problem p = l_field();
+  const Context late({}, {}, std::chrono::milliseconds(0));
+  const Assignment a = run(p, {{"max_flight_time_s", 300}}, late);
+  EXPECT_FALSE(a.complete);
+  const auto& subs = a.diagnostics.at("subgraphs");
+  EXPECT_EQ(subs.at("checks"), 0) << "no z3 check after the deadline";
+  EXPECT_GT(subs.at("fallback").get<int>(), 0) << "subgraphs keep the walk around their spanning tree";
+  for (const auto& r : a.diagnostics.at("routes")) EXPECT_LE(r.at("time_s").get<double>(), 300.0);
+  EXPECT_EQ(off_path(smt::build_lattice(p, false, 10000), a.uavs[0].coverage), 0);
+}
+
+TEST(SmtRoutes, NoFlyZonesRemoveLatticeNodesAndEdges) {
+  const Problem p = l_field();
+  const Assignment a = run(p);
+  for (const auto& part : a.uavs[0].coverage) {
+    for (const Point& q : part) EXPECT_FALSE(bg::covered_by(q, p.no_fly));
+    for (std::size_t k = 1; k < part.size(); ++k) {
+      EXPECT_FALSE(geometry::segment_enters(p.no_fly, part[k - 1], part[k], 1e-6));
+      EXPECT_TRUE(geometry::segment_within(p.free, part[k - 1], part[k], 1e-6));
+    }
+  }
+  MultiPolygon inside;
+  bg::intersection(a.uavs[0].region, p.no_fly, inside);
+  EXPECT_LT(bg::area(inside), 1e-6);
+}
+
+TEST(SmtRoutes, RegionsOfSeveralUavsAreConnectedAndDisjoint) {
+  const Problem p =
+      problem(mp({rect(0, 0, 160, 120)}), {}, {Point{-5, -5}, Point{165, -5}, Point{80, 125}}, 10.0);
+  const Assignment a = run(p);
+  ASSERT_EQ(a.uavs.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(a.uavs[i].region.size(), 1u);
+    EXPECT_NEAR(*a.uavs[i].share_actual, 1.0 / 3.0, 0.02);
+    for (std::size_t j = i + 1; j < 3; ++j) {
+      MultiPolygon both;
+      bg::intersection(a.uavs[i].region, a.uavs[j].region, both);
+      EXPECT_LT(bg::area(both), 1e-6);
+    }
+  }
+}
+
+TEST(SmtSchedule, FewestUavsForAWallClockTime) {
+  EXPECT_EQ(smt::min_uavs({100, 100, 100}, 300), 1);
+  EXPECT_EQ(smt::min_uavs({100, 100, 100}, 200), 2);
+  EXPECT_EQ(smt::min_uavs({100, 100, 100}, 100), 3);
+  EXPECT_EQ(smt::min_uavs({100, 250}, 200), 0);
+  EXPECT_DOUBLE_EQ(smt::makespan({50, 40, 30, 30}, 2), 80.0);
+}
+
+TEST(SmtParams, BadParametersAreRefusedByName) {
+  const std::vector<std::pair<nlohmann::json, std::string>> bad{
+      {{{"subgraph_size", 1}}, "planner_params.subgraph_size"},
+      {{{"subgraph_size", 2.5}}, "planner_params.subgraph_size"},
+      {{{"sat_bound_offset", 0}}, "planner_params.sat_bound_offset"},
+      {{{"timeout_s", -1}}, "planner_params.timeout_s"},
+      {{{"stitch", "zigzag"}}, "planner_params.stitch"},
+      {{{"max_flight_time_s", 0}}, "planner_params.max_flight_time_s"},
+      {{{"endurance_reserve", 1.5}}, "planner_params.endurance_reserve"},
+      {{{"diagonal_edges", "yes"}}, "planner_params.diagonal_edges"},
+      {{{"max_nodes", 0}}, "planner_params.max_nodes"},
+      {{{"turns", 1}}, "planner_params.turns"},
+  };
+  for (const auto& [params, field] : bad) {
+    try {
+      (void)validate_params(info(), params);
+      ADD_FAILURE() << "accepted " << params.dump();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  }
+  // a lattice larger than max_nodes is refused before it is built
+  const Problem p = problem(mp({rect(0, 0, 1000, 1000)}), {}, {Point{0, 0}}, 10.0);
+  try {
+    (void)run(p, {{"max_nodes", 500}});
+    ADD_FAILURE() << "planned 10000 nodes with max_nodes 500";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "spacing_m") << e.what();
+  }
+}
+
+TEST(SmtRoutes, DiagonalEdgesAlsoGiveValidWalks) {
+  const Problem p = l_field();
+  const Assignment a = run(p, {{"diagonal_edges", true}, {"subgraph_size", 9}});
+  for (const auto& part : a.uavs[0].coverage)
+    for (std::size_t k = 1; k < part.size(); ++k)
+      EXPECT_TRUE(geometry::segment_within(p.free, part[k - 1], part[k], 1e-6));
+  EXPECT_EQ(a.diagnostics.at("subgraphs").at("fallback").get<int>(), 0);
+}
+
+}  // namespace
+#endif  // UAVCOVER_HAS_SMT
