@@ -1,6 +1,6 @@
 // The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
 // planner's split of the same problem.
-//   bench_milp [time_limit_s]
+//   bench_milp [time_limit_s]   (per MILP; default 10)
 // Scenarios (local metres, spacing as given):
 //   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
 //   three-areas: 13 segments in 3 polygons (26 waypoints) and 2 depots = 28 nodes, 2 UAVs (paper: 4.61 s)
@@ -61,6 +61,7 @@ std::pair<double, double> max_mean_distance(const Problem& p, const Assignment& 
 struct Scenario {
   std::string name;
   Problem problem;
+  nlohmann::json params;
 };
 
 }  // namespace
@@ -68,17 +69,22 @@ struct Scenario {
 int main(int argc, char** argv) {
   const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
   std::vector<Scenario> sc;
+  // the paper's sizes in one joint MILP (all UAVs, every segment), searched up to the time limit
+  const nlohmann::json paper = {
+      {"max_uavs_per_milp", 10}, {"max_segments", 60}, {"node_limit", 10000000}, {"time_limit_s", limit}};
+  // large ones clustered by share (the default), each cluster's MILP searched up to the time limit
+  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}};
   {
     MultiPolygon a;
-    a.push_back(poly({{10, -20}, {45, -25}, {55, 5}, {35, 22}, {8, 12}}));
-    sc.push_back({"pentagon (19 nodes, 3 UAVs)", problem(a, {{0, 0}, {0, 5}, {0, -5}}, 5.0)});
+    a.push_back(poly({{10, -16}, {40, -20}, {48, 4}, {32, 17}, {8, 10}}));
+    sc.push_back({"pentagon (19 nodes, 3 UAVs)", problem(a, {{0, 0}, {0, 5}, {0, -5}}, 5.0), paper});
   }
   {
     MultiPolygon a;
     a.push_back(poly({{10, 10}, {40, 10}, {40, 30}, {10, 30}}));
     a.push_back(poly({{50, 0}, {75, 0}, {75, 20}, {50, 20}}));
-    a.push_back(poly({{20, 45}, {60, 45}, {40, 60}}));
-    sc.push_back({"three areas (28 nodes, 2 UAVs)", problem(a, {{30, -5}, {35, -5}}, 5.0)});
+    a.push_back(poly({{20, 45}, {75, 45}, {47, 70}}));
+    sc.push_back({"three areas (28 nodes, 2 UAVs)", problem(a, {{30, -5}, {35, -5}}, 5.0), paper});
   }
   {
     MultiPolygon a;
@@ -86,8 +92,10 @@ int main(int argc, char** argv) {
     std::vector<Point> s5, s10;
     for (int k = 0; k < 5; ++k) s5.push_back({-50.0, 200.0 + 400.0 * k});
     for (int k = 0; k < 10; ++k) s10.push_back({-50.0, 100.0 + 200.0 * k});
-    sc.push_back({"200 segments, 5 UAVs", problem(a, s5, 10.0)});
-    sc.push_back({"1000 segments, 10 UAVs", problem(a, s10, 2.0)});
+    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), nlohmann::json::object()});
+    sc.push_back({"200 segments, 5 UAVs", problem(a, s5, 10.0), large});
+    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), nlohmann::json::object()});
+    sc.push_back({"1000 segments, 10 UAVs", problem(a, s10, 2.0), large});
   }
   const PlannerInfo* milp = find("milp");
   const PlannerInfo* boustro = find("boustrophedon");
@@ -102,7 +110,7 @@ int main(int argc, char** argv) {
   if (const char* only = std::getenv("BENCH_MILP_ONLY"))
     sc.resize(std::min<std::size_t>(sc.size(), std::atoi(only)));
   for (const auto& s : sc) {
-    const nlohmann::json params = validate_params(*milp, {{"time_limit_s", limit}});
+    const nlohmann::json params = validate_params(*milp, s.params);
     const auto t0 = std::chrono::steady_clock::now();
     const Assignment a = milp->create()->plan(s.problem, params, Context{});
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
