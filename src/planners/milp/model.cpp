@@ -41,6 +41,8 @@ class Handler final : public CbcEventHandler {
         w_->first_improvement_s = std::chrono::duration<double>(Clock::now() - w_->t0).count();
     if (w_->ctx->should_stop()) {
       w_->stopped = true;
+      // the root's cut and heuristic loops check the time, not the events: end them too
+      model_->setMaximumSeconds(0.0);
       return stop;
     }
     const auto now = Clock::now();

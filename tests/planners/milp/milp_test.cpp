@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -293,6 +294,30 @@ TEST(MilpPlanner, TheTimeLimitReturnsTheBestAssignmentWithItsGap) {
   const Assignment b = run(p, {{"max_segments", 60}, {"max_uavs_per_milp", 3}}, ctx);
   EXPECT_FALSE(b.complete);
   for (int w : flown_by(b, lines_of(p))) EXPECT_GE(w, 0);
+}
+
+TEST(MilpPlanner, AStopDuringTheSearchEndsCbcWithCancelled) {
+  const Problem p = problem({rect(0, 0, 300, 150)}, {}, {{-20, 0}, {-20, 75}, {-20, 150}}, 10.0);
+  std::stop_source stop;
+  bool searching = false;
+  std::chrono::steady_clock::time_point asked;
+  const Context ctx(
+      [&](std::string_view stage, double) {
+        // the event handler's reports carry the incumbent: CBC is searching
+        if (stage.find("incumbent") != std::string_view::npos && !searching) {
+          searching = true;
+          asked = std::chrono::steady_clock::now();
+          stop.request_stop();
+        }
+      },
+      stop.get_token());
+  EXPECT_THROW((void)run(p, {{"max_segments", 60}, {"max_uavs_per_milp", 3}, {"node_limit", 10000000}}, ctx),
+               Cancelled);
+  EXPECT_TRUE(searching) << "CBC never reported from its search";
+  // measured, not asserted (wall time depends on the machine)
+  RecordProperty(
+      "stop_latency_s",
+      std::to_string(std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count()));
 }
 
 TEST(MilpPlanner, LargeInstancesAreClusteredByShare) {
