@@ -195,7 +195,9 @@ Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, cons
         c = transit(pos[static_cast<std::size_t>(i)], pos[static_cast<std::size_t>(j)]);
       // the paper's penalty on edges between waypoints that are not nearby (numbers more than 2 apart)
       if (i >= m && j - i > 2) c *= penalty;
-      in.cost[static_cast<std::size_t>(i * n + j)] = in.cost[static_cast<std::size_t>(j * n + i)] = c;
+      const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j),
+                 un = static_cast<std::size_t>(n);
+      in.cost[ui * un + uj] = in.cost[uj * un + ui] = c;
     }
   double sum = 0.0;
   for (int k : cl.uavs) sum += shares[static_cast<std::size_t>(k)];
@@ -328,6 +330,7 @@ class MilpPlanner final : public Planner {
         ++group_size[static_cast<std::size_t>(g)];
       }
     std::vector<double> work;
+    work.reserve(segs.size());
     for (const auto& s : segs) work.push_back(s.length() + p.spacing_m);
     const double share_sum = std::accumulate(group_share.begin(), group_share.end(), 0.0);
     for (auto& g : group_share) g = share_sum > 0 ? g / share_sum : 1.0 / C;

@@ -136,11 +136,15 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
                 static_cast<std::size_t>(j)] = col.add(in.c(i, j) / m, 0.0, 1.0, true);
       }
   // assignment variables y_pk = x_abk + x_bak (UAV k flies pair p): the same model, but branching on
-  // them decides who flies what before the order, which proves small instances optimal quickly
+  // them decides who flies what before the order (without them CBC did not prove the 8-line, 3-UAV
+  // test instance in 20 s; with them in about 12 s under load)
   std::vector<int> ycol(static_cast<std::size_t>(in.pairs) * static_cast<std::size_t>(m));
+  auto yidx = [m](int p, int k) {
+    return static_cast<std::size_t>(p) * static_cast<std::size_t>(m) + static_cast<std::size_t>(k);
+  };
   for (int p = 0; p < in.pairs; ++p)
-    for (int k = 0; k < m; ++k) ycol[static_cast<std::size_t>(p * m + k)] = col.add(0.0, 0.0, 1.0, true);
-  auto y = [&](int p, int k) { return ycol[static_cast<std::size_t>(p * m + k)]; };
+    for (int k = 0; k < m; ++k) ycol[yidx(p, k)] = col.add(0.0, 0.0, 1.0, true);
+  auto y = [&](int p, int k) { return ycol[yidx(p, k)]; };
   res.binaries = static_cast<int>(col.obj.size());
   col.u.assign(static_cast<std::size_t>(n), -1);
   for (int i = m; i < n; ++i) col.u[static_cast<std::size_t>(i)] = col.add(0.0, 1.0, w, false);
