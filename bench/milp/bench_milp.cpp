@@ -1,0 +1,138 @@
+// The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
+// planner's split of the same problem.
+//   bench_milp [time_limit_s]   (per MILP; default 10)
+// Scenarios (local metres, spacing as given):
+//   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
+//   three-areas: 13 segments in 3 polygons (26 waypoints) and 2 depots = 28 nodes, 2 UAVs (paper: 4.61 s)
+//   rect-200-5 : 200 segments, 5 UAVs; rect-1000-10: 1000 segments, 10 UAVs (clustered by share)
+// Distances: each UAV's start -> its coverage legs in order -> start, straight transits (no no-fly
+// zones here), the same measure for both planners.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "geometry/geometry.hpp"
+#include "planners/planner.hpp"
+
+using namespace uavcover;
+using namespace uavcover::planners;
+
+namespace {
+
+Polygon poly(std::vector<Point> pts) {
+  Polygon p;
+  for (const auto& q : pts) bg::append(p.outer(), q);
+  bg::append(p.outer(), pts.front());
+  bg::correct(p);
+  return p;
+}
+
+Problem problem(const MultiPolygon& area, std::vector<Point> starts, double spacing) {
+  Problem p;
+  p.area = geometry::unite(area);
+  p.free = p.area;
+  p.starts = std::move(starts);
+  p.shares.assign(p.starts.size(), 1.0 / static_cast<double>(p.starts.size()));
+  p.uavs.resize(p.starts.size());
+  p.spacing_m = spacing;
+  p.footprint_m = 1.5 * spacing;
+  return p;
+}
+
+std::pair<double, double> max_mean_distance(const Problem& p, const Assignment& a) {
+  double mx = 0.0, sum = 0.0;
+  for (std::size_t k = 0; k < a.uavs.size(); ++k) {
+    Point here = p.starts[k];
+    double d = 0.0;
+    for (const auto& part : a.uavs[k].coverage) {
+      if (part.empty()) continue;
+      d += bg::distance(here, part.front()) + geometry::length(part);
+      here = part.back();
+    }
+    d += bg::distance(here, p.starts[k]);
+    mx = std::max(mx, d);
+    sum += d;
+  }
+  return {mx, sum / static_cast<double>(a.uavs.size())};
+}
+
+struct Scenario {
+  std::string name;
+  Problem problem;
+  nlohmann::json params;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
+  std::vector<Scenario> sc;
+  // the paper's sizes in one joint MILP (all UAVs, every segment), searched up to the time limit
+  const nlohmann::json paper = {
+      {"max_uavs_per_milp", 10}, {"max_segments", 60}, {"node_limit", 10000000}, {"time_limit_s", limit}};
+  // large ones clustered by share (the default), each cluster's MILP searched up to the time limit
+  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}};
+  {
+    MultiPolygon a;
+    a.push_back(poly({{10, -16}, {40, -20}, {48, 4}, {32, 17}, {8, 10}}));
+    sc.push_back({"pentagon (19 nodes, 3 UAVs)", problem(a, {{0, 0}, {0, 5}, {0, -5}}, 5.0), paper});
+  }
+  {
+    MultiPolygon a;
+    a.push_back(poly({{10, 10}, {40, 10}, {40, 30}, {10, 30}}));
+    a.push_back(poly({{50, 0}, {75, 0}, {75, 20}, {50, 20}}));
+    a.push_back(poly({{20, 45}, {75, 45}, {47, 70}}));
+    sc.push_back({"three areas (28 nodes, 2 UAVs)", problem(a, {{30, -5}, {35, -5}}, 5.0), paper});
+  }
+  {
+    MultiPolygon a;
+    a.push_back(poly({{0, 0}, {4000, 0}, {4000, 2000}, {0, 2000}}));
+    std::vector<Point> s5, s10;
+    for (int k = 0; k < 5; ++k) s5.push_back({-50.0, 200.0 + 400.0 * k});
+    for (int k = 0; k < 10; ++k) s10.push_back({-50.0, 100.0 + 200.0 * k});
+    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), nlohmann::json::object()});
+    sc.push_back({"200 segments, 5 UAVs", problem(a, s5, 10.0), large});
+    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), nlohmann::json::object()});
+    sc.push_back({"1000 segments, 10 UAVs", problem(a, s10, 2.0), large});
+  }
+  const PlannerInfo* milp = find("milp");
+  const PlannerInfo* boustro = find("boustrophedon");
+  if (!milp || !boustro) {
+    std::fprintf(stderr, "milp or boustrophedon planner not built in\n");
+    return 1;
+  }
+  std::printf(
+      "| scenario | segments | clusters | MILP nodes / binaries (largest) | optimal | time s | "
+      "first CBC incumbent s | max gap | max / mean distance m | boustrophedon max / mean m | "
+      "boustrophedon time s |\n|---|---:|---:|---|---|---:|---:|---:|---|---|---:|\n");
+  if (const char* only = std::getenv("BENCH_MILP_ONLY"))
+    sc.resize(std::min<std::size_t>(sc.size(), std::atoi(only)));
+  for (const auto& s : sc) {
+    const nlohmann::json params = validate_params(*milp, s.params);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Assignment a = milp->create()->plan(s.problem, params, Context{});
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto t1 = std::chrono::steady_clock::now();
+    const Assignment b = boustro->create()->plan(s.problem, validate_params(*boustro, nullptr), Context{});
+    const double tb = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    const auto [amax, amean] = max_mean_distance(s.problem, a);
+    const auto [bmax, bmean] = max_mean_distance(s.problem, b);
+    int nodes = 0, bins = 0;
+    double first = -1.0;
+    for (const auto& c : a.diagnostics["clusters"]) {
+      if (c["nodes"].get<int>() > nodes) nodes = c["nodes"].get<int>(), bins = c["binaries"].get<int>();
+      if (!c["incumbent_is_warm_start"].get<bool>())
+        first = std::max(first, c["first_incumbent_s"].get<double>());
+    }
+    std::printf("| %s | %d | %zu | %d / %d | %s | %.2f | %s | %.1f %% | %.0f / %.0f | %.0f / %.0f | %.2f |\n",
+                s.name.c_str(), a.diagnostics["segments"].get<int>(), a.diagnostics["clusters"].size(), nodes,
+                bins, a.diagnostics["proven_optimal"].get<bool>() ? "yes" : "no", t,
+                first >= 0 ? std::to_string(first).substr(0, 5).c_str() : "warm start",
+                100.0 * a.diagnostics["max_gap"].get<double>(), amax, amean, bmax, bmean, tb);
+    std::fflush(stdout);
+    if (std::getenv("BENCH_MILP_DIAG")) std::fprintf(stderr, "%s\n", a.diagnostics.dump(1).c_str());
+  }
+  return 0;
+}

@@ -1,0 +1,217 @@
+#include "planners/milp/lines.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "planners/boustrophedon/sweep.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::planners::milp {
+
+namespace {
+
+using boustro::Box;
+using boustro::Frame;
+using boustro::Ring;
+constexpr double kPi = std::numbers::pi;
+/// Segments keep this far from no-fly zones, so that no waypoint lies on (and, after rounding to
+/// WGS84, inside) an exclusion polygon.
+constexpr double kNoFlyClearanceM = 0.5;
+
+/// Only a stop request ends the work here: past the deadline the planner still returns its best plan.
+void stop_check(const Context& ctx) {
+  if (ctx.stop_requested()) ctx.check();
+}
+
+double axis(double a) {
+  a = std::fmod(a, kPi);
+  if (a < 0) a += kPi;
+  return a;
+}
+
+/// Frame X extent of a polygon.
+std::pair<double, double> x_extent(const Ring& r, const Frame& f) {
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : r) {
+    const double x = f.to(p).x();
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return {lo, hi};
+}
+
+/// The paper's direction: along the longest edge of the part's outer boundary.
+double longest_edge(const Ring& r) {
+  double best = -1.0, angle = 0.0;
+  for (std::size_t i = 1; i < r.size(); ++i) {
+    const double dx = r[i].x() - r[i - 1].x(), dy = r[i].y() - r[i - 1].y();
+    const double len = std::hypot(dx, dy);
+    if (len > best + 1e-9) best = len, angle = axis(std::atan2(dy, dx));
+  }
+  return angle;
+}
+
+/// The edge direction of the convex hull with the fewest lines (the narrowest width is across a hull
+/// edge); ties go to the longer edge.
+double fewest_lines(const Ring& r, double spacing) {
+  Ring hull;
+  bg::convex_hull(r, hull);
+  int best = 1 << 30;
+  double best_len = -1.0, angle = longest_edge(r);
+  for (std::size_t i = 1; i < hull.size(); ++i) {
+    const double dx = hull[i].x() - hull[i - 1].x(), dy = hull[i].y() - hull[i - 1].y();
+    const double len = std::hypot(dx, dy);
+    if (len < 1e-6) continue;
+    const double a = axis(std::atan2(dy, dx));
+    const auto [lo, hi] = x_extent(hull, Frame(a));
+    const int n = boustro::leg_count(hi - lo, spacing);
+    if (n < best || (n == best && len > best_len + 1e-9)) best = n, best_len = len, angle = a;
+  }
+  return angle;
+}
+
+MultiPolygon grown(const MultiPolygon& zones, double d) {
+  if (zones.empty()) return {};
+  MultiPolygon z = zones, out;
+  boustro::remove_near_duplicates(z);
+  bg::buffer(z, out, bg::strategy::buffer::distance_symmetric<double>(d),
+             bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_miter(),
+             bg::strategy::buffer::end_flat(), bg::strategy::buffer::point_square());
+  return out;
+}
+
+Box frame_box(const MultiPolygon& m) {
+  Box b;
+  bg::envelope(m, b);
+  return b;
+}
+
+}  // namespace
+
+Lines build_lines(const MultiPolygon& free, const MultiPolygon& no_fly, double spacing, Direction dir,
+                  std::optional<double> fixed, const Context& ctx) {
+  Lines out;
+  // lines first counted, so that a tiny spacing is refused before anything is allocated
+  std::size_t total = 0;
+  std::vector<double> angles;
+  for (const auto& poly : free) {
+    const double a = fixed                    ? axis(*fixed)
+                     : dir == Direction::Auto ? fewest_lines(poly.outer(), spacing)
+                                              : longest_edge(poly.outer());
+    angles.push_back(a);
+    const auto [lo, hi] = x_extent(poly.outer(), Frame(a));
+    total += static_cast<std::size_t>(std::min(1e9, (hi - lo) / spacing + 2.0));
+  }
+  if (total > kMaxLines)
+    throw InputError("spacing_m", "the milp planner plans at most " + std::to_string(kMaxLines) +
+                                      " lines; this spacing gives about " + std::to_string(total));
+  const MultiPolygon zones = grown(no_fly, kNoFlyClearanceM);
+  for (std::size_t c = 0; c < free.size(); ++c) {
+    stop_check(ctx);
+    Part part;
+    part.angle = angles[c];
+    part.frame = Frame(part.angle);
+    MultiPolygon clear{free[c]};
+    if (!zones.empty()) {
+      MultiPolygon d;
+      bg::difference(clear, zones, d);
+      clear = std::move(d);
+    }
+    const MultiPolygon clear_f = boustro::to_frame(clear, part.frame);
+    const Box fb = frame_box(boustro::to_frame(MultiPolygon{free[c]}, part.frame));
+    part.xs = boustro::leg_positions(fb.min_corner().x(), fb.max_corner().x(), spacing);
+    for (std::size_t l = 0; l < part.xs.size(); ++l) {
+      if (l % 64 == 63) stop_check(ctx);
+      const double x = part.xs[l];
+      bg::model::linestring<Point> line{{x, fb.min_corner().y() - 1.0}, {x, fb.max_corner().y() + 1.0}};
+      bg::model::multi_linestring<bg::model::linestring<Point>> pieces;
+      bg::intersection(line, clear_f, pieces);
+      std::vector<std::pair<double, double>> iv;
+      for (const auto& ls : pieces) {
+        if (ls.empty()) continue;
+        double y0 = 1e300, y1 = -1e300;
+        for (const auto& p : ls) y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+        iv.emplace_back(y0, y1);
+      }
+      std::sort(iv.begin(), iv.end());
+      std::vector<std::pair<double, double>> merged;
+      for (const auto& v : iv)
+        if (!merged.empty() && v.first <= merged.back().second + 1e-9)
+          merged.back().second = std::max(merged.back().second, v.second);
+        else
+          merged.push_back(v);
+      bool any = false;
+      for (const auto& [y0, y1] : merged) {
+        if (y1 - y0 < 1e-3) continue;
+        Segment s;
+        s.a = part.frame.from(Point{x, y0});
+        s.b = part.frame.from(Point{x, y1});
+        s.part = static_cast<int>(c);
+        s.line = static_cast<int>(l);
+        out.segments.push_back(s);
+        any = true;
+      }
+      if (any) ++part.lines_with_segments;
+    }
+    out.parts.push_back(std::move(part));
+  }
+  return out;
+}
+
+std::vector<MultiPolygon> regions(const Lines& lines, const MultiPolygon& free, const std::vector<int>& owner,
+                                  int uavs, const Context& ctx) {
+  std::vector<MultiPolygon> out(static_cast<std::size_t>(uavs));
+  const double total = bg::area(free);
+  for (std::size_t c = 0; c < lines.parts.size() && c < free.size(); ++c) {
+    const Part& part = lines.parts[c];
+    if (part.xs.empty()) continue;
+    const MultiPolygon free_f = boustro::to_frame(MultiPolygon{free[c]}, part.frame);
+    const Box fb = frame_box(free_f);
+    const double ylo = fb.min_corner().y() - 1.0, yhi = fb.max_corner().y() + 1.0;
+    // strip bounds: the midlines between neighbouring lines, the outer ones beyond the part
+    std::vector<double> bounds{fb.min_corner().x() - 1.0};
+    for (std::size_t l = 1; l < part.xs.size(); ++l) bounds.push_back(0.5 * (part.xs[l - 1] + part.xs[l]));
+    bounds.push_back(fb.max_corner().x() + 1.0);
+    // segments of this part by line
+    std::vector<std::vector<std::size_t>> by_line(part.xs.size());
+    for (std::size_t s = 0; s < lines.segments.size(); ++s)
+      if (lines.segments[s].part == static_cast<int>(c))
+        by_line[static_cast<std::size_t>(lines.segments[s].line)].push_back(s);
+    std::vector<MultiPolygon> mine(static_cast<std::size_t>(uavs));
+    for (std::size_t l = 0; l < part.xs.size(); ++l) {
+      if (l % 32 == 31) stop_check(ctx);
+      if (by_line[l].empty()) continue;
+      const Box strip{{bounds[l], ylo}, {bounds[l + 1], yhi}};
+      MultiPolygon pieces;
+      bg::intersection(free_f, strip, pieces);
+      for (const auto& piece : pieces) {
+        // the piece's owner: the UAV of the segment through it
+        int who = -1;
+        for (std::size_t s : by_line[l]) {
+          const Segment& seg = lines.segments[s];
+          const Point mid =
+              part.frame.to(Point{0.5 * (seg.a.x() + seg.b.x()), 0.5 * (seg.a.y() + seg.b.y())});
+          if (bg::covered_by(mid, piece)) {
+            who = owner[s];
+            break;
+          }
+        }
+        if (who < 0 || who >= uavs) continue;
+        MultiPolygon next;
+        bg::union_(mine[static_cast<std::size_t>(who)], piece, next);
+        mine[static_cast<std::size_t>(who)] = std::move(next);
+      }
+    }
+    for (int k = 0; k < uavs; ++k) {
+      MultiPolygon world = boustro::from_frame(mine[static_cast<std::size_t>(k)], part.frame);
+      bg::correct(world);
+      boustro::remove_near_duplicates(world);
+      std::erase_if(world, [&](const Polygon& p) { return std::abs(bg::area(p)) < 1e-6 * total; });
+      for (auto& p : world) out[static_cast<std::size_t>(k)].push_back(std::move(p));
+    }
+  }
+  return out;
+}
+
+}  // namespace uavcover::planners::milp

@@ -1,0 +1,529 @@
+#include "planners/milp/milp.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+#include "geometry/geometry.hpp"
+#include "planners/milp/lines.hpp"
+#include "planners/milp/model.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::planners {
+
+namespace {
+
+using milp::Instance;
+using milp::Routes;
+using milp::Segment;
+
+constexpr double kPi = std::numbers::pi;
+constexpr const char* kStage = "milp";
+
+/// Degrees clockwise from north <-> radians counter-clockwise from east (the boustrophedon's convention).
+double from_bearing(double deg) { return kPi / 2 - deg * kPi / 180.0; }
+double to_bearing(double rad) {
+  double b = std::fmod(90.0 - rad * 180.0 / kPi, 180.0);
+  if (b < 0) b += 180.0;
+  return std::round(b * 1e6) / 1e6;
+}
+
+struct Params {
+  std::optional<double> angle;
+  milp::Direction direction = milp::Direction::LongestEdge;
+  int max_segments = 12;
+  int max_uavs = 1;
+  long long node_limit = 100;
+  double time_limit_s = 10.0;
+  double nearby_penalty = 10.0;
+};
+
+Params read_params(const nlohmann::json& j) {
+  Params p;
+  if (!j.is_object()) return p;
+  if (j.contains("angle_deg") && j["angle_deg"].is_number())
+    p.angle = from_bearing(j["angle_deg"].get<double>());
+  if (j.contains("direction") && j["direction"].is_string() && j["direction"] == "auto")
+    p.direction = milp::Direction::Auto;
+  auto num = [&](const char* k, auto& v) {
+    if (j.contains(k) && j[k].is_number()) v = j[k].get<std::decay_t<decltype(v)>>();
+  };
+  num("max_segments", p.max_segments);
+  num("max_uavs_per_milp", p.max_uavs);
+  num("node_limit", p.node_limit);
+  num("time_limit_s", p.time_limit_s);
+  num("nearby_penalty", p.nearby_penalty);
+  return p;
+}
+
+/// Transit distances: straight where clear of the no-fly zones, else the engine's route around them.
+class Transit {
+ public:
+  explicit Transit(const MultiPolygon& no_fly) : router_(no_fly), any_(!no_fly.empty()) {}
+  [[nodiscard]] double operator()(Point a, Point b) const {
+    if (!any_ || router_.clear(a, b)) return boustro::dist(a, b);
+    return geometry::length(router_.route(a, b));
+  }
+
+ private:
+  geometry::Router router_;
+  bool any_;
+};
+
+/// What the MILP assigns: one segment, or a block of neighbouring segments flown back and forth.
+struct Item {
+  std::vector<std::pair<int, bool>> legs;  ///< segment, flown from its high end (b) to its low end (a)
+  Point entry, exit;
+  double inner = 0.0;  ///< legs and the transits between them
+};
+
+std::pair<Point, Point> leg_ends(const Segment& s, bool reversed) {
+  return reversed ? std::pair{s.b, s.a} : std::pair{s.a, s.b};
+}
+
+Item make_item(const std::vector<Segment>& segs, int first, int last, const Transit& transit) {
+  Item it;
+  for (int s = first; s <= last; ++s) {
+    const bool rev = (s - first) % 2 == 1;
+    const auto [p, q] = leg_ends(segs[static_cast<std::size_t>(s)], rev);
+    if (!it.legs.empty()) it.inner += transit(it.exit, p);
+    it.inner += boustro::dist(p, q);
+    if (it.legs.empty()) it.entry = p;
+    it.exit = q;
+    it.legs.emplace_back(s, rev);
+  }
+  return it;
+}
+
+/// Cuts `work` (in order) into runs whose totals follow `weights` (summing to 1): `counts[g]` items for
+/// run g, each run at least `min_items[g]` items when there are enough. Each cut sits just before or
+/// after its cumulative target; with up to 12 runs every combination is tried and the one with the
+/// smallest largest share error wins, beyond that the nearer side is taken.
+std::vector<int> split_by_share(const std::vector<double>& work, const std::vector<double>& weights,
+                                const std::vector<int>& min_items) {
+  const std::size_t n = work.size(), g = weights.size();
+  std::vector<double> cum(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) cum[i + 1] = cum[i] + work[i];
+  const double total = cum[n];
+  const bool enough = static_cast<int>(n) >= std::accumulate(min_items.begin(), min_items.end(), 0);
+  // candidate positions of each cut: the two items around the cumulative target
+  std::vector<std::array<std::size_t, 2>> cand(g > 0 ? g - 1 : 0);
+  std::vector<double> targets(cand.size());
+  double target = 0.0;
+  for (std::size_t r = 0; r + 1 < g; ++r) {
+    target += weights[r] * total;
+    targets[r] = target;
+    const auto it = std::lower_bound(cum.begin(), cum.end(), target);
+    const std::size_t hi = std::min<std::size_t>(static_cast<std::size_t>(it - cum.begin()), n);
+    cand[r] = {hi > 0 ? hi - 1 : 0, hi};
+  }
+  auto counts_of = [&](const std::vector<std::size_t>& cuts) {
+    std::vector<int> c(g, 0);
+    std::size_t at = 0;
+    int need_after = std::accumulate(min_items.begin(), min_items.end(), 0);
+    for (std::size_t r = 0; r < g; ++r) {
+      need_after -= min_items[r];
+      std::size_t end = r + 1 == g ? n : cuts[r];
+      if (enough && r + 1 < g) {
+        end = std::max(end, at + static_cast<std::size_t>(min_items[r]));
+        end = std::min(end, n - static_cast<std::size_t>(need_after));
+      }
+      end = std::clamp(end, at, n);
+      c[r] = static_cast<int>(end - at);
+      at = end;
+    }
+    return c;
+  };
+  auto error_of = [&](const std::vector<int>& c) {
+    double worst = 0.0;
+    std::size_t at = 0;
+    for (std::size_t r = 0; r < g; ++r) {
+      const std::size_t end = at + static_cast<std::size_t>(c[r]);
+      worst = std::max(worst, std::abs((cum[end] - cum[at]) / std::max(total, 1e-300) - weights[r]));
+      at = end;
+    }
+    return worst;
+  };
+  std::vector<std::size_t> cuts(cand.size());
+  for (std::size_t r = 0; r < cand.size(); ++r)  // nearer side
+    cuts[r] = std::abs(cum[cand[r][0]] - targets[r]) < std::abs(cum[cand[r][1]] - targets[r]) ? cand[r][0]
+                                                                                              : cand[r][1];
+  std::vector<int> best = counts_of(cuts);
+  if (cand.size() <= 11) {
+    double best_err = error_of(best);
+    for (std::size_t mask = 0; mask < (std::size_t{1} << cand.size()); ++mask) {
+      for (std::size_t r = 0; r < cand.size(); ++r) cuts[r] = cand[r][(mask >> r) & 1];
+      const std::vector<int> c = counts_of(cuts);
+      const double e = error_of(c);
+      if (e < best_err - 1e-12) best_err = e, best = c;
+    }
+  }
+  return best;
+}
+
+/// One MILP: some UAVs (in the instance's order) and the items they share.
+struct Cluster {
+  std::vector<int> uavs;  ///< problem indices
+  std::vector<Item> items;
+};
+
+/// Builds the instance: depots, then each item's entry and exit.
+Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, const std::vector<double>& shares,
+                       const Transit& transit, double penalty, std::vector<Point>& pos) {
+  Instance in;
+  in.uavs = static_cast<int>(cl.uavs.size());
+  in.pairs = static_cast<int>(cl.items.size());
+  pos.clear();
+  for (int k : cl.uavs) pos.push_back(starts[static_cast<std::size_t>(k)]);
+  for (const auto& it : cl.items) {
+    pos.push_back(it.entry);
+    pos.push_back(it.exit);
+  }
+  const int n = in.nodes(), m = in.uavs;
+  in.cost.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      double c;
+      if (i >= m && (i - m) % 2 == 0 && j == i + 1)
+        c = cl.items[static_cast<std::size_t>((i - m) / 2)].inner;  // the pair's own edge: its legs
+      else
+        c = transit(pos[static_cast<std::size_t>(i)], pos[static_cast<std::size_t>(j)]);
+      // the paper's penalty on edges between waypoints that are not nearby (numbers more than 2 apart)
+      if (i >= m && j - i > 2) c *= penalty;
+      const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j),
+                 un = static_cast<std::size_t>(n);
+      in.cost[ui * un + uj] = in.cost[uj * un + ui] = c;
+    }
+  double sum = 0.0;
+  for (int k : cl.uavs) sum += shares[static_cast<std::size_t>(k)];
+  for (int k : cl.uavs) in.weight.push_back(sum > 0 ? shares[static_cast<std::size_t>(k)] * m / sum : 1.0);
+  return in;
+}
+
+/// The warm start: contiguous runs of items by share, each flown in order (or backwards, whichever is
+/// shorter), every item entered at its end nearer the UAV.
+Routes warm_start(const Instance& in, const Cluster& cl) {
+  const int m = in.uavs;
+  std::vector<double> work;
+  for (const auto& it : cl.items) work.push_back(it.inner);
+  std::vector<double> w;
+  for (double x : in.weight) w.push_back(x / m);
+  const std::vector<int> counts = split_by_share(work, w, std::vector<int>(static_cast<std::size_t>(m), 1));
+  Routes r;
+  int at = 0;
+  for (int k = 0; k < m; ++k) {
+    const int n = counts[static_cast<std::size_t>(k)];
+    std::vector<int> best{k};
+    double best_d = 1e300;
+    for (int dir = 0; dir < 2; ++dir) {
+      std::vector<int> q{k};
+      double d = 0.0;
+      int here = k;
+      for (int t = 0; t < n; ++t) {
+        const int p = dir == 0 ? at + t : at + n - 1 - t;
+        const int a = m + 2 * p, b = a + 1;
+        const bool fwd = in.c(here, a) <= in.c(here, b);
+        q.push_back(fwd ? a : b);
+        q.push_back(fwd ? b : a);
+        d += in.c(here, q[q.size() - 2]) + in.c(a, b);
+        here = q.back();
+      }
+      if (here != k) d += in.c(here, k);
+      if (d < best_d) best_d = d, best = std::move(q);
+    }
+    r.seq.push_back(std::move(best));
+    at += n;
+  }
+  return r;
+}
+
+/// The items of a run of segments: one per segment, or blocks of neighbouring segments (never across
+/// parts) when there are more than `max_items`.
+std::vector<Item> items_for(const std::vector<Segment>& segs, int first, int count, int max_items,
+                            const Transit& transit) {
+  std::vector<Item> out;
+  if (count <= 0) return out;
+  // runs within one part
+  std::vector<std::pair<int, int>> runs;
+  for (int s = first; s < first + count; ++s)
+    if (runs.empty() || segs[static_cast<std::size_t>(s)].part != segs[static_cast<std::size_t>(s - 1)].part)
+      runs.emplace_back(s, 1);
+    else
+      ++runs.back().second;
+  const int blocks = std::max(max_items, static_cast<int>(runs.size()));
+  for (const auto& [s0, n] : runs) {
+    const int b =
+        count <= max_items
+            ? n
+            : std::clamp(static_cast<int>(std::lround(static_cast<double>(blocks) * n / count)), 1, n);
+    for (int i = 0; i < b; ++i) {
+      const int lo = s0 + static_cast<int>(static_cast<long long>(n) * i / b);
+      const int hi = s0 + static_cast<int>(static_cast<long long>(n) * (i + 1) / b) - 1;
+      if (hi >= lo) out.push_back(make_item(segs, lo, hi, transit));
+    }
+  }
+  return out;
+}
+
+class MilpPlanner final : public Planner {
+ public:
+  [[nodiscard]] Assignment plan(const Problem& p, const nlohmann::json& params,
+                                const Context& ctx) const override {
+    // past the deadline the warm starts are returned as they are; only a stop request ends the work
+    auto stop_check = [&] {
+      if (ctx.stop_requested()) ctx.check();
+    };
+    stop_check();
+    ctx.report(kStage, 0.0);
+    const std::size_t m = p.starts.size();
+    if (m == 0) throw InputError("uavs", "at least one UAV is needed");
+    if (p.shares.size() != m) throw InputError("uavs", "one share per UAV is needed");
+    if (!(p.spacing_m > 0.0) || !std::isfinite(p.spacing_m))
+      throw InputError("spacing_m", "the line spacing must be a positive number of metres");
+    const Params par = read_params(params);
+    const auto t0 = std::chrono::steady_clock::now();
+
+    Assignment out;
+    out.uavs.resize(m);
+    const milp::Lines lines = milp::build_lines(p.free, p.no_fly, p.spacing_m, par.direction, par.angle, ctx);
+    const auto& segs = lines.segments;
+    const int S = static_cast<int>(segs.size());
+    ctx.report(kStage, 0.05);
+    const Transit transit(p.no_fly);
+    const auto t_lines = std::chrono::steady_clock::now();
+
+    // UAVs in the order of the segment nearest to their start, then clusters of consecutive UAVs
+    std::vector<int> order(m);
+    std::iota(order.begin(), order.end(), 0);
+    std::vector<int> nearest(m, 0);
+    for (std::size_t k = 0; k < m; ++k) {
+      double best = 1e300;
+      for (int s = 0; s < S; ++s) {
+        const double d =
+            bg::distance(p.starts[k], bg::model::segment<Point>{segs[static_cast<std::size_t>(s)].a,
+                                                                segs[static_cast<std::size_t>(s)].b});
+        if (d < best - 1e-9) best = d, nearest[k] = s;
+      }
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return nearest[static_cast<std::size_t>(a)] < nearest[static_cast<std::size_t>(b)];
+    });
+    const int M = static_cast<int>(m);
+    int C = 1;
+    if (S > par.max_segments || M > par.max_uavs)
+      C = std::clamp(
+          std::max((M + par.max_uavs - 1) / par.max_uavs, (S + par.max_segments - 1) / par.max_segments), 1,
+          M);
+    std::vector<Cluster> clusters(static_cast<std::size_t>(C));
+    std::vector<double> group_share(static_cast<std::size_t>(C), 0.0);
+    std::vector<int> group_size(static_cast<std::size_t>(C), 0);
+    for (int g = 0; g < C; ++g)
+      for (int i = g * M / C; i < (g + 1) * M / C; ++i) {
+        const int k = order[static_cast<std::size_t>(i)];
+        clusters[static_cast<std::size_t>(g)].uavs.push_back(k);
+        group_share[static_cast<std::size_t>(g)] += p.shares[static_cast<std::size_t>(k)];
+        ++group_size[static_cast<std::size_t>(g)];
+      }
+    std::vector<double> work;
+    work.reserve(segs.size());
+    for (const auto& s : segs) work.push_back(s.length() + p.spacing_m);
+    const double share_sum = std::accumulate(group_share.begin(), group_share.end(), 0.0);
+    for (auto& g : group_share) g = share_sum > 0 ? g / share_sum : 1.0 / C;
+    const std::vector<int> seg_counts = split_by_share(work, group_share, group_size);
+    {
+      int at = 0;
+      for (int g = 0; g < C; ++g) {
+        const int n = seg_counts[static_cast<std::size_t>(g)];
+        clusters[static_cast<std::size_t>(g)].items = items_for(segs, at, n, par.max_segments, transit);
+        at += n;
+      }
+    }
+
+    // one MILP per cluster
+    std::vector<int> owner(static_cast<std::size_t>(S), -1);
+    nlohmann::json diag_clusters = nlohmann::json::array();
+    bool hit_time = false, not_optimal = false;
+    double worst_gap = 0.0;
+    std::vector<double> uav_distance(m, 0.0);
+    for (int g = 0; g < C; ++g) {
+      stop_check();
+      const Cluster& cl = clusters[static_cast<std::size_t>(g)];
+      milp::Limits lim;
+      lim.max_nodes = par.node_limit;
+      lim.max_seconds = par.time_limit_s;
+      lim.stage = C > 1 ? fmt::format("{} {}/{}", kStage, g + 1, C) : std::string(kStage);
+      lim.f0 = 0.05 + 0.85 * g / C;
+      lim.f1 = 0.05 + 0.85 * (g + 1) / C;
+      ctx.report(lim.stage, lim.f0);
+      std::vector<Point> pos;
+      const Instance in = make_instance(cl, p.starts, p.shares, transit, par.nearby_penalty, pos);
+      const Routes start = warm_start(in, cl);
+      milp::Result r;
+      if (cl.items.empty()) {
+        r.routes = start;
+        r.objective = milp::objective(in, start);
+        r.optimal = true;
+        r.status = "optimal";
+      } else {
+        r = milp::solve(in, start, lim, ctx);
+      }
+      stop_check();
+      if (r.status == "stopped" || r.status == "time_limit") hit_time = true;
+      if (!r.optimal) not_optimal = true;
+      worst_gap = std::max(worst_gap, r.gap);
+      nlohmann::json seqs = nlohmann::json::array();
+      const int mm = in.uavs;
+      for (int k = 0; k < mm; ++k) {
+        const int uav = cl.uavs[static_cast<std::size_t>(k)];
+        auto& ua = out.uavs[static_cast<std::size_t>(uav)];
+        const auto& q = r.routes.seq[static_cast<std::size_t>(k)];
+        nlohmann::json seq = nlohmann::json::array();
+        nlohmann::json flown = nlohmann::json::array();
+        double d = 0.0;
+        Point here = p.starts[static_cast<std::size_t>(uav)];
+        for (std::size_t t = 0; t < q.size(); ++t) seq.push_back(q[t] + 1);
+        seq.push_back(k + 1);
+        for (std::size_t t = 1; t + 1 < q.size(); t += 2) {
+          const int node = q[t];
+          const int item = (node - mm) / 2;
+          const bool backwards = (node - mm) % 2 == 1;
+          const Item& it = cl.items[static_cast<std::size_t>(item)];
+          std::vector<std::pair<int, bool>> legs = it.legs;
+          if (backwards) {
+            std::reverse(legs.begin(), legs.end());
+            for (auto& l : legs) l.second = !l.second;
+          }
+          for (const auto& [s, rev] : legs) {
+            const auto [a, b] = leg_ends(segs[static_cast<std::size_t>(s)], rev);
+            d += transit(here, a) + boustro::dist(a, b);
+            here = b;
+            ua.coverage.push_back({a, b});
+            owner[static_cast<std::size_t>(s)] = uav;
+            flown.push_back({{"segment", s}, {"from", rev ? "high" : "low"}});
+          }
+        }
+        d += transit(here, p.starts[static_cast<std::size_t>(uav)]);
+        uav_distance[static_cast<std::size_t>(uav)] = d;
+        ua.diagnostics = {{"cluster", g},
+                          {"sequence", std::move(seq)},
+                          {"legs", std::move(flown)},
+                          {"distance_m", d},
+                          {"weighted_distance_m", d / in.weight[static_cast<std::size_t>(k)]}};
+        seqs.push_back(ua.diagnostics["sequence"]);
+      }
+      diag_clusters.push_back({{"uavs", cl.uavs},
+                               {"pairs", in.pairs},
+                               {"segments", std::accumulate(cl.items.begin(), cl.items.end(), 0,
+                                                            [](int a, const Item& it) {
+                                                              return a + static_cast<int>(it.legs.size());
+                                                            })},
+                               {"nodes", in.nodes()},
+                               {"variables", r.variables},
+                               {"binaries", r.binaries},
+                               {"rows", r.rows},
+                               {"objective", r.objective},
+                               {"bound", r.bound},
+                               {"gap", r.gap},
+                               {"status", r.status},
+                               {"optimal", r.optimal},
+                               {"bb_nodes", r.bb_nodes},
+                               {"solve_time_s", r.seconds},
+                               {"first_incumbent_s", r.first_incumbent_s},
+                               {"incumbent_is_warm_start", r.from_warm_start},
+                               {"sequences", std::move(seqs)}});
+    }
+    ctx.report(kStage, 0.9);
+    const auto t_milp = std::chrono::steady_clock::now();
+
+    const std::vector<MultiPolygon> regs = milp::regions(lines, p.free, owner, M, ctx);
+    for (std::size_t k = 0; k < m; ++k) out.uavs[k].region = regs[k];
+    if (hit_time) {
+      out.complete = false;
+      out.warnings.push_back(fmt::format(
+          "milp: the time limit ended the search; the best assignment found is returned (gap {:.1f} %)",
+          100.0 * worst_gap));
+    } else if (not_optimal) {
+      out.warnings.push_back(fmt::format(
+          "milp: not proven optimal within planner_params.node_limit (gap {:.1f} %)", 100.0 * worst_gap));
+    }
+    nlohmann::json parts = nlohmann::json::array();
+    for (const auto& part : lines.parts)
+      parts.push_back({{"angle_deg", to_bearing(part.angle)},
+                       {"lines", part.xs.size()},
+                       {"lines_with_segments", part.lines_with_segments}});
+    double dmax = 0.0, dsum = 0.0;
+    for (double d : uav_distance) dmax = std::max(dmax, d), dsum += d;
+    out.diagnostics = {
+        {"parts", std::move(parts)},
+        {"segments", S},
+        {"clusters", std::move(diag_clusters)},
+        {"max_distance_m", dmax},
+        {"mean_distance_m", dsum / static_cast<double>(m)},
+        {"max_gap", worst_gap},
+        {"proven_optimal", !not_optimal},
+        {"milp_time_s", std::chrono::duration<double>(t_milp - t_lines).count()},
+        {"regions_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_milp).count()},
+        {"solve_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+    ctx.report(kStage, 1.0);
+    return out;
+  }
+};
+
+ParamSpec param(std::string name, ParamSpec::Type type, nlohmann::json def, std::optional<double> lo,
+                std::optional<double> hi, std::string description, std::vector<std::string> choices = {}) {
+  ParamSpec s;
+  s.name = std::move(name);
+  s.type = type;
+  s.default_value = std::move(def);
+  s.min = lo;
+  s.max = hi;
+  s.description = std::move(description);
+  s.choices = std::move(choices);
+  return s;
+}
+
+}  // namespace
+
+PlannerInfo milp_planner_info() {
+  using T = ParamSpec::Type;
+  PlannerInfo info;
+  info.name = "milp";
+  info.summary =
+      "Back-and-forth lines assigned to the UAVs by a min-max MILP solved with COIN-OR CBC (Hong et al. "
+      "2021); "
+      "clusters by share beyond max_segments";
+  info.params = {
+      param("angle_deg", T::Number, nullptr, -360.0, 360.0,
+            "Direction of the lines in degrees clockwise from north (0: north-south lines); absent: per "
+            "part of the area, as `direction` says"),
+      param("direction", T::String, "longest_edge", std::nullopt, std::nullopt,
+            "Without angle_deg: lines along the longest boundary edge of each part (the paper) or `auto`: "
+            "the hull edge direction with the fewest lines",
+            {"longest_edge", "auto"}),
+      param("max_segments", T::Integer, 12, 2.0, 60.0,
+            "The most line segments (waypoint pairs) in one MILP; beyond, the UAVs are clustered by share "
+            "and neighbouring lines are merged into blocks"),
+      param("max_uavs_per_milp", T::Integer, 1, 1.0, 10.0,
+            "The most UAVs in one MILP; beyond, the UAVs are clustered by share. 1 (default): the lines are "
+            "split by share and each UAV's MILP orders its own; 2 to 10: the paper's joint assignment, which "
+            "balances distance (weights 1/share) rather than area"),
+      param("node_limit", T::Integer, 100, 0.0, 10000000.0,
+            "Branch-and-bound nodes per MILP (a deterministic budget); the best assignment found is kept"),
+      param("time_limit_s", T::Number, 10.0, 0.01, 3600.0,
+            "CBC's time per MILP (the mission's time limit applies too); reaching it returns the best "
+            "assignment with its gap and marks the plan incomplete"),
+      param("nearby_penalty", T::Number, 10.0, 1.0, 100.0,
+            "Factor on the cost of edges between waypoints numbered more than 2 apart (the paper's "
+            "non-nearby penalty)"),
+  };
+  info.supports = Capabilities{true, true, true, true, true, true};
+  info.create = [] { return std::make_unique<MilpPlanner>(); };
+  return info;
+}
+
+}  // namespace uavcover::planners
