@@ -30,6 +30,7 @@ struct Problem {
   double spacing_m = 0.0;      ///< line spacing / scanning density ds
   double footprint_m = 0.0;    ///< sensor footprint width on the ground (1.5 ds without a camera)
   double altitude_m = 0.0;     ///< mission altitude
+  std::optional<Camera> camera;  ///< the mission's camera, if it has one (footprint_m derives from it)
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };
