@@ -15,6 +15,7 @@
 #include <cmath>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "uavcover/error.hpp"
 
@@ -33,14 +34,17 @@ struct Stamped : Base {
   struct Rebind_TDS {
     using Other = Stamped<typename Base::template Rebind_TDS<TDS2>::Other>;
   };
-  using Base::Base;
+  // user-provided constructors that leave the stamp alone: the container sets it to -1 before
+  // constructing an element in place and stamps it after (value-initialisation of an aggregate-like
+  // default constructor would zero it, and every handle would compare equal)
+  Stamped() : Base() {}  // NOLINT(cppcoreguidelines-pro-type-member-init)
+  template <typename A, typename... Rest>
+  explicit Stamped(A&& a, Rest&&... rest) : Base(std::forward<A>(a), std::forward<Rest>(rest)...) {}
   using Has_timestamp = CGAL::Tag_true;
   [[nodiscard]] std::size_t time_stamp() const { return stamp_; }
   void set_time_stamp(const std::size_t& ts) { stamp_ = ts; }
 
  private:
-  // left uninitialised like CGAL's own stamped bases: the container sets it to -1 before
-  // constructing an element in place and stamps it after, unless the constructor wrote it
   std::size_t stamp_;
 };
 using Vb = Stamped<CGAL::Delaunay_mesh_vertex_base_2<K>>;

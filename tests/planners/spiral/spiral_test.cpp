@@ -153,8 +153,9 @@ TEST(SpiralMesh, TheSameAreaGivesTheSameMesh) {
 TEST(SpiralMesh, LloydImprovesTheAngles) {
   MeshReport r;
   (void)mesh_of(l_with_hole(), 17.32, 10, &r);
-  EXPECT_GT(r.after_lloyd.within_10_of_60, r.before_lloyd.within_10_of_60);
-  EXPECT_GT(r.after_lloyd.mean_min_deg, r.before_lloyd.mean_min_deg);
+  // measured 0.39 -> 0.62 of the angles within 10 degrees of 60 on the coastline bench (10 steps)
+  EXPECT_GT(r.after_lloyd.within_10_of_60, r.before_lloyd.within_10_of_60 + 0.1);
+  EXPECT_GT(r.after_lloyd.mean_min_deg, r.before_lloyd.mean_min_deg + 2.0);
   EXPECT_GE(r.before_lloyd.min_deg, 20.0) << "CGAL's shape bound 0.125 keeps angles above 20.7 degrees";
 }
 
