@@ -26,9 +26,9 @@ def ring(cx, cy, r, terms, n):
     return pts
 
 
-outer = ring(0, 0, radius, [(0.22, 5, 0.0), (0.12, 13, 1.0), (0.06, 29, 2.0)], 720)
-islands = [ring(0.25 * radius, 0.1 * radius, 0.12 * radius, [(0.2, 3, 0.5)], 90),
-           ring(-0.3 * radius, -0.25 * radius, 0.08 * radius, [(0.25, 4, 0.2)], 90)]
+outer = ring(0, 0, radius, [(0.22, 5, 0.0), (0.12, 13, 1.0), (0.06, 29, 2.0)], 240)
+islands = [ring(0.25 * radius, 0.1 * radius, 0.12 * radius, [(0.2, 3, 0.5)], 24),
+           ring(-0.3 * radius, -0.25 * radius, 0.08 * radius, [(0.25, 4, 0.2)], 24)]
 mission = {
     "name": f"coastline-like bay, radius {radius:.0f} m",
     "area": {"type": "Polygon", "coordinates": [outer] + [list(reversed(i)) for i in islands]},
