@@ -109,17 +109,6 @@ Mesh extract(const CDT& cdt) {
   return m;
 }
 
-double longest_edge(const Mesh& m) {
-  double best = 0.0;
-  for (const auto& t : m.triangles)
-    for (int i = 0; i < 3; ++i) {
-      const Point a = m.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(i)])];
-      const Point b = m.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>((i + 1) % 3)])];
-      best = std::max(best, std::hypot(a.x() - b.x(), a.y() - b.y()));
-    }
-  return best;
-}
-
 }  // namespace
 
 Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Context& ctx,

@@ -46,4 +46,7 @@ Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Cont
 /// Angle statistics of a mesh.
 AngleStats angle_stats(const Mesh& mesh);
 
+/// Length of the mesh's longest triangle edge.
+double longest_edge(const Mesh& mesh);
+
 }  // namespace uavcover::planners::spiral

@@ -95,6 +95,13 @@ AngleStats angle_stats(const Mesh& mesh) {
   return s;
 }
 
+double longest_edge(const Mesh& mesh) {
+  double best = 0.0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int i = 0; i < 3; ++i) best = std::max(best, dist(vertex(mesh, t, i), vertex(mesh, t, (i + 1) % 3)));
+  return best;
+}
+
 Partition partition(const Mesh& mesh, const std::vector<Point>& centroid, const std::vector<double>& area,
                     const std::vector<Point>& starts, const std::vector<double>& shares, double tolerance,
                     const Context& ctx) {

@@ -65,17 +65,6 @@ Mesh mesh_of(const MultiPolygon& free, double side, int lloyd, MeshReport* repor
   return m;
 }
 
-double longest_edge(const Mesh& m) {
-  double best = 0.0;
-  for (const auto& t : m.triangles)
-    for (int i = 0; i < 3; ++i) {
-      const Point a = m.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>(i)])];
-      const Point b = m.vertices[static_cast<std::size_t>(t[static_cast<std::size_t>((i + 1) % 3)])];
-      best = std::max(best, bg::distance(a, b));
-    }
-  return best;
-}
-
 Problem problem_of(const MultiPolygon& free, std::vector<Point> starts, std::vector<double> shares,
                    double ds) {
   Problem p;
