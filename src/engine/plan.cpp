@@ -92,6 +92,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   problem.spacing_m = out.mission.spacing_m;
   problem.footprint_m = evaluation::footprint_for(out.mission);
   problem.altitude_m = out.mission.altitude_m;
+  problem.camera = out.mission.camera;
   problem.mode = out.mission.mode;
   problem.seed = out.mission.seed;
   std::mt19937_64 rng(out.mission.seed ^ 0x5eedf00dULL);

@@ -21,15 +21,16 @@ namespace uavcover::planners {
 
 /// The mission in the local ENU frame (metres, origin at the area's centroid).
 struct Problem {
-  MultiPolygon area;           ///< union of the area polygons (holes kept)
-  MultiPolygon no_fly;         ///< union of the no-fly zones (holes of the area included)
-  MultiPolygon free;           ///< area minus no-fly zones (corrected)
-  std::vector<Point> starts;   ///< one per UAV (given or drawn from the seed; may lie outside the area)
-  std::vector<double> shares;  ///< one per UAV, sum 1
-  std::vector<Uav> uavs;       ///< the mission's UAVs (speed, acceleration, endurance, ...)
-  double spacing_m = 0.0;      ///< line spacing / scanning density ds
-  double footprint_m = 0.0;    ///< sensor footprint width on the ground (1.5 ds without a camera)
-  double altitude_m = 0.0;     ///< mission altitude
+  MultiPolygon area;             ///< union of the area polygons (holes kept)
+  MultiPolygon no_fly;           ///< union of the no-fly zones (holes of the area included)
+  MultiPolygon free;             ///< area minus no-fly zones (corrected)
+  std::vector<Point> starts;     ///< one per UAV (given or drawn from the seed; may lie outside the area)
+  std::vector<double> shares;    ///< one per UAV, sum 1
+  std::vector<Uav> uavs;         ///< the mission's UAVs (speed, acceleration, endurance, ...)
+  double spacing_m = 0.0;        ///< line spacing / scanning density ds
+  double footprint_m = 0.0;      ///< sensor footprint width on the ground (1.5 ds without a camera)
+  double altitude_m = 0.0;       ///< mission altitude
+  std::optional<Camera> camera;  ///< the mission's camera, if it has one (footprint_m derives from it)
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };

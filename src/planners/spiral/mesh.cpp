@@ -1,0 +1,176 @@
+// The one translation unit of the spiral planner that includes CGAL.
+#include "planners/spiral/mesh.hpp"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/lloyd_optimize_mesh_2.h>
+
+#include <boost/geometry/algorithms/point_on_surface.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "uavcover/error.hpp"
+
+namespace uavcover::planners::spiral {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+/// A base with a time stamp: CGAL then orders handles (std::set, std::map inside the mesher and
+/// Lloyd) by creation, not by address, which makes the mesh the same from run to run. CGAL's own
+/// mesh bases have stamps only in debug builds (CGAL_MESH_2_DEBUG_REFINEMENT_POINTS).
+template <class Base>
+struct Stamped : Base {
+  template <typename TDS2>
+  struct Rebind_TDS {
+    using Other = Stamped<typename Base::template Rebind_TDS<TDS2>::Other>;
+  };
+  // user-provided constructors that leave the stamp alone: the container sets it to -1 before
+  // constructing an element in place and stamps it after (value-initialisation of an aggregate-like
+  // default constructor would zero it, and every handle would compare equal)
+  Stamped() : Base() {}  // NOLINT(cppcoreguidelines-pro-type-member-init)
+  template <typename A, typename... Rest>
+  explicit Stamped(A&& a, Rest&&... rest) : Base(std::forward<A>(a), std::forward<Rest>(rest)...) {}
+  using Has_timestamp = CGAL::Tag_true;
+  [[nodiscard]] std::size_t time_stamp() const { return stamp_; }
+  void set_time_stamp(const std::size_t& ts) { stamp_ = ts; }
+
+ private:
+  std::size_t stamp_;
+};
+using Vb = Stamped<CGAL::Delaunay_mesh_vertex_base_2<K>>;
+using Fb = Stamped<CGAL::Delaunay_mesh_face_base_2<K>>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
+using Mesher = CGAL::Delaunay_mesher_2<CDT, Criteria>;
+using CPoint = CDT::Point;
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void insert_ring(CDT& cdt, const Polygon::ring_type& ring) {
+  // closed ring: the last vertex repeats the first
+  CDT::Vertex_handle first, prev;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+    const auto v = cdt.insert(CPoint(ring[i].x(), ring[i].y()));
+    if (i == 0)
+      first = v;
+    else if (v != prev)
+      cdt.insert_constraint(prev, v);
+    prev = v;
+  }
+  if (first != CDT::Vertex_handle() && prev != first) cdt.insert_constraint(prev, first);
+}
+
+std::size_t domain_faces(const CDT& cdt) {
+  std::size_t n = 0;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    if (f->is_in_domain()) ++n;
+  return n;
+}
+
+Mesh extract(const CDT& cdt) {
+  Mesh m;
+  std::unordered_map<CDT::Vertex_handle, int> vid;
+  std::unordered_map<CDT::Face_handle, int> fid;
+  // faces in the triangulation's (deterministic) iteration order
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    const int id = static_cast<int>(m.triangles.size());
+    fid.emplace(f, id);
+    std::array<int, 3> tri{};
+    for (int i = 0; i < 3; ++i) {
+      const auto v = f->vertex(i);
+      auto [it, added] = vid.emplace(v, static_cast<int>(m.vertices.size()));
+      if (added) m.vertices.emplace_back(v->point().x(), v->point().y());
+      tri[static_cast<std::size_t>(i)] = it->second;
+    }
+    m.triangles.push_back(tri);
+  }
+  m.neighbours.assign(m.triangles.size(), {-1, -1, -1});
+  for (const auto& [f, id] : fid)
+    for (int i = 0; i < 3; ++i) {
+      const auto n = f->neighbor(i);
+      if (cdt.is_infinite(n) || !n->is_in_domain()) continue;
+      const auto it = fid.find(n);
+      if (it != fid.end())
+        m.neighbours[static_cast<std::size_t>(id)][static_cast<std::size_t>(i)] = it->second;
+    }
+  return m;
+}
+
+}  // namespace
+
+Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Context& ctx,
+                MeshReport& report) {
+  CDT cdt;
+  std::vector<CPoint> seeds;  // one point inside each free polygon: the meshed components
+  for (const auto& poly : free) {
+    insert_ring(cdt, poly.outer());
+    for (const auto& in : poly.inners()) insert_ring(cdt, in);
+    Point inside;
+    bg::point_on_surface(poly, inside);
+    seeds.emplace_back(inside.x(), inside.y());
+  }
+  ctx.check();
+
+  const auto t0 = Clock::now();
+  // shape bound 0.125: smallest angle about 20.7 degrees (CGAL's default); size bound: longest edge
+  auto refine = [&] {
+    Mesher mesher(cdt, Criteria(0.125, options.max_edge_m));
+    mesher.set_seeds(seeds.begin(), seeds.end(), true);  // faces connected to a seed are the domain
+    mesher.init();
+    std::size_t steps = 0;
+    while (!mesher.is_refinement_done()) {
+      mesher.step_by_step_refine_mesh();
+      if (++steps % 1024 == 0) {
+        ctx.check();
+        // about two faces per vertex: stop before the mesh grows past the bound
+        if (options.max_triangles > 0 && 2 * cdt.number_of_vertices() > options.max_triangles + 1024)
+          throw InputError("spacing_m", "the spiral mesh would need more than " +
+                                            std::to_string(options.max_triangles) +
+                                            " triangles; use a larger spacing or a smaller area");
+      }
+    }
+  };
+  refine();
+  report.refine_s = since(t0);
+  Mesh mesh = extract(cdt);
+  report.triangles_before_lloyd = mesh.triangles.size();
+  report.before_lloyd = angle_stats(mesh);
+
+  const auto t1 = Clock::now();
+  for (int i = 0; i < options.lloyd_iterations; ++i) {
+    ctx.check();
+    // one step per call (no convergence test, nothing frozen), so that a stop lands between steps
+    CGAL::lloyd_optimize_mesh_2(cdt, CGAL::parameters::max_iteration_number = 1,
+                                CGAL::parameters::convergence = 0.0, CGAL::parameters::freeze_bound = 0.0,
+                                CGAL::parameters::seeds_begin = seeds.begin(),
+                                CGAL::parameters::seeds_end = seeds.end(), CGAL::parameters::mark = true);
+  }
+  report.lloyd_s = since(t1);
+  if (options.lloyd_iterations > 0) {
+    // Lloyd moves vertices and may stretch some edges past the bound: refine again (it only adds points)
+    refine();
+    mesh = extract(cdt);
+  }
+  report.after_lloyd = angle_stats(mesh);
+  report.max_edge_m = longest_edge(mesh);
+  if (options.max_triangles > 0 && domain_faces(cdt) > options.max_triangles)
+    throw InputError("spacing_m", "the spiral mesh would need more than " +
+                                      std::to_string(options.max_triangles) +
+                                      " triangles; use a larger spacing or a smaller area");
+  return mesh;
+}
+
+}  // namespace uavcover::planners::spiral

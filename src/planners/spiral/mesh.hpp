@@ -1,0 +1,52 @@
+// The spiral planner's mesh: a constrained Delaunay triangulation of the free area (outer rings,
+// holes and no-fly zones as constraints) refined to a maximum edge length, then Lloyd-optimised
+// (CGAL Mesh_2). The result is plain data, so that only mesh.cpp includes CGAL.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "uavcover/context.hpp"
+#include "uavcover/geometry.hpp"
+
+namespace uavcover::planners::spiral {
+
+/// Histogram of the triangles' interior angles (18 bins of 10 degrees) and summary statistics.
+struct AngleStats {
+  std::array<std::size_t, 18> bins{};
+  double min_deg = 0.0;          ///< smallest interior angle
+  double mean_min_deg = 0.0;     ///< mean over triangles of each triangle's smallest angle
+  double within_10_of_60 = 0.0;  ///< fraction of angles in [50, 70] degrees
+};
+
+struct Mesh {
+  std::vector<Point> vertices;
+  std::vector<std::array<int, 3>> triangles;   ///< vertex indices, counter-clockwise
+  std::vector<std::array<int, 3>> neighbours;  ///< across the edge opposite vertex i; -1: none (border)
+};
+
+struct MeshOptions {
+  double max_edge_m = 0.0;        ///< refinement bound on every triangle edge (W_d)
+  int lloyd_iterations = 10;      ///< Lloyd steps after refinement (0: none)
+  std::size_t max_triangles = 0;  ///< refuse (InputError on `field`) beyond this many
+};
+
+struct MeshReport {
+  AngleStats before_lloyd, after_lloyd;
+  double refine_s = 0.0, lloyd_s = 0.0;
+  std::size_t triangles_before_lloyd = 0;
+  double max_edge_m = 0.0;  ///< longest edge of the final mesh
+};
+
+/// Meshes `free` (corrected polygons). Honours ctx.check() during refinement and between Lloyd steps.
+/// Throws InputError("spacing_m", ...) when the mesh would exceed options.max_triangles.
+Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Context& ctx, MeshReport& report);
+
+/// Angle statistics of a mesh.
+AngleStats angle_stats(const Mesh& mesh);
+
+/// Length of the mesh's longest triangle edge.
+double longest_edge(const Mesh& mesh);
+
+}  // namespace uavcover::planners::spiral

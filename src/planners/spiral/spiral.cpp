@@ -1,0 +1,194 @@
+#include "planners/spiral/spiral.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "planners/spiral/footprint.hpp"
+#include "planners/spiral/mesh.hpp"
+#include "planners/spiral/partition.hpp"
+#include "planners/spiral/path.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::planners {
+
+namespace {
+
+using namespace spiral;
+using nlohmann::json;
+
+constexpr const char* kStage = "spiral";
+/// The most triangles it meshes (about 0.5 GB of CGAL triangulation at the bound).
+constexpr std::size_t kMaxTriangles = 2'000'000;
+
+json to_json(const AngleStats& s) {
+  return {{"histogram_10deg", s.bins},
+          {"min_deg", s.min_deg},
+          {"mean_min_deg", s.mean_min_deg},
+          {"fraction_50_70_deg", s.within_10_of_60}};
+}
+
+json to_json(const PathStats& s) {
+  return {{"length_m", s.length_m},
+          {"waypoints", s.waypoints},
+          {"min_step_m", s.min_step_m},
+          {"max_step_m", s.max_step_m},
+          {"min_angle_deg", s.min_angle_deg},
+          {"max_angle_deg", s.max_angle_deg},
+          {"mean_angle_deg", s.mean_angle_deg},
+          {"angle_histogram_30deg", s.angle_bins}};
+}
+
+/// The footprint that sizes the triangles: the camera's (with the gimbal pitch), else a square of ds.
+Footprint footprint_of(const Problem& p, const json& params, std::vector<std::string>& warnings) {
+  const double pitch = params.value("gimbal_pitch_deg", 0.0);
+  const bool has_vfov = params.contains("vfov_deg") && params["vfov_deg"].is_number();
+  if (!p.camera || !(p.footprint_m > 0.0) || !(p.altitude_m > 0.0)) {
+    if (pitch != 0.0 || has_vfov)
+      warnings.push_back(
+          "planner_params: gimbal_pitch_deg and vfov_deg need a camera; triangles are sized by spacing_m");
+    return square_footprint(p.spacing_m);
+  }
+  const double hfov = 2.0 * std::atan(p.footprint_m / (2.0 * p.altitude_m)) * 180.0 / std::numbers::pi;
+  const double vfov = has_vfov ? params["vfov_deg"].get<double>() : hfov;
+  return camera_footprint(p.altitude_m, hfov, vfov, pitch);
+}
+
+class SpiralPlanner final : public Planner {
+ public:
+  [[nodiscard]] Assignment plan(const Problem& p, const json& params, const Context& ctx) const override {
+    ctx.check();
+    const std::size_t n = p.starts.size();
+    if (n == 0) throw InputError("uavs", "at least one UAV is needed");
+    if (p.shares.size() != n) throw InputError("uavs", "one share per UAV is needed");
+    if (!(p.spacing_m > 0.0) || !std::isfinite(p.spacing_m))
+      throw InputError("spacing_m", "the line spacing must be a positive number of metres");
+    Assignment out;
+    out.uavs.resize(n);
+    const double free_area = bg::area(p.free);
+    if (p.free.empty() || !(free_area > 0.0)) return out;
+    ctx.report(kStage, 0.0);
+
+    // 1. FoV-sized triangles (§IV eq. 1-8)
+    const Footprint fp = footprint_of(p, params, out.warnings);
+    if (!(fp.side_m > 0.0) || !std::isfinite(fp.side_m))
+      throw InputError("camera", "gives no positive footprint for the spiral mesh");
+    // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more
+    const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * fp.side_m * fp.side_m);
+    if (estimate > static_cast<double>(kMaxTriangles))
+      throw InputError("spacing_m", "the spiral mesh would need about " +
+                                        std::to_string(static_cast<long long>(estimate)) +
+                                        " triangles (at most " + std::to_string(kMaxTriangles) +
+                                        "); use a larger spacing or a smaller area");
+
+    // 2. mesh
+    MeshOptions mo;
+    mo.max_edge_m = fp.side_m;
+    mo.lloyd_iterations = params.value("lloyd_iterations", 10);
+    mo.max_triangles = kMaxTriangles;
+    MeshReport mr;
+    const Mesh mesh = build_mesh(p.free, mo, ctx, mr);
+    ctx.report(kStage, 0.4);
+    if (mesh.triangles.empty()) throw InputError("area", "the free area is too thin to mesh");
+    const std::vector<Point> centroid = centroids(mesh);
+    const std::vector<double> area = areas(mesh);
+
+    // 3. partition by share
+    const auto t0 = std::chrono::steady_clock::now();
+    const Partition part =
+        partition(mesh, centroid, area, p.starts, p.shares, params.value("share_tolerance", 0.01), ctx);
+    const double partition_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ctx.report(kStage, 0.6);
+    if (part.max_deviation > params.value("share_tolerance", 0.01) + 1e-12)
+      out.warnings.push_back("spiral: a share is off by " + std::to_string(part.max_deviation * 100.0) +
+                             " % of itself (the mesh or the area's shape allows no closer division)");
+
+    // 4. border-to-centre levels, 5. spiral waypoint lists
+    const std::vector<int> level = levels(mesh, part.owner);
+    const double s_s = params.value("valley_sensitivity", 2.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      auto& ua = out.uavs[k];
+      ua.share_actual = part.share[k];
+      if (part.seed[k] < 0) continue;
+      const SpiralOrder so =
+          spiral_order(mesh, centroid, part.owner, level, static_cast<int>(k), p.starts[k], s_s, ctx);
+      ua.coverage = route(mesh, centroid, part.owner, static_cast<int>(k), so.order, ctx);
+      ua.region = region_of(mesh, part.owner, static_cast<int>(k));
+      int max_level = 0, triangles = 0;
+      for (std::size_t t = 0; t < level.size(); ++t)
+        if (part.owner[t] == static_cast<int>(k)) max_level = std::max(max_level, level[t]), ++triangles;
+      ua.diagnostics = {{"triangles", triangles},
+                        {"levels", max_level + 1},
+                        {"valley_step_bound_m", so.step_bound_m},
+                        {"valley_deferrals", so.deferred},
+                        {"path", to_json(path_stats(ua.coverage))}};
+      ctx.report(kStage, 0.6 + 0.4 * static_cast<double>(k + 1) / static_cast<double>(n));
+    }
+    out.diagnostics = {{"footprint",
+                        {{"near_width_m", fp.near_width_m},
+                         {"far_width_m", fp.far_width_m},
+                         {"length_m", fp.length_m},
+                         {"inradius_m", fp.inradius_m},
+                         {"triangle_side_m", fp.side_m}}},
+                       {"mesh",
+                        {{"triangles", mesh.triangles.size()},
+                         {"triangles_before_lloyd", mr.triangles_before_lloyd},
+                         {"vertices", mesh.vertices.size()},
+                         {"max_edge_m", mr.max_edge_m},
+                         {"refine_s", mr.refine_s},
+                         {"lloyd_iterations", mo.lloyd_iterations},
+                         {"lloyd_s", mr.lloyd_s},
+                         {"angles_before_lloyd", to_json(mr.before_lloyd)},
+                         {"angles_after_lloyd", to_json(mr.after_lloyd)}}},
+                       {"partition",
+                        {{"max_share_deviation", part.max_deviation},
+                         {"moves", part.moves},
+                         {"extra_seeds", part.extra_seeds},
+                         {"time_s", partition_s}}}};
+    ctx.report(kStage, 1.0);
+    return out;
+  }
+};
+
+ParamSpec number(std::string name, json def, std::optional<double> lo, std::optional<double> hi,
+                 std::string what, ParamSpec::Type type = ParamSpec::Type::Number) {
+  ParamSpec s;
+  s.name = std::move(name);
+  s.type = type;
+  s.default_value = std::move(def);
+  s.min = lo;
+  s.max = hi;
+  s.description = std::move(what);
+  return s;
+}
+
+}  // namespace
+
+PlannerInfo spiral_planner_info() {
+  PlannerInfo info;
+  info.name = "spiral";
+  info.summary =
+      "Border-to-centre spirals over a FoV-sized constrained Delaunay mesh (CGAL, Lloyd), sub-areas grown by "
+      "share "
+      "(Balampanis et al. 2017)";
+  info.params.push_back(number("lloyd_iterations", 10, 0.0, 1000.0,
+                               "Lloyd optimisation steps after refinement", ParamSpec::Type::Integer));
+  info.params.push_back(
+      number("valley_sensitivity", 2.0, 1.0, 1000.0,
+             "S_s: a step longer than S_s times the largest neighbour distance is deferred"));
+  info.params.push_back(
+      number("share_tolerance", 0.01, 0.001, 0.5,
+             "stop balancing the sub-areas when every share is this close to its request (0.01: 1 % "
+             "of it)"));
+  info.params.push_back(
+      number("vfov_deg", nullptr, 1.0, 170.0,
+             "vertical (along-track) field of view; absent: the same as the horizontal one"));
+  info.params.push_back(number("gimbal_pitch_deg", 0.0, 0.0, 80.0,
+                               "camera pitch forward from nadir (the footprint becomes a trapezoid)"));
+  info.supports = Capabilities{true, true, true, true, true, false};
+  info.create = [] { return std::make_unique<SpiralPlanner>(); };
+  return info;
+}
+
+}  // namespace uavcover::planners
