@@ -197,7 +197,7 @@ TEST(Sorties, MissionBatteryReserveIsValidatedAndKept) {
   const Mission m = parse_mission(j.dump());
   EXPECT_DOUBLE_EQ(m.battery_reserve, 0.3);
   EXPECT_DOUBLE_EQ(parse_mission(mission_to_json(m)).battery_reserve, 0.3);
-  for (const json bad : {json(-0.1), json(0.95), json("0.2"), json(nullptr)}) {
+  for (const json& bad : {json(-0.1), json(0.95), json("0.2"), json(nullptr)}) {
     j["battery_reserve"] = bad;
     try {
       (void)parse_mission(j.dump());
