@@ -45,7 +45,8 @@ CostResult evaluate_cost_from_durations(const std::vector<double>& durations_min
     c.batteries =
         std::max(1, static_cast<int>(std::ceil(c.flight_duration_min / uavs[i].endurance_min - 1e-9)));
     if (c.flight_duration_min <= 0.0) c.batteries = 0;
-    if (batteries != nullptr) c.batteries = std::max((*batteries)[i], 0);
+    // given counts replace eq. 16; a negative entry keeps it (a UAV without sorties)
+    if (batteries != nullptr && (*batteries)[i] >= 0) c.batteries = (*batteries)[i];
     // eq. 19: each change crosses twice a distance proportional to sqrt(area), plus the change itself
     const double per_change = 2.0 * sqrt_area / (3.0 * uavs[i].speed_mps * 60.0) + o.battery_change_min * n;
     c.change_battery_delay_min = std::max(c.batteries - 1, 0) * per_change;

@@ -73,13 +73,13 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
   Evaluation ev = evaluate_flights(free, flights, uavs, w, options);
-  // with sorties (docs/sorties.md), a UAV needs one battery per sortie; plans without them (old plan
-  // folders) keep eq. 16
+  // with sorties (docs/sorties.md), a UAV needs one battery per sortie; UAVs without them (a leg longer
+  // than one battery) keep eq. 16
   bool with_sorties = false;
   std::vector<int> batteries;
   for (const auto& u : plan.uavs) {
     with_sorties = with_sorties || !u.sorties.empty();
-    batteries.push_back(static_cast<int>(u.sorties.size()));
+    batteries.push_back(u.sorties.empty() ? -1 : static_cast<int>(u.sorties.size()));
   }
   if (with_sorties) {
     std::vector<double> durations;

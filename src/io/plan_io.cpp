@@ -483,12 +483,7 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
       }
     } else {
       // a plan folder from before sorties: cut them now (as plan() would)
-      try {
-        sorties::fill_sorties(plan);
-      } catch (const InputError& e) {
-        for (auto& u : plan.uavs) u.sorties.clear();
-        plan.warnings.push_back(std::string("no battery sorties: ") + e.what());
-      }
+      sorties::fill_sorties(plan, {}, &plan.warnings);
     }
   } catch (const json::exception& e) {
     throw InputError("PLAN_DIR",

@@ -214,13 +214,19 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
   return cut(L, budget_min(plan, index, options));
 }
 
-void fill_sorties(Plan& plan, const Options& options) {
+void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings) {
   if (plan.uavs.size() != plan.mission.uavs.size())
     throw InputError("uavs", "the plan's UAVs do not match the mission's");
   const Geo geo(plan);  // one router for every UAV
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const Layout L(plan, i, geo);
-    plan.uavs[i].sorties = cut(L, budget_min(plan, i, options));
+    try {
+      plan.uavs[i].sorties = cut(L, budget_min(plan, i, options));
+    } catch (const InputError& e) {
+      if (warnings == nullptr) throw;
+      plan.uavs[i].sorties.clear();
+      warnings->push_back(std::string("no battery sorties: ") + e.what());
+    }
   }
 }
 
@@ -230,7 +236,7 @@ void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& s
   const Layout L(plan, index, geo);
   const std::size_t n = L.n();
   if (n == 0 && !sorties.empty()) throw InputError(field, "a UAV without coverage has no sorties");
-  if (n > 0 && sorties.empty()) throw InputError(field, "missing: the UAV has coverage");
+  if (sorties.empty()) return;  // none: a leg did not fit one battery when the plan was made
   std::size_t expected = 0;
   for (std::size_t k = 0; k < sorties.size(); ++k) {
     const std::string f = fmt::format("{}[{}]", field, k);

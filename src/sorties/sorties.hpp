@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "export/mission_items.hpp"
@@ -34,13 +35,17 @@ double budget_min(const Plan& plan, std::size_t index, const Options& options = 
 /// coverage leg with the transit out and back does not fit one battery.
 std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Options& options = {});
 
-/// Fills every UAV's sorties (plan() calls it for every planner).
-void fill_sorties(Plan& plan, const Options& options = {});
+/// Fills every UAV's sorties (plan() calls it for every planner). A UAV with a leg that does not fit
+/// one battery throws cut_sorties()'s InputError, or, when `warnings` is given, keeps no sorties and
+/// gets a warning there (plan() does so: the plan stays usable, the time/cost model falls back to
+/// eq. 16 for that UAV, and per-sortie exports refuse it).
+void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr);
 
 /// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
 /// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts
 /// from the UAV's parts with the transit out and back given (`parts` holding only those two, either
-/// possibly empty: [out, back]). Throws InputError naming `field`.
+/// possibly empty: [out, back]). No sorties are accepted (a UAV whose leg did not fit one battery).
+/// Throws InputError naming `field`.
 void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& sorties,
                      const std::string& field);
 

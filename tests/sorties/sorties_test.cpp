@@ -150,29 +150,51 @@ TEST(Sorties, OneBatteryGivesOneSortieWhosePathIsThePlans) {
 }
 
 TEST(Sorties, ShortEnduranceCutsAtTurningWaypointsWithinTheBattery) {
-  const Plan p = with_endurance(olive_grove(), 5.0);
+  const Plan p = with_endurance(olive_grove(), 12.0);
   const auto ev = evaluation::evaluate_plan(p, {.coverage = {}, .cost = {}, .compute_coverage = false});
   std::ostringstream counts;
   for (std::size_t i = 0; i < p.uavs.size(); ++i) {
     expect_valid_sorties(p, i);
-    EXPECT_GT(p.uavs[i].sorties.size(), 1u);
+    // alpha's 9 min fit one battery; bravo and charlie need several
+    EXPECT_EQ(p.uavs[i].sorties.size() > 1, p.uavs[i].id != "alpha");
     // the time/cost model counts one battery per sortie
     EXPECT_EQ(ev.cost.uavs[i].batteries, static_cast<int>(p.uavs[i].sorties.size()));
     // at least what eq. 16 asks for the continuous flight with the reserve
     EXPECT_GE(static_cast<double>(p.uavs[i].sorties.size()),
-              std::ceil(ev.cost.uavs[i].flight_duration_min / (5.0 * 0.8) - 1e-9));
+              std::ceil(ev.cost.uavs[i].flight_duration_min / (12.0 * 0.8) - 1e-9));
     counts << p.uavs[i].id << " " << p.uavs[i].sorties.size() << " sorties ("
            << ev.cost.uavs[i].flight_duration_min << " min continuous); ";
   }
-  std::cout << "olive grove at endurance 5 min, reserve 20 %: " << counts.str() << "\n";
+  std::cout << "olive grove at endurance 12 min, reserve 20 %: " << counts.str() << "\n";
 }
 
 TEST(Sorties, NoReserveAndSeveralReservesStayValid) {
-  for (const double reserve : {0.0, 0.35, 0.6})
-    for (const double minutes : {3.0, 8.0}) {
-      const Plan p = with_endurance(olive_grove(), minutes, reserve);
-      for (std::size_t i = 0; i < p.uavs.size(); ++i) expect_valid_sorties(p, i);
-    }
+  // budgets of 9.6 to 10.35 min: above the longest leg with its transits
+  for (const auto& [reserve, minutes] : std::vector<std::pair<double, double>>{
+           {0.0, 10.0}, {0.1, 11.5}, {0.35, 15.5}, {0.6, 25.0}, {0.0, 40.0}}) {
+    SCOPED_TRACE(std::to_string(reserve) + " " + std::to_string(minutes));
+    const Plan p = with_endurance(olive_grove(), minutes, reserve);
+    for (std::size_t i = 0; i < p.uavs.size(); ++i) expect_valid_sorties(p, i);
+  }
+}
+
+TEST(Sorties, PlanKeepsWorkingWhenALegDoesNotFit) {
+  // ROI 5 of the paper at 25 min: one leg with its transits needs more than 20 min; the plan is still
+  // made, without sorties for that UAV and with a warning, and the cost model keeps eq. 16
+  const Plan p = plan(parse_mission(testing::roi_text("roi05.json")));
+  ASSERT_EQ(p.uavs.size(), 1u);
+  EXPECT_TRUE(p.uavs[0].sorties.empty());
+  bool warned = false;
+  for (const auto& w : p.warnings) warned = warned || w.find("no battery sorties") != std::string::npos;
+  EXPECT_TRUE(warned);
+  const auto ev = evaluation::evaluate_plan(p, {.coverage = {}, .cost = {}, .compute_coverage = false});
+  EXPECT_EQ(ev.cost.uavs[0].batteries,
+            static_cast<int>(
+                std::ceil(ev.cost.uavs[0].flight_duration_min / p.mission.uavs[0].endurance_min - 1e-9)));
+  // per-sortie exports refuse it, naming the UAV
+  exporting::ExportOptions opt;
+  opt.per_sortie = true;
+  EXPECT_THROW((void)exporting::export_artifacts(p, {"qgc"}, opt), InputError);
 }
 
 TEST(Sorties, ALegTooLongForOneBatteryNamesTheUav) {
@@ -221,7 +243,12 @@ TEST(Sorties, AMissionNeedingThreeBatteriesPerUavGivesThreeSorties) {
                                                                 base.mission.uavs[i]));
   double found = 0;
   for (double e = longest / 3.0 / 0.8; e < longest / 0.8 && found == 0; e *= 1.01) {
-    const Plan p = with_endurance(base, e);
+    Plan p;
+    try {
+      p = with_endurance(base, e);
+    } catch (const InputError&) {
+      continue;  // a leg with its transits does not fit yet
+    }
     bool three = true;
     for (const auto& u : p.uavs) three = three && u.sorties.size() == 3;
     if (three) found = e;
@@ -240,9 +267,8 @@ TEST(Sorties, AMissionNeedingThreeBatteriesPerUavGivesThreeSorties) {
 }
 
 TEST(Sorties, StudyBatteryCountsAreTheSortieCounts) {
-  json j = json::parse(testing::roi_text("roi01.json"));
-  for (auto& u : j["uavs"]) u["endurance_min"] = 4.0;
-  const Mission m = parse_mission(j.dump());
+  Mission m = parse_mission(testing::roi_text("roi01.json"));
+  for (auto& u : m.uavs) u.endurance_min = 10.0;
   usecases::StudyOptions so;
   so.counts = {1, 2, 3};
   const auto study = usecases::run_study(m, so);
@@ -254,6 +280,7 @@ TEST(Sorties, StudyBatteryCountsAreTheSortieCounts) {
     const Plan p = plan(usecases::with_uavs(m, row.uavs), po);
     std::size_t most = 0;
     for (std::size_t i = 0; i < p.uavs.size(); ++i) {
+      EXPECT_FALSE(p.uavs[i].sorties.empty()) << row.uavs << " UAVs, " << p.uavs[i].id;
       EXPECT_EQ(row.evaluation.cost.uavs[i].batteries, static_cast<int>(p.uavs[i].sorties.size()));
       most = std::max(most, p.uavs[i].sorties.size());
     }
@@ -278,7 +305,7 @@ void write_plan_dir(const Plan& p, const std::filesystem::path& dir, json plan_j
 }
 
 TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
-  const Plan p = with_endurance(olive_grove(), 5.0);
+  const Plan p = with_endurance(olive_grove(), 12.0);
   const auto dir = temp_dir("roundtrip");
   const json pj = io::plan_json(p);
   ASSERT_TRUE(pj.at("uavs")[0].contains("sorties"));
@@ -313,8 +340,8 @@ TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
   write_plan_dir(p, dir, old);
   const Plan legacy = io::load_plan_dir(dir);
   for (std::size_t i = 0; i < legacy.uavs.size(); ++i) {
-    // the mission of the file says 25/30 min: one sortie each
-    EXPECT_EQ(legacy.uavs[i].sorties.size(), 1u);
+    // the mission of the file says 12 min: the same sorties as plan() would cut
+    EXPECT_EQ(legacy.uavs[i].sorties.size(), p.uavs[i].sorties.size());
     expect_valid_sorties(legacy, i);
   }
 
@@ -330,10 +357,10 @@ TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
       EXPECT_EQ(e.field().rfind(field, 0), 0u) << e.field() << ": " << e.what();
     }
   };
-  refused([](json& j) { j["uavs"][0]["sorties"][1]["first_waypoint"] = 0; },
-          "plan.json: uavs[0].sorties[1].first_waypoint");
-  refused([](json& j) { j["uavs"][0]["sorties"][0]["last_waypoint"] = 1 << 29; },
-          "plan.json: uavs[0].sorties[0].last_waypoint");
+  refused([](json& j) { j["uavs"][1]["sorties"][1]["first_waypoint"] = 0; },
+          "plan.json: uavs[1].sorties[1].first_waypoint");
+  refused([](json& j) { j["uavs"][1]["sorties"][0]["last_waypoint"] = 1 << 29; },
+          "plan.json: uavs[1].sorties[0].last_waypoint");
   refused([](json& j) { j["uavs"][0]["sorties"][0]["index"] = -1; }, "plan.json: uavs[0].sorties[0].index");
   refused(
       [](json& j) {
@@ -342,7 +369,6 @@ TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
       "plan.json: uavs[0].sorties[0].transit_back");
   refused([](json& j) { j["uavs"][2]["sorties"].erase(j["uavs"][2]["sorties"].size() - 1); },
           "plan.json: uavs[2].sorties");
-  refused([](json& j) { j["uavs"][2].erase("sorties"); }, "plan.json: uavs[2].sorties");
   std::filesystem::remove_all(dir);
 }
 
@@ -353,7 +379,7 @@ const Artifact* find(const Artifacts& all, const std::string& name) {
 }
 
 TEST(Sorties, PerSortieExportsAreWholeMissions) {
-  const Plan p = with_endurance(olive_grove(), 5.0);
+  const Plan p = with_endurance(olive_grove(), 12.0);
   exporting::ExportOptions opt;
   opt.per_sortie = true;
   const auto arts = exporting::export_artifacts(p, {"qgc,wpl,csv,kml,dji,litchi,geojson"}, opt);
@@ -416,13 +442,15 @@ TEST(Sorties, PerSortieExportsAreWholeMissions) {
 }
 
 TEST(Sorties, ResumeFliesTheRestOnce) {
-  const Plan p = with_endurance(olive_grove(), 5.0);
+  const Plan p = with_endurance(olive_grove(), 12.0);
+  int resumed = 0;
   for (std::size_t i = 0; i < p.uavs.size(); ++i) {
     const UavPlan& up = p.uavs[i];
     SCOPED_TRACE(up.id);
     const auto wps = sorties::coverage_waypoints(up);
     const int n = static_cast<int>(wps.size());
-    ASSERT_GE(up.sorties.size(), 2u);
+    if (up.sorties.size() < 2) continue;  // alpha: one sortie
+    ++resumed;
     const Sortie& second = up.sorties[1];
     for (const int r :
          {-1, 0, (second.first_waypoint + second.last_waypoint) / 2, second.last_waypoint, n - 2}) {
@@ -475,6 +503,7 @@ TEST(Sorties, ResumeFliesTheRestOnce) {
     EXPECT_THROW((void)sorties::resume_sorties(p, i, n), InputError);
     EXPECT_THROW((void)sorties::resume_sorties(p, i, -2), InputError);
   }
+  EXPECT_EQ(resumed, 2);
 }
 
 }  // namespace
