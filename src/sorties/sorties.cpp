@@ -27,9 +27,15 @@ double reserve_of(const Plan& plan, const Options& o) {
 /// The no-fly zones' router in the plan's local frame (as the engine routes transit legs).
 struct Geo {
   geodesy::LocalFrame frame;
-  geometry::Router router;
+  std::unique_ptr<geometry::Router> owned;
+  const geometry::Router& router;
   explicit Geo(const Plan& plan)
-      : frame(plan.origin), router(geometry::unite(geometry::to_local(plan.mission.no_fly_zones, frame))) {}
+      : frame(plan.origin),
+        owned(std::make_unique<geometry::Router>(
+            geometry::unite(geometry::to_local(plan.mission.no_fly_zones, frame)))),
+        router(*owned) {}
+  /// With the engine's router (the no-fly zones in the plan's frame): nothing is built again.
+  Geo(const Plan& plan, const geometry::Router& r) : frame(plan.origin), router(r) {}
 };
 
 /// One UAV's coverage laid out for cutting.
@@ -214,10 +220,11 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
   return cut(L, budget_min(plan, index, options));
 }
 
-void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings) {
+void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings,
+                  const geometry::Router* router) {
   if (plan.uavs.size() != plan.mission.uavs.size())
     throw InputError("uavs", "the plan's UAVs do not match the mission's");
-  const Geo geo(plan);  // one router for every UAV
+  const Geo geo = router != nullptr ? Geo(plan, *router) : Geo(plan);  // one router for every UAV
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const Layout L(plan, i, geo);
     try {

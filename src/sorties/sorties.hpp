@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "export/mission_items.hpp"
+#include "geometry/geometry.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::sorties {
@@ -39,7 +40,9 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
 /// one battery throws cut_sorties()'s InputError, or, when `warnings` is given, keeps no sorties and
 /// gets a warning there (plan() does so: the plan stays usable, the time/cost model falls back to
 /// eq. 16 for that UAV, and per-sortie exports refuse it).
-void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr);
+/// `router`: the no-fly zones' router in the plan's local frame when the caller has one (the engine).
+void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr,
+                  const geometry::Router* router = nullptr);
 
 /// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
 /// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts
