@@ -191,17 +191,24 @@ std::vector<Sortie> cut(const Layout& L, double budget) {
                       "{:.0f} % reserve); give a longer endurance or a smaller reserve",
                       L.up.id, a, bmin, need, budget, L.uav.endurance_min,
                       100.0 * (1.0 - budget / L.uav.endurance_min)));
-    std::size_t b = n - 1;
-    if (L.cost(out_len, a, b) > limit) {
-      // the time of a sortie a..b grows with b (the return from b is at most the leg to b+1 shorter than
-      // from b+1): the last b that fits by bisection
-      std::size_t lo = bmin, hi = n - 1;
+    // the time of a sortie a..b grows with b (the return from b is at most the leg to b+1 shorter than
+    // from b+1): the last b that fits, by bisection. First with the straight return (a lower bound, no
+    // routing: many no-fly zones make routes costly), then with routed returns below that bound.
+    auto last_fitting = [&](std::size_t hi_end, auto&& cost) {
+      if (cost(hi_end) <= limit) return hi_end;
+      std::size_t lo = bmin, hi = hi_end;
       while (hi - lo > 1) {
         const std::size_t mid = lo + (hi - lo) / 2;
-        (L.cost(out_len, a, mid) <= limit ? lo : hi) = mid;
+        (cost(mid) <= limit ? lo : hi) = mid;
       }
-      b = lo;
-    }
+      return lo;
+    };
+    const std::size_t b_bound = last_fitting(n - 1, [&](std::size_t b) {
+      const double back =
+          b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : bg::distance(L.at(b), L.start);
+      return L.duration(out_len + L.cum[b] - L.cum[a] + back, a, b);
+    });
+    std::size_t b = last_fitting(b_bound, [&](std::size_t b) { return L.cost(out_len, a, b); });
     Sortie s = L.build(a, b);
     while (s.duration_min > limit && b > bmin) s = L.build(a, --b);  // routes may differ from their length
     s.index = static_cast<int>(out.size());
