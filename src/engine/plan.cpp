@@ -174,7 +174,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // battery sorties for every planner (docs/sorties.md)
   ctx.report("sorties", 0.0);
   // a UAV with a leg longer than one battery keeps no sorties, with a warning (docs/sorties.md)
-  sorties::fill_sorties(out, {}, &out.warnings, &router);
+  sorties::fill_sorties(out, {}, &out.warnings, &router, &ctx);
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

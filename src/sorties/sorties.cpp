@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -91,9 +93,18 @@ struct Layout {
   Point at(std::size_t g) const { return up.parts[wp[g].part].local[wp[g].vertex]; }
   bool ends_part(std::size_t g) const { return g + 1 >= n() || wp_cov[g + 1] != wp_cov[g]; }
 
+  /// Routed transits, each computed once (bisection and build() ask for the same returns; routes
+  /// through many no-fly zones are costly).
+  mutable std::map<std::array<double, 4>, std::vector<Point>> routes;
+  const std::vector<Point>& routed(Point a, Point b) const {
+    const std::array<double, 4> key{a.x(), a.y(), b.x(), b.y()};
+    auto it = routes.find(key);
+    if (it == routes.end()) it = routes.emplace(key, geo.router.route(a, b)).first;
+    return it->second;
+  }
   double route_len(Point a, Point b) const {
     if (bg::distance(a, b) < kSamePlaceM) return 0.0;
-    return geometry::length(geo.router.route(a, b));
+    return geometry::length(routed(a, b));
   }
   double out_len(std::size_t a) const { return a == 0 && lead_end > 0 ? lead_len : route_len(start, at(a)); }
   double back_len(std::size_t b) const {
@@ -109,7 +120,7 @@ struct Layout {
   std::optional<PathPart> transit(Point a, Point b) const {
     if (bg::distance(a, b) < kSamePlaceM) return std::nullopt;
     PathPart part{PartKind::Transit, {}, {}};
-    part.wgs84 = geometry::to_wgs84_dense(geo.router.route(a, b), geo.frame, &part.local);
+    part.wgs84 = geometry::to_wgs84_dense(routed(a, b), geo.frame, &part.local);
     return part;
   }
 
@@ -174,13 +185,14 @@ double budget_min(const Plan& plan, std::size_t index, const Options& options) {
 
 namespace {
 
-std::vector<Sortie> cut(const Layout& L, double budget) {
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr) {
   std::vector<Sortie> out;
   const std::size_t n = L.n();
   if (n == 0) return out;
   const double limit = budget * (1.0 + kEps);
   std::size_t a = 0;
   for (;;) {
+    if (ctx != nullptr && ctx->stop_requested()) throw Cancelled();
     const double out_len = L.out_len(a);
     const std::size_t bmin = L.ends_part(a) ? a : a + 1;
     if (const double need = L.cost(out_len, a, bmin); need > limit)
@@ -228,14 +240,16 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
 }
 
 void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings,
-                  const geometry::Router* router) {
+                  const geometry::Router* router, const Context* ctx) {
   if (plan.uavs.size() != plan.mission.uavs.size())
     throw InputError("uavs", "the plan's UAVs do not match the mission's");
   const Geo geo = router != nullptr ? Geo(plan, *router) : Geo(plan);  // one router for every UAV
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const Layout L(plan, i, geo);
     try {
-      plan.uavs[i].sorties = cut(L, budget_min(plan, i, options));
+      plan.uavs[i].sorties = cut(L, budget_min(plan, i, options), ctx);
+      if (ctx != nullptr)
+        ctx->report("sorties", static_cast<double>(i + 1) / static_cast<double>(plan.uavs.size()));
     } catch (const InputError& e) {
       if (warnings == nullptr) throw;
       plan.uavs[i].sorties.clear();

@@ -11,6 +11,7 @@
 
 #include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
+#include "uavcover/context.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::sorties {
@@ -41,8 +42,9 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
 /// gets a warning there (plan() does so: the plan stays usable, the time/cost model falls back to
 /// eq. 16 for that UAV, and per-sortie exports refuse it).
 /// `router`: the no-fly zones' router in the plan's local frame when the caller has one (the engine).
+/// `ctx`: progress per UAV ("sorties") and a stop between sorties (Cancelled).
 void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr,
-                  const geometry::Router* router = nullptr);
+                  const geometry::Router* router = nullptr, const Context* ctx = nullptr);
 
 /// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
 /// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts

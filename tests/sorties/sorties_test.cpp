@@ -508,3 +508,50 @@ TEST(Sorties, ResumeFliesTheRestOnce) {
 
 }  // namespace
 }  // namespace uavcover
+
+namespace uavcover {
+namespace {
+
+// A field strewn with 400 small no-fly zones (a 20 x 20 lattice of 4 m squares every 40 m) and batteries
+// of a few minutes: every sortie's transits out and back go around the zones, and the sorties stay valid.
+TEST(Sorties, TransitsOfEverySortieAvoidManyZones) {
+  Mission m;
+  m.spacing_m = 25.0;
+  const double lat0 = 45.0, lon0 = 9.0, mlat = 1.0 / 111320.0, mlon = mlat / std::cos(lat0 * M_PI / 180);
+  auto rect = [&](double x0, double y0, double x1, double y1) {
+    return GeoPolygon{GeoRing{{lon0 + x0 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y0 * mlat},
+                              {lon0 + x1 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y1 * mlat},
+                              {lon0 + x0 * mlon, lat0 + y0 * mlat}}};
+  };
+  m.area.push_back(rect(0, 0, 800, 800));
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      m.no_fly_zones.push_back(rect(i * 40 + 18, j * 40 + 18, i * 40 + 22, j * 40 + 22));
+  for (int i = 0; i < 2; ++i) {
+    Uav u;
+    u.id = "u" + std::to_string(i);
+    u.share = 0.5;
+    u.endurance_min = 9.0;
+    u.start = LonLat{lon0 + (1.0 + 790 * i) * mlon, lat0 + 1.0 * mlat};
+    m.uavs.push_back(u);
+  }
+  const Plan p = plan(m);
+  const geodesy::LocalFrame frame(p.origin);
+  const geometry::Router router(geometry::unite(geometry::to_local(p.mission.no_fly_zones, frame)));
+  std::size_t sorties = 0;
+  for (std::size_t i = 0; i < p.uavs.size(); ++i) {
+    expect_valid_sorties(p, i);
+    sorties += p.uavs[i].sorties.size();
+    for (const auto& s : p.uavs[i].sorties)
+      for (const auto& part : s.parts)
+        for (std::size_t k = 1; k < part.local.size(); ++k)
+          EXPECT_TRUE(router.clear(part.local[k - 1], part.local[k]))
+              << p.uavs[i].id << " sortie " << s.index;
+  }
+  EXPECT_GE(sorties, 4u);  // 0.64 km² at 25 m is ~26 km of coverage: several 9-minute batteries
+}
+
+}  // namespace
+}  // namespace uavcover
