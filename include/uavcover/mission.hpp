@@ -46,6 +46,8 @@ struct Uav {
   double turn_c2 = UavDefaults::turn_c2;
 };
 
+inline constexpr double kDefaultBatteryReserve = 0.2;
+
 /// A parsed, validated, normalised mission. Produced by parse_mission().
 struct Mission {
   std::string name;
@@ -63,6 +65,9 @@ struct Mission {
   /// The planner's parameters, validated against its schema with every default filled in.
   nlohmann::json planner_params = nlohmann::json::object();
   std::uint64_t seed = 0;
+  /// Share of each battery's endurance kept in reserve when a UAV's coverage is cut into sorties
+  /// (docs/sorties.md): a sortie lasts at most endurance_min * (1 - battery_reserve).
+  double battery_reserve = kDefaultBatteryReserve;
   std::string source_format = "uavcover-v1";  ///< or "mcpp-optimized-darp"
 };
 

@@ -20,6 +20,23 @@ struct PathPart {
   std::vector<LonLat> wgs84;  ///< the same vertices in WGS84
 };
 
+/// One battery's flight of a UAV (docs/sorties.md): from take-off (the UAV's start) at its transition
+/// altitude to the sortie's first coverage waypoint, its piece of the coverage, and back. Waypoint
+/// indices are global over the UAV's coverage waypoints (the vertices of its coverage parts, in flight
+/// order, counted as UavPlan::turns counts them). A sortie that ends inside a coverage polyline shares
+/// that waypoint with the next sortie, so every coverage leg is flown by exactly one sortie.
+struct Sortie {
+  int index = 0;           ///< 0-based, in flight order
+  int first_waypoint = 0;  ///< global index of its first coverage waypoint
+  int last_waypoint = 0;   ///< global index of its last coverage waypoint (inclusive)
+  /// In flight order: transit out from take-off (absent when take-off is the first waypoint), coverage
+  /// pieces with the plan's transits between them, transit back to take-off (absent likewise).
+  std::vector<PathPart> parts;
+  double length_m = 0.0;      ///< all parts
+  int turns = 0;              ///< coverage waypoints (last - first + 1)
+  double duration_min = 0.0;  ///< eq. 15 of length_m and turns with the UAV's speed and c1, c2
+};
+
 struct UavPlan {
   std::string id;
   double share_requested = 0.0;
@@ -32,6 +49,8 @@ struct UavPlan {
   double length_m = 0.0;               ///< total, with transit
   int turns = 0;                       ///< waypoints (turns) of the coverage parts
   double transition_altitude_m = 0.0;  ///< its own altitude for transit (Hong et al. 2021 §2.3)
+  /// Battery sorties (docs/sorties.md), filled by plan() for every planner; empty for an idle UAV.
+  std::vector<Sortie> sorties;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the planner's, opaque
 };
 

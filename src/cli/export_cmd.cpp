@@ -109,6 +109,9 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       ->capture_default_str()
       ->check(integer_in(0, 255));
   cmd->add_flag("--kmz", args->opt.kmz, "Also write <id>.kmz next to each <id>.kml");
+  cmd->add_flag("--per-sortie", args->opt.per_sortie,
+                "One file per battery sortie for qgc, wpl, kml, dji, litchi, csv: <id>.s<k>.<ext> "
+                "(docs/sorties.md)");
   cmd->add_option("--dji-drone", args->opt.dji_drone_enum, "DJI WPML droneEnumValue (77 Mavic 3 Enterprise)")
       ->capture_default_str()
       ->check(integer_in(0, 100'000));
@@ -143,6 +146,8 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       "  OUT/export/<id>.litchi.csv  Litchi mission CSV (<id>.1.litchi.csv, ... beyond 99 waypoints)\n"
       "  OUT/export/<id>.csv         mission items as CSV\n"
       "  OUT/trajectory/<id>.csv     t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az sampled every --dt seconds\n"
+      "With --per-sortie, <id>.s1.<ext>, <id>.s2.<ext>, ... (one whole mission per battery sortie) replace\n"
+      "<id>.<ext> for qgc, wpl, kml, dji, litchi and csv.\n"
       "Each UAV climbs to its own transition altitude (base + index * step) for transit legs and covers\n"
       "at the mission altitude (Hong et al. 2021 §2.3), under --transition-ceiling.\n"
       "UAVs without coverage parts are skipped with a warning; values beyond a consumer's limits are\n"

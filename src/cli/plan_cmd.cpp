@@ -29,6 +29,7 @@ struct PlanArgs {
   std::vector<std::string> exports;
   bool no_evaluate = false;
   bool no_images = false;
+  bool per_sortie = false;
 };
 
 void run_plan(const PlanArgs& a) {
@@ -51,6 +52,7 @@ void run_plan(const PlanArgs& a) {
     oo.evaluate = !a.no_evaluate;
     oo.images = !a.no_images;
     oo.exports = a.exports;
+    oo.per_sortie = a.per_sortie;
     // the time limit is the planner's; the outputs still stop on Ctrl-C
     outputs = usecases::plan_outputs(result, oo, Context(bar, interrupt_token()));
   } catch (...) {
@@ -104,6 +106,8 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
                   "Also export these formats: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
       ->delimiter(',')
       ->check(CLI::IsMember(exporting::known_formats()));
+  cmd->add_flag("--per-sortie", args->per_sortie,
+                "With --export: one file per battery sortie, export/<id>.s<k>.<ext> (docs/sorties.md)");
   cmd->add_flag("--no-evaluate", args->no_evaluate, "Skip the coverage simulation and cost model");
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(
@@ -115,7 +119,7 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
       "  DIR/plan.json      normalised mission, planner and its diagnostics, per-UAV regions and metrics,\n"
       "                     coverage (PoC, PoOC, histogram) and time/cost (eq. 15-22).\n"
       "  DIR/plan.png, plan.svg, heatmap.png, histogram.png   pictures for the report.\n"
-      "  DIR/export/, DIR/trajectory/   with --export.\n"
+      "  DIR/export/, DIR/trajectory/   with --export (--per-sortie: export/<id>.s<k>.<ext> per sortie).\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (message names the field; no files written),\n"
       "3 time limit reached without a complete plan, 130 interrupted (Ctrl-C; no files written).");
   cmd->callback([args] { run_plan(*args); });

@@ -1,7 +1,7 @@
 // The facade's plan(): one pipeline for every planner.
 //   mission -> local frame and free space -> starts (given or drawn from the seed)
 //   -> the planner (registry) -> transit legs routed around no-fly zones -> WGS84 -> metrics,
-//   regions, transition altitudes.
+//   regions, transition altitudes -> battery sorties.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -13,6 +13,7 @@
 #include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
+#include "sorties/sorties.hpp"
 #include "uavcover/uavcover.hpp"
 
 namespace uavcover {
@@ -171,6 +172,10 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     for (const auto& part : up.parts) up.length_m += geometry::length(part.local);
     out.uavs.push_back(std::move(up));
   }
+  // battery sorties for every planner (docs/sorties.md)
+  ctx.report("sorties", 0.0);
+  // a UAV with a leg longer than one battery keeps no sorties, with a warning (docs/sorties.md)
+  sorties::fill_sorties(out, {}, &out.warnings, &router, &ctx);
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -25,7 +25,10 @@ double flight_duration_min(double length_m, int turns, const Uav& uav) {
 }
 
 CostResult evaluate_cost_from_durations(const std::vector<double>& durations_min,
-                                        const std::vector<Uav>& uavs, double area_m2, const CostOptions& o) {
+                                        const std::vector<Uav>& uavs, double area_m2, const CostOptions& o,
+                                        const std::vector<int>* batteries) {
+  if (batteries != nullptr && batteries->size() != uavs.size())
+    throw InputError("uavs", "one battery count per UAV is needed");
   if (durations_min.size() != uavs.size())
     throw InputError("uavs", "one flight duration per UAV is needed (" +
                                  std::to_string(durations_min.size()) + " durations, " +
@@ -42,6 +45,8 @@ CostResult evaluate_cost_from_durations(const std::vector<double>& durations_min
     c.batteries =
         std::max(1, static_cast<int>(std::ceil(c.flight_duration_min / uavs[i].endurance_min - 1e-9)));
     if (c.flight_duration_min <= 0.0) c.batteries = 0;
+    // given counts replace eq. 16; a negative entry keeps it (a UAV without sorties)
+    if (batteries != nullptr && (*batteries)[i] >= 0) c.batteries = (*batteries)[i];
     // eq. 19: each change crosses twice a distance proportional to sqrt(area), plus the change itself
     const double per_change = 2.0 * sqrt_area / (3.0 * uavs[i].speed_mps * 60.0) + o.battery_change_min * n;
     c.change_battery_delay_min = std::max(c.batteries - 1, 0) * per_change;

@@ -36,11 +36,13 @@ struct CostResult {
 double flight_duration_min(double length_m, int turns, const Uav& uav);
 
 /// eq. 16-22 from flight durations given directly (one per UAV, minutes). `area_m2` is the ROI
-/// area used by the change-battery delay (eq. 19). Throws InputError on sizes that do not match
-/// or on a non-positive speed/endurance.
+/// area used by the change-battery delay (eq. 19). `batteries`, when given (one per UAV, e.g. the
+/// plan's sortie counts, docs/sorties.md), replaces eq. 16's ceil(duration / endurance). Throws
+/// InputError on sizes that do not match or on a non-positive speed/endurance.
 CostResult evaluate_cost_from_durations(const std::vector<double>& durations_min,
                                         const std::vector<Uav>& uavs, double area_m2,
-                                        const CostOptions& options = {});
+                                        const CostOptions& options = {},
+                                        const std::vector<int>* batteries = nullptr);
 
 /// eq. 15-22 from each UAV's flown length (coverage + transit) and turns.
 CostResult evaluate_cost(const std::vector<double>& lengths_m, const std::vector<int>& turns,

@@ -72,7 +72,22 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   }
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
-  return evaluate_flights(free, flights, uavs, w, options);
+  Evaluation ev = evaluate_flights(free, flights, uavs, w, options);
+  // with sorties (docs/sorties.md), a UAV needs one battery per sortie; UAVs without them (a leg longer
+  // than one battery) keep eq. 16
+  bool with_sorties = false;
+  std::vector<int> batteries;
+  for (const auto& u : plan.uavs) {
+    with_sorties = with_sorties || !u.sorties.empty();
+    batteries.push_back(u.sorties.empty() ? -1 : static_cast<int>(u.sorties.size()));
+  }
+  if (with_sorties) {
+    std::vector<double> durations;
+    for (const auto& c : ev.cost.uavs) durations.push_back(c.flight_duration_min);
+    ev.cost =
+        evaluate_cost_from_durations(durations, uavs, ev.coverage.total.area_m2, options.cost, &batteries);
+  }
+  return ev;
 }
 
 json to_json(const CoverageStats& s) {

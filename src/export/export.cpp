@@ -13,6 +13,7 @@
 #include "export/zip.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
+#include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -672,40 +673,63 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
   auto put = [&](std::string name, const char* media_type, std::string bytes) {
     out.push_back({std::move(name), media_type, std::move(bytes)});
   };
+  // format f of UAV i of `plan` (the whole plan, or one sortie's) under the name `base`.<ext>
+  auto put_uav = [&](const Plan& p, std::size_t i, const std::string& f, const std::string& base) {
+    const std::string& id = p.uavs[i].id;
+    if (f == "geojson") {
+      const json doc = uav_geojson(p, i);
+      const auto problems = validate_geojson(doc);
+      if (!problems.empty())
+        throw InputError(fmt::format("uavs[{}]", i), "its GeoJSON export is invalid: " + problems.front());
+      put(base + ".geojson", "application/geo+json", dump(doc, 1));
+    } else if (f == "qgc") {
+      put(base + ".plan", "application/json", dump(qgc_plan(p, i, opt), 4));
+    } else if (f == "wpl") {
+      put(base + ".waypoints", "text/plain", wpl_text(p, i, opt));
+    } else if (f == "kml") {
+      std::string kml = kml_text(p, i, opt);
+      if (opt.kmz) put(base + ".kmz", "application/vnd.google-earth.kmz", zip_bytes({{"doc.kml", kml}}));
+      put(base + ".kml", "application/vnd.google-earth.kml+xml", std::move(kml));
+    } else if (f == "dji") {
+      put(base + ".wpml.kmz", "application/vnd.google-earth.kmz", zip_bytes(dji_wpml(p, i, opt)));
+    } else if (f == "litchi") {
+      auto missions = litchi_csv(p, i, opt);
+      if (missions.size() == 1) {
+        put(base + ".litchi.csv", "text/csv", std::move(missions.front()));
+      } else {
+        for (std::size_t k = 0; k < missions.size(); ++k)
+          put(fmt::format("{}.{}.litchi.csv", base, k + 1), "text/csv", std::move(missions[k]));
+      }
+    } else if (f == "csv") {
+      put(base + ".csv", "text/csv", waypoints_csv(p, i, opt));
+    } else if (f == "trajectory") {
+      const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+      put("trajectory/" + id + ".csv", "text/csv", trajectory::trajectory_csv(p, traj.sample()));
+    }
+  };
+  // per sortie: the sorties of each flown UAV (cut now when the plan has none, e.g. built by hand)
+  std::map<std::size_t, std::vector<Sortie>> sortie_lists;
+  if (opt.per_sortie)
+    for (const std::size_t i : flown) {
+      auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
+      for (const auto& s : list) {
+        const Plan sp = sorties::sortie_plan(plan, i, s);
+        const auto violations = no_fly_violations(sp, i, mission_items(sp, i, opt.altitude));
+        if (!violations.empty())
+          throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+      }
+      sortie_lists[i] = std::move(list);
+    }
   for (const auto& f : wanted) {
+    const bool split = opt.per_sortie && f != "geojson" && f != "trajectory";
     for (const std::size_t i : flown) {
       const std::string& id = plan.uavs[i].id;
-      const std::string base = "export/" + id;
-      if (f == "geojson") {
-        const json doc = uav_geojson(plan, i);
-        const auto problems = validate_geojson(doc);
-        if (!problems.empty())
-          throw InputError(fmt::format("uavs[{}]", i), "its GeoJSON export is invalid: " + problems.front());
-        put(base + ".geojson", "application/geo+json", dump(doc, 1));
-      } else if (f == "qgc") {
-        put(base + ".plan", "application/json", dump(qgc_plan(plan, i, opt), 4));
-      } else if (f == "wpl") {
-        put(base + ".waypoints", "text/plain", wpl_text(plan, i, opt));
-      } else if (f == "kml") {
-        std::string kml = kml_text(plan, i, opt);
-        if (opt.kmz) put(base + ".kmz", "application/vnd.google-earth.kmz", zip_bytes({{"doc.kml", kml}}));
-        put(base + ".kml", "application/vnd.google-earth.kml+xml", std::move(kml));
-      } else if (f == "dji") {
-        put(base + ".wpml.kmz", "application/vnd.google-earth.kmz", zip_bytes(dji_wpml(plan, i, opt)));
-      } else if (f == "litchi") {
-        auto missions = litchi_csv(plan, i, opt);
-        if (missions.size() == 1) {
-          put(base + ".litchi.csv", "text/csv", std::move(missions.front()));
-        } else {
-          for (std::size_t k = 0; k < missions.size(); ++k)
-            put(fmt::format("{}.{}.litchi.csv", base, k + 1), "text/csv", std::move(missions[k]));
-        }
-      } else if (f == "csv") {
-        put(base + ".csv", "text/csv", waypoints_csv(plan, i, opt));
-      } else if (f == "trajectory") {
-        const auto traj = trajectory::uav_trajectory(plan, i, opt.trajectory, opt.altitude);
-        put("trajectory/" + id + ".csv", "text/csv", trajectory::trajectory_csv(plan, traj.sample()));
+      if (!split) {
+        put_uav(plan, i, f, "export/" + id);
+        continue;
       }
+      for (const auto& s : sortie_lists[i])
+        put_uav(sorties::sortie_plan(plan, i, s), i, f, fmt::format("export/{}.s{}", id, s.index + 1));
     }
   }
   // ids are kept unchanged, so two ids can still name one file ("a.wpml" kml/kmz vs "a" dji)

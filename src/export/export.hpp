@@ -40,6 +40,11 @@ struct ExportOptions {
   int dji_drone_sub_enum = 0;    ///< wpml:droneSubEnumValue (77: 0 M3E, 1 M3T, 2 M3M)
   int dji_payload_enum = -1;     ///< wpml:payloadEnumValue; -1 = the declared drone's own camera
   bool check_separation = true;  ///< refuse to export when check_separation() finds problems
+  /// One file per battery sortie (docs/sorties.md) for qgc, wpl, kml (kmz), dji, litchi and csv:
+  /// export/<id>.s<k>.<ext>, k = 1, 2, ... in flight order, each a whole mission (take-off, transit at
+  /// the UAV's transition altitude, its coverage, return) in place of export/<id>.<ext>. geojson and
+  /// trajectory stay one file per UAV.
+  bool per_sortie = false;
   std::vector<std::string>* warnings = nullptr;  ///< when set, receives every warning (clamps, skips)
 };
 

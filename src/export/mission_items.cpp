@@ -117,6 +117,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
 
   bool high = true;  // at the transition altitude
+  int waypoint = 0;  // coverage waypoints so far
   LonLat here = home;
   for (std::size_t pi = 0; pi < up.parts.size(); ++pi) {
     const PathPart& part = up.parts[pi];
@@ -141,11 +142,14 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       // the first coverage waypoint is the descent to mission altitude
       high = false;
       items.push_back(position_item(kNavWaypoint, entry, mission_alt, "coverage"));
+      items.back().waypoint = waypoint++;
       if (camera)
         items.push_back(command_item(kDoSetCamTriggDist, static_cast<float>(plan.mission.spacing_m), 0.0f,
                                      1.0f, 0.0f, "camera"));
-      for (std::size_t k = 1; k < part.wgs84.size(); ++k)
+      for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
         items.push_back(position_item(kNavWaypoint, part.wgs84[k], mission_alt, "coverage"));
+        items.back().waypoint = waypoint++;
+      }
       if (camera) items.push_back(command_item(kDoSetCamTriggDist, 0.0f, 0.0f, 0.0f, 0.0f, "camera"));
       here = part.wgs84.back();
     }

@@ -36,6 +36,9 @@ struct MissionItem {
   bool autocontinue = true;
   std::string role;  ///< "takeoff", "transition", "coverage", "transit", "speed", "camera", "rtl", "land"
   int part = -1;     ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
+  /// On "coverage" items: the index of the coverage waypoint among the UAV's coverage waypoints (the
+  /// vertices of its coverage parts in flight order, as Sortie::first_waypoint counts them); -1 otherwise.
+  int waypoint = -1;
 };
 
 struct AltitudeOptions {

@@ -244,10 +244,11 @@ Router::~Router() = default;
 
 bool Router::clear_of(Point a, Point b, const std::vector<char>* only,
                       std::vector<std::size_t>* entered) const {
-  const Box box{Point{std::min(a.x(), b.x()), std::min(a.y(), b.y())},
-                Point{std::max(a.x(), b.x()), std::max(a.y(), b.y())}};
+  // the obstacles whose bounding box the segment itself crosses (not its own bounding box: a long
+  // diagonal's box holds every obstacle of a field)
+  const Segment seg{a, b};
   bool clear = true;
-  for (auto it = index_->tree.qbegin(bgi::intersects(box)); it != index_->tree.qend(); ++it) {
+  for (auto it = index_->tree.qbegin(bgi::intersects(seg)); it != index_->tree.qend(); ++it) {
     const std::size_t i = it->second;
     if (only != nullptr && !(*only)[i]) continue;
     if (!enters(obstacles_[i], a, b, 0.0)) continue;
@@ -272,37 +273,41 @@ std::vector<Point> Router::route(Point a, Point b) const {
     std::vector<Point> nodes{a, b};
     for (std::size_t i = 0; i < obstacles_.size(); ++i)
       if (in_graph[i]) nodes.insert(nodes.end(), nodes_[i].begin(), nodes_[i].end());
-    // Dijkstra on the visibility graph (lazy edge checks against the obstacles in the graph)
+    // Lazy A* on the visibility graph: straight-line distance to b as the heuristic (consistent), and
+    // an edge checked against the obstacles in the graph only when it leaves the queue as the best
+    // way to its node; a node leaves for good with its first clear edge, at its shortest distance.
     const std::size_t n = nodes.size();
-    std::vector<double> dist(n, std::numeric_limits<double>::infinity());
     std::vector<std::size_t> prev(n, n);
     std::vector<char> done(n, 0);
-    using QE = std::pair<double, std::size_t>;
-    std::priority_queue<QE, std::vector<QE>, std::greater<>> pq;
-    dist[0] = 0;
-    pq.push({0, 0});
+    struct Entry {
+      double f, g;
+      std::size_t node, from;
+      bool operator>(const Entry& o) const { return f > o.f || (f == o.f && node > o.node); }
+    };
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pq;
+    auto h = [&](std::size_t v) { return bg::distance(nodes[v], nodes[1]); };
+    pq.push({h(0), 0.0, 0, n});
+    bool found = false;
     while (!pq.empty()) {
-      auto [d, u] = pq.top();
+      const Entry e = pq.top();
       pq.pop();
-      if (done[u]) continue;
-      done[u] = 1;
-      if (u == 1) break;
-      for (std::size_t v = 0; v < n; ++v) {
-        if (done[v] || v == u) continue;
-        const double w = bg::distance(nodes[u], nodes[v]);
-        if (d + w >= dist[v]) continue;
-        if (!clear_of(nodes[u], nodes[v], &in_graph, nullptr)) continue;
-        dist[v] = d + w;
-        prev[v] = u;
-        pq.push({dist[v], v});
+      if (done[e.node]) continue;
+      if (e.from != n && !clear_of(nodes[e.from], nodes[e.node], &in_graph, nullptr)) continue;
+      done[e.node] = 1;
+      prev[e.node] = e.from;
+      if (e.node == 1) {
+        found = true;
+        break;
       }
+      for (std::size_t v = 0; v < n; ++v)
+        if (!done[v]) {
+          const double g = e.g + bg::distance(nodes[e.node], nodes[v]);
+          pq.push({g + h(v), g, v, e.node});
+        }
     }
-    if (!std::isfinite(dist[1])) return {a, b};
+    if (!found) return {a, b};
     std::vector<Point> path;
-    for (std::size_t v = 1; v != n; v = prev[v]) {
-      path.push_back(nodes[v]);
-      if (v == 0) break;
-    }
+    for (std::size_t v = 1; v != n; v = prev[v]) path.push_back(nodes[v]);
     std::reverse(path.begin(), path.end());
     // obstacles outside the graph that the route enters join it; done when there are none
     entered.clear();

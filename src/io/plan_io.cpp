@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cerrno>
 #include <charconv>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "geometry/geometry.hpp"
 #include "json/strict.hpp"
 #include "mission/mission_json.hpp"
+#include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -33,6 +35,41 @@ json line_coords(const std::vector<LonLat>& pts) {
   json c = json::array();
   for (const auto& p : pts) c.push_back({p.lon, p.lat});
   return c;
+}
+
+/// The transit parts before the first coverage part of a sortie (out) or after its last (back), as one
+/// line of positions (empty when there are none).
+json sortie_transit(const Sortie& s, bool out) {
+  std::vector<LonLat> pts;
+  auto add = [&](const PathPart& part) {
+    for (const auto& p : part.wgs84)
+      if (pts.empty() || pts.back().lon != p.lon || pts.back().lat != p.lat) pts.push_back(p);
+  };
+  if (out) {
+    for (const auto& part : s.parts) {
+      if (part.kind == PartKind::Coverage) break;
+      add(part);
+    }
+  } else {
+    std::size_t k = s.parts.size();
+    while (k > 0 && s.parts[k - 1].kind != PartKind::Coverage) --k;
+    for (; k < s.parts.size(); ++k) add(s.parts[k]);
+  }
+  return line_coords(pts);
+}
+
+json sorties_json(const UavPlan& u) {
+  json out = json::array();
+  for (const auto& s : u.sorties)
+    out.push_back({{"index", s.index},
+                   {"first_waypoint", s.first_waypoint},
+                   {"last_waypoint", s.last_waypoint},
+                   {"turns", s.turns},
+                   {"length_m", s.length_m},
+                   {"duration_min", s.duration_min},
+                   {"transit_out", sortie_transit(s, true)},
+                   {"transit_back", sortie_transit(s, false)}});
+  return out;
 }
 
 json parse_file(const std::filesystem::path& p, const std::string& field) {
@@ -168,6 +205,8 @@ json plan_json(const Plan& plan, const json& extra) {
                     {"length_m", u.length_m},
                     {"turns", u.turns},
                     {"transition_altitude_m", u.transition_altitude_m},
+                    {"batteries", u.sorties.size()},
+                    {"sorties", sorties_json(u)},
                     {"diagnostics", u.diagnostics}});
     total_len += u.length_m;
     total_cov += u.coverage_length_m;
@@ -184,6 +223,7 @@ json plan_json(const Plan& plan, const json& extra) {
       {"altitude_source", m.altitude_source},
       {"mode", m.mode == Mode::Strict ? "strict" : "coverage"},
       {"seed", m.seed},
+      {"battery_reserve", m.battery_reserve},
       {"planner", plan.planner},
       {"complete", plan.complete},
       {"planner_diagnostics", plan.diagnostics},
@@ -284,6 +324,14 @@ LonLat position(const json& c, const std::string& field) {
 /// Positions of a plan must lie near the mission: within this distance of the frame's origin.
 constexpr double kMaxPlanExtentM = 500'000.0;
 
+int whole(const json& j, const std::string& field, int lo, int hi) {
+  if (!j.is_number_integer()) throw InputError(field, "expected a whole number");
+  const auto v = j.get<std::int64_t>();
+  if (v < lo || v > hi)
+    throw InputError(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<int>(v);
+}
+
 }  // namespace
 
 Plan load_plan_dir(const std::filesystem::path& dir) {
@@ -321,6 +369,42 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
     plan.warnings = pj.at("warnings").get<std::vector<std::string>>();
     plan.free_area_m2 = pj.at("totals").at("free_area_m2").get<double>();
     plan.compute_time_s = pj.at("totals").at("compute_time_s").get<double>();
+    // sorties (docs/sorties.md): read here, checked and completed once the paths are read
+    std::vector<std::vector<Sortie>> sorties(ju.size());
+    bool any_sorties = false;
+    for (std::size_t i = 0; i < ju.size(); ++i) {
+      if (!ju[i].is_object() || !ju[i].contains("sorties")) continue;
+      any_sorties = true;
+      const std::string f = "plan.json: uavs[" + std::to_string(i) + "].sorties";
+      const json& js = ju[i]["sorties"];
+      if (!js.is_array()) throw InputError(f, "expected an array");
+      for (std::size_t k = 0; k < js.size(); ++k) {
+        const std::string fk = f + "[" + std::to_string(k) + "]";
+        const json& e = js[k];
+        if (!e.is_object()) throw InputError(fk, "expected an object");
+        Sortie s;
+        s.index = whole(e.at("index"), fk + ".index", 0, 1 << 30);
+        s.first_waypoint = whole(e.at("first_waypoint"), fk + ".first_waypoint", 0, 1 << 30);
+        s.last_waypoint = whole(e.at("last_waypoint"), fk + ".last_waypoint", 0, 1 << 30);
+        for (const char* name : {"transit_out", "transit_back"}) {
+          const json& line = e.at(name);
+          if (!line.is_array() || line.size() == 1)
+            throw InputError(fk + "." + name, "expected an empty array or at least 2 positions");
+          PathPart t{PartKind::Transit, {}, {}};
+          for (const auto& c : line) {
+            t.wgs84.push_back(position(c, fk + "." + name));
+            t.local.push_back(local(t.wgs84.back(), fk + "." + name));
+          }
+          s.parts.push_back(std::move(t));
+        }
+        sorties[i].push_back(std::move(s));
+      }
+    }
+    if (any_sorties && pj.contains("battery_reserve")) {
+      const json& r = pj["battery_reserve"];
+      if (!r.is_number() || !(r.get<double>() >= 0.0 && r.get<double>() <= 0.9))
+        throw InputError("plan.json: battery_reserve", "must be a number in [0, 0.9]");
+    }
     for (std::size_t i = 0; i < ju.size(); ++i) {
       const std::string f = "plan.json: uavs[" + std::to_string(i) + "]";
       auto& mu = plan.mission.uavs[i];
@@ -391,6 +475,15 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
         part.local.push_back(local(part.wgs84.back(), f + ".geometry.coordinates"));
       }
       it->parts.push_back(std::move(part));
+    }
+    if (any_sorties) {
+      for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+        sorties::rebuild_sorties(plan, i, sorties[i], "plan.json: uavs[" + std::to_string(i) + "].sorties");
+        plan.uavs[i].sorties = std::move(sorties[i]);
+      }
+    } else {
+      // a plan folder from before sorties: cut them now (as plan() would)
+      sorties::fill_sorties(plan, {}, &plan.warnings);
     }
   } catch (const json::exception& e) {
     throw InputError("PLAN_DIR",

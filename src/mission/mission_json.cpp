@@ -91,6 +91,8 @@ json to_json(const Mission& m) {
   j["planner"] = m.planner;
   if (!m.planner_params.empty()) j["planner_params"] = m.planner_params;
   j["seed"] = m.seed;
+  // written when not the default, so that missions without it keep their JSON unchanged
+  if (m.battery_reserve != kDefaultBatteryReserve) j["battery_reserve"] = m.battery_reserve;
   return j;
 }
 

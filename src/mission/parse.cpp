@@ -261,6 +261,7 @@ struct Raw {
   std::string planner = "darp";
   json planner_params;  ///< as given; validated against the planner's schema at the end
   std::uint64_t seed = 1;
+  double battery_reserve = kDefaultBatteryReserve;
   std::string format = "uavcover-v1";
 };
 
@@ -412,7 +413,7 @@ Raw parse_v1(const json& j) {
   Raw raw;
   reject_unknown(j,
                  {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
-                  "planner", "planner_params", "seed", "version", "$schema"},
+                  "planner", "planner_params", "seed", "battery_reserve", "version", "$schema"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -459,6 +460,9 @@ Raw parse_v1(const json& j) {
     if (!j["seed"].is_number_unsigned()) throw InputError("seed", "expected a non-negative integer");
     raw.seed = j["seed"].get<std::uint64_t>();
   }
+  // a sortie keeps at least 10 % of a battery for flying (docs/sorties.md)
+  if (j.contains("battery_reserve"))
+    raw.battery_reserve = in_range(j["battery_reserve"], "battery_reserve", 0.0, 0.9);
   return raw;
 }
 
@@ -549,6 +553,7 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.planner = raw.planner;
   m.planner_params = planners::validate_params(planners::require(raw.planner), raw.planner_params);
   m.seed = raw.seed;
+  m.battery_reserve = raw.battery_reserve;
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});
     for (std::size_t r = 1; r < np.poly.size(); ++r) {

@@ -78,6 +78,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     exporting::ExportOptions eo;
     eo.warnings = &out.warnings;
     eo.kmz = options.kmz;
+    eo.per_sortie = options.per_sortie;
     auto add = [&](const std::vector<std::string>& formats) {
       auto exported = exporting::export_artifacts(plan, formats, eo);
       out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),

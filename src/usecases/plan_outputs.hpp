@@ -21,6 +21,7 @@ struct OutputOptions {
   bool heatmap_overlay = false;
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
   bool kmz = false;                  ///< with "kml": also <id>.kmz
+  bool per_sortie = false;           ///< exports per battery sortie (exporting::ExportOptions::per_sortie)
   /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
   /// that is no file name, ...) into a warning instead of failing the whole output (the server's jobs).
   bool refused_exports_are_warnings = false;

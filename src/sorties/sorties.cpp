@@ -1,0 +1,360 @@
+#include "sorties/sorties.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "evaluation/cost.hpp"
+#include "geodesy/local_frame.hpp"
+#include "geometry/geometry.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::sorties {
+
+namespace {
+
+constexpr double kSamePlaceM = 1e-6;  // as the engine: closer points need no transit leg
+constexpr double kEps = 1e-9;
+
+double reserve_of(const Plan& plan, const Options& o) {
+  const double r = o.reserve ? *o.reserve : plan.mission.battery_reserve;
+  if (!std::isfinite(r) || r < 0.0 || r > 0.9) throw InputError("battery_reserve", "must be in [0, 0.9]");
+  return r;
+}
+
+/// The no-fly zones' router in the plan's local frame (as the engine routes transit legs).
+struct Geo {
+  geodesy::LocalFrame frame;
+  std::unique_ptr<geometry::Router> owned;
+  const geometry::Router& router;
+  explicit Geo(const Plan& plan)
+      : frame(plan.origin),
+        owned(std::make_unique<geometry::Router>(
+            geometry::unite(geometry::to_local(plan.mission.no_fly_zones, frame)))),
+        router(*owned) {}
+  /// With the engine's router (the no-fly zones in the plan's frame): nothing is built again.
+  Geo(const Plan& plan, const geometry::Router& r) : frame(plan.origin), router(r) {}
+};
+
+/// One UAV's coverage laid out for cutting.
+struct Layout {
+  const Plan& plan;
+  std::size_t index;
+  const UavPlan& up;
+  const Uav& uav;
+  const Geo& geo;
+  Point start;
+  std::vector<WaypointRef> wp;
+  std::vector<std::size_t> wp_cov;  ///< waypoint -> index into cov_parts
+  std::vector<std::size_t> cov_parts;
+  std::vector<double> cum;  ///< path length along the plan from waypoint 0
+  std::size_t lead_end = 0, trail_begin = 0;
+  double lead_len = 0.0, trail_len = 0.0;
+
+  Layout(const Plan& p, std::size_t i, const Geo& g)
+      : plan(p), index(i), up(p.uavs.at(i)), uav(p.mission.uavs.at(i)), geo(g) {
+    start = geo.frame.to_local(uav.start_resolved);
+    for (std::size_t pi = 0; pi < up.parts.size(); ++pi) {
+      const auto& part = up.parts[pi];
+      if (part.kind != PartKind::Coverage || part.local.empty()) continue;
+      if (part.wgs84.size() != part.local.size())
+        throw InputError(fmt::format("uavs[{}].parts[{}]", i, pi), "local and WGS84 vertices differ");
+      const std::size_t j = cov_parts.size();
+      for (std::size_t k = 0; k < part.local.size(); ++k) {
+        double c = 0.0;
+        if (!wp.empty()) {
+          const WaypointRef prev = wp.back();
+          if (prev.part == pi) {
+            c = cum.back() + bg::distance(up.parts[pi].local[k - 1], part.local[k]);
+          } else {
+            c = cum.back();
+            for (std::size_t q = prev.part + 1; q < pi; ++q) c += geometry::length(up.parts[q].local);
+          }
+        }
+        wp.push_back({pi, k});
+        wp_cov.push_back(j);
+        cum.push_back(c);
+      }
+      cov_parts.push_back(pi);
+    }
+    if (cov_parts.empty()) return;
+    lead_end = cov_parts.front();
+    trail_begin = cov_parts.back() + 1;
+    for (std::size_t q = 0; q < lead_end; ++q) lead_len += geometry::length(up.parts[q].local);
+    for (std::size_t q = trail_begin; q < up.parts.size(); ++q)
+      trail_len += geometry::length(up.parts[q].local);
+  }
+
+  std::size_t n() const { return wp.size(); }
+  Point at(std::size_t g) const { return up.parts[wp[g].part].local[wp[g].vertex]; }
+  bool ends_part(std::size_t g) const { return g + 1 >= n() || wp_cov[g + 1] != wp_cov[g]; }
+
+  /// Routed transits, each computed once (bisection and build() ask for the same returns; routes
+  /// through many no-fly zones are costly).
+  mutable std::map<std::array<double, 4>, std::vector<Point>> routes;
+  const std::vector<Point>& routed(Point a, Point b) const {
+    const std::array<double, 4> key{a.x(), a.y(), b.x(), b.y()};
+    auto it = routes.find(key);
+    if (it == routes.end()) it = routes.emplace(key, geo.router.route(a, b)).first;
+    return it->second;
+  }
+  double route_len(Point a, Point b) const {
+    if (bg::distance(a, b) < kSamePlaceM) return 0.0;
+    return geometry::length(routed(a, b));
+  }
+  double out_len(std::size_t a) const { return a == 0 && lead_end > 0 ? lead_len : route_len(start, at(a)); }
+  double back_len(std::size_t b) const {
+    return b + 1 == n() && trail_begin < up.parts.size() ? trail_len : route_len(at(b), start);
+  }
+  double duration(double length_m, std::size_t a, std::size_t b) const {
+    return evaluation::flight_duration_min(length_m, static_cast<int>(b - a + 1), uav);
+  }
+  double cost(double out, std::size_t a, std::size_t b) const {
+    return duration(out + cum[b] - cum[a] + back_len(b), a, b);
+  }
+
+  std::optional<PathPart> transit(Point a, Point b) const {
+    if (bg::distance(a, b) < kSamePlaceM) return std::nullopt;
+    PathPart part{PartKind::Transit, {}, {}};
+    part.wgs84 = geometry::to_wgs84_dense(routed(a, b), geo.frame, &part.local);
+    return part;
+  }
+
+  /// The sortie covering waypoints a..b; `out`/`back` given replace the routed transits (empty
+  /// optional = route it; a given part with no vertices = none).
+  Sortie build(std::size_t a, std::size_t b, const std::optional<PathPart>& out = std::nullopt,
+               const std::optional<PathPart>& back = std::nullopt) const {
+    Sortie s;
+    s.first_waypoint = static_cast<int>(a);
+    s.last_waypoint = static_cast<int>(b);
+    if (out) {
+      if (!out->local.empty()) s.parts.push_back(*out);
+    } else if (a == 0 && lead_end > 0) {
+      s.parts.insert(s.parts.end(), up.parts.begin(), up.parts.begin() + static_cast<long>(lead_end));
+    } else if (auto t = transit(start, at(a))) {
+      s.parts.push_back(std::move(*t));
+    }
+    for (std::size_t j = wp_cov[a]; j <= wp_cov[b]; ++j) {
+      const PathPart& src = up.parts[cov_parts[j]];
+      const std::size_t from = j == wp_cov[a] ? wp[a].vertex : 0;
+      const std::size_t to = j == wp_cov[b] ? wp[b].vertex : src.local.size() - 1;
+      PathPart piece{PartKind::Coverage, {}, {}};
+      piece.local.assign(src.local.begin() + static_cast<long>(from),
+                         src.local.begin() + static_cast<long>(to) + 1);
+      piece.wgs84.assign(src.wgs84.begin() + static_cast<long>(from),
+                         src.wgs84.begin() + static_cast<long>(to) + 1);
+      s.parts.push_back(std::move(piece));
+      if (j < wp_cov[b])
+        s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(cov_parts[j]) + 1,
+                       up.parts.begin() + static_cast<long>(cov_parts[j + 1]));
+    }
+    if (back) {
+      if (!back->local.empty()) s.parts.push_back(*back);
+    } else if (b + 1 == n() && trail_begin < up.parts.size()) {
+      s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(trail_begin), up.parts.end());
+    } else if (auto t = transit(at(b), start)) {
+      s.parts.push_back(std::move(*t));
+    }
+    for (const auto& part : s.parts) s.length_m += geometry::length(part.local);
+    s.turns = static_cast<int>(b - a + 1);
+    s.duration_min = duration(s.length_m, a, b);
+    return s;
+  }
+};
+
+}  // namespace
+
+std::vector<WaypointRef> coverage_waypoints(const UavPlan& uav) {
+  std::vector<WaypointRef> out;
+  for (std::size_t pi = 0; pi < uav.parts.size(); ++pi)
+    if (uav.parts[pi].kind == PartKind::Coverage)
+      for (std::size_t k = 0; k < uav.parts[pi].local.size(); ++k) out.push_back({pi, k});
+  return out;
+}
+
+double budget_min(const Plan& plan, std::size_t index, const Options& options) {
+  const Uav& u = plan.mission.uavs.at(index);
+  if (!(u.endurance_min > 0.0) || !std::isfinite(u.endurance_min))
+    throw InputError(fmt::format("uavs[{}].endurance_min", index), "must be > 0");
+  return u.endurance_min * (1.0 - reserve_of(plan, options));
+}
+
+namespace {
+
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr) {
+  std::vector<Sortie> out;
+  const std::size_t n = L.n();
+  if (n == 0) return out;
+  const double limit = budget * (1.0 + kEps);
+  std::size_t a = 0;
+  for (;;) {
+    if (ctx != nullptr && ctx->stop_requested()) throw Cancelled();
+    const double out_len = L.out_len(a);
+    const std::size_t bmin = L.ends_part(a) ? a : a + 1;
+    if (const double need = L.cost(out_len, a, bmin); need > limit)
+      throw InputError(
+          fmt::format("uavs[{}].endurance_min", L.index),
+          fmt::format("UAV \"{}\": the coverage leg from waypoint {} to {} with the transit out and back "
+                      "needs {:.2f} min, more than one battery allows ({:.2f} min: endurance {} min less the "
+                      "{:.0f} % reserve); give a longer endurance or a smaller reserve",
+                      L.up.id, a, bmin, need, budget, L.uav.endurance_min,
+                      100.0 * (1.0 - budget / L.uav.endurance_min)));
+    // the time of a sortie a..b grows with b (the return from b is at most the leg to b+1 shorter than
+    // from b+1): the last b that fits, by bisection. First with the straight return (a lower bound, no
+    // routing: many no-fly zones make routes costly), then with routed returns below that bound.
+    auto last_fitting = [&](std::size_t hi_end, auto&& cost) {
+      if (cost(hi_end) <= limit) return hi_end;
+      std::size_t lo = bmin, hi = hi_end;
+      while (hi - lo > 1) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        (cost(mid) <= limit ? lo : hi) = mid;
+      }
+      return lo;
+    };
+    const std::size_t b_bound = last_fitting(n - 1, [&](std::size_t b) {
+      const double back =
+          b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : bg::distance(L.at(b), L.start);
+      return L.duration(out_len + L.cum[b] - L.cum[a] + back, a, b);
+    });
+    std::size_t b = last_fitting(b_bound, [&](std::size_t b) { return L.cost(out_len, a, b); });
+    Sortie s = L.build(a, b);
+    while (s.duration_min > limit && b > bmin) s = L.build(a, --b);  // routes may differ from their length
+    s.index = static_cast<int>(out.size());
+    out.push_back(std::move(s));
+    if (b + 1 >= n) break;
+    a = L.ends_part(b) ? b + 1 : b;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Options& options) {
+  const Geo geo(plan);
+  const Layout L(plan, index, geo);
+  return cut(L, budget_min(plan, index, options));
+}
+
+void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings,
+                  const geometry::Router* router, const Context* ctx) {
+  if (plan.uavs.size() != plan.mission.uavs.size())
+    throw InputError("uavs", "the plan's UAVs do not match the mission's");
+  const Geo geo = router != nullptr ? Geo(plan, *router) : Geo(plan);  // one router for every UAV
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    const Layout L(plan, i, geo);
+    try {
+      plan.uavs[i].sorties = cut(L, budget_min(plan, i, options), ctx);
+      if (ctx != nullptr)
+        ctx->report("sorties", static_cast<double>(i + 1) / static_cast<double>(plan.uavs.size()));
+    } catch (const InputError& e) {
+      if (warnings == nullptr) throw;
+      plan.uavs[i].sorties.clear();
+      warnings->push_back(std::string("no battery sorties: ") + e.what());
+    }
+  }
+}
+
+void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& sorties,
+                     const std::string& field) {
+  const Geo geo(plan);
+  const Layout L(plan, index, geo);
+  const std::size_t n = L.n();
+  if (n == 0 && !sorties.empty()) throw InputError(field, "a UAV without coverage has no sorties");
+  if (sorties.empty()) return;  // none: a leg did not fit one battery when the plan was made
+  std::size_t expected = 0;
+  for (std::size_t k = 0; k < sorties.size(); ++k) {
+    const std::string f = fmt::format("{}[{}]", field, k);
+    Sortie& s = sorties[k];
+    if (s.index != static_cast<int>(k)) throw InputError(f + ".index", fmt::format("expected {}", k));
+    if (s.first_waypoint != static_cast<int>(expected))
+      throw InputError(f + ".first_waypoint",
+                       fmt::format("expected {} (sorties follow each other)", expected));
+    if (s.last_waypoint < s.first_waypoint || s.last_waypoint >= static_cast<int>(n))
+      throw InputError(f + ".last_waypoint",
+                       fmt::format("must be in [{}, {}]", s.first_waypoint, static_cast<int>(n) - 1));
+    const auto a = static_cast<std::size_t>(s.first_waypoint), b = static_cast<std::size_t>(s.last_waypoint);
+    if (a == b && !L.ends_part(a))
+      throw InputError(f + ".last_waypoint", "a sortie inside a coverage part flies at least one leg");
+    if (s.parts.size() != 2) throw InputError(f, "expected the transit out and back");
+    auto check_transit = [&](const PathPart& t, Point from, Point to, const std::string& name) {
+      if (t.local.empty()) {
+        if (bg::distance(from, to) > 0.01) throw InputError(f + "." + name, "missing");
+        return;
+      }
+      if (t.local.size() < 2 || bg::distance(t.local.front(), from) > 0.01 ||
+          bg::distance(t.local.back(), to) > 0.01)
+        throw InputError(f + "." + name, "does not join take-off and the sortie's waypoint");
+    };
+    const PathPart out = s.parts[0], back = s.parts[1];
+    check_transit(out, L.start, L.at(a), "transit_out");
+    check_transit(back, L.at(b), L.start, "transit_back");
+    const int index_kept = s.index;
+    s = L.build(a, b, out, back);
+    s.index = index_kept;
+    expected = L.ends_part(b) ? b + 1 : b;
+    if (b + 1 == n && k + 1 != sorties.size())
+      throw InputError(fmt::format("{}[{}]", field, k + 1), "follows the sortie that ends the coverage");
+  }
+  if (n > 0 && sorties.back().last_waypoint != static_cast<int>(n) - 1)
+    throw InputError(field, fmt::format("the sorties end at waypoint {}, the coverage at {}",
+                                        sorties.back().last_waypoint, n - 1));
+}
+
+Plan sortie_plan(const Plan& plan, std::size_t index, const Sortie& sortie) {
+  Plan p = plan;
+  UavPlan& up = p.uavs.at(index);
+  up.parts = sortie.parts;
+  up.length_m = sortie.length_m;
+  up.turns = sortie.turns;
+  up.coverage_length_m = 0.0;
+  for (const auto& part : up.parts)
+    if (part.kind == PartKind::Coverage) up.coverage_length_m += geometry::length(part.local);
+  up.sorties = {sortie};
+  return p;
+}
+
+std::vector<Sortie> resume_sorties(const Plan& plan, std::size_t index, int last_reached) {
+  const Geo geo(plan);
+  const Layout L(plan, index, geo);
+  const int n = static_cast<int>(L.n());
+  if (last_reached < -1 || last_reached >= n)
+    throw InputError("last_reached_waypoint", fmt::format("must be in [-1, {}] for UAV \"{}\" ({} coverage "
+                                                          "waypoints)",
+                                                          n - 1, L.up.id, n));
+  std::vector<Sortie> all = plan.uavs[index].sorties;
+  if (all.empty() && n > 0) all = cut(L, budget_min(plan, index));
+  std::vector<Sortie> out;
+  for (const auto& s : all) {
+    if (s.last_waypoint <= last_reached) continue;  // flown
+    if (s.first_waypoint > last_reached || !out.empty()) {
+      out.push_back(s);
+      continue;
+    }
+    // the current sortie: out from take-off to where coverage stopped, the rest, back
+    const auto r = static_cast<std::size_t>(last_reached);
+    const std::size_t a = L.ends_part(r) ? r + 1 : r;
+    Sortie rest = L.build(a, static_cast<std::size_t>(s.last_waypoint));
+    rest.index = s.index;
+    out.push_back(std::move(rest));
+  }
+  return out;
+}
+
+std::vector<std::vector<exporting::MissionItem>> resume_items(const Plan& plan, std::size_t index,
+                                                              int last_reached,
+                                                              const exporting::AltitudeOptions& altitude) {
+  std::vector<std::vector<exporting::MissionItem>> out;
+  for (const auto& s : resume_sorties(plan, index, last_reached)) {
+    auto items = exporting::mission_items(sortie_plan(plan, index, s), index, altitude);
+    for (auto& it : items)
+      if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
+    out.push_back(std::move(items));
+  }
+  return out;
+}
+
+}  // namespace uavcover::sorties

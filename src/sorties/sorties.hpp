@@ -1,0 +1,74 @@
+// Battery sorties (docs/sorties.md): each UAV's coverage cut at turning waypoints into flights that
+// each fit one battery under the evaluator's time model (eq. 15), every sortie flying out from take-off
+// at the UAV's transition altitude around the no-fly zones, covering its piece and returning; and the
+// resume of a UAV's coverage from the last waypoint it reached.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "export/mission_items.hpp"
+#include "geometry/geometry.hpp"
+#include "uavcover/context.hpp"
+#include "uavcover/plan.hpp"
+
+namespace uavcover::sorties {
+
+struct Options {
+  /// Share of the endurance kept in reserve, in [0, 0.9]; empty = the mission's battery_reserve.
+  std::optional<double> reserve;
+};
+
+/// Where global coverage waypoint g of a UAV lies: parts[part].local[vertex].
+struct WaypointRef {
+  std::size_t part = 0;
+  std::size_t vertex = 0;
+};
+
+/// The UAV's coverage waypoints in flight order (the vertices of its coverage parts).
+std::vector<WaypointRef> coverage_waypoints(const UavPlan& uav);
+
+/// The battery budget of UAV `index` in minutes: endurance_min * (1 - reserve).
+double budget_min(const Plan& plan, std::size_t index, const Options& options = {});
+
+/// The sorties of UAV `index` (empty when it has no coverage). Throws InputError naming the UAV when one
+/// coverage leg with the transit out and back does not fit one battery.
+std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Options& options = {});
+
+/// Fills every UAV's sorties (plan() calls it for every planner). A UAV with a leg that does not fit
+/// one battery throws cut_sorties()'s InputError, or, when `warnings` is given, keeps no sorties and
+/// gets a warning there (plan() does so: the plan stays usable, the time/cost model falls back to
+/// eq. 16 for that UAV, and per-sortie exports refuse it).
+/// `router`: the no-fly zones' router in the plan's local frame when the caller has one (the engine).
+/// `ctx`: progress per UAV ("sorties") and a stop between sorties (Cancelled).
+void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr,
+                  const geometry::Router* router = nullptr, const Context* ctx = nullptr);
+
+/// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
+/// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts
+/// from the UAV's parts with the transit out and back given (`parts` holding only those two, either
+/// possibly empty: [out, back]). No sorties are accepted (a UAV whose leg did not fit one battery).
+/// Throws InputError naming `field`.
+void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& sorties,
+                     const std::string& field);
+
+/// A copy of `plan` in which UAV `index` flies only `sortie` (its parts; length, turns as the sortie's):
+/// what the exporters write as one sortie's mission.
+Plan sortie_plan(const Plan& plan, std::size_t index, const Sortie& sortie);
+
+/// Resume of UAV `index` after it reached coverage waypoint `last_reached` (global index; -1 = none):
+/// the rest of its current sortie, flown out from take-off at the transition altitude to the waypoint
+/// where coverage stopped, then the following sorties unchanged, in order. Indices of the result stay
+/// global (the first resumed sortie starts at last_reached, or at the next coverage part's first
+/// waypoint when last_reached ends a coverage part). Empty when nothing is left. Throws InputError
+/// naming "last_reached_waypoint" when it is out of range.
+std::vector<Sortie> resume_sorties(const Plan& plan, std::size_t index, int last_reached);
+
+/// The mission items of resume_sorties(), one mission per sortie (take-off, transit at the UAV's
+/// transition altitude, coverage, return), as the exports build them.
+std::vector<std::vector<exporting::MissionItem>> resume_items(
+    const Plan& plan, std::size_t index, int last_reached, const exporting::AltitudeOptions& altitude = {});
+
+}  // namespace uavcover::sorties
