@@ -8,6 +8,8 @@
 #include <limits>
 #include <numbers>
 
+#include <boost/geometry/index/rtree.hpp>
+
 #include "geodesy/local_frame.hpp"
 
 namespace uavcover::exporting {
@@ -83,11 +85,27 @@ std::vector<std::string> no_fly_violations(const Plan& plan, std::size_t index,
   if (zones.empty()) return out;
   const std::string& id = plan.mission.uavs.at(index).id;
   const LonLat home = plan.mission.uavs.at(index).start_resolved;
+  // an R-tree of the zones' lon/lat bounding boxes (x = lon, y = lat): a flight of 10^5 legs past 10^3
+  // zones tests each point against the few zones around it only
+  using Box = bg::model::box<Point>;
+  using Entry = std::pair<Box, std::size_t>;
+  std::vector<Entry> boxes;
+  for (std::size_t z = 0; z < zones.size(); ++z) {
+    if (zones[z].empty() || zones[z].front().size() < 4) continue;
+    Box b(Point(zones[z].front()[0].lon, zones[z].front()[0].lat),
+          Point(zones[z].front()[0].lon, zones[z].front()[0].lat));
+    for (const auto& v : zones[z].front()) bg::expand(b, Point(v.lon, v.lat));
+    boxes.emplace_back(b, z);
+  }
+  const bg::index::rtree<Entry, bg::index::rstar<16>> tree(boxes.begin(), boxes.end());
   auto zone_of = [&](LonLat p) -> int {
-    for (std::size_t z = 0; z < zones.size(); ++z)
-      if (!zones[z].empty() && zones[z].front().size() >= 4 && inside_ring(p, zones[z].front()))
-        return static_cast<int>(z);
-    return -1;
+    int best = -1;  // the lowest index, as a scan in order would find
+    for (auto it = tree.qbegin(bg::index::intersects(Point(p.lon, p.lat))); it != tree.qend(); ++it) {
+      const std::size_t z = it->second;
+      if ((best < 0 || static_cast<int>(z) < best) && inside_ring(p, zones[z].front()))
+        best = static_cast<int>(z);
+    }
+    return best;
   };
   // the places flown, in order, with a description each
   std::vector<std::pair<LonLat, std::string>> places{{home, "home"}};

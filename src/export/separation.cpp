@@ -5,12 +5,24 @@
 #include <cmath>
 #include <numbers>
 
+#include <boost/geometry/index/rtree.hpp>
+
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 
 namespace uavcover::exporting {
 
-RegionMap::RegionMap(const Plan& plan) {
+namespace bgi = bg::index;
+
+struct RegionMap::Index {
+  using Box = bg::model::box<Point>;
+  using Entry = std::pair<Box, std::pair<std::size_t, std::size_t>>;  // (UAV, polygon of its region)
+  bgi::rtree<Entry, bgi::rstar<16>> tree;
+};
+
+RegionMap::~RegionMap() = default;
+
+RegionMap::RegionMap(const Plan& plan) : index_(std::make_unique<Index>()) {
   regions_.resize(plan.uavs.size());
   for (std::size_t u = 0; u < plan.uavs.size(); ++u) {
     regions_[u] = plan.uavs[u].region_local;
@@ -25,19 +37,33 @@ RegionMap::RegionMap(const Plan& plan) {
       regions_[u].push_back(poly);
     }
   }
+  std::vector<Index::Entry> boxes;
+  for (std::size_t u = 0; u < regions_.size(); ++u)
+    for (std::size_t k = 0; k < regions_[u].size(); ++k)
+      boxes.emplace_back(bg::return_envelope<Index::Box>(regions_[u][k]), std::pair{u, k});
+  index_->tree = decltype(index_->tree)(boxes.begin(), boxes.end());
 }
 
 int RegionMap::owner(Point p) const {
-  for (std::size_t u = 0; u < regions_.size(); ++u)
-    if (!regions_[u].empty() && bg::within(p, regions_[u])) return static_cast<int>(u);
-  return -1;
+  // the lowest UAV index whose region holds p
+  int best = -1;
+  for (auto it = index_->tree.qbegin(bgi::intersects(p)); it != index_->tree.qend(); ++it) {
+    const auto [u, k] = it->second;
+    if ((best < 0 || static_cast<int>(u) < best) && bg::within(p, regions_[u][k])) best = static_cast<int>(u);
+  }
+  return best;
 }
 
 int RegionMap::entered_by(Point a, Point b, std::size_t except, double tol) const {
-  for (std::size_t u = 0; u < regions_.size(); ++u)
-    if (u != except && !regions_[u].empty() && geometry::segment_enters(regions_[u], a, b, tol))
-      return static_cast<int>(u);
-  return -1;
+  Index::Box box;
+  bg::envelope(bg::model::segment<Point>(a, b), box);
+  int best = -1;
+  for (auto it = index_->tree.qbegin(bgi::intersects(box)); it != index_->tree.qend(); ++it) {
+    const auto [u, k] = it->second;
+    if (u == except || (best >= 0 && static_cast<int>(u) >= best)) continue;
+    if (geometry::segment_enters(regions_[u][k], a, b, tol)) best = static_cast<int>(u);
+  }
+  return best;
 }
 
 std::vector<std::string> check_separation(const Plan& plan, const AltitudeOptions& options,

@@ -2,6 +2,7 @@
 // mission altitude, and no leg flown at mission altitude outside coverage enters another UAV's region.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ namespace uavcover::exporting {
 class RegionMap {
  public:
   explicit RegionMap(const Plan& plan);
+  ~RegionMap();
+  RegionMap(const RegionMap&) = delete;
+  RegionMap& operator=(const RegionMap&) = delete;
   /// UAV index whose region contains the point, -1 when none.
   [[nodiscard]] int owner(Point p) const;
   /// A UAV other than `except` whose region the segment a-b enters deeper than `tol`, else -1.
@@ -22,6 +26,8 @@ class RegionMap {
 
  private:
   std::vector<MultiPolygon> regions_;
+  struct Index;  ///< R-tree of the regions' polygons (bounding boxes), so that huge plans check fast
+  std::unique_ptr<Index> index_;
 };
 
 struct SeparationOptions {

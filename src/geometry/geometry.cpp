@@ -222,6 +222,10 @@ bool segment_enters(const MultiPolygon& obstacles, Point a, Point b, double tol)
   return false;
 }
 
+bool segment_enters(const Polygon& obstacle, Point a, Point b, double tol) {
+  return enters(obstacle, a, b, tol);
+}
+
 struct Router::Index {
   using Entry = std::pair<Box, std::size_t>;
   bgi::rtree<Entry, bgi::rstar<16>> tree;

@@ -37,6 +37,8 @@ bool segment_within(const MultiPolygon& set, Point a, Point b, double tol);
 
 /// True when segment a-b enters the interior of any of the `obstacles` deeper than `tol`.
 bool segment_enters(const MultiPolygon& obstacles, Point a, Point b, double tol);
+/// The same for one polygon.
+bool segment_enters(const Polygon& obstacle, Point a, Point b, double tol);
 
 /// Shortest polyline from a to b that does not enter `obstacles` (visibility graph over the
 /// obstacles' vertices offset outward by `clearance`). Returns {a, b} when the straight line

@@ -23,6 +23,7 @@ class DarpPlanner final : public Planner {
     opt.max_iterations = params.at("max_iterations").get<int>();
     opt.placement_evaluations = params.at("placement_evaluations").get<int>();
     opt.optimise_placement = params.at("optimise_placement").get<bool>();
+    opt.extend_legs = params.at("extend_legs").get<bool>();
     const darp::Output res = darp::run(in, opt, ctx);
 
     Assignment out;
@@ -89,6 +90,15 @@ PlannerInfo darp_planner_info() {
        {},
        {},
        "search the grid's shift and rotation (false: the grid at shift 0, rotation 0)"},
+      {"extend_legs",
+       T::Boolean,
+       true,
+       {},
+       {},
+       {},
+       "lengthen the loops' U-turns at the area's edge toward the boundary (strict: up to it; coverage: up "
+       "to "
+       "half a footprint past it; never into a no-fly zone)"},
   };
   info.supports = {.shares = true,
                    .no_fly_zones = true,

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "planners/darp/division.hpp"
+#include "planners/darp/extend.hpp"
 #include "planners/darp/grid.hpp"
 #include "planners/darp/placement.hpp"
 #include "planners/darp/regions.hpp"
@@ -267,8 +268,9 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   }
   ctx.report("darp", 1.0);
 
-  // ---- 5. STC loops, regions flown nearest-first ----
+  // ---- 5. STC loops, regions flown nearest-first, U-turns at the region's edge extended ----
   out.uavs.resize(U);
+  const LegExtender extender(prep, g, input.free);
   int planned = 0;
   for (int i = 0; i < U; ++i) {
     UavResult& ur = out.uavs[i];
@@ -297,6 +299,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
       flown[pick] = 1;
       if (ctx.stop_requested()) throw Cancelled();
       stc::Loop loop = stc::plan_loop(g, regions[i][pick], here);
+      if (options.extend_legs) extender.extend(loop.points);
       here = loop.points.front();
       ur.loops.push_back(std::move(loop.points));
       ++planned;

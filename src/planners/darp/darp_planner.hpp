@@ -28,6 +28,7 @@ struct Options {
   int max_iterations = 4000;         ///< per DARP attempt
   int placement_evaluations = 1500;  ///< grid placement budget (annealing steps in total)
   bool optimise_placement = true;
+  bool extend_legs = true;  ///< lengthen U-turns at the region's edge toward the boundary (extend.hpp)
 };
 
 struct Input {

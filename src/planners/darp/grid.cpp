@@ -86,7 +86,7 @@ inline double orient(double px, double py, double qx, double qy, double rx, doub
 }
 
 /// Closed segment intersection (touching counts).
-bool segments_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+bool segments_cross(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
   if (std::max(ax, bx) < std::min(cx, dx) || std::max(cx, dx) < std::min(ax, bx) ||
       std::max(ay, by) < std::min(cy, dy) || std::max(cy, dy) < std::min(ay, by))
     return false;
@@ -95,6 +95,26 @@ bool segments_meet(double ax, double ay, double bx, double by, double cx, double
   if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
   // degenerate: an endpoint on the other segment (bounding boxes overlap already)
   return d1 == 0 || d2 == 0 || d3 == 0 || d4 == 0;
+}
+
+/// Squared distance from (px, py) to segment a-b.
+double point_segment_d2(double px, double py, double ax, double ay, double bx, double by) {
+  const double vx = bx - ax, vy = by - ay, l2 = vx * vx + vy * vy;
+  const double t = l2 > 0 ? std::clamp(((px - ax) * vx + (py - ay) * vy) / l2, 0.0, 1.0) : 0.0;
+  const double dx = ax + t * vx - px, dy = ay + t * vy - py;
+  return dx * dx + dy * dy;
+}
+
+/// Segments a-b and c-d meet or come closer than `gap`.
+bool segments_meet(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy,
+                   double gap) {
+  if (std::max(ax, bx) + gap < std::min(cx, dx) || std::max(cx, dx) + gap < std::min(ax, bx) ||
+      std::max(ay, by) + gap < std::min(cy, dy) || std::max(cy, dy) + gap < std::min(ay, by))
+    return false;
+  if (segments_cross(ax, ay, bx, by, cx, cy, dx, dy)) return true;
+  const double g2 = gap * gap;
+  return point_segment_d2(ax, ay, cx, cy, dx, dy) < g2 || point_segment_d2(bx, by, cx, cy, dx, dy) < g2 ||
+         point_segment_d2(cx, cy, ax, ay, bx, by) < g2 || point_segment_d2(dx, dy, ax, ay, bx, by) < g2;
 }
 
 /// Coverage estimate on a KxK sample lattice per mega-cell (K <= 16, step dn/K, aligned with the
@@ -207,8 +227,8 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
 
   auto by_ya = [](const QEdge& a, const QEdge& b) { return a.ya < b.ya; };
   std::sort(fe.begin(), fe.end(), by_ya);
-  std::vector<QEdge> ne;  // no-fly zone edges: coverage mode only (strict mode scans the free area's)
-  if (prep.mode == Mode::Coverage && !prep.nfz_edges.empty()) {
+  std::vector<QEdge> ne;  // no-fly zone edges
+  if (!prep.nfz_edges.empty()) {
     ne = to_q(prep.nfz_edges, g);
     std::sort(ne.begin(), ne.end(), by_ya);
   }
@@ -224,7 +244,7 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
       }
   } else {
     scan(fe, g.x0 + 0.5 * dn, g.y0 + 0.5 * dn, dn, cols, rows, g.free);
-    if (!ne.empty()) {
+    if (!ne.empty()) {  // strict mode: the free area's scan excludes the zones already
       scan(ne, g.x0 + 0.5 * ds, g.y0 + 0.5 * ds, ds, scols, 2 * rows, sub);
       for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c) {
@@ -234,45 +254,50 @@ Grid rasterize(const Prepared& prep, double sx, double sy, double theta_deg) {
     }
   }
 
-  // Path segments that would cross an obstacle edge: block the cell (its own square) or drop
-  // the link (connectors to the right/upper neighbour).
-  const std::vector<QEdge>& barrier = prep.mode == Mode::Strict ? fe : ne;
+  // Path segments that would cross an obstacle edge, or come closer than `gap` to it: block the cell
+  // (its own square) or drop the link (connectors to the right/upper neighbour). Strict mode: the free
+  // area's edges (touching blocks), and in both modes the no-fly zones' edges kept kClearance away.
   std::vector<std::uint8_t> no_link(n, 0);  // bit 0 right, bit 1 up
   const double h = 0.5 * ds;
-  for (const auto& e : barrier) {
-    // an edge no longer than dn in |dx| + |dy| is one piece (skips hypot for the many small zones' edges)
-    const double dx = std::fabs(e.xb - e.xa), dy = std::fabs(e.yb - e.ya);
-    const int pieces =
-        dx + dy <= dn ? 1
-                      : std::max(1, static_cast<int>(std::ceil(std::hypot(e.xb - e.xa, e.yb - e.ya) / dn)));
-    for (int p = 0; p < pieces; ++p) {
-      const double t0 = static_cast<double>(p) / pieces, t1 = static_cast<double>(p + 1) / pieces;
-      const double ax = e.xa + t0 * (e.xb - e.xa), ay = e.ya + t0 * (e.yb - e.ya);
-      const double bx = e.xa + t1 * (e.xb - e.xa), by = e.ya + t1 * (e.yb - e.ya);
-      const double bx0 = std::min(ax, bx), bx1 = std::max(ax, bx), by0 = std::min(ay, by),
-                   by1 = std::max(ay, by);
-      const int c0 = std::max(0, static_cast<int>(std::ceil((bx0 - g.x0 - h) / dn - 1.0)));
-      const int c1 = std::min(cols - 1, static_cast<int>(std::floor((bx1 - g.x0 - h) / dn)));
-      const int r0 = std::max(0, static_cast<int>(std::ceil((by0 - g.y0 - h) / dn - 1.0)));
-      const int r1 = std::min(rows - 1, static_cast<int>(std::floor((by1 - g.y0 - h) / dn)));
-      for (int r = r0; r <= r1; ++r)
-        for (int c = c0; c <= c1; ++c) {
-          const int k = g.idx(r, c);
-          if (!g.free[k]) continue;
-          const double X = g.x0 + c * dn, Y = g.y0 + r * dn;
-          const double L = X + h, R = X + 3 * h, B = Y + h, T = Y + 3 * h;
-          auto hit = [&](double px, double py, double qx, double qy) {
-            return segments_meet(ax, ay, bx, by, px, py, qx, qy);
-          };
-          if (hit(L, B, R, B) || hit(L, T, R, T) || hit(L, B, L, T) || hit(R, B, R, T)) {
-            g.free[k] = 0;
-            continue;
+  const auto block = [&](const std::vector<QEdge>& barrier, double gap) {
+    for (const auto& e : barrier) {
+      // an edge no longer than dn in |dx| + |dy| is one piece (skips hypot for the many small zones' edges)
+      const double dx = std::fabs(e.xb - e.xa), dy = std::fabs(e.yb - e.ya);
+      const int pieces =
+          dx + dy <= dn ? 1
+                        : std::max(1, static_cast<int>(std::ceil(std::hypot(e.xb - e.xa, e.yb - e.ya) / dn)));
+      for (int p = 0; p < pieces; ++p) {
+        const double t0 = static_cast<double>(p) / pieces, t1 = static_cast<double>(p + 1) / pieces;
+        const double ax = e.xa + t0 * (e.xb - e.xa), ay = e.ya + t0 * (e.yb - e.ya);
+        const double bx = e.xa + t1 * (e.xb - e.xa), by = e.ya + t1 * (e.yb - e.ya);
+        const double bx0 = std::min(ax, bx), bx1 = std::max(ax, bx), by0 = std::min(ay, by),
+                     by1 = std::max(ay, by);
+        const double m = gap;
+        const int c0 = std::max(0, static_cast<int>(std::ceil((bx0 - m - g.x0 - h) / dn - 1.0)));
+        const int c1 = std::min(cols - 1, static_cast<int>(std::floor((bx1 + m - g.x0 - h) / dn)));
+        const int r0 = std::max(0, static_cast<int>(std::ceil((by0 - m - g.y0 - h) / dn - 1.0)));
+        const int r1 = std::min(rows - 1, static_cast<int>(std::floor((by1 + m - g.y0 - h) / dn)));
+        for (int r = r0; r <= r1; ++r)
+          for (int c = c0; c <= c1; ++c) {
+            const int k = g.idx(r, c);
+            if (!g.free[k]) continue;
+            const double X = g.x0 + c * dn, Y = g.y0 + r * dn;
+            const double L = X + h, R = X + 3 * h, B = Y + h, T = Y + 3 * h;
+            auto hit = [&](double px, double py, double qx, double qy) {
+              return segments_meet(ax, ay, bx, by, px, py, qx, qy, gap);
+            };
+            if (hit(L, B, R, B) || hit(L, T, R, T) || hit(L, B, L, T) || hit(R, B, R, T)) {
+              g.free[k] = 0;
+              continue;
+            }
+            if (hit(R, B, R + ds, B) || hit(R, T, R + ds, T)) no_link[k] |= 1;
+            if (hit(L, T, L, T + ds) || hit(R, T, R, T + ds)) no_link[k] |= 2;
           }
-          if (hit(R, B, R + ds, B) || hit(R, T, R + ds, T)) no_link[k] |= 1;
-          if (hit(L, T, L, T + ds) || hit(R, T, R, T + ds)) no_link[k] |= 2;
-        }
+      }
     }
-  }
+  };
+  if (prep.mode == Mode::Strict) block(fe, 0.0);
+  block(ne, kClearance);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const int k = g.idx(r, c);

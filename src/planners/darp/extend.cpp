@@ -1,0 +1,173 @@
+#include "planners/darp/extend.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <boost/geometry/index/rtree.hpp>
+
+namespace uavcover::darp {
+
+namespace {
+
+namespace bgi = bg::index;
+using Box = bg::model::box<Point>;
+using Seg = bg::model::segment<Point>;
+
+double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+
+}  // namespace
+
+struct LegExtender::Index {
+  using Entry = std::pair<Box, std::size_t>;
+  std::vector<grid::Edge> edges;
+  bgi::rtree<Entry, bgi::rstar<16>> tree;
+
+  explicit Index(std::vector<grid::Edge> e) : edges(std::move(e)) {
+    std::vector<Entry> boxes;
+    boxes.reserve(edges.size());
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      Box b;
+      bg::envelope(Seg(edges[i].a, edges[i].b), b);
+      boxes.emplace_back(b, i);
+    }
+    tree = decltype(tree)(boxes.begin(), boxes.end());
+  }
+
+  /// Segment a-b keeps at least `gap` from every edge.
+  [[nodiscard]] bool clear(Point a, Point b, double gap) const {
+    Box q;
+    bg::envelope(Seg(a, b), q);
+    q.min_corner() = Point(q.min_corner().x() - gap, q.min_corner().y() - gap);
+    q.max_corner() = Point(q.max_corner().x() + gap, q.max_corner().y() + gap);
+    const Seg s(a, b);
+    for (auto it = tree.qbegin(bgi::intersects(q)); it != tree.qend(); ++it) {
+      const auto& e = edges[it->second];
+      if (bg::comparable_distance(s, Seg(e.a, e.b)) < gap * gap) return false;
+    }
+    return true;
+  }
+
+  /// Distance along the ray p + t d (|d| = 1, 0 <= t <= tmax) to its first crossing of an edge; tmax
+  /// when none.
+  [[nodiscard]] double first_hit(Point p, Point d, double tmax) const {
+    const Point e(p.x() + tmax * d.x(), p.y() + tmax * d.y());
+    Box q;
+    bg::envelope(Seg(p, e), q);
+    double best = tmax;
+    for (auto it = tree.qbegin(bgi::intersects(q)); it != tree.qend(); ++it) {
+      const auto& ed = edges[it->second];
+      const double ux = ed.b.x() - ed.a.x(), uy = ed.b.y() - ed.a.y();
+      const double den = cross(d.x(), d.y(), ux, uy);
+      if (std::fabs(den) < 1e-12) continue;  // parallel
+      const double wx = ed.a.x() - p.x(), wy = ed.a.y() - p.y();
+      const double t = cross(wx, wy, ux, uy) / den, s = cross(wx, wy, d.x(), d.y()) / den;
+      if (t >= 0 && s >= 0 && s <= 1) best = std::min(best, t);
+    }
+    return best;
+  }
+};
+
+LegExtender::LegExtender(const grid::Prepared& prep, const grid::Grid& g, const MultiPolygon& free)
+    : g_(g),
+      free_(free),
+      mode_(prep.mode),
+      no_fly_(std::make_unique<Index>(prep.nfz_edges)),
+      boundary_(std::make_unique<Index>(prep.free_edges)) {}
+
+bool LegExtender::clear(Point a, Point b) const {
+  return no_fly_->clear(a, b, grid::kClearance) && (mode_ == Mode::Coverage || boundary_->clear(a, b, 0.01));
+}
+
+LegExtender::~LegExtender() = default;
+
+int LegExtender::extend(std::vector<Point>& loop) const {
+  const std::size_t m = loop.size() >= 2 ? loop.size() - 1 : 0;  // distinct vertices
+  if (m < 4) return 0;
+  const double ds = g_.ds, dn = g_.dn, w2 = 0.75 * ds, eps = 1e-6 * ds;
+  std::vector<char> moved(m, 0);
+  int count = 0;
+  auto at = [&](std::size_t i) -> Point& { return loop[i % m]; };
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::size_t ip = (i + m - 1) % m, iw = (i + 1) % m, in = (i + 2) % m;
+    if (moved[ip] || moved[i] || moved[iw] || moved[in]) continue;
+    const Point prev = at(ip), v = at(i), w = at(iw), next = at(in);
+    // a U-turn: prev -> v along d, v -> w across (length ds), w -> next along -d
+    const double lx = v.x() - prev.x(), ly = v.y() - prev.y(), ll = std::hypot(lx, ly);
+    if (ll < eps) continue;
+    const Point d(lx / ll, ly / ll);
+    const double cx = w.x() - v.x(), cy = w.y() - v.y();
+    if (std::fabs(std::hypot(cx, cy) - ds) > eps || std::fabs(cx * d.x() + cy * d.y()) > eps) continue;
+    const double rx = next.x() - w.x(), ry = next.y() - w.y(), rl = std::hypot(rx, ry);
+    if (rl < eps || std::fabs(rx / rl + d.x()) > 1e-6 || std::fabs(ry / rl + d.y()) > 1e-6) continue;
+    // the turn's mega-cell, and the one beyond it in direction d
+    const Point mq = g_.local_to_q(Point((v.x() + w.x()) / 2, (v.y() + w.y()) / 2));
+    const int r = static_cast<int>(std::floor((mq.y() - g_.y0) / dn));
+    const int c = static_cast<int>(std::floor((mq.x() - g_.x0) / dn));
+    const double dqx = g_.cos_t * d.x() + g_.sin_t * d.y(), dqy = -g_.sin_t * d.x() + g_.cos_t * d.y();
+    const int dc = static_cast<int>(std::lround(dqx)), dr = static_cast<int>(std::lround(dqy));
+    if (std::abs(dc) + std::abs(dr) != 1) continue;
+    auto is_free = [&](int rr, int cc) {
+      return rr >= 0 && cc >= 0 && rr < g_.rows && cc < g_.cols && g_.free[g_.idx(rr, cc)];
+    };
+    if (!is_free(r, c)) continue;
+    // both turn vertices in that cell (a U-turn along one of its sides, not across a link)
+    auto cell_of = [&](Point p) {
+      const Point q = g_.local_to_q(p);
+      return std::pair{static_cast<int>(std::floor((q.y() - g_.y0) / dn)),
+                       static_cast<int>(std::floor((q.x() - g_.x0) / dn))};
+    };
+    if (cell_of(v) != std::pair{r, c} || cell_of(w) != std::pair{r, c}) continue;
+    const int r1 = r + dr, c1 = c + dc;
+    if (is_free(r1, c1)) continue;
+    int free_nb = 0;
+    for (const auto& [ar, ac] : std::array<std::pair<int, int>, 4>{{{1, 0}, {-1, 0}, {0, 1}, {0, -1}}})
+      free_nb += is_free(r1 + ar, c1 + ac);
+    // the turn sits ds/2 inside its cell's edge: the whole next cell, or its triangle facing this cell
+    const double cap = free_nb == 1 ? 0.5 * ds + dn - 2 * grid::kClearance : 0.95 * ds;
+    const Point n(-d.y(), d.x());
+    // how far each leg end must move for the footprint to reach the boundary across its lane (the
+    // neighbouring legs, ds apart, cover the rest of the footprint's width)
+    const double lane = 0.45 * ds;
+    auto wanted = [&](Point p) {
+      const double centre = boundary_->first_hit(p, d, cap + w2);
+      double need = 0;
+      for (double o : {-lane, -0.5 * lane, 0.0, 0.5 * lane, lane}) {
+        const Point q(p.x() + o * n.x(), p.y() + o * n.y());
+        // a sample already outside (a corner of the area beside the leg) needs nothing
+        if (o == 0.0 || bg::within(q, free_))
+          need = std::max(need, boundary_->first_hit(q, d, cap + w2) - w2);
+      }
+      double t = std::min({need, cap, centre + (mode_ == Mode::Coverage ? w2 : 0.0)});
+      // keep the clearance: shorten until the extension is clear (the clear lengths form an interval)
+      auto ok = [&](double s) { return s <= 0 || clear(p, Point(p.x() + s * d.x(), p.y() + s * d.y())); };
+      if (t > 0 && !ok(t)) {
+        double lo = 0, hi = t;
+        for (int k = 0; k < 20; ++k) {
+          const double mid = 0.5 * (lo + hi);
+          (ok(mid) ? lo : hi) = mid;
+        }
+        t = lo;
+      }
+      return std::max(0.0, t);
+    };
+    double tv = wanted(v), tw = wanted(w);
+    if (tv < 0.01 * ds && tw < 0.01 * ds) continue;
+    auto moved_to = [&](Point p, double t) { return Point(p.x() + t * d.x(), p.y() + t * d.y()); };
+    bool ok = clear(moved_to(v, tv), moved_to(w, tw));
+    if (!ok) {
+      tv = tw = std::min(tv, tw);
+      for (int k = 0; k < 6 && !(ok = clear(moved_to(v, tv), moved_to(w, tw))); ++k) tv = tw = 0.5 * tv;
+    }
+    if (!ok || (tv < 0.01 * ds && tw < 0.01 * ds)) continue;
+    at(i) = moved_to(v, tv);
+    at(iw) = moved_to(w, tw);
+    moved[i] = moved[iw] = 1;
+    ++count;
+  }
+  loop.back() = loop.front();
+  return count;
+}
+
+}  // namespace uavcover::darp

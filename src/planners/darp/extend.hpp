@@ -1,0 +1,44 @@
+// Leg extension (issue 16): an STC loop runs through sub-cell centres, so a band along the area's
+// boundary (the partial mega-cells the grid leaves out) stays uncovered. Where a loop makes a U-turn
+// at its region's edge and the mega-cell beyond is not free, both legs of the U-turn are lengthened
+// along their own direction (the turn's two vertices move; no vertex is added, so the turn count
+// stays), as far as the swept footprint (w = 1.5 ds) needs to reach the boundary:
+//   strict mode:   never past the free area's boundary (kept grid::kClearance inside it);
+//   coverage mode: up to half a footprint (0.75 ds) past the boundary, never into a no-fly zone.
+// The moved turn stays inside the part of the non-free cell that its own cell claims: the whole cell
+// when it is that cell's only free neighbour, otherwise the triangle facing it (depth < ds / 2), so that
+// extensions from different cells (and UAVs) never meet.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "planners/darp/grid.hpp"
+
+namespace uavcover::darp {
+
+class LegExtender {
+ public:
+  /// `free`: the free area `prep` was made from.
+  LegExtender(const grid::Prepared& prep, const grid::Grid& g, const MultiPolygon& free);
+  ~LegExtender();
+  LegExtender(const LegExtender&) = delete;
+  LegExtender& operator=(const LegExtender&) = delete;
+
+  /// Extends the U-turns of one closed loop (last == first, local frame) in place; returns how many
+  /// turns moved.
+  int extend(std::vector<Point>& loop) const;
+
+ private:
+  struct Index;
+  const grid::Grid& g_;
+  const MultiPolygon& free_;
+  Mode mode_;
+  /// Whether segment a-b keeps grid::kClearance from the no-fly zones and, in strict mode, stays
+  /// inside the free area.
+  [[nodiscard]] bool clear(Point a, Point b) const;
+  std::unique_ptr<Index> no_fly_;    ///< the no-fly zones' edges
+  std::unique_ptr<Index> boundary_;  ///< the free area's edges
+};
+
+}  // namespace uavcover::darp
