@@ -27,7 +27,9 @@ TEST(Compare, EveryPlannerIsPlannedAndEvaluatedTheSameWay) {
     EXPECT_EQ(r.plan.planner, r.planner);
     EXPECT_EQ(r.evaluation.footprint_m, 15.0) << "the mission's footprint (1.5 ds) for every planner";
     EXPECT_GT(r.evaluation.coverage.total.poc, 0.9) << r.planner;
-    EXPECT_LT(r.max_share_deviation, 0.05) << r.planner;
+    // milp assigns whole lines: the rectangle's 10 lines of 200 m among 3 UAVs are 3/3/4, a share off
+    // by at most one line (1/10); the others split finer
+    EXPECT_LT(r.max_share_deviation, r.planner == "milp" ? 0.1 : 0.05) << r.planner;
   }
   const auto j = usecases::compare_json(c);
   ASSERT_EQ(j.at("planners").size(), c.rows.size());
