@@ -67,6 +67,11 @@ struct ParamSpec {
   std::string description;
 };
 
+/// A parameter's schema in one call (for the planners' PlannerInfo).
+ParamSpec param(std::string name, ParamSpec::Type type, nlohmann::json default_value,
+                std::optional<double> min, std::optional<double> max, std::string description,
+                std::vector<std::string> choices = {});
+
 /// What a planner can do; the engine refuses (or warns about) missions asking for more.
 struct Capabilities {
   bool shares = true;        ///< honours unequal shares (false: refused when shares differ)

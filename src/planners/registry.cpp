@@ -92,6 +92,20 @@ nlohmann::json check_value(const ParamSpec& spec, const nlohmann::json& v) {
 
 }  // namespace
 
+ParamSpec param(std::string name, ParamSpec::Type type, nlohmann::json default_value,
+                std::optional<double> min, std::optional<double> max, std::string description,
+                std::vector<std::string> choices) {
+  ParamSpec s;
+  s.name = std::move(name);
+  s.type = type;
+  s.default_value = std::move(default_value);
+  s.min = min;
+  s.max = max;
+  s.choices = std::move(choices);
+  s.description = std::move(description);
+  return s;
+}
+
 const std::vector<PlannerInfo>& registry() {
   static const std::vector<PlannerInfo> all = builtin();
   return all;

@@ -5,6 +5,7 @@
 
 #include "engine/local_mission.hpp"
 #include "geometry/geometry.hpp"
+#include "support/shapes.hpp"
 #include "uavcover/uavcover.hpp"
 
 using namespace uavcover;
@@ -150,20 +151,7 @@ namespace {
 // 10 000 small zones (a 100 x 100 lattice of 2 m squares in a 2 km field): DARP plans, and no path
 // segment enters a zone.
 TEST(ManyZones, TenThousandZonesPlanAndPathsAvoidThem) {
-  Mission m;
-  m.spacing_m = 40.0;
-  const double lat0 = 45.0, lon0 = 9.0, mlat = 1.0 / 111320.0, mlon = mlat / std::cos(lat0 * M_PI / 180);
-  auto rect = [&](double x0, double y0, double x1, double y1) {
-    return GeoPolygon{GeoRing{{lon0 + x0 * mlon, lat0 + y0 * mlat},
-                              {lon0 + x1 * mlon, lat0 + y0 * mlat},
-                              {lon0 + x1 * mlon, lat0 + y1 * mlat},
-                              {lon0 + x0 * mlon, lat0 + y1 * mlat},
-                              {lon0 + x0 * mlon, lat0 + y0 * mlat}}};
-  };
-  m.area.push_back(rect(0, 0, 2000, 2000));
-  for (int i = 0; i < 100; ++i)
-    for (int j = 0; j < 100; ++j)
-      m.no_fly_zones.push_back(rect(i * 20 + 9, j * 20 + 9, i * 20 + 11, j * 20 + 11));
+  Mission m = uavcover::testing::zone_lattice_mission(2000, 100, 20, 2, 40.0);
   for (int i = 0; i < 3; ++i) {
     Uav u;
     u.id = "u" + std::to_string(i);
@@ -171,7 +159,7 @@ TEST(ManyZones, TenThousandZonesPlanAndPathsAvoidThem) {
     // one battery each: this test is about planning and transits over 10 000 zones; battery sorties
     // (each sortie's return routed through the lattice) are tested in tests/sorties on 400 zones
     u.endurance_min = 10000.0;
-    u.start = LonLat{lon0 + (0.5 + 20 * i) * mlon, lat0 + 0.5 * mlat};
+    u.start = uavcover::testing::zone_lattice_point(0.5 + 20 * i, 0.5);
     m.uavs.push_back(u);
   }
   const Plan p = plan(m);

@@ -20,6 +20,7 @@
 #include "io/plan_io.hpp"
 #include "json/strict.hpp"
 #include "support/files.hpp"
+#include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/study.hpp"
@@ -515,26 +516,13 @@ namespace {
 // A field strewn with 400 small no-fly zones (a 20 x 20 lattice of 4 m squares every 40 m) and batteries
 // of a few minutes: every sortie's transits out and back go around the zones, and the sorties stay valid.
 TEST(Sorties, TransitsOfEverySortieAvoidManyZones) {
-  Mission m;
-  m.spacing_m = 25.0;
-  const double lat0 = 45.0, lon0 = 9.0, mlat = 1.0 / 111320.0, mlon = mlat / std::cos(lat0 * M_PI / 180);
-  auto rect = [&](double x0, double y0, double x1, double y1) {
-    return GeoPolygon{GeoRing{{lon0 + x0 * mlon, lat0 + y0 * mlat},
-                              {lon0 + x1 * mlon, lat0 + y0 * mlat},
-                              {lon0 + x1 * mlon, lat0 + y1 * mlat},
-                              {lon0 + x0 * mlon, lat0 + y1 * mlat},
-                              {lon0 + x0 * mlon, lat0 + y0 * mlat}}};
-  };
-  m.area.push_back(rect(0, 0, 800, 800));
-  for (int i = 0; i < 20; ++i)
-    for (int j = 0; j < 20; ++j)
-      m.no_fly_zones.push_back(rect(i * 40 + 18, j * 40 + 18, i * 40 + 22, j * 40 + 22));
+  Mission m = testing::zone_lattice_mission(800, 20, 40, 4, 25.0);
   for (int i = 0; i < 2; ++i) {
     Uav u;
     u.id = "u" + std::to_string(i);
     u.share = 0.5;
     u.endurance_min = 9.0;
-    u.start = LonLat{lon0 + (1.0 + 790 * i) * mlon, lat0 + 1.0 * mlat};
+    u.start = testing::zone_lattice_point(1.0 + 790 * i, 1.0);
     m.uavs.push_back(u);
   }
   const Plan p = plan(m);

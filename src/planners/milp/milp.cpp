@@ -474,19 +474,6 @@ class MilpPlanner final : public Planner {
   }
 };
 
-ParamSpec param(std::string name, ParamSpec::Type type, nlohmann::json def, std::optional<double> lo,
-                std::optional<double> hi, std::string description, std::vector<std::string> choices = {}) {
-  ParamSpec s;
-  s.name = std::move(name);
-  s.type = type;
-  s.default_value = std::move(def);
-  s.min = lo;
-  s.max = hi;
-  s.description = std::move(description);
-  s.choices = std::move(choices);
-  return s;
-}
-
 }  // namespace
 
 PlannerInfo milp_planner_info() {

@@ -153,14 +153,7 @@ class SpiralPlanner final : public Planner {
 
 ParamSpec number(std::string name, json def, std::optional<double> lo, std::optional<double> hi,
                  std::string what, ParamSpec::Type type = ParamSpec::Type::Number) {
-  ParamSpec s;
-  s.name = std::move(name);
-  s.type = type;
-  s.default_value = std::move(def);
-  s.min = lo;
-  s.max = hi;
-  s.description = std::move(what);
-  return s;
+  return param(std::move(name), type, std::move(def), lo, hi, std::move(what));
 }
 
 }  // namespace
