@@ -11,7 +11,7 @@
 
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
-#include "support/files.hpp"
+#include "support/examples.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -20,14 +20,7 @@ namespace {
 
 using flight::Track;
 
-const Plan& olive_grove() {
-  static const Plan p = [] {
-    const Mission m = parse_mission(
-        testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json"));
-    return plan(m);
-  }();
-  return p;
-}
+const Plan& olive_grove() { return testing::olive_grove_plan(); }
 
 /// What a vehicle flying the plan reports, sampled every `step_m`: coverage parts at `coverage_alt`,
 /// the inside of transit parts at the UAV's transition altitude (`transit_alt` < 0) or `transit_alt`.
@@ -141,29 +134,22 @@ TEST(FlownCoverage, OverlayIsTheLatticeAndItsBoundsHoldTheArea) {
     }
 }
 
-std::string field_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.field();
-  }
-  return "(no InputError)";
-}
+using testing::input_error_field;
 
 TEST(FlownCoverage, RefusesBadTracksNamingTheField) {
   const Plan& p = olive_grove();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::array<double, 3> ok{22.905, 40.602, 50.0};
-  EXPECT_EQ(field_of([&] { flight::flown_coverage(p, {{"zulu", {ok}}}); }), "tracks[0].uav");
-  EXPECT_EQ(field_of([&] {
+  EXPECT_EQ(input_error_field([&] { flight::flown_coverage(p, {{"zulu", {ok}}}); }), "tracks[0].uav");
+  EXPECT_EQ(input_error_field([&] {
               flight::flown_coverage(p, {{"alpha", {ok}}, {"bravo", {ok, {nan, 40.6, 50}}}});
             }),
             "tracks[1].samples[1]");
-  EXPECT_EQ(field_of([&] {
+  EXPECT_EQ(input_error_field([&] {
               flight::flown_coverage(p, {{"alpha", {{22.9, 91.0, 50.0}}}});
             }),
             "tracks[0].samples[0]");
-  EXPECT_EQ(field_of([&] {
+  EXPECT_EQ(input_error_field([&] {
               flight::flown_coverage(
                   p, {{"alpha", std::vector<std::array<double, 3>>(flight::kMaxTrackSamples + 1, ok)}});
             }),
