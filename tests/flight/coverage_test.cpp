@@ -14,6 +14,7 @@
 #include "support/examples.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover {
 namespace {
@@ -125,6 +126,12 @@ TEST(FlownCoverage, OverlayIsTheLatticeAndItsBoundsHoldTheArea) {
   EXPECT_EQ(fc.overlay.media_type, "image/png");
   EXPECT_EQ(be32(fc.overlay.bytes, 16), static_cast<std::uint32_t>(planned.lattice_cols));
   EXPECT_EQ(be32(fc.overlay.bytes, 20), static_cast<std::uint32_t>(planned.lattice_rows));
+  // the same box as the plan's own heatmap overlay (the server's heatmap_bounds)
+  usecases::OutputOptions oo;
+  oo.heatmap_overlay = true;
+  const auto outputs = usecases::plan_outputs(p, oo);
+  EXPECT_EQ(outputs.heatmap_bounds,
+            nlohmann::json({{fc.bounds.south, fc.bounds.west}, {fc.bounds.north, fc.bounds.east}}));
   for (const auto& poly : p.mission.area)
     for (const auto& v : poly.front()) {
       EXPECT_LE(fc.bounds.south, v.lat);
