@@ -96,11 +96,13 @@ void run(const std::string& name, const Mission& m) {
   for (const auto& t : tracks) samples += t.second.size();
   flight::FlownCoverage fc;
   const double ms = best_ms([&] { fc = flight::flown_coverage(p, tracks); }, 3);
+  const auto planned = evaluation::evaluate_plan(p);
+  const double again_ms = best_ms([&] { fc = flight::flown_coverage(p, planned, tracks); }, 3);
   std::printf(
       "flown coverage of the whole flights at 10 Hz: %zu samples (%zu in the band), lattice %d x %d, "
-      "flown PoC %.4f, planned PoC %.4f, %.0f ms\n",
+      "flown PoC %.4f, planned PoC %.4f, %.0f ms (%.0f ms with the plan's evaluation given)\n",
       samples, fc.samples_in_band, fc.coverage.lattice_cols, fc.coverage.lattice_rows, fc.flown_poc,
-      fc.planned_poc, ms);
+      fc.planned_poc, ms, again_ms);
 }
 
 }  // namespace

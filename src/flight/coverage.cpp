@@ -43,6 +43,13 @@ void check_tracks(const Plan& plan, const std::vector<Track>& tracks) {
 }  // namespace
 
 FlownCoverage flown_coverage(const Plan& plan, const std::vector<Track>& tracks, const Context& ctx) {
+  evaluation::EvaluateOptions options;
+  options.coverage.context = &ctx;
+  return flown_coverage(plan, evaluation::evaluate_plan(plan, options), tracks, ctx);
+}
+
+FlownCoverage flown_coverage(const Plan& plan, const evaluation::Evaluation& planned,
+                             const std::vector<Track>& tracks, const Context& ctx) {
   check_tracks(plan, tracks);
   const geodesy::LocalFrame frame(plan.origin);
   const double altitude = plan.mission.altitude_m;
@@ -74,12 +81,10 @@ FlownCoverage flown_coverage(const Plan& plan, const std::vector<Track>& tracks,
     flights.push_back(std::move(flight));
   }
 
-  // the plan's evaluation and the same lattice for the tracks (same free area, footprint and options)
-  evaluation::EvaluateOptions options;
-  options.coverage.context = &ctx;
-  const evaluation::Evaluation planned = evaluation::evaluate_plan(plan, options);
+  // the plan's lattice for the tracks: the same free area, footprint and options
   out.planned_poc = planned.coverage.total.poc;
-  evaluation::CoverageOptions co = options.coverage;
+  evaluation::CoverageOptions co;
+  co.context = &ctx;
   co.footprint_m = planned.footprint_m;
   out.coverage = evaluation::evaluate_coverage(planned.free, flights, co);
   out.flown_poc = out.coverage.total.poc;

@@ -44,4 +44,10 @@ struct FlownCoverage {
 /// position) or "tracks" (more than kMaxTrackSamples). ctx: stops (Cancelled).
 FlownCoverage flown_coverage(const Plan& plan, const std::vector<Track>& tracks, const Context& ctx = {});
 
+/// The same with the plan's evaluation (evaluation::evaluate_plan(plan)) computed once by the caller,
+/// for a flight that updates its flown coverage as the tracks grow (bench_reassign: 390 -> 334 ms on
+/// the olive grove, 264 -> 160 ms on the paper's ROI 1).
+FlownCoverage flown_coverage(const Plan& plan, const evaluation::Evaluation& planned,
+                             const std::vector<Track>& tracks, const Context& ctx = {});
+
 }  // namespace uavcover::flight
