@@ -1,6 +1,6 @@
 // The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
 // planner's split of the same problem.
-//   bench_milp [time_limit_s]   (per MILP; default 10)
+//   bench_milp [time_limit_s [model]]   (per MILP; default 10 s; model exact|contracted|auto, default auto)
 // Scenarios (local metres, spacing as given):
 //   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
 //   three-areas: 13 segments in 3 polygons (26 waypoints) and 2 depots = 28 nodes, 2 UAVs (paper: 4.61 s)
@@ -68,12 +68,17 @@ struct Scenario {
 
 int main(int argc, char** argv) {
   const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
+  const std::string model = argc > 2 ? argv[2] : "auto";
   std::vector<Scenario> sc;
   // the paper's sizes in one joint MILP (all UAVs, every segment), searched up to the time limit
-  const nlohmann::json paper = {
-      {"max_uavs_per_milp", 10}, {"max_segments", 60}, {"node_limit", 10000000}, {"time_limit_s", limit}};
+  const nlohmann::json paper = {{"max_uavs_per_milp", 10},
+                                {"max_segments", 60},
+                                {"node_limit", 10000000},
+                                {"time_limit_s", limit},
+                                {"model", model}};
   // large ones clustered by share (the default), each cluster's MILP searched up to the time limit
-  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}};
+  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}, {"model", model}};
+  const nlohmann::json defaults = {{"model", model}};
   {
     MultiPolygon a;
     a.push_back(poly({{10, -16}, {40, -20}, {48, 4}, {32, 17}, {8, 10}}));
@@ -92,9 +97,9 @@ int main(int argc, char** argv) {
     std::vector<Point> s5, s10;
     for (int k = 0; k < 5; ++k) s5.push_back({-50.0, 200.0 + 400.0 * k});
     for (int k = 0; k < 10; ++k) s10.push_back({-50.0, 100.0 + 200.0 * k});
-    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), nlohmann::json::object()});
+    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), defaults});
     sc.push_back({"200 segments, 5 UAVs", problem(a, s5, 10.0), large});
-    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), nlohmann::json::object()});
+    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), defaults});
     sc.push_back({"1000 segments, 10 UAVs", problem(a, s10, 2.0), large});
   }
   const PlannerInfo* milp = find("milp");

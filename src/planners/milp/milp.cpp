@@ -41,7 +41,17 @@ struct Params {
   long long node_limit = 100;
   double time_limit_s = 10.0;
   double nearby_penalty = 10.0;
+  std::string model = "auto";
 };
+
+/// `model: auto` uses the exact model up to this many pairs (waypoint pairs: segments or blocks).
+constexpr int kExactMaxPairs = 4;
+
+milp::Formulation formulation(const std::string& model, int pairs) {
+  if (model == "exact") return milp::Formulation::Exact;
+  if (model == "contracted") return milp::Formulation::Contracted;
+  return pairs <= kExactMaxPairs ? milp::Formulation::Exact : milp::Formulation::Contracted;
+}
 
 Params read_params(const nlohmann::json& j) {
   Params p;
@@ -58,6 +68,7 @@ Params read_params(const nlohmann::json& j) {
   num("node_limit", p.node_limit);
   num("time_limit_s", p.time_limit_s);
   num("nearby_penalty", p.nearby_penalty);
+  if (j.contains("model") && j["model"].is_string()) p.model = j["model"].get<std::string>();
   return p;
 }
 
@@ -356,6 +367,7 @@ class MilpPlanner final : public Planner {
       milp::Limits lim;
       lim.max_nodes = par.node_limit;
       lim.max_seconds = par.time_limit_s;
+      lim.model = formulation(par.model, static_cast<int>(cl.items.size()));
       lim.stage = C > 1 ? fmt::format("{} {}/{}", kStage, g + 1, C) : std::string(kStage);
       lim.f0 = 0.05 + 0.85 * g / C;
       lim.f1 = 0.05 + 0.85 * (g + 1) / C;
@@ -422,6 +434,7 @@ class MilpPlanner final : public Planner {
                                                             [](int a, const Item& it) {
                                                               return a + static_cast<int>(it.legs.size());
                                                             })},
+                               {"model", r.model},
                                {"nodes", in.nodes()},
                                {"variables", r.variables},
                                {"binaries", r.binaries},
@@ -504,6 +517,11 @@ PlannerInfo milp_planner_info() {
       param("time_limit_s", T::Number, 10.0, 0.01, 3600.0,
             "CBC's time per MILP (the mission's time limit applies too); reaching it returns the best "
             "assignment with its gap and marks the plan incomplete"),
+      param("model", T::String, "auto", std::nullopt, std::nullopt,
+            "MILP formulation: `exact` (the paper's, one node per waypoint with the back-and-forth "
+            "constraint), `contracted` (one node per segment and orientation, same optimum, fewer rows) or "
+            "`auto` (exact up to 4 waypoint pairs, contracted beyond)",
+            {"exact", "contracted", "auto"}),
       param("nearby_penalty", T::Number, 10.0, 1.0, 100.0,
             "Factor on the cost of edges between waypoints numbered more than 2 apart (the paper's "
             "non-nearby penalty)"),

@@ -64,13 +64,13 @@ class Handler final : public CbcEventHandler {
   Watch* w_;
 };
 
-struct Columns {
-  int n = 0;             // nodes
-  std::vector<int> arc;  // (k * n + i) * n + j -> column or -1
-  std::vector<int> u;    // node -> column (waypoints only)
-  int s = -1;
+/// The model handed to CBC: columns, then rows.
+struct Lp {
   std::vector<double> obj, lb, ub;
   std::vector<bool> integer;
+  CoinPackedMatrix mat{false, 0, 0};
+  std::vector<double> rlo, rhi;
+  std::vector<int> first;  ///< columns CBC branches on first
   int add(double o, double l, double h, bool is_int) {
     obj.push_back(o);
     lb.push_back(l);
@@ -78,16 +78,307 @@ struct Columns {
     integer.push_back(is_int);
     return static_cast<int>(obj.size()) - 1;
   }
-  [[nodiscard]] int x(int k, int i, int j) const {
-    return arc[(static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)) *
-                   static_cast<std::size_t>(n) +
-               static_cast<std::size_t>(j)];
+  void begin_rows() { mat.setDimensions(0, static_cast<int>(obj.size())); }
+  void row(const CoinPackedVector& v, double lo, double hi) {
+    mat.appendRow(v);
+    rlo.push_back(lo);
+    rhi.push_back(hi);
   }
+};
+
+/// Arc columns x_kij (-1: no such arc).
+struct Arcs {
+  int n = 0;
+  std::vector<int> col;
+  [[nodiscard]] std::size_t at(int k, int i, int j) const {
+    return (static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)) *
+               static_cast<std::size_t>(n) +
+           static_cast<std::size_t>(j);
+  }
+  [[nodiscard]] int operator()(int k, int i, int j) const { return col[at(k, i, j)]; }
 };
 
 bool uses(int m, int k, int node) { return node >= m || node == k; }
 
+/// The other end of the pair of waypoint `node`.
+int mate(int m, int node) { return m + ((node - m) ^ 1); }
+
+/// A built model: its columns and rows, the warm start as a column vector, and how to read routes
+/// back from a CBC solution.
+struct Built {
+  Lp lp;
+  Arcs x;
+  std::vector<double> x0;
+  bool contracted = false;
+};
+
+std::size_t pk(int p, int k, int m) {
+  return static_cast<std::size_t>(p) * static_cast<std::size_t>(m) + static_cast<std::size_t>(k);
+}
+
+/// The paper's model with the assignment variables y_pk (see model.hpp).
+Built build_exact(const Instance& in, const Routes& start) {
+  const int m = in.uavs, n = in.nodes(), w = 2 * in.pairs;
+  Built b;
+  Lp& lp = b.lp;
+  Arcs& x = b.x;
+  x.n = n;
+  x.col.assign(static_cast<std::size_t>(m) * static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
+  for (int k = 0; k < m; ++k)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        if (i == j || !uses(m, k, i) || !uses(m, k, j) || (i < m && j < m)) continue;
+        x.col[x.at(k, i, j)] = lp.add(in.c(i, j) / m, 0.0, 1.0, true);
+      }
+  // assignment variables y_pk = x_abk + x_bak (UAV k flies pair p): the same model, but branching on
+  // them decides who flies what before the order (without them CBC did not prove the 8-line, 3-UAV
+  // test instance in 20 s; with them in about 12 s under load)
+  std::vector<int> ycol(static_cast<std::size_t>(in.pairs) * static_cast<std::size_t>(m));
+  for (int p = 0; p < in.pairs; ++p)
+    for (int k = 0; k < m; ++k) ycol[pk(p, k, m)] = lp.add(0.0, 0.0, 1.0, true);
+  lp.first = ycol;
+  auto y = [&](int p, int k) { return ycol[pk(p, k, m)]; };
+  std::vector<int> u(static_cast<std::size_t>(n), -1);
+  for (int i = m; i < n; ++i) u[static_cast<std::size_t>(i)] = lp.add(0.0, 1.0, w, false);
+  const int s = lp.add(1.0, 0.0, COIN_DBL_MAX, false);
+
+  lp.begin_rows();
+  // (3) every waypoint entered once
+  for (int j = m; j < n; ++j) {
+    CoinPackedVector v;
+    for (int k = 0; k < m; ++k)
+      for (int i = 0; i < n; ++i)
+        if (i != j && x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
+    lp.row(v, 1.0, 1.0);
+  }
+  // (4) flow conservation
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < n; ++j) {
+      if (!uses(m, k, j)) continue;
+      CoinPackedVector v;
+      for (int i = 0; i < n; ++i) {
+        if (i == j) continue;
+        if (x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
+        if (x(k, j, i) >= 0) v.insert(x(k, j, i), -1.0);
+      }
+      lp.row(v, 0.0, 0.0);
+    }
+  // (5) MTZ among the waypoints
+  for (int i = m; i < n; ++i)
+    for (int j = m; j < n; ++j) {
+      if (i == j) continue;
+      CoinPackedVector v;
+      v.insert(u[static_cast<std::size_t>(i)], 1.0);
+      v.insert(u[static_cast<std::size_t>(j)], -1.0);
+      for (int k = 0; k < m; ++k) v.insert(x(k, i, j), w);
+      lp.row(v, -COIN_DBL_MAX, w - 1.0);
+    }
+  // (6) every UAV leaves its depot once (at most once when there are fewer pairs than UAVs)
+  for (int k = 0; k < m; ++k) {
+    CoinPackedVector v;
+    for (int j = m; j < n; ++j) v.insert(x(k, k, j), 1.0);
+    lp.row(v, in.pairs >= m ? 1.0 : 0.0, 1.0);
+  }
+  // (7) back-and-forth along each pair, by one UAV: sum_k y_pk = 1 with y_pk = x_abk + x_bak, and UAV
+  // k enters the pair from outside exactly when it flies it
+  for (int p = 0; p < in.pairs; ++p) {
+    const int a = m + 2 * p, bb = a + 1;
+    CoinPackedVector v;
+    for (int k = 0; k < m; ++k) v.insert(y(p, k), 1.0);
+    lp.row(v, 1.0, 1.0);
+    for (int k = 0; k < m; ++k) {
+      CoinPackedVector along, enter;
+      along.insert(x(k, a, bb), 1.0);
+      along.insert(x(k, bb, a), 1.0);
+      along.insert(y(p, k), -1.0);
+      lp.row(along, 0.0, 0.0);
+      for (int i = 0; i < n; ++i)
+        for (int j : {a, bb})
+          if (i != a && i != bb && x(k, i, j) >= 0) enter.insert(x(k, i, j), 1.0);
+      enter.insert(y(p, k), -1.0);
+      lp.row(enter, 0.0, 0.0);
+    }
+  }
+  // (9) weighted distance of each UAV below s
+  for (int k = 0; k < m; ++k) {
+    CoinPackedVector v;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (i != j && x(k, i, j) >= 0) v.insert(x(k, i, j), in.c(i, j));
+    v.insert(s, -in.weight[static_cast<std::size_t>(k)]);
+    lp.row(v, -COIN_DBL_MAX, 0.0);
+  }
+
+  // warm start
+  b.x0.assign(lp.obj.size(), 0.0);
+  double s0 = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const auto& q = start.seq[static_cast<std::size_t>(k)];
+    double d = 0.0;
+    for (std::size_t t = 0; t < q.size(); ++t) {
+      const int a = q[t], c = t + 1 < q.size() ? q[t + 1] : k;
+      if (a == c) continue;
+      b.x0[static_cast<std::size_t>(x(k, a, c))] = 1.0;
+      d += in.c(a, c);
+      if (a >= m) b.x0[static_cast<std::size_t>(u[static_cast<std::size_t>(a)])] = static_cast<double>(t);
+    }
+    s0 = std::max(s0, d / in.weight[static_cast<std::size_t>(k)]);
+    for (std::size_t t = 1; t < q.size(); t += 2) b.x0[static_cast<std::size_t>(y((q[t] - m) / 2, k))] = 1.0;
+  }
+  b.x0[static_cast<std::size_t>(s)] = s0;
+  return b;
+}
+
+/// One node per pair and orientation (see model.hpp): node M + 2p + o enters pair p at waypoint
+/// M + 2p + o and leaves it at the other end.
+Built build_contracted(const Instance& in, const Routes& start) {
+  const int m = in.uavs, n = in.nodes(), P = in.pairs;
+  Built b;
+  b.contracted = true;
+  Lp& lp = b.lp;
+  Arcs& x = b.x;
+  x.n = n;
+  x.col.assign(static_cast<std::size_t>(m) * static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
+  // arc i -> j: from the depot or the exit of i's pair to the depot or the entry of j's
+  auto cost = [&](int i, int j) { return in.c(i < m ? i : mate(m, i), j); };
+  for (int k = 0; k < m; ++k)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        if (i == j || !uses(m, k, i) || !uses(m, k, j) || (i < m && j < m)) continue;
+        if (i >= m && j >= m && (i - m) / 2 == (j - m) / 2) continue;  // the two orientations of one pair
+        x.col[x.at(k, i, j)] = lp.add(cost(i, j) / m, 0.0, 1.0, true);
+      }
+  // y_pk: UAV k flies pair p; the pair's own legs are a constant on it
+  std::vector<int> ycol(static_cast<std::size_t>(P) * static_cast<std::size_t>(m));
+  auto inner = [&](int p) { return in.c(m + 2 * p, m + 2 * p + 1); };
+  for (int p = 0; p < P; ++p)
+    for (int k = 0; k < m; ++k) ycol[pk(p, k, m)] = lp.add(inner(p) / m, 0.0, 1.0, true);
+  lp.first = ycol;
+  auto y = [&](int p, int k) { return ycol[pk(p, k, m)]; };
+  // MTZ position of each pair within its UAV's route, 1..P
+  std::vector<int> u(static_cast<std::size_t>(P));
+  for (int p = 0; p < P; ++p) u[static_cast<std::size_t>(p)] = lp.add(0.0, 1.0, std::max(1, P), false);
+  const int s = lp.add(1.0, 0.0, COIN_DBL_MAX, false);
+
+  lp.begin_rows();
+  // every pair flown once, by one UAV; UAV k enters pair p (in either orientation) exactly when y_pk
+  for (int p = 0; p < P; ++p) {
+    CoinPackedVector v;
+    for (int k = 0; k < m; ++k) v.insert(y(p, k), 1.0);
+    lp.row(v, 1.0, 1.0);
+    for (int k = 0; k < m; ++k) {
+      CoinPackedVector enter;
+      for (int j : {m + 2 * p, m + 2 * p + 1})
+        for (int i = 0; i < n; ++i)
+          if (x(k, i, j) >= 0) enter.insert(x(k, i, j), 1.0);
+      enter.insert(y(p, k), -1.0);
+      lp.row(enter, 0.0, 0.0);
+    }
+  }
+  // flow conservation per UAV and node
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < n; ++j) {
+      if (!uses(m, k, j)) continue;
+      CoinPackedVector v;
+      for (int i = 0; i < n; ++i) {
+        if (x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
+        if (x(k, j, i) >= 0) v.insert(x(k, j, i), -1.0);
+      }
+      lp.row(v, 0.0, 0.0);
+    }
+  // (6) every UAV leaves its depot once (at most once when there are fewer pairs than UAVs)
+  for (int k = 0; k < m; ++k) {
+    CoinPackedVector v;
+    for (int j = m; j < n; ++j) v.insert(x(k, k, j), 1.0);
+    lp.row(v, P >= m ? 1.0 : 0.0, 1.0);
+  }
+  // MTZ among the pairs, lifted (Desrochers and Laporte 1991):
+  //   u_p - u_q + P X_pq + (P - 2) X_qp <= P - 1,  X_pq = sum over UAVs and orientations of p -> q
+  for (int p = 0; p < P; ++p)
+    for (int q = 0; q < P; ++q) {
+      if (p == q) continue;
+      CoinPackedVector v;
+      v.insert(u[static_cast<std::size_t>(p)], 1.0);
+      v.insert(u[static_cast<std::size_t>(q)], -1.0);
+      for (int k = 0; k < m; ++k)
+        for (int op = 0; op < 2; ++op)
+          for (int oq = 0; oq < 2; ++oq) {
+            const int i = m + 2 * p + op, j = m + 2 * q + oq;
+            v.insert(x(k, i, j), P);
+            if (P > 2) v.insert(x(k, j, i), P - 2);
+          }
+      lp.row(v, -COIN_DBL_MAX, P - 1.0);
+    }
+  // (9) weighted distance of each UAV below s
+  for (int k = 0; k < m; ++k) {
+    CoinPackedVector v;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (x(k, i, j) >= 0) v.insert(x(k, i, j), cost(i, j));
+    for (int p = 0; p < P; ++p) v.insert(y(p, k), inner(p));
+    v.insert(s, -in.weight[static_cast<std::size_t>(k)]);
+    lp.row(v, -COIN_DBL_MAX, 0.0);
+  }
+
+  // warm start: the entries of the pairs in flight order
+  b.x0.assign(lp.obj.size(), 0.0);
+  double s0 = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const auto& q = start.seq[static_cast<std::size_t>(k)];
+    double d = 0.0;
+    int here = k, pos = 0;
+    for (std::size_t t = 1; t < q.size(); t += 2) {
+      const int e = q[t], p = (e - m) / 2;
+      b.x0[static_cast<std::size_t>(x(k, here, e))] = 1.0;
+      b.x0[static_cast<std::size_t>(y(p, k))] = 1.0;
+      b.x0[static_cast<std::size_t>(u[static_cast<std::size_t>(p)])] = ++pos;
+      d += cost(here, e) + inner(p);
+      here = e;
+    }
+    if (here != k) {
+      b.x0[static_cast<std::size_t>(x(k, here, k))] = 1.0;
+      d += cost(here, k);
+    }
+    s0 = std::max(s0, d / in.weight[static_cast<std::size_t>(k)]);
+  }
+  b.x0[static_cast<std::size_t>(s)] = s0;
+  return b;
+}
+
+/// Routes from CBC's solution vector.
+Routes decode(const Instance& in, const Built& b, const double* sol) {
+  const int m = in.uavs, n = in.nodes();
+  Routes r;
+  r.seq.resize(static_cast<std::size_t>(m));
+  for (int k = 0; k < m; ++k) {
+    auto& q = r.seq[static_cast<std::size_t>(k)];
+    q.push_back(k);
+    int at = k;
+    for (int step = 0; step <= n; ++step) {
+      int next = -1;
+      for (int j = 0; j < n; ++j)
+        if (j != at && b.x(k, at, j) >= 0 && sol[b.x(k, at, j)] > 0.5) next = j;
+      if (next < 0 || next == k) break;
+      q.push_back(next);
+      if (b.contracted) q.push_back(mate(m, next));
+      at = next;
+    }
+  }
+  return r;
+}
+
 }  // namespace
+
+bool back_and_forth(const Instance& in, const Routes& r) {
+  const int m = in.uavs;
+  if (static_cast<int>(r.seq.size()) != m) return false;
+  for (const auto& q : r.seq) {
+    if (q.size() % 2 != 1) return false;
+    for (std::size_t t = 1; t + 1 < q.size(); t += 2)
+      if (q[t] < m || q[t] >= in.nodes() || q[t + 1] != mate(m, q[t])) return false;
+  }
+  return true;
+}
 
 double objective(const Instance& in, const Routes& r) {
   const int m = in.uavs;
@@ -116,140 +407,25 @@ double objective(const Instance& in, const Routes& r) {
 
 Result solve(const Instance& in, const Routes& start, const Limits& lim, const Context& ctx) {
   const auto t0 = Clock::now();
-  const int m = in.uavs, n = in.nodes(), w = 2 * in.pairs;
   Result res;
   res.routes = start;
-  res.objective = objective(in, start);
+  res.objective = back_and_forth(in, start) ? objective(in, start) : std::numeric_limits<double>::infinity();
   res.from_warm_start = true;
   res.first_incumbent_s = 0.0;
+  const bool contracted = lim.model == Formulation::Contracted;
+  res.model = contracted ? "contracted" : "exact";
 
-  // ---- columns ----
-  Columns col;
-  col.n = n;
-  col.arc.assign(static_cast<std::size_t>(m) * static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
-  for (int k = 0; k < m; ++k)
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        if (i == j || !uses(m, k, i) || !uses(m, k, j) || (i < m && j < m)) continue;
-        col.arc[(static_cast<std::size_t>(k) * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)) *
-                    static_cast<std::size_t>(n) +
-                static_cast<std::size_t>(j)] = col.add(in.c(i, j) / m, 0.0, 1.0, true);
-      }
-  // assignment variables y_pk = x_abk + x_bak (UAV k flies pair p): the same model, but branching on
-  // them decides who flies what before the order (without them CBC did not prove the 8-line, 3-UAV
-  // test instance in 20 s; with them in about 12 s under load)
-  std::vector<int> ycol(static_cast<std::size_t>(in.pairs) * static_cast<std::size_t>(m));
-  auto yidx = [m](int p, int k) {
-    return static_cast<std::size_t>(p) * static_cast<std::size_t>(m) + static_cast<std::size_t>(k);
-  };
-  for (int p = 0; p < in.pairs; ++p)
-    for (int k = 0; k < m; ++k) ycol[yidx(p, k)] = col.add(0.0, 0.0, 1.0, true);
-  auto y = [&](int p, int k) { return ycol[yidx(p, k)]; };
-  res.binaries = static_cast<int>(col.obj.size());
-  col.u.assign(static_cast<std::size_t>(n), -1);
-  for (int i = m; i < n; ++i) col.u[static_cast<std::size_t>(i)] = col.add(0.0, 1.0, w, false);
-  col.s = col.add(1.0, 0.0, COIN_DBL_MAX, false);
-  res.variables = static_cast<int>(col.obj.size());
-
-  // ---- rows ----
-  CoinPackedMatrix mat(false, 0, 0);
-  mat.setDimensions(0, res.variables);
-  std::vector<double> rlo, rhi;
-  auto row = [&](const CoinPackedVector& v, double lo, double hi) {
-    mat.appendRow(v);
-    rlo.push_back(lo);
-    rhi.push_back(hi);
-  };
-  // (3) every waypoint entered once
-  for (int j = m; j < n; ++j) {
-    CoinPackedVector v;
-    for (int k = 0; k < m; ++k)
-      for (int i = 0; i < n; ++i)
-        if (i != j && col.x(k, i, j) >= 0) v.insert(col.x(k, i, j), 1.0);
-    row(v, 1.0, 1.0);
-  }
-  // (4) flow conservation
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < n; ++j) {
-      if (!uses(m, k, j)) continue;
-      CoinPackedVector v;
-      for (int i = 0; i < n; ++i) {
-        if (i == j) continue;
-        if (col.x(k, i, j) >= 0) v.insert(col.x(k, i, j), 1.0);
-        if (col.x(k, j, i) >= 0) v.insert(col.x(k, j, i), -1.0);
-      }
-      row(v, 0.0, 0.0);
-    }
-  // (5) MTZ among the waypoints
-  for (int i = m; i < n; ++i)
-    for (int j = m; j < n; ++j) {
-      if (i == j) continue;
-      CoinPackedVector v;
-      v.insert(col.u[static_cast<std::size_t>(i)], 1.0);
-      v.insert(col.u[static_cast<std::size_t>(j)], -1.0);
-      for (int k = 0; k < m; ++k) v.insert(col.x(k, i, j), w);
-      row(v, -COIN_DBL_MAX, w - 1.0);
-    }
-  // (6) every UAV leaves its depot once (at most once when there are fewer pairs than UAVs)
-  for (int k = 0; k < m; ++k) {
-    CoinPackedVector v;
-    for (int j = m; j < n; ++j) v.insert(col.x(k, k, j), 1.0);
-    row(v, in.pairs >= m ? 1.0 : 0.0, 1.0);
-  }
-  // (7) back-and-forth along each pair, by one UAV: sum_k y_pk = 1 with y_pk = x_abk + x_bak, and UAV
-  // k enters the pair from outside exactly when it flies it
-  for (int p = 0; p < in.pairs; ++p) {
-    const int a = m + 2 * p, b = a + 1;
-    CoinPackedVector v;
-    for (int k = 0; k < m; ++k) v.insert(y(p, k), 1.0);
-    row(v, 1.0, 1.0);
-    for (int k = 0; k < m; ++k) {
-      CoinPackedVector along, enter;
-      along.insert(col.x(k, a, b), 1.0);
-      along.insert(col.x(k, b, a), 1.0);
-      along.insert(y(p, k), -1.0);
-      row(along, 0.0, 0.0);
-      for (int i = 0; i < n; ++i)
-        for (int j : {a, b})
-          if (i != a && i != b && col.x(k, i, j) >= 0) enter.insert(col.x(k, i, j), 1.0);
-      enter.insert(y(p, k), -1.0);
-      row(enter, 0.0, 0.0);
-    }
-  }
-  // (9) weighted distance of each UAV below s
-  for (int k = 0; k < m; ++k) {
-    CoinPackedVector v;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        if (i != j && col.x(k, i, j) >= 0) v.insert(col.x(k, i, j), in.c(i, j));
-    v.insert(col.s, -in.weight[static_cast<std::size_t>(k)]);
-    row(v, -COIN_DBL_MAX, 0.0);
-  }
-  res.rows = static_cast<int>(rlo.size());
+  Built b = contracted ? build_contracted(in, start) : build_exact(in, start);
+  Lp& lp = b.lp;
+  res.variables = static_cast<int>(lp.obj.size());
+  res.binaries = static_cast<int>(std::count(lp.integer.begin(), lp.integer.end(), true));
+  res.rows = static_cast<int>(lp.rlo.size());
 
   OsiClpSolverInterface solver;
   solver.messageHandler()->setLogLevel(0);
-  solver.loadProblem(mat, col.lb.data(), col.ub.data(), col.obj.data(), rlo.data(), rhi.data());
+  solver.loadProblem(lp.mat, lp.lb.data(), lp.ub.data(), lp.obj.data(), lp.rlo.data(), lp.rhi.data());
   for (int c = 0; c < res.variables; ++c)
-    if (col.integer[static_cast<std::size_t>(c)]) solver.setInteger(c);
-
-  // ---- warm start ----
-  std::vector<double> x0(static_cast<std::size_t>(res.variables), 0.0);
-  double s0 = 0.0;
-  for (int k = 0; k < m; ++k) {
-    const auto& q = start.seq[static_cast<std::size_t>(k)];
-    double d = 0.0;
-    for (std::size_t t = 0; t < q.size(); ++t) {
-      const int a = q[t], b = t + 1 < q.size() ? q[t + 1] : k;
-      if (a == b) continue;
-      x0[static_cast<std::size_t>(col.x(k, a, b))] = 1.0;
-      d += in.c(a, b);
-      if (a >= m) x0[static_cast<std::size_t>(col.u[static_cast<std::size_t>(a)])] = static_cast<double>(t);
-    }
-    s0 = std::max(s0, d / in.weight[static_cast<std::size_t>(k)]);
-    for (std::size_t t = 1; t < q.size(); t += 2) x0[static_cast<std::size_t>(y((q[t] - m) / 2, k))] = 1.0;
-  }
-  x0[static_cast<std::size_t>(col.s)] = s0;
+    if (lp.integer[static_cast<std::size_t>(c)]) solver.setInteger(c);
 
   CbcModel model(solver);
   model.setLogLevel(0);
@@ -264,7 +440,8 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   model.findIntegers(false);
   for (int o = 0; o < model.numberObjects(); ++o) {
     OsiObject* obj = model.modifiableObject(o);
-    if (!ycol.empty() && obj->columnNumber() >= ycol.front() && obj->columnNumber() <= ycol.back())
+    if (!lp.first.empty() && obj->columnNumber() >= lp.first.front() &&
+        obj->columnNumber() <= lp.first.back())
       obj->setPriority(1);
   }
   model.setMaximumNodes(static_cast<int>(std::min<long long>(lim.max_nodes, 1 << 30)));
@@ -279,30 +456,15 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   watch.last_report = t0;
   Handler handler(&watch);
   model.passInEventHandler(&handler);
-  if (std::isfinite(res.objective)) model.setBestSolution(x0.data(), res.variables, res.objective, true);
+  if (std::isfinite(res.objective)) model.setBestSolution(b.x0.data(), res.variables, res.objective, true);
   if (ctx.should_stop()) {
     res.status = "stopped";
   } else {
     model.branchAndBound();
     res.bb_nodes = model.getNodeCount();
-    const double* best = model.bestSolution();
-    if (best) {
-      Routes r;
-      r.seq.resize(static_cast<std::size_t>(m));
-      for (int k = 0; k < m; ++k) {
-        auto& q = r.seq[static_cast<std::size_t>(k)];
-        q.push_back(k);
-        int at = k;
-        for (int step = 0; step <= n; ++step) {
-          int next = -1;
-          for (int j = 0; j < n; ++j)
-            if (j != at && col.x(k, at, j) >= 0 && best[col.x(k, at, j)] > 0.5) next = j;
-          if (next < 0 || next == k) break;
-          q.push_back(next);
-          at = next;
-        }
-      }
-      const double o = objective(in, r);
+    if (const double* best = model.bestSolution()) {
+      Routes r = decode(in, b, best);
+      const double o = back_and_forth(in, r) ? objective(in, r) : std::numeric_limits<double>::infinity();
       if (o < res.objective - 1e-9) {
         res.routes = std::move(r);
         res.objective = o;
@@ -310,7 +472,7 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
         res.first_incumbent_s = watch.first_improvement_s >= 0 ? watch.first_improvement_s : 0.0;
       }
     }
-    res.optimal = !watch.stopped && model.isProvenOptimal();
+    res.optimal = !watch.stopped && model.isProvenOptimal() && std::isfinite(res.objective);
     res.bound = std::min(model.getBestPossibleObjValue(), res.objective);
     res.status = watch.stopped                   ? "stopped"
                  : res.optimal                   ? "optimal"
