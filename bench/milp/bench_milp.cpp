@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -109,15 +110,18 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf(
-      "| scenario | segments | clusters | MILP nodes / binaries (largest) | optimal | time s | "
+      "| scenario | model | segments | clusters | MILP nodes / binaries (largest) | optimal | time s | CPU s "
+      "| "
       "first CBC incumbent s | max gap | max / mean distance m | boustrophedon max / mean m | "
-      "boustrophedon time s |\n|---|---:|---:|---|---|---:|---:|---:|---|---|---:|\n");
+      "boustrophedon time s |\n|---|---|---:|---:|---|---|---:|---:|---:|---:|---|---|---:|\n");
   if (const char* only = std::getenv("BENCH_MILP_ONLY"))
     sc.resize(std::min<std::size_t>(sc.size(), std::atoi(only)));
   for (const auto& s : sc) {
     const nlohmann::json params = validate_params(*milp, s.params);
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const Assignment a = milp->create()->plan(s.problem, params, Context{});
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto t1 = std::chrono::steady_clock::now();
     const Assignment b = boustro->create()->plan(s.problem, validate_params(*boustro, nullptr), Context{});
@@ -131,11 +135,18 @@ int main(int argc, char** argv) {
       if (!c["incumbent_is_warm_start"].get<bool>())
         first = std::max(first, c["first_incumbent_s"].get<double>());
     }
-    std::printf("| %s | %d | %zu | %d / %d | %s | %.2f | %s | %.1f %% | %.0f / %.0f | %.0f / %.0f | %.2f |\n",
-                s.name.c_str(), a.diagnostics["segments"].get<int>(), a.diagnostics["clusters"].size(), nodes,
-                bins, a.diagnostics["proven_optimal"].get<bool>() ? "yes" : "no", t,
-                first >= 0 ? std::to_string(first).substr(0, 5).c_str() : "warm start",
-                100.0 * a.diagnostics["max_gap"].get<double>(), amax, amean, bmax, bmean, tb);
+    std::string models;
+    for (const auto& c : a.diagnostics["clusters"])
+      if (models.find(c["model"].get<std::string>()) == std::string::npos)
+        models += (models.empty() ? "" : "+") + c["model"].get<std::string>();
+    std::printf(
+        "| %s | %s | %d | %zu | %d / %d | %s | %.2f | %.2f | %s | %.1f %% | %.0f / %.0f | %.0f / %.0f | %.2f "
+        "|\n",
+        s.name.c_str(), models.c_str(), a.diagnostics["segments"].get<int>(),
+        a.diagnostics["clusters"].size(), nodes, bins,
+        a.diagnostics["proven_optimal"].get<bool>() ? "yes" : "no", t, cpu,
+        first >= 0 ? std::to_string(first).substr(0, 5).c_str() : "warm start",
+        100.0 * a.diagnostics["max_gap"].get<double>(), amax, amean, bmax, bmean, tb);
     std::fflush(stdout);
     if (std::getenv("BENCH_MILP_DIAG")) std::fprintf(stderr, "%s\n", a.diagnostics.dump(1).c_str());
   }

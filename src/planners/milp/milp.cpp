@@ -381,6 +381,7 @@ class MilpPlanner final : public Planner {
         r.objective = milp::objective(in, start);
         r.optimal = true;
         r.status = "optimal";
+        r.model = "none";
       } else {
         r = milp::solve(in, start, lim, ctx);
       }

@@ -4,6 +4,7 @@
 #include <CbcEventHandler.hpp>
 #include <CbcModel.hpp>
 #include <CbcStrategy.hpp>
+#include <ClpEventHandler.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <CoinPackedVector.hpp>
 #include <OsiClpSolverInterface.hpp>
@@ -28,6 +29,30 @@ struct Watch {
   Clock::time_point last_report;
   bool stopped = false;
   double first_improvement_s = -1.0;
+  /// CBC's bound at its last event before a stop: after a stop has cut an LP short, CBC's own bound
+  /// may rest on an unfinished node, so a stopped search reports this one
+  double bound = 0.0;
+  CbcModel* cbc = nullptr;
+};
+
+/// Checks for a stop inside CBC's LP solves (root LP, cut and strong-branching resolves), where no
+/// CBC event fires for seconds on large models: ends the LP and sets CBC's time limit to zero so
+/// that its cut, heuristic and branching loops end too.
+class LpHandler final : public ClpEventHandler {
+ public:
+  explicit LpHandler(Watch* w) : w_(w) {}
+  int event(Event e) override {
+    if (e != endOfIteration || ++count_ % 16 != 0) return -1;
+    if (!w_->stopped && !w_->ctx->should_stop()) return -1;
+    w_->stopped = true;
+    if (w_->cbc) w_->cbc->setMaximumSeconds(0.0);
+    return 0;
+  }
+  [[nodiscard]] ClpEventHandler* clone() const override { return new LpHandler(*this); }
+
+ private:
+  Watch* w_;
+  unsigned count_ = 0;
 };
 
 /// Stops CBC when the context asks (checked at every node and solution event) and reports the
@@ -39,8 +64,9 @@ class Handler final : public CbcEventHandler {
     if (e == solution || e == heuristicSolution)
       if (w_->first_improvement_s < 0)
         w_->first_improvement_s = std::chrono::duration<double>(Clock::now() - w_->t0).count();
-    if (w_->ctx->should_stop()) {
-      w_->stopped = true;
+    if (!w_->stopped && w_->ctx->should_stop()) w_->stopped = true;
+    if (!w_->stopped) w_->bound = std::max(w_->bound, model_->getBestPossibleObjValue());
+    if (w_->stopped) {
       // the root's cut and heuristic loops check the time, not the events: end them too
       model_->setMaximumSeconds(0.0);
       return stop;
@@ -427,7 +453,16 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   for (int c = 0; c < res.variables; ++c)
     if (lp.integer[static_cast<std::size_t>(c)]) solver.setInteger(c);
 
+  Watch watch;
+  watch.ctx = &ctx;
+  watch.lim = &lim;
+  watch.t0 = t0;
+  watch.last_report = t0;
+  LpHandler lp_handler(&watch);
+  solver.getModelPtr()->passInEventHandler(&lp_handler);
+
   CbcModel model(solver);
+  watch.cbc = &model;
   model.setLogLevel(0);
   model.messageHandler()->setLogLevel(0);
   model.solver()->messageHandler()->setLogLevel(0);
@@ -449,11 +484,6 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   if (ctx.deadline())
     seconds = std::min(seconds, std::chrono::duration<double>(*ctx.deadline() - Clock::now()).count());
   model.setMaximumSeconds(std::max(0.01, seconds));
-  Watch watch;
-  watch.ctx = &ctx;
-  watch.lim = &lim;
-  watch.t0 = t0;
-  watch.last_report = t0;
   Handler handler(&watch);
   model.passInEventHandler(&handler);
   if (std::isfinite(res.objective)) model.setBestSolution(b.x0.data(), res.variables, res.objective, true);
@@ -473,7 +503,7 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
       }
     }
     res.optimal = !watch.stopped && model.isProvenOptimal() && std::isfinite(res.objective);
-    res.bound = std::min(model.getBestPossibleObjValue(), res.objective);
+    res.bound = std::min(watch.stopped ? watch.bound : model.getBestPossibleObjValue(), res.objective);
     res.status = watch.stopped                   ? "stopped"
                  : res.optimal                   ? "optimal"
                  : model.isSecondsLimitReached() ? "time_limit"
