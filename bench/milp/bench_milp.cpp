@@ -2,6 +2,7 @@
 // planner's split of the same problem.
 //   bench_milp [time_limit_s [model]]   (per MILP; default 10 s; model exact|contracted|auto, default auto)
 // Scenarios (local metres, spacing as given):
+//   4 lines    : 4 lines (8 waypoints) and 2 depots, 2 UAVs (where `model: auto` keeps the exact model)
 //   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
 //   three-areas: 13 segments in 3 polygons (26 waypoints) and 2 depots = 28 nodes, 2 UAVs (paper: 4.61 s)
 //   rect-200-5 : 200 segments, 5 UAVs; rect-1000-10: 1000 segments, 10 UAVs (clustered by share)
@@ -80,6 +81,11 @@ int main(int argc, char** argv) {
   // large ones clustered by share (the default), each cluster's MILP searched up to the time limit
   const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}, {"model", model}};
   const nlohmann::json defaults = {{"model", model}};
+  {
+    MultiPolygon a;
+    a.push_back(poly({{0, 0}, {60, 0}, {60, 20}, {0, 20}}));
+    sc.push_back({"4 lines (10 nodes, 2 UAVs)", problem(a, {{-5, 0}, {-5, 20}}, 5.0), paper});
+  }
   {
     MultiPolygon a;
     a.push_back(poly({{10, -16}, {40, -20}, {48, 4}, {32, 17}, {8, 10}}));

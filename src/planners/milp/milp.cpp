@@ -216,15 +216,10 @@ Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, cons
   return in;
 }
 
-/// The warm start: contiguous runs of items by share, each flown in order (or backwards, whichever is
-/// shorter), every item entered at its end nearer the UAV.
-Routes warm_start(const Instance& in, const Cluster& cl) {
+/// Contiguous runs of the items, `counts[k]` for UAV k in numbering order, each flown forwards or
+/// backwards (whichever is shorter), every item entered at its end nearer the previous exit.
+Routes runs(const Instance& in, const std::vector<int>& counts) {
   const int m = in.uavs;
-  std::vector<double> work;
-  for (const auto& it : cl.items) work.push_back(it.inner);
-  std::vector<double> w;
-  for (double x : in.weight) w.push_back(x / m);
-  const std::vector<int> counts = split_by_share(work, w, std::vector<int>(static_cast<std::size_t>(m), 1));
   Routes r;
   int at = 0;
   for (int k = 0; k < m; ++k) {
@@ -251,6 +246,39 @@ Routes warm_start(const Instance& in, const Cluster& cl) {
     at += n;
   }
   return r;
+}
+
+/// The warm start: contiguous runs of items split by share (`runs`), then each cut between two UAVs
+/// moved by one item at a time while objective (8) improves.
+Routes warm_start(const Instance& in, const Cluster& cl) {
+  const int m = in.uavs;
+  std::vector<double> work;
+  for (const auto& it : cl.items) work.push_back(it.inner);
+  std::vector<double> w;
+  for (double x : in.weight) w.push_back(x / m);
+  std::vector<int> counts = split_by_share(work, w, std::vector<int>(static_cast<std::size_t>(m), 1));
+  Routes best = runs(in, counts);
+  double best_o = milp::objective(in, best);
+  const int least = in.pairs >= m ? 1 : 0;  // constraint (6)
+  for (bool improved = true; improved;) {   // ends: every move lowers the objective
+    improved = false;
+    for (std::size_t k = 0; k + 1 < counts.size(); ++k)
+      for (int delta : {-1, 1}) {
+        std::vector<int> c = counts;
+        c[k] += delta;
+        c[k + 1] -= delta;
+        if (c[k] < least || c[k + 1] < least) continue;
+        Routes r = runs(in, c);
+        const double o = milp::objective(in, r);
+        if (o < best_o - 1e-9) {
+          best = std::move(r);
+          best_o = o;
+          counts = std::move(c);
+          improved = true;
+        }
+      }
+  }
+  return best;
 }
 
 /// The items of a run of segments: one per segment, or blocks of neighbouring segments (never across
@@ -440,6 +468,7 @@ class MilpPlanner final : public Planner {
                                {"variables", r.variables},
                                {"binaries", r.binaries},
                                {"rows", r.rows},
+                               {"pruned_arcs", r.pruned_arcs},
                                {"objective", r.objective},
                                {"bound", r.bound},
                                {"gap", r.gap},
@@ -449,6 +478,7 @@ class MilpPlanner final : public Planner {
                                {"solve_time_s", r.seconds},
                                {"first_incumbent_s", r.first_incumbent_s},
                                {"incumbent_is_warm_start", r.from_warm_start},
+                               {"warm_start_objective", milp::objective(in, start)},
                                {"sequences", std::move(seqs)}});
     }
     ctx.report(kStage, 0.9);

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 namespace uavcover::planners::milp {
 
@@ -124,6 +125,8 @@ struct Arcs {
   [[nodiscard]] int operator()(int k, int i, int j) const { return col[at(k, i, j)]; }
 };
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 bool uses(int m, int k, int node) { return node >= m || node == k; }
 
 /// The other end of the pair of waypoint `node`.
@@ -136,6 +139,7 @@ struct Built {
   Arcs x;
   std::vector<double> x0;
   bool contracted = false;
+  int pruned = 0;  ///< arcs left out (contracted model)
 };
 
 std::size_t pk(int p, int k, int m) {
@@ -267,16 +271,58 @@ Built build_contracted(const Instance& in, const Routes& start) {
   x.col.assign(static_cast<std::size_t>(m) * static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
   // arc i -> j: from the depot or the exit of i's pair to the depot or the entry of j's
   auto cost = [&](int i, int j) { return in.c(i < m ? i : mate(m, i), j); };
+  auto inner = [&](int p) { return in.c(m + 2 * p, m + 2 * p + 1); };
+  // Arcs that cannot be in a solution better than the warm start are left out. A route of UAV k
+  // over arc i -> j is at least: the shortest path (in the full graph, a relaxation) from its depot to
+  // i's entry, i's legs, the arc, j's legs, the shortest path from j's exit home. With that distance
+  // d, objective (8) is at least d / w_k + total / M, with the total distance at least d plus the other
+  // UAVs' shortest trips out and back, and at least all legs plus every UAV's.
+  const double incumbent = back_and_forth(in, start) ? objective(in, start) : kInf;
+  std::vector<double> sp(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+  auto dist = [&](int i, int j) -> double& {
+    return sp[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)];
+  };
+  double legs = 0.0;
+  for (int p = 0; p < P; ++p) legs += inner(p);
+  if (std::isfinite(incumbent)) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) dist(i, j) = i == j ? 0.0 : in.c(i, j);
+    for (int v = 0; v < n; ++v)  // Floyd-Warshall
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) dist(i, j) = std::min(dist(i, j), dist(i, v) + dist(v, j));
+  }
+  // each UAV's least transit out of and back to its depot (when every UAV must fly)
+  std::vector<double> home(static_cast<std::size_t>(m), 0.0);
+  for (int k = 0; k < m && P >= m && std::isfinite(incumbent); ++k) {
+    double out = kInf, back = kInf;
+    for (int j = m; j < n; ++j) out = std::min(out, in.c(k, j)), back = std::min(back, in.c(j, k));
+    home[static_cast<std::size_t>(k)] = out + back;
+  }
+  const double all_home = std::accumulate(home.begin(), home.end(), 0.0);
+  auto useful = [&](int k, int i, int j) {
+    if (!std::isfinite(incumbent)) return true;
+    double d = cost(i, j);
+    if (i >= m) d += dist(k, i) + inner((i - m) / 2);
+    if (j >= m) d += inner((j - m) / 2) + dist(mate(m, j), k);
+    // the total is at least d plus the other UAVs' trips out and back, and at least all legs plus
+    // every UAV's trips out and back
+    const double total = std::max(d + all_home - home[static_cast<std::size_t>(k)], legs + all_home);
+    const double lower = d / in.weight[static_cast<std::size_t>(k)] + total / m;
+    return lower <= incumbent * (1.0 + 1e-9) + 1e-9;
+  };
   for (int k = 0; k < m; ++k)
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         if (i == j || !uses(m, k, i) || !uses(m, k, j) || (i < m && j < m)) continue;
         if (i >= m && j >= m && (i - m) / 2 == (j - m) / 2) continue;  // the two orientations of one pair
+        if (!useful(k, i, j)) {
+          ++b.pruned;
+          continue;
+        }
         x.col[x.at(k, i, j)] = lp.add(cost(i, j) / m, 0.0, 1.0, true);
       }
   // y_pk: UAV k flies pair p; the pair's own legs are a constant on it
   std::vector<int> ycol(static_cast<std::size_t>(P) * static_cast<std::size_t>(m));
-  auto inner = [&](int p) { return in.c(m + 2 * p, m + 2 * p + 1); };
   for (int p = 0; p < P; ++p)
     for (int k = 0; k < m; ++k) ycol[pk(p, k, m)] = lp.add(inner(p) / m, 0.0, 1.0, true);
   lp.first = ycol;
@@ -315,7 +361,8 @@ Built build_contracted(const Instance& in, const Routes& start) {
   // (6) every UAV leaves its depot once (at most once when there are fewer pairs than UAVs)
   for (int k = 0; k < m; ++k) {
     CoinPackedVector v;
-    for (int j = m; j < n; ++j) v.insert(x(k, k, j), 1.0);
+    for (int j = m; j < n; ++j)
+      if (x(k, k, j) >= 0) v.insert(x(k, k, j), 1.0);
     lp.row(v, P >= m ? 1.0 : 0.0, 1.0);
   }
   // MTZ among the pairs, lifted (Desrochers and Laporte 1991):
@@ -330,8 +377,8 @@ Built build_contracted(const Instance& in, const Routes& start) {
         for (int op = 0; op < 2; ++op)
           for (int oq = 0; oq < 2; ++oq) {
             const int i = m + 2 * p + op, j = m + 2 * q + oq;
-            v.insert(x(k, i, j), P);
-            if (P > 2) v.insert(x(k, j, i), P - 2);
+            if (x(k, i, j) >= 0) v.insert(x(k, i, j), P);
+            if (P > 2 && x(k, j, i) >= 0) v.insert(x(k, j, i), P - 2);
           }
       lp.row(v, -COIN_DBL_MAX, P - 1.0);
     }
@@ -349,12 +396,13 @@ Built build_contracted(const Instance& in, const Routes& start) {
   // warm start: the entries of the pairs in flight order
   b.x0.assign(lp.obj.size(), 0.0);
   double s0 = 0.0;
-  for (int k = 0; k < m; ++k) {
+  for (int k = 0; k < m && std::isfinite(incumbent); ++k) {
     const auto& q = start.seq[static_cast<std::size_t>(k)];
     double d = 0.0;
     int here = k, pos = 0;
     for (std::size_t t = 1; t < q.size(); t += 2) {
       const int e = q[t], p = (e - m) / 2;
+      if (x(k, here, e) < 0) return b.x0.clear(), b;  // not expected: the start's arcs are never left out
       b.x0[static_cast<std::size_t>(x(k, here, e))] = 1.0;
       b.x0[static_cast<std::size_t>(y(p, k))] = 1.0;
       b.x0[static_cast<std::size_t>(u[static_cast<std::size_t>(p)])] = ++pos;
@@ -362,6 +410,7 @@ Built build_contracted(const Instance& in, const Routes& start) {
       here = e;
     }
     if (here != k) {
+      if (x(k, here, k) < 0) return b.x0.clear(), b;
       b.x0[static_cast<std::size_t>(x(k, here, k))] = 1.0;
       d += cost(here, k);
     }
@@ -446,6 +495,7 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   res.variables = static_cast<int>(lp.obj.size());
   res.binaries = static_cast<int>(std::count(lp.integer.begin(), lp.integer.end(), true));
   res.rows = static_cast<int>(lp.rlo.size());
+  res.pruned_arcs = b.pruned;
 
   OsiClpSolverInterface solver;
   solver.messageHandler()->setLogLevel(0);
@@ -486,7 +536,8 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   model.setMaximumSeconds(std::max(0.01, seconds));
   Handler handler(&watch);
   model.passInEventHandler(&handler);
-  if (std::isfinite(res.objective)) model.setBestSolution(b.x0.data(), res.variables, res.objective, true);
+  if (std::isfinite(res.objective) && !b.x0.empty())
+    model.setBestSolution(b.x0.data(), res.variables, res.objective, true);
   if (ctx.should_stop()) {
     res.status = "stopped";
   } else {

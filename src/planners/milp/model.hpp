@@ -70,6 +70,7 @@ struct Result {
   std::string status;  ///< optimal, node_limit, time_limit, stopped
   std::string model;   ///< exact or contracted
   int variables = 0, binaries = 0, rows = 0;
+  int pruned_arcs = 0;  ///< contracted model: arcs left out as worse than the warm start
   long long bb_nodes = 0;
   double seconds = 0.0;
   double first_incumbent_s = -1.0;  ///< when CBC first had a solution (the warm start counts at 0)

@@ -215,6 +215,7 @@ TEST(MilpModel, TheContractedModelHasTheExactModelsOptimum) {
   milp::Limits exact, contracted;
   exact.model = milp::Formulation::Exact;
   contracted.model = milp::Formulation::Contracted;
+  int pruned = 0;
   for (int trial = 0; trial < 6; ++trial) {
     const int pairs = 3 + trial % 3;  // 3 to 5 lines, 8 to 12 nodes
     const milp::Instance in = random_instance(
@@ -232,13 +233,31 @@ TEST(MilpModel, TheContractedModelHasTheExactModelsOptimum) {
     EXPECT_TRUE(milp::back_and_forth(in, c.routes));
     EXPECT_TRUE(milp::back_and_forth(in, e.routes));
     EXPECT_NEAR(milp::objective(in, c.routes), c.objective, 1e-9 * bf);
-    // one node per pair and orientation: no pair-internal arcs, no constraint (7), MTZ over pairs
+    // one node per pair and orientation: no pair-internal arcs, no constraint (7), MTZ over pairs;
+    // arcs that cannot beat the start are left out
     const int m = 2, P = pairs;
-    EXPECT_EQ(c.binaries, m * (2 * P + 2 * P + 2 * P * (2 * P - 2)) + m * P);
+    EXPECT_EQ(c.binaries + c.pruned_arcs, m * (2 * P + 2 * P + 2 * P * (2 * P - 2)) + m * P);
+    EXPECT_EQ(e.pruned_arcs, 0);
     EXPECT_EQ(c.rows, P * (1 + m) + m * (1 + 2 * P) + m + P * (P - 1) + m);
     EXPECT_LT(c.rows, e.rows);
     EXPECT_LT(c.binaries, e.binaries);
+    // from a good start (contiguous halves) more arcs are left out, and the optimum stays
+    milp::Routes halves{{{0}, {1}}};
+    for (int p = 0; p < P; ++p) {
+      auto& q = halves.seq[p < P / 2 ? 0u : 1u];
+      q.push_back(m + 2 * p);
+      q.push_back(m + 2 * p + 1);
+    }
+    const milp::Result h = milp::solve(in, halves, contracted, Context{});
+    ASSERT_TRUE(h.optimal) << h.status;
+    EXPECT_NEAR(h.objective, bf, 1e-6 * bf) << "trial " << trial;
+    EXPECT_TRUE(milp::back_and_forth(in, h.routes));
+    if (milp::objective(in, halves) < milp::objective(in, start)) {
+      EXPECT_GE(h.pruned_arcs, c.pruned_arcs);
+    }
+    pruned += h.pruned_arcs;
   }
+  EXPECT_GT(pruned, 0) << "the pruning was exercised";
 }
 
 TEST(MilpModel, TheContractedModelSolvesThreeUavsToTheBruteForceOptimum) {
@@ -449,6 +468,9 @@ TEST(MilpPlanner, AutoChoosesTheModelBySizeAndBothGiveTheSameOptimum) {
     EXPECT_EQ(cluster(c).at("model"), "contracted");
     const double oe = cluster(e).at("objective").get<double>(), oc = cluster(c).at("objective").get<double>();
     EXPECT_NEAR(oc, oe, 1e-6 * oe);
+    if (p == &larger) {
+      EXPECT_GT(cluster(c).at("pruned_arcs").get<int>(), 0) << "the non-nearby penalty prunes";
+    }
     // every line flown end to end by one UAV, every UAV flying
     const milp::Lines lines = lines_of(*p);
     for (int w : flown_by(c, lines)) EXPECT_GE(w, 0);
