@@ -272,11 +272,12 @@ Built build_contracted(const Instance& in, const Routes& start) {
   // arc i -> j: from the depot or the exit of i's pair to the depot or the entry of j's
   auto cost = [&](int i, int j) { return in.c(i < m ? i : mate(m, i), j); };
   auto inner = [&](int p) { return in.c(m + 2 * p, m + 2 * p + 1); };
-  // Arcs that cannot be in a solution better than the warm start are left out. A route of UAV k
-  // over arc i -> j is at least: the shortest path (in the full graph, a relaxation) from its depot to
-  // i's entry, i's legs, the arc, j's legs, the shortest path from j's exit home. With that distance
-  // d, objective (8) is at least d / w_k + total / M, with the total distance at least d plus the other
-  // UAVs' shortest trips out and back, and at least all legs plus every UAV's.
+  // Arcs that cannot be in a solution better than the warm start are left out. A route of UAV k over
+  // arc i -> j has transits of at least T: the shortest path from its depot to i's entry, the arc, the
+  // shortest path from j's exit home (paths in the full graph with the pairs' legs at no cost, a
+  // relaxation), and legs of at least those of i and j (all legs when k is the only UAV). The total
+  // distance is at least T, all legs and the other UAVs' shortest trips out and back. Objective (8)
+  // is at least d_k / w_k + total / M.
   const double incumbent = back_and_forth(in, start) ? objective(in, start) : kInf;
   std::vector<double> sp(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   auto dist = [&](int i, int j) -> double& {
@@ -286,7 +287,7 @@ Built build_contracted(const Instance& in, const Routes& start) {
   for (int p = 0; p < P; ++p) legs += inner(p);
   if (std::isfinite(incumbent)) {
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) dist(i, j) = i == j ? 0.0 : in.c(i, j);
+      for (int j = 0; j < n; ++j) dist(i, j) = i == j || (i >= m && j == mate(m, i)) ? 0.0 : in.c(i, j);
     for (int v = 0; v < n; ++v)  // Floyd-Warshall
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) dist(i, j) = std::min(dist(i, j), dist(i, v) + dist(v, j));
@@ -301,13 +302,12 @@ Built build_contracted(const Instance& in, const Routes& start) {
   const double all_home = std::accumulate(home.begin(), home.end(), 0.0);
   auto useful = [&](int k, int i, int j) {
     if (!std::isfinite(incumbent)) return true;
-    double d = cost(i, j);
-    if (i >= m) d += dist(k, i) + inner((i - m) / 2);
-    if (j >= m) d += inner((j - m) / 2) + dist(mate(m, j), k);
-    // the total is at least d plus the other UAVs' trips out and back, and at least all legs plus
-    // every UAV's trips out and back
-    const double total = std::max(d + all_home - home[static_cast<std::size_t>(k)], legs + all_home);
-    const double lower = d / in.weight[static_cast<std::size_t>(k)] + total / m;
+    double t = cost(i, j), own = 0.0;
+    if (i >= m) t += dist(k, i), own += inner((i - m) / 2);
+    if (j >= m) t += dist(mate(m, j), k), own += inner((j - m) / 2);
+    const double dk = t + (m == 1 ? legs : own);
+    const double total = t + legs + all_home - home[static_cast<std::size_t>(k)];
+    const double lower = dk / in.weight[static_cast<std::size_t>(k)] + total / m;
     return lower <= incumbent * (1.0 + 1e-9) + 1e-9;
   };
   for (int k = 0; k < m; ++k)
