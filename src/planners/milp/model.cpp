@@ -4,6 +4,7 @@
 #include <CbcEventHandler.hpp>
 #include <CbcModel.hpp>
 #include <CbcStrategy.hpp>
+#include <CglGomory.hpp>
 #include <ClpEventHandler.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <CoinPackedVector.hpp>
@@ -520,6 +521,11 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   model.setUseElapsedTime(true);
   CbcStrategyDefault strategy(1, 5, 5);
   strategy.setupPreProcessing(0);
+  // contracted model: no Gomory cuts (the strategy adds none when a generator of the kind exists;
+  // -100 = never called). Measured in bench_milp: the pentagon 1.2 s CPU with them, 0.25 s without;
+  // 200 segments with the defaults 10.3 s with, 1.9 s without (gap 1.3 % and 2.0 %)
+  CglGomory gomory;
+  if (contracted) model.addCutGenerator(&gomory, -100, "Gomory");
   model.setStrategy(strategy);
   // branch on who flies what first
   model.findIntegers(false);
