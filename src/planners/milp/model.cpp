@@ -147,6 +147,20 @@ std::size_t pk(int p, int k, int m) {
   return static_cast<std::size_t>(p) * static_cast<std::size_t>(m) + static_cast<std::size_t>(k);
 }
 
+/// Flow conservation: per UAV k and node it uses, as many arcs in as out.
+void flow_rows(Lp& lp, const Arcs& x, int m) {
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < x.n; ++j) {
+      if (!uses(m, k, j)) continue;
+      CoinPackedVector v;
+      for (int i = 0; i < x.n; ++i) {
+        if (x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
+        if (x(k, j, i) >= 0) v.insert(x(k, j, i), -1.0);
+      }
+      lp.row(v, 0.0, 0.0);
+    }
+}
+
 /// The paper's model with the assignment variables y_pk (see model.hpp).
 Built build_exact(const Instance& in, const Routes& start) {
   const int m = in.uavs, n = in.nodes(), w = 2 * in.pairs;
@@ -183,17 +197,7 @@ Built build_exact(const Instance& in, const Routes& start) {
     lp.row(v, 1.0, 1.0);
   }
   // (4) flow conservation
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < n; ++j) {
-      if (!uses(m, k, j)) continue;
-      CoinPackedVector v;
-      for (int i = 0; i < n; ++i) {
-        if (i == j) continue;
-        if (x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
-        if (x(k, j, i) >= 0) v.insert(x(k, j, i), -1.0);
-      }
-      lp.row(v, 0.0, 0.0);
-    }
+  flow_rows(lp, x, m);
   // (5) MTZ among the waypoints
   for (int i = m; i < n; ++i)
     for (int j = m; j < n; ++j) {
@@ -349,16 +353,7 @@ Built build_contracted(const Instance& in, const Routes& start) {
     }
   }
   // flow conservation per UAV and node
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < n; ++j) {
-      if (!uses(m, k, j)) continue;
-      CoinPackedVector v;
-      for (int i = 0; i < n; ++i) {
-        if (x(k, i, j) >= 0) v.insert(x(k, i, j), 1.0);
-        if (x(k, j, i) >= 0) v.insert(x(k, j, i), -1.0);
-      }
-      lp.row(v, 0.0, 0.0);
-    }
+  flow_rows(lp, x, m);
   // (6) every UAV leaves its depot once (at most once when there are fewer pairs than UAVs)
   for (int k = 0; k < m; ++k) {
     CoinPackedVector v;

@@ -136,42 +136,6 @@ double brute_force(const milp::Instance& in) {
   return best;
 }
 
-TEST(MilpModel, SmallInstancesAreSolvedToTheBruteForceOptimum) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(0.0, 100.0);
-  for (int trial = 0; trial < 6; ++trial) {
-    // 2 UAVs, 4 vertical segments (10 nodes), random depots and lengths
-    milp::Instance in;
-    in.uavs = 2;
-    in.pairs = 4;
-    std::vector<Point> pos{{u(rng), -20.0}, {u(rng), -20.0}};
-    for (int p = 0; p < in.pairs; ++p) {
-      const double x = 10.0 + 20.0 * p, y0 = u(rng) * 0.3, y1 = 50.0 + u(rng) * 0.5;
-      pos.push_back({x, y0});
-      pos.push_back({x, y1});
-    }
-    const int n = in.nodes();
-    in.cost.resize(static_cast<std::size_t>(n * n));
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        double c = boustro::dist(pos[static_cast<std::size_t>(i)], pos[static_cast<std::size_t>(j)]);
-        if (i >= 2 && j >= 2 && std::abs(i - j) > 2) c *= 2.0;
-        in.cost[static_cast<std::size_t>(i * n + j)] = c;
-      }
-    in.weight = trial % 2 == 0 ? std::vector<double>{1.0, 1.0} : std::vector<double>{0.6, 1.4};
-    // a poor but feasible start: everything but one pair to UAV 0
-    milp::Routes start;
-    start.seq = {{0, 2, 3, 4, 5, 6, 7}, {1, 8, 9}};
-    const milp::Result r = milp::solve(in, start, milp::Limits{}, Context{});
-    ASSERT_TRUE(r.optimal) << r.status;
-    const double bf = brute_force(in);
-    EXPECT_NEAR(r.objective, bf, 1e-6 * bf) << "trial " << trial;
-    EXPECT_NEAR(milp::objective(in, r.routes), r.objective, 1e-9 * bf);
-    EXPECT_LE(r.gap, 1e-6);
-    EXPECT_EQ(r.binaries, 2 * 9 * 8 + 2 * 4);  // per UAV its depot and 8 waypoints; y per pair and UAV
-  }
-}
-
 /// A random instance like the paper's: `pairs` parallel lines 20 m apart with ragged ends, depots
 /// below them, the non-nearby penalty (x2) on waypoints numbered more than 2 apart.
 milp::Instance random_instance(std::mt19937& rng, int uavs, int pairs, std::vector<double> weight) {
@@ -196,6 +160,25 @@ milp::Instance random_instance(std::mt19937& rng, int uavs, int pairs, std::vect
     }
   in.weight = std::move(weight);
   return in;
+}
+
+TEST(MilpModel, SmallInstancesAreSolvedToTheBruteForceOptimum) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 6; ++trial) {
+    // 2 UAVs, 4 vertical segments (10 nodes), random depots and lengths
+    const milp::Instance in = random_instance(
+        rng, 2, 4, trial % 2 == 0 ? std::vector<double>{1.0, 1.0} : std::vector<double>{0.6, 1.4});
+    // a poor but feasible start: everything but one pair to UAV 0
+    milp::Routes start;
+    start.seq = {{0, 2, 3, 4, 5, 6, 7}, {1, 8, 9}};
+    const milp::Result r = milp::solve(in, start, milp::Limits{}, Context{});
+    ASSERT_TRUE(r.optimal) << r.status;
+    const double bf = brute_force(in);
+    EXPECT_NEAR(r.objective, bf, 1e-6 * bf) << "trial " << trial;
+    EXPECT_NEAR(milp::objective(in, r.routes), r.objective, 1e-9 * bf);
+    EXPECT_LE(r.gap, 1e-6);
+    EXPECT_EQ(r.binaries, 2 * 9 * 8 + 2 * 4);  // per UAV its depot and 8 waypoints; y per pair and UAV
+  }
 }
 
 /// Pairs 0..P-1 dealt round-robin to the UAVs, each flown low end first: feasible, poor.
