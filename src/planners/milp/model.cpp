@@ -526,7 +526,7 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   CglGomory gomory;
   if (contracted) model.addCutGenerator(&gomory, -100, "Gomory");
   // large contracted models: no probing either. Its root pass runs without any callback, so a stop
-  // waited for it: 0.8-1.0 s on a 40-pair, 3-UAV model under load, 0.22-0.26 s without it
+  // waited for it: 0.8-1.1 s on a 40-pair, 3-UAV model under load, 0.28-0.35 s without it
   CglProbing probing;
   if (contracted && res.binaries > kProbingMaxBinaries) model.addCutGenerator(&probing, -100, "Probing");
   model.setStrategy(strategy);
