@@ -1,7 +1,8 @@
 // The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
 // planner's split of the same problem.
-//   bench_milp [time_limit_s]   (per MILP; default 10)
+//   bench_milp [time_limit_s [model]]   (per MILP; default 10 s; model exact|contracted|auto, default auto)
 // Scenarios (local metres, spacing as given):
+//   4 lines    : 4 lines (8 waypoints) and 2 depots, 2 UAVs (where `model: auto` keeps the exact model)
 //   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
 //   three-areas: 13 segments in 3 polygons (26 waypoints) and 2 depots = 28 nodes, 2 UAVs (paper: 4.61 s)
 //   rect-200-5 : 200 segments, 5 UAVs; rect-1000-10: 1000 segments, 10 UAVs (clustered by share)
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -68,12 +70,22 @@ struct Scenario {
 
 int main(int argc, char** argv) {
   const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
+  const std::string model = argc > 2 ? argv[2] : "auto";
   std::vector<Scenario> sc;
   // the paper's sizes in one joint MILP (all UAVs, every segment), searched up to the time limit
-  const nlohmann::json paper = {
-      {"max_uavs_per_milp", 10}, {"max_segments", 60}, {"node_limit", 10000000}, {"time_limit_s", limit}};
+  const nlohmann::json paper = {{"max_uavs_per_milp", 10},
+                                {"max_segments", 60},
+                                {"node_limit", 10000000},
+                                {"time_limit_s", limit},
+                                {"model", model}};
   // large ones clustered by share (the default), each cluster's MILP searched up to the time limit
-  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}};
+  const nlohmann::json large = {{"node_limit", 10000000}, {"time_limit_s", limit}, {"model", model}};
+  const nlohmann::json defaults = {{"model", model}};
+  {
+    MultiPolygon a;
+    a.push_back(poly({{0, 0}, {60, 0}, {60, 20}, {0, 20}}));
+    sc.push_back({"4 lines (10 nodes, 2 UAVs)", problem(a, {{-5, 0}, {-5, 20}}, 5.0), paper});
+  }
   {
     MultiPolygon a;
     a.push_back(poly({{10, -16}, {40, -20}, {48, 4}, {32, 17}, {8, 10}}));
@@ -92,9 +104,9 @@ int main(int argc, char** argv) {
     std::vector<Point> s5, s10;
     for (int k = 0; k < 5; ++k) s5.push_back({-50.0, 200.0 + 400.0 * k});
     for (int k = 0; k < 10; ++k) s10.push_back({-50.0, 100.0 + 200.0 * k});
-    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), nlohmann::json::object()});
+    sc.push_back({"200 segments, 5 UAVs (defaults)", problem(a, s5, 10.0), defaults});
     sc.push_back({"200 segments, 5 UAVs", problem(a, s5, 10.0), large});
-    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), nlohmann::json::object()});
+    sc.push_back({"1000 segments, 10 UAVs (defaults)", problem(a, s10, 2.0), defaults});
     sc.push_back({"1000 segments, 10 UAVs", problem(a, s10, 2.0), large});
   }
   const PlannerInfo* milp = find("milp");
@@ -104,15 +116,18 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf(
-      "| scenario | segments | clusters | MILP nodes / binaries (largest) | optimal | time s | "
+      "| scenario | model | segments | clusters | MILP nodes / binaries (largest) | optimal | time s | CPU s "
+      "| "
       "first CBC incumbent s | max gap | max / mean distance m | boustrophedon max / mean m | "
-      "boustrophedon time s |\n|---|---:|---:|---|---|---:|---:|---:|---|---|---:|\n");
+      "boustrophedon time s |\n|---|---|---:|---:|---|---|---:|---:|---:|---:|---|---|---:|\n");
   if (const char* only = std::getenv("BENCH_MILP_ONLY"))
     sc.resize(std::min<std::size_t>(sc.size(), std::atoi(only)));
   for (const auto& s : sc) {
     const nlohmann::json params = validate_params(*milp, s.params);
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const Assignment a = milp->create()->plan(s.problem, params, Context{});
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto t1 = std::chrono::steady_clock::now();
     const Assignment b = boustro->create()->plan(s.problem, validate_params(*boustro, nullptr), Context{});
@@ -126,11 +141,18 @@ int main(int argc, char** argv) {
       if (!c["incumbent_is_warm_start"].get<bool>())
         first = std::max(first, c["first_incumbent_s"].get<double>());
     }
-    std::printf("| %s | %d | %zu | %d / %d | %s | %.2f | %s | %.1f %% | %.0f / %.0f | %.0f / %.0f | %.2f |\n",
-                s.name.c_str(), a.diagnostics["segments"].get<int>(), a.diagnostics["clusters"].size(), nodes,
-                bins, a.diagnostics["proven_optimal"].get<bool>() ? "yes" : "no", t,
-                first >= 0 ? std::to_string(first).substr(0, 5).c_str() : "warm start",
-                100.0 * a.diagnostics["max_gap"].get<double>(), amax, amean, bmax, bmean, tb);
+    std::string models;
+    for (const auto& c : a.diagnostics["clusters"])
+      if (models.find(c["model"].get<std::string>()) == std::string::npos)
+        models += (models.empty() ? "" : "+") + c["model"].get<std::string>();
+    std::printf(
+        "| %s | %s | %d | %zu | %d / %d | %s | %.2f | %.2f | %s | %.1f %% | %.0f / %.0f | %.0f / %.0f | %.2f "
+        "|\n",
+        s.name.c_str(), models.c_str(), a.diagnostics["segments"].get<int>(),
+        a.diagnostics["clusters"].size(), nodes, bins,
+        a.diagnostics["proven_optimal"].get<bool>() ? "yes" : "no", t, cpu,
+        first >= 0 ? std::to_string(first).substr(0, 5).c_str() : "warm start",
+        100.0 * a.diagnostics["max_gap"].get<double>(), amax, amean, bmax, bmean, tb);
     std::fflush(stdout);
     if (std::getenv("BENCH_MILP_DIAG")) std::fprintf(stderr, "%s\n", a.diagnostics.dump(1).c_str());
   }

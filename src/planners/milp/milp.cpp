@@ -41,7 +41,17 @@ struct Params {
   long long node_limit = 100;
   double time_limit_s = 10.0;
   double nearby_penalty = 10.0;
+  std::string model = "auto";
 };
+
+/// `model: auto` uses the exact model up to this many pairs (waypoint pairs: segments or blocks).
+constexpr int kExactMaxPairs = 4;
+
+milp::Formulation formulation(const std::string& model, int pairs) {
+  if (model == "exact") return milp::Formulation::Exact;
+  if (model == "contracted") return milp::Formulation::Contracted;
+  return pairs <= kExactMaxPairs ? milp::Formulation::Exact : milp::Formulation::Contracted;
+}
 
 Params read_params(const nlohmann::json& j) {
   Params p;
@@ -58,6 +68,7 @@ Params read_params(const nlohmann::json& j) {
   num("node_limit", p.node_limit);
   num("time_limit_s", p.time_limit_s);
   num("nearby_penalty", p.nearby_penalty);
+  if (j.contains("model") && j["model"].is_string()) p.model = j["model"].get<std::string>();
   return p;
 }
 
@@ -205,15 +216,10 @@ Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, cons
   return in;
 }
 
-/// The warm start: contiguous runs of items by share, each flown in order (or backwards, whichever is
-/// shorter), every item entered at its end nearer the UAV.
-Routes warm_start(const Instance& in, const Cluster& cl) {
+/// Contiguous runs of the items, `counts[k]` for UAV k in numbering order, each flown forwards or
+/// backwards (whichever is shorter), every item entered at its end nearer the previous exit.
+Routes runs(const Instance& in, const std::vector<int>& counts) {
   const int m = in.uavs;
-  std::vector<double> work;
-  for (const auto& it : cl.items) work.push_back(it.inner);
-  std::vector<double> w;
-  for (double x : in.weight) w.push_back(x / m);
-  const std::vector<int> counts = split_by_share(work, w, std::vector<int>(static_cast<std::size_t>(m), 1));
   Routes r;
   int at = 0;
   for (int k = 0; k < m; ++k) {
@@ -240,6 +246,39 @@ Routes warm_start(const Instance& in, const Cluster& cl) {
     at += n;
   }
   return r;
+}
+
+/// The warm start: contiguous runs of items split by share (`runs`), then each cut between two UAVs
+/// moved by one item at a time while objective (8) improves.
+Routes warm_start(const Instance& in, const Cluster& cl) {
+  const int m = in.uavs;
+  std::vector<double> work;
+  for (const auto& it : cl.items) work.push_back(it.inner);
+  std::vector<double> w;
+  for (double x : in.weight) w.push_back(x / m);
+  std::vector<int> counts = split_by_share(work, w, std::vector<int>(static_cast<std::size_t>(m), 1));
+  Routes best = runs(in, counts);
+  double best_o = milp::objective(in, best);
+  const int least = in.pairs >= m ? 1 : 0;  // constraint (6)
+  for (bool improved = true; improved;) {   // ends: every move lowers the objective
+    improved = false;
+    for (std::size_t k = 0; k + 1 < counts.size(); ++k)
+      for (int delta : {-1, 1}) {
+        std::vector<int> c = counts;
+        c[k] += delta;
+        c[k + 1] -= delta;
+        if (c[k] < least || c[k + 1] < least) continue;
+        Routes r = runs(in, c);
+        const double o = milp::objective(in, r);
+        if (o < best_o - 1e-9) {
+          best = std::move(r);
+          best_o = o;
+          counts = std::move(c);
+          improved = true;
+        }
+      }
+  }
+  return best;
 }
 
 /// The items of a run of segments: one per segment, or blocks of neighbouring segments (never across
@@ -356,6 +395,7 @@ class MilpPlanner final : public Planner {
       milp::Limits lim;
       lim.max_nodes = par.node_limit;
       lim.max_seconds = par.time_limit_s;
+      lim.model = formulation(par.model, static_cast<int>(cl.items.size()));
       lim.stage = C > 1 ? fmt::format("{} {}/{}", kStage, g + 1, C) : std::string(kStage);
       lim.f0 = 0.05 + 0.85 * g / C;
       lim.f1 = 0.05 + 0.85 * (g + 1) / C;
@@ -369,6 +409,7 @@ class MilpPlanner final : public Planner {
         r.objective = milp::objective(in, start);
         r.optimal = true;
         r.status = "optimal";
+        r.model = "none";
       } else {
         r = milp::solve(in, start, lim, ctx);
       }
@@ -422,10 +463,12 @@ class MilpPlanner final : public Planner {
                                                             [](int a, const Item& it) {
                                                               return a + static_cast<int>(it.legs.size());
                                                             })},
+                               {"model", r.model},
                                {"nodes", in.nodes()},
                                {"variables", r.variables},
                                {"binaries", r.binaries},
                                {"rows", r.rows},
+                               {"pruned_arcs", r.pruned_arcs},
                                {"objective", r.objective},
                                {"bound", r.bound},
                                {"gap", r.gap},
@@ -435,6 +478,7 @@ class MilpPlanner final : public Planner {
                                {"solve_time_s", r.seconds},
                                {"first_incumbent_s", r.first_incumbent_s},
                                {"incumbent_is_warm_start", r.from_warm_start},
+                               {"warm_start_objective", milp::objective(in, start)},
                                {"sequences", std::move(seqs)}});
     }
     ctx.report(kStage, 0.9);
@@ -504,6 +548,11 @@ PlannerInfo milp_planner_info() {
       param("time_limit_s", T::Number, 10.0, 0.01, 3600.0,
             "CBC's time per MILP (the mission's time limit applies too); reaching it returns the best "
             "assignment with its gap and marks the plan incomplete"),
+      param("model", T::String, "auto", std::nullopt, std::nullopt,
+            "MILP formulation: `exact` (the paper's, one node per waypoint with the back-and-forth "
+            "constraint), `contracted` (one node per segment and orientation, same optimum, fewer rows) or "
+            "`auto` (exact up to 4 waypoint pairs, contracted beyond)",
+            {"exact", "contracted", "auto"}),
       param("nearby_penalty", T::Number, 10.0, 1.0, 100.0,
             "Factor on the cost of edges between waypoints numbered more than 2 apart (the paper's "
             "non-nearby penalty)"),

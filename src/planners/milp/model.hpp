@@ -7,6 +7,13 @@
 // Nodes 0..M-1 are the depots (UAV k starts and ends at depot k, and never touches another UAV's
 // depot: the paper's depot penalty, enforced exactly); node M + 2p and M + 2p + 1 are the two ends of
 // pair p.
+//
+// The contracted model (Formulation::Contracted) has the same optimum with one node per pair and
+// orientation instead of one per waypoint: node M + 2p + o is pair p entered at its end M + 2p + o and
+// left at the other end, and exactly one of the two is visited. The pair's own edge becomes a constant
+// on the assignment y_pk, constraint (7) disappears (a visit is a whole back-and-forth pass by
+// construction), MTZ orders the P pairs instead of the 2P waypoints (with the Desrochers–Laporte
+// lifting), and arcs between the two orientations of one pair do not exist.
 #pragma once
 
 #include <optional>
@@ -39,7 +46,14 @@ struct Routes {
 /// Objective (8) of a solution (infinity when it is not feasible).
 double objective(const Instance& in, const Routes& r);
 
+/// Whether every route flies whole pairs: after the depot, each entered waypoint is followed by the
+/// other end of its pair (constraint (7)).
+bool back_and_forth(const Instance& in, const Routes& r);
+
+enum class Formulation { Exact, Contracted };
+
 struct Limits {
+  Formulation model = Formulation::Exact;
   long long max_nodes = 100000;  ///< branch-and-bound nodes (a deterministic budget)
   double max_seconds = 60.0;     ///< CBC's time limit (the context's budget is applied on top)
   std::string stage = "milp";    ///< progress stage prefix
@@ -54,15 +68,17 @@ struct Result {
   bool optimal = false;    ///< proven optimal
   bool from_warm_start = false;
   std::string status;  ///< optimal, node_limit, time_limit, stopped
+  std::string model;   ///< exact or contracted
   int variables = 0, binaries = 0, rows = 0;
+  int pruned_arcs = 0;  ///< contracted model: arcs left out as worse than the warm start
   long long bb_nodes = 0;
   double seconds = 0.0;
   double first_incumbent_s = -1.0;  ///< when CBC first had a solution (the warm start counts at 0)
 };
 
-/// Solves `in` from the feasible warm start `start` (required: it is also what is returned when CBC
-/// finds nothing better in its limits). Returns with status "stopped" when the context asks to stop
-/// (a stop request or its deadline); the caller decides whether that is an error.
+/// Solves `in` with the formulation `lim.model` from the feasible warm start `start` (required: it is also
+/// what is returned when CBC finds nothing better in its limits). Returns with status "stopped" when the
+/// context asks to stop (a stop request or its deadline); the caller decides whether that is an error.
 Result solve(const Instance& in, const Routes& start, const Limits& lim, const Context& ctx);
 
 }  // namespace uavcover::planners::milp

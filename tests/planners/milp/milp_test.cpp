@@ -136,29 +136,38 @@ double brute_force(const milp::Instance& in) {
   return best;
 }
 
+/// A random instance like the paper's: `pairs` parallel lines 20 m apart with ragged ends, depots
+/// below them, the non-nearby penalty (x2) on waypoints numbered more than 2 apart.
+milp::Instance random_instance(std::mt19937& rng, int uavs, int pairs, std::vector<double> weight) {
+  std::uniform_real_distribution<double> u(0.0, 100.0);
+  milp::Instance in;
+  in.uavs = uavs;
+  in.pairs = pairs;
+  std::vector<Point> pos;
+  for (int k = 0; k < uavs; ++k) pos.push_back({u(rng), -20.0});
+  for (int p = 0; p < pairs; ++p) {
+    const double x = 10.0 + 20.0 * p, y0 = u(rng) * 0.3, y1 = 50.0 + u(rng) * 0.5;
+    pos.push_back({x, y0});
+    pos.push_back({x, y1});
+  }
+  const int n = in.nodes();
+  in.cost.resize(static_cast<std::size_t>(n * n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double c = boustro::dist(pos[static_cast<std::size_t>(i)], pos[static_cast<std::size_t>(j)]);
+      if (i >= uavs && j >= uavs && std::abs(i - j) > 2) c *= 2.0;
+      in.cost[static_cast<std::size_t>(i * n + j)] = c;
+    }
+  in.weight = std::move(weight);
+  return in;
+}
+
 TEST(MilpModel, SmallInstancesAreSolvedToTheBruteForceOptimum) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(0.0, 100.0);
   for (int trial = 0; trial < 6; ++trial) {
     // 2 UAVs, 4 vertical segments (10 nodes), random depots and lengths
-    milp::Instance in;
-    in.uavs = 2;
-    in.pairs = 4;
-    std::vector<Point> pos{{u(rng), -20.0}, {u(rng), -20.0}};
-    for (int p = 0; p < in.pairs; ++p) {
-      const double x = 10.0 + 20.0 * p, y0 = u(rng) * 0.3, y1 = 50.0 + u(rng) * 0.5;
-      pos.push_back({x, y0});
-      pos.push_back({x, y1});
-    }
-    const int n = in.nodes();
-    in.cost.resize(static_cast<std::size_t>(n * n));
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        double c = boustro::dist(pos[static_cast<std::size_t>(i)], pos[static_cast<std::size_t>(j)]);
-        if (i >= 2 && j >= 2 && std::abs(i - j) > 2) c *= 2.0;
-        in.cost[static_cast<std::size_t>(i * n + j)] = c;
-      }
-    in.weight = trial % 2 == 0 ? std::vector<double>{1.0, 1.0} : std::vector<double>{0.6, 1.4};
+    const milp::Instance in = random_instance(
+        rng, 2, 4, trial % 2 == 0 ? std::vector<double>{1.0, 1.0} : std::vector<double>{0.6, 1.4});
     // a poor but feasible start: everything but one pair to UAV 0
     milp::Routes start;
     start.seq = {{0, 2, 3, 4, 5, 6, 7}, {1, 8, 9}};
@@ -170,6 +179,92 @@ TEST(MilpModel, SmallInstancesAreSolvedToTheBruteForceOptimum) {
     EXPECT_LE(r.gap, 1e-6);
     EXPECT_EQ(r.binaries, 2 * 9 * 8 + 2 * 4);  // per UAV its depot and 8 waypoints; y per pair and UAV
   }
+}
+
+/// Pairs 0..P-1 dealt round-robin to the UAVs, each flown low end first: feasible, poor.
+milp::Routes round_robin(const milp::Instance& in) {
+  milp::Routes r;
+  for (int k = 0; k < in.uavs; ++k) r.seq.push_back({k});
+  for (int p = 0; p < in.pairs; ++p) {
+    auto& q = r.seq[static_cast<std::size_t>(p % in.uavs)];
+    q.push_back(in.uavs + 2 * p);
+    q.push_back(in.uavs + 2 * p + 1);
+  }
+  return r;
+}
+
+TEST(MilpModel, TheContractedModelHasTheExactModelsOptimum) {
+  std::mt19937 rng(11);
+  milp::Limits exact, contracted;
+  exact.model = milp::Formulation::Exact;
+  contracted.model = milp::Formulation::Contracted;
+  int pruned = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const int pairs = 3 + trial % 3;  // 3 to 5 lines, 8 to 12 nodes
+    const milp::Instance in = random_instance(
+        rng, 2, pairs, trial % 2 == 0 ? std::vector<double>{1.0, 1.0} : std::vector{0.7, 1.3});
+    const milp::Routes start = round_robin(in);
+    const milp::Result e = milp::solve(in, start, exact, Context{});
+    const milp::Result c = milp::solve(in, start, contracted, Context{});
+    ASSERT_TRUE(e.optimal) << e.status;
+    ASSERT_TRUE(c.optimal) << c.status;
+    EXPECT_EQ(c.model, "contracted");
+    EXPECT_NEAR(c.objective, e.objective, 1e-6 * e.objective) << "trial " << trial;
+    const double bf = brute_force(in);
+    EXPECT_NEAR(c.objective, bf, 1e-6 * bf) << "trial " << trial;
+    // the contracted routes fly whole pairs and cost what CBC says
+    EXPECT_TRUE(milp::back_and_forth(in, c.routes));
+    EXPECT_TRUE(milp::back_and_forth(in, e.routes));
+    EXPECT_NEAR(milp::objective(in, c.routes), c.objective, 1e-9 * bf);
+    // one node per pair and orientation: no pair-internal arcs, no constraint (7), MTZ over pairs;
+    // arcs that cannot beat the start are left out
+    const int m = 2, P = pairs;
+    EXPECT_EQ(c.binaries + c.pruned_arcs, m * (2 * P + 2 * P + 2 * P * (2 * P - 2)) + m * P);
+    EXPECT_EQ(e.pruned_arcs, 0);
+    EXPECT_EQ(c.rows, P * (1 + m) + m * (1 + 2 * P) + m + P * (P - 1) + m);
+    EXPECT_LT(c.rows, e.rows);
+    EXPECT_LT(c.binaries, e.binaries);
+    // from a good start (contiguous halves) more arcs are left out, and the optimum stays
+    milp::Routes halves{{{0}, {1}}};
+    for (int p = 0; p < P; ++p) {
+      auto& q = halves.seq[p < P / 2 ? 0u : 1u];
+      q.push_back(m + 2 * p);
+      q.push_back(m + 2 * p + 1);
+    }
+    const milp::Result h = milp::solve(in, halves, contracted, Context{});
+    ASSERT_TRUE(h.optimal) << h.status;
+    EXPECT_NEAR(h.objective, bf, 1e-6 * bf) << "trial " << trial;
+    EXPECT_TRUE(milp::back_and_forth(in, h.routes));
+    if (milp::objective(in, halves) < milp::objective(in, start)) {
+      EXPECT_GE(h.pruned_arcs, c.pruned_arcs);
+    }
+    pruned += h.pruned_arcs;
+  }
+  EXPECT_GT(pruned, 0) << "the pruning was exercised";
+}
+
+TEST(MilpModel, TheContractedModelSolvesThreeUavsToTheBruteForceOptimum) {
+  std::mt19937 rng(3);
+  milp::Limits contracted;
+  contracted.model = milp::Formulation::Contracted;
+  for (int trial = 0; trial < 3; ++trial) {
+    const milp::Instance in = random_instance(rng, 3, 6, {1.0, 1.0, 1.0});
+    const milp::Result c = milp::solve(in, round_robin(in), contracted, Context{});
+    ASSERT_TRUE(c.optimal) << c.status;
+    const double bf = brute_force(in);
+    EXPECT_NEAR(c.objective, bf, 1e-6 * bf) << "trial " << trial;
+    EXPECT_TRUE(milp::back_and_forth(in, c.routes));
+    for (const auto& q : c.routes.seq) EXPECT_GE(q.size(), 3u) << "constraint (6): every UAV flies";
+  }
+}
+
+TEST(MilpModel, BackAndForthRejectsSplitPairs) {
+  std::mt19937 rng(5);
+  const milp::Instance in = random_instance(rng, 2, 2, {1.0, 1.0});
+  EXPECT_TRUE(milp::back_and_forth(in, {{{0, 2, 3}, {1, 5, 4}}}));
+  EXPECT_FALSE(milp::back_and_forth(in, {{{0, 2, 4}, {1, 3, 5}}})) << "pair 0 split between the UAVs";
+  EXPECT_FALSE(milp::back_and_forth(in, {{{0, 2, 3, 4}, {1, 5}}})) << "pair 1 entered and left apart";
+  EXPECT_FALSE(milp::back_and_forth(in, {{{0, 2, 3, 1}, {1, 4, 5}}})) << "a depot as a waypoint";
 }
 
 // ---- the planner ----
@@ -336,6 +431,36 @@ TEST(MilpPlanner, LargeInstancesAreClusteredByShare) {
   for (std::size_t k = 0; k < 5; ++k) EXPECT_NEAR(bg::area(a.uavs[k].region) / total, p.shares[k], 0.03) << k;
 }
 
+TEST(MilpPlanner, AutoChoosesTheModelBySizeAndBothGiveTheSameOptimum) {
+  // 3 lines and 2 UAVs: auto takes the exact model; 7 lines: the contracted one
+  const Problem small = problem({rect(0, 0, 120, 30)}, {}, {{-10, 0}, {-10, 30}}, 10.0);
+  const Problem larger = problem({rect(0, 0, 120, 70)}, {}, {{-10, 0}, {-10, 70}}, 10.0);
+  const nlohmann::json joint = {{"max_uavs_per_milp", 2}, {"node_limit", 1000000}};
+  auto cluster = [](const Assignment& a) { return a.diagnostics.at("clusters")[0]; };
+  EXPECT_EQ(cluster(run(small, joint)).at("model"), "exact");
+  const Assignment auto_large = run(larger, joint);
+  EXPECT_EQ(cluster(auto_large).at("model"), "contracted");
+  nlohmann::json exact = joint, contracted = joint;
+  exact["model"] = "exact";
+  contracted["model"] = "contracted";
+  for (const Problem* p : {&small, &larger}) {
+    const Assignment e = run(*p, exact), c = run(*p, contracted);
+    ASSERT_TRUE(cluster(e).at("optimal").get<bool>());
+    ASSERT_TRUE(cluster(c).at("optimal").get<bool>());
+    EXPECT_EQ(cluster(e).at("model"), "exact");
+    EXPECT_EQ(cluster(c).at("model"), "contracted");
+    const double oe = cluster(e).at("objective").get<double>(), oc = cluster(c).at("objective").get<double>();
+    EXPECT_NEAR(oc, oe, 1e-6 * oe);
+    if (p == &larger) {
+      EXPECT_GT(cluster(c).at("pruned_arcs").get<int>(), 0) << "the non-nearby penalty prunes";
+    }
+    // every line flown end to end by one UAV, every UAV flying
+    const milp::Lines lines = lines_of(*p);
+    for (int w : flown_by(c, lines)) EXPECT_GE(w, 0);
+    for (const auto& u : c.uavs) EXPECT_FALSE(u.coverage.empty());
+  }
+}
+
 TEST(MilpPlanner, BadParametersAreNamed) {
   auto field_of = [](const nlohmann::json& params) {
     try {
@@ -353,6 +478,8 @@ TEST(MilpPlanner, BadParametersAreNamed) {
   EXPECT_EQ(field_of({{"nearby_penalty", 0.5}}), "planner_params.nearby_penalty");
   EXPECT_EQ(field_of({{"angle_deg", "north"}}), "planner_params.angle_deg");
   EXPECT_EQ(field_of({{"gurobi", true}}), "planner_params.gurobi");
+  EXPECT_EQ(field_of({{"model", "gurobi"}}), "planner_params.model");
+  EXPECT_EQ(field_of({{"model", 1}}), "planner_params.model");
   EXPECT_EQ(field_of({{"direction", "auto"}, {"angle_deg", 30}}), "accepted");
   // a spacing that would give too many lines is refused by field, before any allocation
   Problem p = problem({rect(0, 0, 1000, 1000)}, {}, {{0, 0}}, 0.01);
