@@ -23,6 +23,15 @@ struct Camera {
   std::optional<double> focal_length_mm;
   std::optional<double> image_width_px;
   std::optional<double> side_overlap;
+  // Photogrammetry (docs/photogrammetry.md). The image's width lies across the flight direction.
+  double front_overlap = 0.75;     ///< along-track overlap of consecutive images, [0, 0.95]
+  std::optional<double> vfov_deg;  ///< paper convention: vertical FOV (default: 4:3 of hfov's footprint)
+  std::optional<double> sensor_height_mm;  ///< QGC convention: sensor height (default: 3/4 of the width)
+  std::optional<double> image_height_px;   ///< QGC convention: image height (default: 3/4 of the width)
+  std::optional<double> min_trigger_interval_s;  ///< the camera cannot shoot faster than this
+  double gimbal_pitch_deg = -90.0;               ///< set before the first leg; -90 = nadir
+  std::string capture = "distance";              ///< "distance" (fly and shoot) or "hover" (stop and shoot)
+  double image_size_mb = 8.0;                    ///< storage per image, for the estimate
 };
 
 /// Defaults for optional per-UAV fields (documented in docs/mission-format.md).
@@ -54,11 +63,13 @@ struct Mission {
   std::vector<GeoPolygon> area;          ///< normalised: closed rings, outer CCW, holes CW
   std::vector<GeoPolygon> no_fly_zones;  ///< normalised likewise (holes of `area` are moved here)
   std::optional<Camera> camera;
-  double spacing_m = 0.0;                   ///< scanning density ds (given or from the camera)
-  std::optional<double> gsd_m;              ///< ground sample distance (QGC camera convention)
-  std::optional<double> footprint_m;        ///< camera footprint width on the ground
-  double altitude_m = 40.0;                 ///< mission altitude
-  std::string altitude_source = "default";  ///< "camera", "altitude_m" or "default"
+  double spacing_m = 0.0;                         ///< scanning density ds (given or from the camera)
+  std::optional<double> gsd_m;                    ///< ground sample distance (QGC camera convention)
+  std::optional<double> footprint_m;              ///< camera footprint width on the ground
+  std::optional<double> along_track_footprint_m;  ///< camera footprint along the flight direction
+  std::optional<double> trigger_distance_m;       ///< along-track footprint * (1 - front_overlap)
+  double altitude_m = 40.0;                       ///< mission altitude
+  std::string altitude_source = "default";        ///< "camera", "altitude_m" or "default"
   std::vector<Uav> uavs;
   Mode mode = Mode::Strict;
   std::string planner = "darp";

@@ -101,6 +101,7 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
     ev.cost =
         evaluate_cost_from_durations(durations, uavs, ev.coverage.total.area_m2, options.cost, &batteries);
   }
+  ev.images = photo::estimate(plan);
   return ev;
 }
 
@@ -153,7 +154,9 @@ json to_json(const Evaluation& e) {
   json cov = to_json(e.coverage, e.footprint_m);
   for (std::size_t i = 0; i < e.uav_ids.size() && i < cov["uavs"].size(); ++i)
     cov["uavs"][i]["id"] = e.uav_ids[i];
-  return json{{"coverage", std::move(cov)}, {"cost", to_json(e.cost)}};
+  json j{{"coverage", std::move(cov)}, {"cost", to_json(e.cost)}};
+  if (e.images) j["images"] = photo::to_json(*e.images);
+  return j;
 }
 
 json evaluation_json(const Evaluation& e) {
@@ -190,6 +193,7 @@ json evaluation_json(const Evaluation& e) {
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
+  if (e.images) j["images"] = photo::to_json(*e.images);
   return j;
 }
 

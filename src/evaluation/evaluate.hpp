@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "evaluation/cost.hpp"
 #include "evaluation/coverage.hpp"
 #include "geodesy/local_frame.hpp"
+#include "photo/photo.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::evaluation {
@@ -26,6 +28,7 @@ struct Evaluation {
   CoverageResult coverage;
   CostResult cost;
   std::vector<std::string> uav_ids;
+  std::optional<photo::Estimate> images;  ///< the camera's trigger plan (evaluate_plan, with a camera)
 };
 
 /// Footprint width w: mission.footprint_m, else 2*h*tan(HFOV/2) from the camera, else 1.5*ds.

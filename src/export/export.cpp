@@ -70,6 +70,34 @@ std::vector<const MissionItem*> flown_waypoints(const std::vector<MissionItem>& 
   return out;
 }
 
+/// What the camera does at a flown waypoint, as the MAVLink items after it say (src/photo/photo.hpp):
+/// DJI and Litchi translate the same trigger plan into their own actions.
+struct CameraAt {
+  double leg_trigger_m = 0.0;  ///< a leg starts here, shot every this many metres (distance capture)
+  int photos = 0;              ///< single images taken here (leg ends; hover captures)
+  double hold_s = 0.0;         ///< hover before shooting
+};
+std::vector<CameraAt> camera_actions(const std::vector<MissionItem>& items) {
+  std::vector<CameraAt> out;
+  for (const auto& it : items) {
+    if (it.command == kNavWaypoint) {
+      out.push_back({});
+      out.back().hold_s = it.param1;
+      continue;
+    }
+    if (out.empty()) continue;
+    if (it.command == kDoSetCamTriggDist) {
+      if (it.param1 > 0)
+        out.back().leg_trigger_m = it.param1;  // its immediate image is the distance shooting's first
+      else if (it.param3 > 0)
+        ++out.back().photos;
+    } else if (it.command == kImageStartCapture) {
+      ++out.back().photos;
+    }
+  }
+  return out;
+}
+
 /// Shortest round-trip text of a number; NaN as "NaN" (how Mission Planner and pymavlink read it).
 std::string num(double v) { return std::isnan(v) ? std::string("NaN") : fmt::format("{}", v); }
 std::string coord(double v) { return fmt::format("{:.9f}", v); }
@@ -400,7 +428,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
   const UavPlan& up = plan.uavs.at(index);
   check_heights(plan, index, wps, limits::kDjiMaxHeight, "DJI WPML");
   const double speed = speed_within(plan, index, limits::kDjiMaxSpeed, "DJI WPML", opt);
-  const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
+  const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
   const double transit_alt = transition_altitude(altitudes, index, plan.mission.altitude_m);
   const int payload = opt.dji_payload_enum >= 0 ? opt.dji_payload_enum
                                                 : builtin_payload(opt.dji_drone_enum, opt.dji_drone_sub_enum);
@@ -436,41 +464,67 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
       altitudes.land_instead_of_rtl ? "autoLand" : "goHome", num(safe_height), num(speed), num(safe_height),
       opt.dji_drone_enum, opt.dji_drone_sub_enum, payload);
 
-  // camera: one action group per coverage run, photos every spacing_m metres
+  // camera (src/photo/photo.hpp): every coverage leg is its own action group shooting every trigger
+  // distance from its start (multipleDistance over [k, k+1]); single photos (leg ends, hover-and-capture
+  // stops) are reachPoint groups at their waypoint, after a hover when the capture is "hover"
   const std::string suffix = xml_escape(file_suffix(up.id));
-  auto action_group = [&](std::size_t start, std::size_t end, int id) {
+  const std::vector<CameraAt> shots = camera_actions(items);
+  const std::string take_photo = fmt::format(
+      "            <wpml:actionActuatorFunc>takePhoto</wpml:actionActuatorFunc>\n"
+      "            <wpml:actionActuatorFuncParam>\n"
+      "              <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+      "              <wpml:fileSuffix>{}</wpml:fileSuffix>\n"
+      "              <wpml:payloadLensIndex>{}</wpml:payloadLensIndex>\n"
+      "              <wpml:useGlobalPayloadLensIndex>0</wpml:useGlobalPayloadLensIndex>\n"
+      "            </wpml:actionActuatorFuncParam>\n",
+      suffix, lens_index(payload));
+  auto action = [](int id, const std::string& body) {
+    return fmt::format(
+        "          <wpml:action>\n            <wpml:actionId>{}</wpml:actionId>\n{}"
+        "          </wpml:action>\n",
+        id, body);
+  };
+  auto action_group = [&](std::size_t start, std::size_t end, int id, const std::string& trigger,
+                          const std::string& actions) {
     return fmt::format(
         "        <wpml:actionGroup>\n"
         "          <wpml:actionGroupId>{}</wpml:actionGroupId>\n"
         "          <wpml:actionGroupStartIndex>{}</wpml:actionGroupStartIndex>\n"
         "          <wpml:actionGroupEndIndex>{}</wpml:actionGroupEndIndex>\n"
         "          <wpml:actionGroupMode>sequence</wpml:actionGroupMode>\n"
-        "          <wpml:actionTrigger>\n"
-        "            <wpml:actionTriggerType>multipleDistance</wpml:actionTriggerType>\n"
-        "            <wpml:actionTriggerParam>{}</wpml:actionTriggerParam>\n"
-        "          </wpml:actionTrigger>\n"
-        "          <wpml:action>\n"
-        "            <wpml:actionId>0</wpml:actionId>\n"
-        "            <wpml:actionActuatorFunc>takePhoto</wpml:actionActuatorFunc>\n"
-        "            <wpml:actionActuatorFuncParam>\n"
-        "              <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
-        "              <wpml:fileSuffix>{}</wpml:fileSuffix>\n"
-        "              <wpml:payloadLensIndex>{}</wpml:payloadLensIndex>\n"
-        "              <wpml:useGlobalPayloadLensIndex>0</wpml:useGlobalPayloadLensIndex>\n"
-        "            </wpml:actionActuatorFuncParam>\n"
-        "          </wpml:action>\n"
+        "          <wpml:actionTrigger>\n{}"
+        "          </wpml:actionTrigger>\n{}"
         "        </wpml:actionGroup>\n",
-        id, start, end, num(plan.mission.spacing_m), suffix, lens_index(payload));
+        id, start, end, trigger, actions);
   };
-  // coverage runs: [start, end] waypoint indices of consecutive coverage waypoints of one part
-  std::map<std::size_t, std::size_t> runs;
-  for (std::size_t k = 0; k < wps.size(); ++k) {
-    if (wps[k]->role != "coverage") continue;
-    std::size_t e = k;
-    while (e + 1 < wps.size() && wps[e + 1]->role == "coverage" && wps[e + 1]->part == wps[k]->part) ++e;
-    runs[k] = e;
-    k = e;
-  }
+  auto groups_at = [&](std::size_t k, int& group) {
+    std::string out;
+    if (!camera || k >= shots.size()) return out;
+    const CameraAt& c = shots[k];
+    if (c.photos > 0) {
+      std::string acts;
+      int id = 0;
+      if (c.hold_s > 0)
+        acts +=
+            action(id++, fmt::format("            <wpml:actionActuatorFunc>hover</wpml:actionActuatorFunc>\n"
+                                     "            <wpml:actionActuatorFuncParam>\n"
+                                     "              <wpml:hoverTime>{}</wpml:hoverTime>\n"
+                                     "            </wpml:actionActuatorFuncParam>\n",
+                                     num(c.hold_s)));
+      for (int p = 0; p < c.photos; ++p) acts += action(id++, take_photo);
+      out += action_group(k, k, group++,
+                          "            <wpml:actionTriggerType>reachPoint</wpml:actionTriggerType>\n", acts);
+    }
+    if (c.leg_trigger_m > 0 && k + 1 < wps.size())
+      out += action_group(
+          k, k + 1, group++,
+          fmt::format("            <wpml:actionTriggerType>multipleDistance</wpml:actionTriggerType>\n"
+                      "            <wpml:actionTriggerParam>{}</wpml:actionTriggerParam>\n",
+                      num(c.leg_trigger_m)),
+          action(0, take_photo));
+    return out;
+  };
+  const double pitch = camera ? plan.mission.camera->gimbal_pitch_deg : -90.0;
 
   std::string tpl = header + "    <wpml:author>uavcover</wpml:author>\n" + mission_config;
   // heights are relative to the take-off point (heightMode relativeToStartPoint), whose ellipsoid height
@@ -534,8 +588,8 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
                "        <wpml:useGlobalHeadingParam>1</wpml:useGlobalHeadingParam>\n"
                "        <wpml:useGlobalTurnParam>1</wpml:useGlobalTurnParam>\n"
                "        <wpml:useStraightLine>1</wpml:useStraightLine>\n"
-               "        <wpml:gimbalPitchAngle>-90</wpml:gimbalPitchAngle>\n",
-               k, num(w.alt), num(w.alt));
+               "        <wpml:gimbalPitchAngle>{}</wpml:gimbalPitchAngle>\n",
+               k, num(w.alt), num(w.alt), num(pitch));
     wl += "      <Placemark>\n" + point +
           fmt::format(
               "        <wpml:index>{}</wpml:index>\n"
@@ -552,14 +606,9 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
               "        </wpml:waypointTurnParam>\n"
               "        <wpml:useStraightLine>1</wpml:useStraightLine>\n",
               k, num(w.alt), num(speed));
-    if (camera) {
-      auto r = runs.find(k);
-      if (r != runs.end() && r->second > r->first) {
-        const std::string g = action_group(r->first, r->second, group++);
-        tpl += g;
-        wl += g;
-      }
-    }
+    const std::string g = groups_at(k, group);
+    tpl += g;
+    wl += g;
     tpl += "      </Placemark>\n";
     wl += "      </Placemark>\n";
   }
@@ -573,7 +622,9 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
   const auto wps = flown_waypoints(items);
   check_heights(plan, index, wps, limits::kLitchiMaxAltitude, "Litchi");
   const double speed = speed_within(plan, index, limits::kLitchiMaxSpeed, "Litchi", opt);
-  const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0;
+  const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
+  const std::vector<CameraAt> shots = camera_actions(items);
+  const double pitch = camera ? plan.mission.camera->gimbal_pitch_deg : -90.0;
   std::string header =
       "latitude,longitude,altitude(m),heading(deg),curvesize(m),rotationdir,gimbalmode,gimbalpitchangle";
   for (int k = 1; k <= 15; ++k) header += fmt::format(",actiontype{},actionparam{}", k, k);
@@ -581,12 +632,21 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
       ",altitudemode,speed(m/"
       "s),poi_latitude,poi_longitude,poi_altitude(m),poi_altitudemode,photo_timeinterval,"
       "photo_distinterval\n";
-  auto row = [&](const MissionItem& w) {
-    // gimbal pitch -90 (nadir); no actions; altitude relative to take-off (altitudemode 0)
-    std::string out = fmt::format("{:.8f},{:.8f},{},0,0,0,2,-90", w.lat, w.lon, num(w.alt));
-    for (int k = 1; k <= 15; ++k) out += ",-1,0";
-    const bool shoot = camera && w.role == "coverage";
-    out += fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed), shoot ? num(plan.mission.spacing_m) : "-1");
+  // Litchi actions: type 0 = stay (ms), 1 = take photo; photo_distinterval shoots every so many metres on
+  // the way to the next waypoint (a leg's distance capture); altitude relative to take-off (altitudemode 0)
+  auto row = [&](std::size_t k) {
+    const MissionItem& w = *wps[k];
+    std::string out = fmt::format("{:.8f},{:.8f},{},0,0,0,2,{}", w.lat, w.lon, num(w.alt), num(pitch));
+    const CameraAt c = camera && k < shots.size() ? shots[k] : CameraAt{};
+    int actions = 0;
+    if (c.photos > 0 && c.hold_s > 0) {
+      out += fmt::format(",0,{}", static_cast<int>(std::lround(c.hold_s * 1000)));
+      ++actions;
+    }
+    for (int p = 0; p < c.photos && actions < 15; ++p, ++actions) out += ",1,0";
+    for (; actions < 15; ++actions) out += ",-1,0";
+    out +=
+        fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed), c.leg_trigger_m > 0 ? num(c.leg_trigger_m) : "-1");
     return out;
   };
   // missions of at most 99 waypoints; each next one starts where the previous one ended
@@ -595,7 +655,7 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
   for (std::size_t start = 0; start < wps.size();) {
     const std::size_t end = std::min(wps.size(), start + max);
     std::string text = header;
-    for (std::size_t k = start; k < end; ++k) text += row(*wps[k]);
+    for (std::size_t k = start; k < end; ++k) text += row(k);
     missions.push_back(std::move(text));
     if (end == wps.size()) break;
     start = end - 1;

@@ -9,6 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geodesy/local_frame.hpp"
+#include "photo/photo.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -107,7 +109,10 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   const double mission_alt = plan.mission.altitude_m;
   const double transit_alt = transition_altitude(opt, index, mission_alt);
   const LonLat home = uav.start_resolved;
-  const bool camera = plan.mission.camera.has_value() && plan.mission.spacing_m > 0.0;
+  const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
+  const bool hover = camera && plan.mission.camera->capture == "hover";
+  const double trigger = camera ? *plan.mission.trigger_distance_m : 0.0;
+  const geodesy::LocalFrame frame(plan.origin);
 
   std::vector<MissionItem> items;
   // take-off: climb straight to the transition altitude above home
@@ -115,6 +120,20 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   // MAV_CMD_DO_CHANGE_SPEED: param1 1 = ground speed, param2 speed, param3 -1 = throttle unchanged
   items.push_back(
       command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
+  if (camera) {
+    // MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW: param1 pitch, param2 yaw (0: ahead, follow mode), param3/4
+    // rates unset (NaN), param5 flags 0, param7 gimbal device 0 (all). PX4 >= 1.13 and ArduPilot >= 4.3
+    // run it in missions; it replaces the deprecated MAV_CMD_DO_MOUNT_CONTROL.
+    items.push_back(command_item(kDoGimbalManagerPitchyaw,
+                                 static_cast<float>(plan.mission.camera->gimbal_pitch_deg), 0.0f,
+                                 kKeepHeading, kKeepHeading, "gimbal"));
+  }
+  // MAV_CMD_IMAGE_START_CAPTURE: param1 camera 0 (all), param2 interval 0, param3 one image, param4 0
+  auto capture = [&] { items.push_back(command_item(kImageStartCapture, 0.0f, 0.0f, 1.0f, 0.0f, "camera")); };
+  // MAV_CMD_DO_SET_CAM_TRIGG_DIST: param1 distance (0 stops), param3 1 = one image now
+  auto trigg = [&](double d) {
+    items.push_back(command_item(kDoSetCamTriggDist, static_cast<float>(d), 0.0f, 1.0f, 0.0f, "camera"));
+  };
 
   bool high = true;  // at the transition altitude
   int waypoint = 0;  // coverage waypoints so far
@@ -143,18 +162,37 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       high = false;
       items.push_back(position_item(kNavWaypoint, entry, mission_alt, "coverage"));
       items.back().waypoint = waypoint++;
-      if (camera)
-        items.push_back(command_item(kDoSetCamTriggDist, static_cast<float>(plan.mission.spacing_m), 0.0f,
-                                     1.0f, 0.0f, "camera"));
+      // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
+      const bool local = part.local.size() == part.wgs84.size();
       for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
+        const bool leg = camera && local &&
+                         photo::leg_images(std::hypot(part.local[k].x() - part.local[k - 1].x(),
+                                                      part.local[k].y() - part.local[k - 1].y()),
+                                           trigger) > 1;
+        if (leg && !hover) trigg(trigger);
+        if (leg && hover) {
+          items.back().param1 = static_cast<float>(photo::kHoverHoldS);  // hold at the leg's start, shoot
+          capture();
+          const std::vector<Point> shots = photo::leg_shots(part.local[k - 1], part.local[k], trigger);
+          for (std::size_t s = 1; s + 1 < shots.size(); ++s) {
+            items.push_back(position_item(kNavWaypoint, frame.to_wgs84(shots[s]), mission_alt, "capture"));
+            items.back().param1 = static_cast<float>(photo::kHoverHoldS);
+            capture();
+          }
+        }
         items.push_back(position_item(kNavWaypoint, part.wgs84[k], mission_alt, "coverage"));
         items.back().waypoint = waypoint++;
+        if (leg && !hover) trigg(0.0);
+        if (leg && hover) {
+          items.back().param1 = static_cast<float>(photo::kHoverHoldS);
+          capture();
+        }
       }
-      if (camera) items.push_back(command_item(kDoSetCamTriggDist, 0.0f, 0.0f, 0.0f, 0.0f, "camera"));
       here = part.wgs84.back();
     }
     for (std::size_t k = first_new; k < items.size(); ++k)
-      if (items[k].role == "transit" || items[k].role == "coverage") items[k].part = static_cast<int>(pi);
+      if (items[k].role == "transit" || items[k].role == "coverage" || items[k].role == "capture")
+        items[k].part = static_cast<int>(pi);
   }
   if (!high) items.push_back(position_item(kNavWaypoint, here, transit_alt, "transition"));
   if (!same_place(here, home)) items.push_back(position_item(kNavWaypoint, home, transit_alt, "transit"));

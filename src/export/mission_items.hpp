@@ -20,6 +20,8 @@ enum MavCmd : std::uint16_t {
   kNavTakeoff = 22,
   kDoChangeSpeed = 178,
   kDoSetCamTriggDist = 206,
+  kDoGimbalManagerPitchyaw = 1000,
+  kImageStartCapture = 2000,
 };
 /// MAV_FRAME numbers used here.
 enum MavFrame : std::uint8_t { kFrameGlobal = 0, kFrameMission = 2, kFrameGlobalRelativeAlt = 3 };
@@ -34,7 +36,9 @@ struct MissionItem {
   double lat = 0, lon = 0;  ///< degrees (0 for commands without a position)
   float alt = 0;            ///< metres, relative to home in frame 3
   bool autocontinue = true;
-  std::string role;  ///< "takeoff", "transition", "coverage", "transit", "speed", "camera", "rtl", "land"
+  /// "takeoff", "transition", "coverage", "transit", "speed", "gimbal", "camera" (a trigger command),
+  /// "capture" (a hover-and-capture stop between coverage waypoints), "rtl", "land"
+  std::string role;
   int part = -1;     ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
   /// On "coverage" items: the index of the coverage waypoint among the UAV's coverage waypoints (the
   /// vertices of its coverage parts in flight order, as Sortie::first_waypoint counts them); -1 otherwise.

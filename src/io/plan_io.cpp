@@ -19,6 +19,7 @@
 #include "geometry/geometry.hpp"
 #include "json/strict.hpp"
 #include "mission/mission_json.hpp"
+#include "photo/photo.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -236,6 +237,7 @@ json plan_json(const Plan& plan, const json& extra) {
         {"free_area_m2", plan.free_area_m2},
         {"compute_time_s", plan.compute_time_s}}},
   };
+  if (const auto images = photo::estimate(plan)) j["images"] = photo::to_json(*images);
   for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
   return j;
 }

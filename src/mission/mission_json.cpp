@@ -69,6 +69,16 @@ json to_json(const Mission& m) {
     if (c.focal_length_mm) cj["focal_length_mm"] = *c.focal_length_mm;
     if (c.image_width_px) cj["image_width_px"] = *c.image_width_px;
     if (c.side_overlap) cj["side_overlap"] = *c.side_overlap;
+    // photogrammetry fields: written when given or not the default, so old documents round-trip unchanged
+    const Camera defaults;
+    if (c.front_overlap != defaults.front_overlap) cj["front_overlap"] = c.front_overlap;
+    if (c.vfov_deg) cj["vfov_deg"] = *c.vfov_deg;
+    if (c.sensor_height_mm) cj["sensor_height_mm"] = *c.sensor_height_mm;
+    if (c.image_height_px) cj["image_height_px"] = *c.image_height_px;
+    if (c.min_trigger_interval_s) cj["min_trigger_interval_s"] = *c.min_trigger_interval_s;
+    if (c.gimbal_pitch_deg != defaults.gimbal_pitch_deg) cj["gimbal_pitch_deg"] = c.gimbal_pitch_deg;
+    if (c.capture != defaults.capture) cj["capture"] = c.capture;
+    if (c.image_size_mb != defaults.image_size_mb) cj["image_size_mb"] = c.image_size_mb;
     j["camera"] = std::move(cj);
   } else {
     j["spacing_m"] = m.spacing_m;

@@ -1,5 +1,7 @@
 // Mission file parsing and validation: uavcover v1 (GeoJSON conventions) and the
 // mCPP-optimized-DARP input format. Every refusal is an InputError naming the field.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -18,6 +20,10 @@ namespace uavcover {
 namespace {
 
 using nlohmann::json;
+
+/// Along-track footprint over across-track footprint when the camera block gives no height (4:3, the
+/// image format of most survey cameras, in landscape across the flight direction).
+constexpr double kDefaultAspect = 0.75;
 
 std::string idx(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
 
@@ -269,14 +275,16 @@ Camera parse_camera(const json& j) {
   if (!j.is_object()) throw InputError("camera", "expected an object");
   reject_unknown(j,
                  {"altitude_m", "hfov_deg", "overlap", "sensor_width_mm", "focal_length_mm", "image_width_px",
-                  "side_overlap"},
+                  "side_overlap", "front_overlap", "vfov_deg", "sensor_height_mm", "image_height_px",
+                  "min_trigger_interval_s", "gimbal_pitch_deg", "capture", "image_size_mb"},
                  "camera.");
   if (!j.contains("altitude_m")) throw InputError("camera.altitude_m", "missing");
   Camera c;
   c.altitude_m = positive(j["altitude_m"], "camera.altitude_m");
-  const bool fov = j.contains("hfov_deg") || j.contains("overlap");
+  const bool fov = j.contains("hfov_deg") || j.contains("overlap") || j.contains("vfov_deg");
   const bool qgc = j.contains("sensor_width_mm") || j.contains("focal_length_mm") ||
-                   j.contains("image_width_px") || j.contains("side_overlap");
+                   j.contains("image_width_px") || j.contains("side_overlap") ||
+                   j.contains("sensor_height_mm") || j.contains("image_height_px");
   if (fov == qgc)
     throw InputError("camera",
                      "give either hfov_deg and overlap, or sensor_width_mm, focal_length_mm, "
@@ -289,12 +297,34 @@ Camera parse_camera(const json& j) {
     c.hfov_deg = number(need("hfov_deg"), "camera.hfov_deg");
     if (*c.hfov_deg <= 0 || *c.hfov_deg >= 180) throw InputError("camera.hfov_deg", "must be in (0, 180)");
     c.overlap = in_range(need("overlap"), "camera.overlap", 0.0, 1.0, true);
+    if (j.contains("vfov_deg")) {
+      c.vfov_deg = number(j["vfov_deg"], "camera.vfov_deg");
+      if (*c.vfov_deg <= 0 || *c.vfov_deg >= 180) throw InputError("camera.vfov_deg", "must be in (0, 180)");
+    }
   } else {
     c.sensor_width_mm = positive(need("sensor_width_mm"), "camera.sensor_width_mm");
     c.focal_length_mm = positive(need("focal_length_mm"), "camera.focal_length_mm");
     c.image_width_px = positive(need("image_width_px"), "camera.image_width_px");
     c.side_overlap = in_range(need("side_overlap"), "camera.side_overlap", 0.0, 1.0, true);
+    if (j.contains("sensor_height_mm"))
+      c.sensor_height_mm = positive(j["sensor_height_mm"], "camera.sensor_height_mm");
+    if (j.contains("image_height_px"))
+      c.image_height_px = positive(j["image_height_px"], "camera.image_height_px");
   }
+  if (j.contains("front_overlap"))
+    c.front_overlap = in_range(j["front_overlap"], "camera.front_overlap", 0.0, 0.95);
+  if (j.contains("min_trigger_interval_s"))
+    c.min_trigger_interval_s = positive(j["min_trigger_interval_s"], "camera.min_trigger_interval_s");
+  if (j.contains("gimbal_pitch_deg"))
+    c.gimbal_pitch_deg = in_range(j["gimbal_pitch_deg"], "camera.gimbal_pitch_deg", -90.0, 0.0);
+  if (j.contains("capture")) {
+    const json& cap = j["capture"];
+    if (!cap.is_string() || (cap != "distance" && cap != "hover"))
+      throw InputError("camera.capture", "must be \"distance\" or \"hover\", got " + cap.dump());
+    c.capture = cap.get<std::string>();
+  }
+  if (j.contains("image_size_mb"))
+    c.image_size_mb = in_range(j["image_size_mb"], "camera.image_size_mb", 1e-3, 1e4);
   return c;
 }
 
@@ -587,11 +617,24 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
       const double t = std::tan(*c.hfov_deg * std::numbers::pi / 360.0);
       m.footprint_m = 2.0 * c.altitude_m * t;
       m.spacing_m = (2.0 - *c.overlap) * c.altitude_m * t;  // paper eq. 14
+      m.along_track_footprint_m = c.vfov_deg
+                                      ? 2.0 * c.altitude_m * std::tan(*c.vfov_deg * std::numbers::pi / 360.0)
+                                      : *m.footprint_m * kDefaultAspect;
     } else {
       m.gsd_m = c.altitude_m * *c.sensor_width_mm / (*c.focal_length_mm * *c.image_width_px);
       m.footprint_m = *c.image_width_px * *m.gsd_m;
       m.spacing_m = *m.footprint_m * (1.0 - *c.side_overlap);
+      // QGroundControl: image height * GSD, or the sensor height's ground extent
+      if (c.image_height_px)
+        m.along_track_footprint_m = *c.image_height_px * *m.gsd_m;
+      else if (c.sensor_height_mm)
+        m.along_track_footprint_m = c.altitude_m * *c.sensor_height_mm / *c.focal_length_mm;
+      else
+        m.along_track_footprint_m = *m.footprint_m * kDefaultAspect;
     }
+    m.trigger_distance_m = *m.along_track_footprint_m * (1.0 - c.front_overlap);
+    if (!(*m.trigger_distance_m > 0) || !std::isfinite(*m.trigger_distance_m))
+      throw InputError("camera.front_overlap", "gives a non-positive trigger distance");
     if (raw.altitude && std::fabs(*raw.altitude - c.altitude_m) > 1e-9)
       throw InputError("altitude_m", "differs from camera.altitude_m; give the altitude once");
     if (!(m.spacing_m > 0) || !std::isfinite(m.spacing_m))
@@ -641,6 +684,20 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
                              " km from the area (more than 100 km)");
       u.start_resolved = *u.start;
     }
+  }
+  // the camera must be able to shoot at the trigger interval each UAV's speed gives
+  if (m.camera && m.camera->min_trigger_interval_s && m.trigger_distance_m) {
+    const double fastest = *m.trigger_distance_m / *m.camera->min_trigger_interval_s;
+    for (std::size_t i = 0; i < raw.uavs.size(); ++i)
+      if (raw.uavs[i].speed_mps > fastest * (1 + 1e-9))
+        throw InputError(
+            idx("uavs", i) + ".speed_mps",
+            fmt::format("at {:.3g} m/s the camera would shoot every {:.3g} s ({:.3g} m apart), faster "
+                        "than camera.min_trigger_interval_s {:.3g} s; fly at most {:.3g} m/s, or "
+                        "lower camera.front_overlap",
+                        raw.uavs[i].speed_mps, *m.trigger_distance_m / raw.uavs[i].speed_mps,
+                        *m.trigger_distance_m, *m.camera->min_trigger_interval_s,
+                        std::floor(fastest * 1000) / 1000));
   }
   m.uavs = raw.uavs;
   return m;

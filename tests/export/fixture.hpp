@@ -2,7 +2,9 @@
 // UAVs along x = 0, each flying one closed loop, with a no-fly zone in the east half.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,10 @@ inline Plan two_uav_plan(bool camera = false) {
     m.camera->hfov_deg = 60.0;
     m.camera->overlap = 0.2;
     m.altitude_source = "camera";
+    // as the parser derives them: footprint 2 h tan(HFOV/2), 4:3 along track, 75 % front overlap
+    m.footprint_m = 2.0 * 40.0 * std::tan(30.0 * std::numbers::pi / 180.0);
+    m.along_track_footprint_m = *m.footprint_m * 0.75;
+    m.trigger_distance_m = *m.along_track_footprint_m * (1.0 - m.camera->front_overlap);
   }
   Uav a;
   a.id = "alpha";

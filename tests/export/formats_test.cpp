@@ -143,7 +143,7 @@ TEST(Formats, QgcPlanRoundTrip) {
     }
     EXPECT_EQ(takeoff, 1);
     EXPECT_EQ(speed, 1);
-    EXPECT_EQ(cam, 2);
+    EXPECT_EQ(cam, 12);  // each of the loop's 6 legs: start (d) and stop (0), docs/photogrammetry.md
     EXPECT_EQ(rtl, 1);
     EXPECT_EQ(wp, static_cast<int>(waypoints_only(items).size()));
     // geofence: one inclusion polygon around everything flown, the no-fly zone as exclusion,
@@ -267,7 +267,7 @@ TEST(Formats, DjiWpmlRoundTrip) {
         EXPECT_STREQ(doc.select_node("/kml/Document/Folder/wpml:executeHeightMode").node().text().get(),
                      "relativeToStartPoint");
       }
-      std::size_t k = 0, groups = 0;
+      std::size_t k = 0, groups = 0, distance_groups = 0;
       for (const auto& m : marks) {
         const auto c = kml_coords(m.node().select_node("Point/coordinates").node().text().get());
         ASSERT_EQ(c.size(), 1u);
@@ -276,18 +276,28 @@ TEST(Formats, DjiWpmlRoundTrip) {
         EXPECT_EQ(m.node().child("wpml:index").text().as_int(), static_cast<int>(k));
         const char* h = wayline ? "wpml:executeHeight" : "wpml:height";
         EXPECT_NEAR(m.node().child(h).text().as_double(), wps[k].alt, 1e-6);
-        if (auto g = m.node().child("wpml:actionGroup")) {
+        for (const auto& g : m.node().children("wpml:actionGroup")) {
           ++groups;
           EXPECT_EQ(g.child("wpml:actionGroupStartIndex").text().as_int(), static_cast<int>(k));
           EXPECT_STREQ(wps[k].role.c_str(), "coverage");
           const int end = g.child("wpml:actionGroupEndIndex").text().as_int();
           EXPECT_STREQ(wps[static_cast<std::size_t>(end)].role.c_str(), "coverage");
-          EXPECT_NEAR(g.select_node("wpml:actionTrigger/wpml:actionTriggerParam").node().text().as_double(),
-                      10.0, 1e-9);
+          const std::string type =
+              g.select_node("wpml:actionTrigger/wpml:actionTriggerType").node().text().get();
+          if (type == "multipleDistance") {
+            ++distance_groups;
+            EXPECT_EQ(end, static_cast<int>(k) + 1);  // one coverage leg
+            EXPECT_NEAR(g.select_node("wpml:actionTrigger/wpml:actionTriggerParam").node().text().as_double(),
+                        *plan.mission.trigger_distance_m, 1e-5);  // a MAVLink float param
+          } else {
+            EXPECT_EQ(type, "reachPoint");  // the photo at a leg's end
+            EXPECT_EQ(end, static_cast<int>(k));
+          }
         }
         ++k;
       }
-      EXPECT_EQ(groups, 1u);  // one coverage loop
+      EXPECT_EQ(distance_groups, 6u);  // the loop's 6 legs, each shot on its own
+      EXPECT_EQ(groups, 12u);          // and a photo at each leg's end
     }
   }
   fs::remove_all(dir);
@@ -316,7 +326,10 @@ TEST(Formats, LitchiAndCsvRoundTrip) {
       EXPECT_NEAR(std::stod(f[1]), wps[k].lon, 1e-8);
       EXPECT_NEAR(std::stod(f[2]), wps[k].alt, 1e-6);
       EXPECT_NEAR(std::stod(f[39]), plan.mission.uavs[u].speed_mps, 1e-9);
-      EXPECT_EQ(std::stod(f[45]) > 0, wps[k].role == "coverage");
+      // distance shooting starts at every coverage waypoint that starts a leg (the loop's last ends one)
+      const bool starts_leg =
+          wps[k].role == "coverage" && k + 1 < wps.size() && wps[k + 1].role == "coverage";
+      EXPECT_EQ(std::stod(f[45]) > 0, starts_leg) << k;
     }
     const auto csv = lines(slurp(dir / "export" / (plan.uavs[u].id + ".csv")));
     ASSERT_EQ(csv.size(), items.size() + 1);

@@ -266,7 +266,7 @@ TEST(DjiWpml, RequiredElementsArePresentAndInRange) {
       }
     }
     EXPECT_GT(marks, 3u);
-    EXPECT_EQ(photos, 1u);
+    EXPECT_EQ(photos, 12u);  // 6 legs: a distance group and a photo at the leg's end each
   }
   // a drone without a known camera needs the payload given
   ExportOptions other;

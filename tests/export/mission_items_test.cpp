@@ -87,18 +87,25 @@ TEST(MissionItems, SequenceFollowsHongTransitionScheme) {
   }
 }
 
-TEST(MissionItems, CameraTriggersAtStartAndEndOfEachSweep) {
+TEST(MissionItems, CameraTriggersAtStartAndEndOfEachLeg) {
   const Plan plan = fixture::two_uav_plan(true);
   const auto items = mission_items(plan, 0);
+  const float d = static_cast<float>(*plan.mission.trigger_distance_m);
+  // every coverage leg: WP(start) TRIGG(d) WP(end) TRIGG(0); the loop of alpha has 6 legs
   std::vector<std::size_t> cams;
   for (std::size_t k = 0; k < items.size(); ++k)
     if (items[k].command == kDoSetCamTriggDist) cams.push_back(k);
-  ASSERT_EQ(cams.size(), 2u);
-  EXPECT_FLOAT_EQ(items[cams[0]].param1, 10.0f);
-  EXPECT_FLOAT_EQ(items[cams[1]].param1, 0.0f);
-  EXPECT_EQ(items[cams[0] - 1].role, "coverage");  // right after reaching the loop start
-  EXPECT_EQ(items[cams[1] - 1].role, "coverage");  // right after the last loop waypoint
-  EXPECT_EQ(items[cams[1] + 1].role, "transition");
+  ASSERT_EQ(cams.size(), 12u);
+  for (std::size_t c = 0; c < cams.size(); c += 2) {
+    EXPECT_FLOAT_EQ(items[cams[c]].param1, d);
+    EXPECT_FLOAT_EQ(items[cams[c + 1]].param1, 0.0f);
+    // after the leg's first waypoint (or the previous leg's stop at that waypoint)
+    EXPECT_TRUE(items[cams[c] - 1].role == "coverage" ||
+                (items[cams[c] - 1].command == kDoSetCamTriggDist && items[cams[c] - 1].param1 == 0.0f));
+    EXPECT_EQ(items[cams[c] + 1].role, "coverage");
+    EXPECT_EQ(items[cams[c + 1] - 1].role, "coverage");
+  }
+  EXPECT_EQ(items[cams.back() + 1].role, "transition");
 }
 
 TEST(MissionItems, LandInsteadOfRtl) {

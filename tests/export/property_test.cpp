@@ -3,8 +3,10 @@
 // every format, each output read back by its own parser and checked against its consumer's limits.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <pugixml.hpp>
 #include <random>
 
@@ -103,6 +105,9 @@ Plan random_plan(Gen& g) {
     m.camera->altitude_m = m.altitude_m;
     m.camera->hfov_deg = 60;
     m.camera->overlap = 0.2;
+    m.footprint_m = 2 * m.altitude_m * std::tan(std::numbers::pi / 6);
+    m.along_track_footprint_m = *m.footprint_m * 0.75;
+    m.trigger_distance_m = *m.along_track_footprint_m * (1 - m.camera->front_overlap);
   }
   const int n = g.integer(1, 5);
   const double sw = 2 * W / n;

@@ -93,10 +93,14 @@ TEST_F(CliUpload, UploadsTheExportedMissionWithHomeFirst) {
   for (std::size_t i = 0; i < want.size(); ++i) {
     want[i].target_system = 1;
     want[i].target_component = 1;
-    // positioned items carry yaw NaN ("keep heading"), which no float compares equal to
+    // positioned items carry yaw NaN ("keep heading"), the gimbal item unset rates (NaN), which no float
+    // compares equal to
     MissionItemInt g = got[i];
-    EXPECT_EQ(std::isnan(g.param4), std::isnan(want[i].param4)) << "item " << i;
-    if (std::isnan(g.param4) && std::isnan(want[i].param4)) g.param4 = want[i].param4 = 0.0F;
+    for (auto member : {&MissionItemInt::param1, &MissionItemInt::param2, &MissionItemInt::param3,
+                        &MissionItemInt::param4}) {
+      EXPECT_EQ(std::isnan(g.*member), std::isnan(want[i].*member)) << "item " << i;
+      if (std::isnan(g.*member) && std::isnan(want[i].*member)) g.*member = want[i].*member = 0.0F;
+    }
     EXPECT_EQ(g, want[i]) << "item " << i;
   }
   // item 0: home; item 1: take-off at the UAV's transition altitude

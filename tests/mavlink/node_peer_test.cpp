@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "export/fixture.hpp"
+#include "export/mission_items.hpp"
 #include "mavlink/frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -325,4 +328,53 @@ TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
       expect_fields(got[i], want);
     }
   }
+}
+
+// Issue 18: a camera plan's upload carries the gimbal and trigger items, as node-mavlink decodes them.
+TEST(NodeMavlinkPeer, UploadCarriesCameraTriggersAndGimbal) {
+  SKIP_WITHOUT_NODE();
+  const uavcover::Plan plan = uavcover::fixture::two_uav_plan(true);
+  const std::vector<MissionItemInt> items =
+      to_mission_items(uavcover::exporting::mission_items(plan, 0), std::nullopt);
+  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' sequential 9";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  const auto port = json::parse(read_line(pipe)).at("port").get<std::uint16_t>();
+  UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
+  gcs.set_peer(Endpoint{"127.0.0.1", port});
+  UploadOptions opt;
+  opt.target_system = 9;
+  const UploadResult res = upload_mission(gcs, items, opt);
+  const std::string report = read_line(pipe);
+  EXPECT_EQ(::pclose(pipe), 0);
+  ASSERT_TRUE(res.ok) << res.error;
+  const json got = json::parse(report).at("items");
+  ASSERT_EQ(got.size(), items.size());
+  int gimbal = 0, start = 0, stop = 0;
+  // JSON has no NaN: node's JSON.stringify writes NaN params (yaw "keep heading", unset rates) as null
+  auto same = [](const json& v, float want) {
+    return v.is_null() ? std::isnan(want) : static_cast<float>(v.get<double>()) == want;
+  };
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const MissionItemInt& want = items[i];
+    EXPECT_EQ(got[i].at("seq").get<int>(), static_cast<int>(i));
+    EXPECT_EQ(got[i].at("command").get<int>(), want.command);
+    EXPECT_EQ(got[i].at("frame").get<int>(), want.frame);
+    EXPECT_EQ(at(got[i], "x").get<std::int64_t>(), want.x);
+    EXPECT_EQ(at(got[i], "y").get<std::int64_t>(), want.y);
+    EXPECT_TRUE(same(got[i].at("z"), want.z)) << i;
+    EXPECT_TRUE(same(got[i].at("param1"), want.param1)) << i;
+    EXPECT_TRUE(same(got[i].at("param2"), want.param2)) << i;
+    EXPECT_TRUE(same(got[i].at("param3"), want.param3)) << i;
+    EXPECT_TRUE(same(got[i].at("param4"), want.param4)) << i;
+    const int command = got[i].at("command").get<int>();
+    if (command == 1000) {
+      ++gimbal;
+      EXPECT_FLOAT_EQ(got[i].at("param1").get<float>(), -90.0F);
+    }
+    if (command == 206) (got[i].at("param1").get<float>() > 0 ? start : stop) += 1;
+  }
+  EXPECT_EQ(gimbal, 1);
+  EXPECT_EQ(start, 6);  // alpha's loop: 6 legs, each started and stopped
+  EXPECT_EQ(stop, 6);
 }

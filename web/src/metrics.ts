@@ -94,7 +94,30 @@ export function metricsPanel(job: Job, plan: PlanJson | null): HTMLElement {
     table.tBodies[0].append(tr);
   }
   wrap.append(table);
+  if (plan?.images) wrap.append(imagesPanel(plan.images));
   if (plan?.cost?.uavs === undefined)
     wrap.append(el('p', { class: 'muted' }, 'Flight time and batteries per UAV: not in plan.json.'));
   return wrap;
+}
+
+/** The photogrammetry estimate of plan.json's "images" block: images, storage, overlaps achieved, GSD. */
+function imagesPanel(images: NonNullable<PlanJson['images']>): HTMLElement {
+  const box = el('div', { class: 'plan-images', 'data-testid': 'images-panel' });
+  const gb = images.storage_mb / 1024;
+  const facts: [string, string, string][] = [
+    ['images', `${images.images}`, 'expected images, all UAVs'],
+    ['storage', gb >= 1 ? `${gb.toFixed(1)} GB` : `${images.storage_mb.toFixed(0)} MB`, 'storage at the camera block\'s image size'],
+    ['trigger', `every ${images.trigger_distance_m.toFixed(1)} m`, `${images.capture} capture along each coverage leg`],
+    ['overlap', `${(100 * images.side_overlap).toFixed(0)} % side, ${(100 * images.front_overlap).toFixed(0)} % front`, 'overlaps achieved'],
+    ['gsd', images.gsd_m === null ? '—' : `${(100 * images.gsd_m).toFixed(2)} cm/px`, 'ground sample distance'],
+    ['gimbal', `${images.gimbal_pitch_deg}°`, 'gimbal pitch'],
+  ];
+  const dl = el('dl');
+  for (const [key, value, title] of facts) {
+    dl.append(el('dt', { title }, key), el('dd', { 'data-testid': `images-${key}`, title }, value));
+  }
+  box.append(el('h4', {}, 'Images'), dl);
+  const per = images.uavs.map((u) => `${u.id}: ${u.images} (every ${u.trigger_interval_s.toFixed(1)} s)`).join(' · ');
+  box.append(el('p', { class: 'muted' }, per));
+  return box;
 }

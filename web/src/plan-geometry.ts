@@ -14,11 +14,25 @@ import { uavColour } from './palette.ts';
 
 type Position = number[]; // [lon, lat]
 
+export interface PlanImages {
+  capture: string;
+  trigger_distance_m: number;
+  gsd_m: number | null;
+  side_overlap: number;
+  front_overlap: number;
+  gimbal_pitch_deg: number;
+  images: number;
+  storage_mb: number;
+  uavs: { id: string; images: number; trigger_interval_s: number; storage_mb: number }[];
+}
+
 export interface PlanJson {
   origin?: Position;
   uavs: { id: string; region?: { type: string; coordinates: Position[][][] }; start?: Position; regions?: number }[];
   cost?: { batteries_per_uav?: number; uavs?: { batteries?: number; flight_duration_min?: number }[] };
   coverage?: { uavs?: { id: string; poc?: number; pooc?: number }[] };
+  /** The camera's trigger plan (docs/photogrammetry.md); only with a camera block. */
+  images?: PlanImages;
   [k: string]: unknown;
 }
 

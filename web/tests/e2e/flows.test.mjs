@@ -124,6 +124,11 @@ test('a. newcomer: open the seeded example, plan, export QGC; reload shows the l
   await p.waitForFunction(() => document.querySelectorAll('#map canvas').length > 0);
   assert.ok((await colouredPixels(p, colour)) > 200, 'the reloaded plan is drawn');
   assert.equal(Number(await p.locator('[data-testid=metric-poc]').getAttribute('data-value')), (await server.api(`/plans/${second}`)).metrics.poc);
+  // the seeded example flies a camera: the metrics show plan.json's image estimate (issue 18)
+  assert.ok(seeded.camera, 'the seeded example has a camera block');
+  const planJson = await server.api(`/plans/${second}/plan.json`);
+  assert.ok(planJson.images.images > 0);
+  assert.equal(await p.locator('[data-testid=images-images]').textContent(), String(planJson.images.images));
   await h.shot(p, 'flow-a2-reloaded');
 
   // pick the earlier plan from the list

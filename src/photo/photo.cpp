@@ -1,0 +1,99 @@
+#include "photo/photo.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uavcover::photo {
+
+namespace {
+
+double dist(const Point& a, const Point& b) { return std::hypot(b.x() - a.x(), b.y() - a.y()); }
+
+/// Below this a leg counts as one point (a closed loop's repeated vertex, rounding).
+constexpr double kMinLeg = 1e-6;
+
+}  // namespace
+
+int leg_images(double length_m, double trigger_m) {
+  if (!(trigger_m > 0) || !(length_m > kMinLeg)) return 1;
+  return static_cast<int>(std::ceil(length_m / trigger_m - 1e-9)) + 1;
+}
+
+std::vector<Point> leg_shots(const Point& a, const Point& b, double trigger_m) {
+  const double len = dist(a, b);
+  const int n = leg_images(len, trigger_m);
+  std::vector<Point> shots;
+  shots.reserve(static_cast<std::size_t>(n));
+  for (int k = 0; k + 1 < n; ++k) {
+    const double t = std::min(1.0, k * trigger_m / len);
+    shots.emplace_back(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()));
+  }
+  shots.push_back(b);
+  return shots;
+}
+
+std::optional<Estimate> estimate(const Plan& plan) {
+  const Mission& m = plan.mission;
+  if (!m.camera || !m.trigger_distance_m || !m.footprint_m || !m.along_track_footprint_m) return std::nullopt;
+  const Camera& cam = *m.camera;
+  Estimate e;
+  e.capture = cam.capture;
+  e.trigger_distance_m = *m.trigger_distance_m;
+  e.footprint_across_m = *m.footprint_m;
+  e.footprint_along_m = *m.along_track_footprint_m;
+  e.gsd_m = m.gsd_m;
+  e.gimbal_pitch_deg = cam.gimbal_pitch_deg;
+  e.side_overlap = 1.0 - m.spacing_m / e.footprint_across_m;
+  double leg_length = 0.0;
+  int gaps = 0;  // intervals between consecutive shots of a leg
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    const UavPlan& up = plan.uavs[i];
+    UavImages u;
+    u.id = up.id;
+    for (const PathPart& part : up.parts) {
+      if (part.kind != PartKind::Coverage) continue;
+      for (std::size_t k = 1; k < part.local.size(); ++k) {
+        const double len = dist(part.local[k - 1], part.local[k]);
+        if (len <= kMinLeg) continue;
+        const int n = leg_images(len, e.trigger_distance_m);
+        ++u.legs;
+        u.images += n;
+        leg_length += len;
+        gaps += n - 1;
+      }
+    }
+    const double speed = i < m.uavs.size() ? m.uavs[i].speed_mps : 0.0;
+    u.trigger_interval_s = speed > 0 ? e.trigger_distance_m / speed : 0.0;
+    u.hover_time_s = cam.capture == "hover" ? u.images * kHoverHoldS : 0.0;
+    u.storage_mb = u.images * cam.image_size_mb;
+    e.images += u.images;
+    e.storage_mb += u.storage_mb;
+    e.uavs.push_back(std::move(u));
+  }
+  e.front_overlap = gaps > 0 ? 1.0 - (leg_length / gaps) / e.footprint_along_m : cam.front_overlap;
+  return e;
+}
+
+nlohmann::json to_json(const Estimate& e) {
+  nlohmann::json uavs = nlohmann::json::array();
+  for (const UavImages& u : e.uavs)
+    uavs.push_back({{"id", u.id},
+                    {"legs", u.legs},
+                    {"images", u.images},
+                    {"trigger_interval_s", u.trigger_interval_s},
+                    {"hover_time_s", u.hover_time_s},
+                    {"storage_mb", u.storage_mb}});
+  return {{"capture", e.capture},
+          {"trigger_distance_m", e.trigger_distance_m},
+          {"footprint_across_m", e.footprint_across_m},
+          {"footprint_along_m", e.footprint_along_m},
+          {"gsd_m", e.gsd_m ? nlohmann::json(*e.gsd_m) : nlohmann::json(nullptr)},
+          {"side_overlap", e.side_overlap},
+          {"front_overlap", e.front_overlap},
+          {"gimbal_pitch_deg", e.gimbal_pitch_deg},
+          {"images", e.images},
+          {"storage_mb", e.storage_mb},
+          {"uavs", std::move(uavs)}};
+}
+
+}  // namespace uavcover::photo
