@@ -39,7 +39,7 @@ struct MissionItem {
   /// "takeoff", "transition", "coverage", "transit", "speed", "gimbal", "camera" (a trigger command),
   /// "capture" (a hover-and-capture stop between coverage waypoints), "rtl", "land"
   std::string role;
-  int part = -1;     ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
+  int part = -1;  ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
   /// On "coverage" items: the index of the coverage waypoint among the UAV's coverage waypoints (the
   /// vertices of its coverage parts in flight order, as Sortie::first_waypoint counts them); -1 otherwise.
   int waypoint = -1;
