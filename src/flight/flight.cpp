@@ -292,8 +292,9 @@ void Flight::Impl::supervisor_loop(const std::stop_token& stop) {
         std::vector<Helper> hs;
         for (const auto& h : uavs)
           if (&h != &u && h.link_state == "ok" && h.phase != "failed")
-            hs.push_back(
-                Helper{h.index, airborne_phase(h.phase) ? h.battery_pct.value_or(100.0) / 100.0 : 1.0});
+            hs.push_back(Helper{h.index, airborne_phase(h.phase)
+                                             ? std::clamp(h.battery_pct.value_or(100.0) / 100.0, 0.01, 1.0)
+                                             : 1.0});
         offers.push_back(i);
         helpers.push_back(std::move(hs));
         reached.push_back(last_reached(u));
@@ -355,22 +356,26 @@ void Flight::Impl::flush() {
 
 // ---- reassignment ----
 
+MissionSpec Flight::Impl::reassigned_mission(const ReassignmentRt& r, const ReassignedWork& w,
+                                             std::size_t k) const {
+  MissionSpec m = make_mission(w.index, w.missions.at(k));
+  m.kind = "reassigned";
+  m.reassignment = r.id;
+  m.k = static_cast<int>(k);
+  m.index = static_cast<int>(k);
+  // without sorties (a leg longer than a battery) the work is one mission
+  m.first_waypoint = k < w.sorties.size() ? w.sorties[k].first_waypoint : 0;
+  m.last_waypoint = k < w.sorties.size() ? w.sorties[k].last_waypoint : w.waypoints - 1;
+  m.waypoints.assign(static_cast<std::size_t>(std::max(0, m.last_waypoint - m.first_waypoint + 1)), 'P');
+  return m;
+}
+
 void Flight::Impl::apply_reassignment(ReassignmentRt& r) {
   if (!r.result) throw CommandRefused("reassignment " + std::to_string(r.id) + " has no result");
   for (const auto& w : r.result->work) {
     auto it = std::find_if(uavs.begin(), uavs.end(), [&](const UavRt& h) { return h.index == w.index; });
     if (it == uavs.end()) continue;
-    for (std::size_t k = 0; k < w.missions.size() && k < w.sorties.size(); ++k) {
-      MissionSpec m = make_mission(w.index, w.missions[k]);
-      m.kind = "reassigned";
-      m.reassignment = r.id;
-      m.k = static_cast<int>(k);
-      m.index = static_cast<int>(k);
-      m.first_waypoint = w.sorties[k].first_waypoint;
-      m.last_waypoint = w.sorties[k].last_waypoint;
-      m.waypoints.assign(static_cast<std::size_t>(std::max(0, m.last_waypoint - m.first_waypoint + 1)), 'P');
-      it->missions.push_back(std::move(m));
-    }
+    for (std::size_t k = 0; k < w.missions.size(); ++k) it->missions.push_back(reassigned_mission(r, w, k));
     if (it->phase == "done") set_phase(*it, "landed");
   }
   auto failed = std::find_if(uavs.begin(), uavs.end(), [&](const UavRt& h) { return h.index == r.failed; });
@@ -412,6 +417,8 @@ void Flight::Impl::restore(const json& s) {
       if (reassignments.size() >= kReassignMax) break;
       ReassignmentRt r;
       r.id = jr.at("id").get<int>();
+      if (r.id != static_cast<int>(reassignments.size()) + 1)
+        throw InputError("restored.reassignments", "ids must count from 1");
       r.failed_uav = jr.at("failed_uav").get<std::string>();
       const auto it = std::find_if(plan.uavs.begin(), plan.uavs.end(),
                                    [&](const UavPlan& u) { return u.id == r.failed_uav; });
@@ -424,8 +431,8 @@ void Flight::Impl::restore(const json& s) {
           return u.id == jh.at("uav").get<std::string>();
         });
         if (h == plan.uavs.end()) throw InputError("restored.reassignments.helpers", "unknown UAV");
-        r.helpers.push_back(
-            Helper{static_cast<std::size_t>(h - plan.uavs.begin()), jh.at("battery").get<double>()});
+        r.helpers.push_back(Helper{static_cast<std::size_t>(h - plan.uavs.begin()),
+                                   std::clamp(jh.at("battery").get<double>(), 0.01, 1.0)});
       }
       if (r.state !=
           "declined")  // deterministic: the same plan, UAV, waypoint and helpers give the same work
@@ -467,18 +474,14 @@ void Flight::Impl::restore(const json& s) {
           const auto& work = reassignments[static_cast<std::size_t>(rid - 1)].result->work;
           const auto w = std::find_if(work.begin(), work.end(),
                                       [&](const ReassignedWork& x) { return x.index == u.index; });
-          if (w == work.end() || k < 0 || k >= static_cast<int>(w->missions.size()) ||
-              k >= static_cast<int>(w->sorties.size()))
+          if (w == work.end() || k < 0 || k >= static_cast<int>(w->missions.size()))
             throw InputError("restored.uavs.missions", "not in the reassignment");
-          m = make_mission(u.index, w->missions[static_cast<std::size_t>(k)]);
-          m.kind = kind;
-          m.reassignment = rid;
-          m.index = k;
-          m.first_waypoint = w->sorties[static_cast<std::size_t>(k)].first_waypoint;
-          m.last_waypoint = w->sorties[static_cast<std::size_t>(k)].last_waypoint;
-          m.waypoints = jm.at("waypoints").get<std::string>();
-          if (static_cast<int>(m.waypoints.size()) != std::max(0, m.last_waypoint - m.first_waypoint + 1))
+          m = reassigned_mission(reassignments[static_cast<std::size_t>(rid - 1)], *w,
+                                 static_cast<std::size_t>(k));
+          const std::string wp = jm.at("waypoints").get<std::string>();
+          if (wp.size() != m.waypoints.size() || wp.find_first_not_of("PCRS") != std::string::npos)
             throw InputError("restored.uavs.missions.waypoints", "does not match the reassignment");
+          m.waypoints = wp;
         } else {
           const int from = jm.at("from_waypoint").get<int>();
           if (!own_cache.contains(from)) own_cache[from] = own_missions(u.index, from);

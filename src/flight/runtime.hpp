@@ -170,6 +170,8 @@ struct Flight::Impl {
   detail::MissionSpec make_mission(std::size_t uav, std::vector<exporting::MissionItem> items) const;
   [[nodiscard]] std::vector<detail::MissionSpec> own_missions(std::size_t uav, int from_waypoint) const;
   void apply_reassignment(detail::ReassignmentRt& r);
+  [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,
+                                                       const ReassignedWork& w, std::size_t k) const;
   [[nodiscard]] nlohmann::json snapshot_locked() const;
   void restore(const nlohmann::json& s);
 
