@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <map>
 
 #include "evaluation/cost.hpp"
@@ -334,6 +335,12 @@ void Flight::Impl::supervisor_loop(const std::stop_token& stop) {
     flush();
     std::this_thread::sleep_for(50ms);
   }
+  add_thread_cpu();
+}
+
+void Flight::Impl::add_thread_cpu() {
+  timespec ts{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0) cpu_ns += ts.tv_sec * 1'000'000'000LL + ts.tv_nsec;
 }
 
 void Flight::Impl::flush() {
@@ -630,8 +637,13 @@ json Flight::Impl::snapshot_locked() const {
     x["to"] = std::move(to);
     jr.push_back(std::move(x));
   }
-  return {{"state", state},        {"started", started},      {"config", config_json(config)},
-          {"uavs", std::move(ju)}, {"alerts", std::move(ja)}, {"reassignments", std::move(jr)}};
+  return {{"state", state},
+          {"started", started},
+          {"config", config_json(config)},
+          {"uavs", std::move(ju)},
+          {"alerts", std::move(ja)},
+          {"reassignments", std::move(jr)},
+          {"runtime", {{"cpu_s", static_cast<double>(cpu_ns.load()) * 1e-9}}}};
 }
 
 // ---- the public class ----

@@ -475,6 +475,7 @@ void Flight::Impl::vehicle_loop(std::size_t i, const std::stop_token& stop) {
           r.message);
     }
   }
+  add_thread_cpu();
 }
 
 }  // namespace uavcover::flight

@@ -180,6 +180,8 @@ struct Flight::Impl {
   void supervisor_loop(const std::stop_token& stop);
   void flush();
   std::int64_t last_changed_ms = 0;
+  std::atomic<std::int64_t> cpu_ns{0};  ///< CPU time of the flight's threads that ended (docs: runtime)
+  void add_thread_cpu();
 };
 
 std::int64_t now_ms();

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -199,6 +200,55 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
     }
   // the flown tracks
   for (const auto& [uav, track] : f.tracks()) EXPECT_GT(track.size(), 10U) << uav;
+  // what following cost (docs/flights.md, Runtime): CPU of the flight's threads per vehicle and per
+  // simulated second
+  const double cpu = snap["runtime"]["cpu_s"].get<double>();
+  EXPECT_GT(cpu, 0.0);
+  RecordProperty("flight_cpu_ms_per_vehicle", std::to_string(std::lround(cpu * 1000 / 4)));
+  RecordProperty("sim_seconds", std::to_string(std::lround(s.fleet.sim_time())));
+  std::cout << "flight threads: " << cpu << " s CPU for 4 vehicles over " << s.fleet.sim_time()
+            << " simulated s\n";
+}
+
+TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
+  const Plan p = plan(field(100, 60, 1));
+  std::uint16_t port = 0;
+  {
+    mavlink::UdpLink probe({"127.0.0.1", 0}, 1, 1);  // a free port for the flight to listen on
+    port = probe.local_port();
+  }
+  Sim s(p, 20);
+  s.fleet.vehicles()[0]->set_peer({"127.0.0.1", port});  // the vehicle sends to us first (a router)
+  flight::FlightConfig c = s.config();
+  c.vehicles[0].endpoint = {"127.0.0.1", port};
+  c.vehicles[0].listen = true;
+  Recorder rec;
+  flight::Flight f(8, p, c, rec);
+  f.start();
+  ASSERT_TRUE(wait_for(s, 200, [&] { return f.snapshot()["uavs"][0]["link"]["state"] == "ok"; }));
+  // another system on the same port: an armed vehicle in mission mode with something to say
+  mavlink::UdpLink stranger({"127.0.0.1", 0}, 77, 1);
+  stranger.set_peer(mavlink::Endpoint{"127.0.0.1", port});
+  for (int k = 0; k < 20; ++k) {
+    mavlink::Heartbeat hb;
+    hb.type = 2;
+    hb.base_mode = 128 | 4;
+    hb.custom_mode = 2;
+    stranger.send(hb);
+    stranger.send(mavlink::StatusText::make(mavlink::kSeverityCritical, "intruder"));
+    stranger.send_raw({0xFD, 0x09, 0xFF, 0x00, 0x13, 0x37});  // a truncated frame
+    std::this_thread::sleep_for(5ms);
+  }
+  command(f, "upload");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "ready"; }));
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_FALSE(u["armed"].get<bool>());
+  EXPECT_EQ(u["link"]["state"], "ok");
+  f.stop();
+  for (const auto& r : rec.all())
+    if (r.kind == "statustext") {
+      EXPECT_NE(r.data["text"], "intruder");
+    }
 }
 
 TEST(Flight, LossyLinksTwentyPercentEndDoneWithRetriedUploads) {
