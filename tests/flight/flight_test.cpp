@@ -383,6 +383,47 @@ TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
   EXPECT_EQ(states, (std::vector<std::string>{"offered", "applied"}));
 }
 
+TEST(Flight, PauseContinueThenForcedLandingAndResumeFromTheLastReachedWaypoint) {
+  const Plan p = plan(field(150, 100, 1));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{0, sim::Failure{0.4, sim::FailureKind::Land}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.reassign_after_s = 3600;  // no offer: the operator resumes
+  flight::Flight f(9, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "flying"; }));
+  command(f, "pause");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "paused"; })) << f.snapshot().dump(1);
+  EXPECT_TRUE(wait_for(s, 100, [&] { return f.snapshot()["uavs"][0]["mode"] == "hold"; }));  // next HEARTBEAT
+  EXPECT_THROW(command(f, "pause"), flight::CommandRefused);
+  command(f, "continue");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "flying"; }));
+  // the forced landing at 40 %: landed with coverage left
+  ASSERT_TRUE(wait_for(s, 2000, [&] {
+    const json u = f.snapshot()["uavs"][0];
+    return u["phase"] == "landed" && u["interrupted"].get<bool>();
+  })) << f.snapshot().dump(1);
+  const std::string before = f.snapshot()["uavs"][0]["waypoints"];
+  const auto last = before.find_last_of('R');
+  ASSERT_NE(last, std::string::npos);
+  ASSERT_NE(before.find('P'), std::string::npos);
+  EXPECT_EQ(before.substr(0, last + 1).find_first_not_of('R'), std::string::npos) << before;
+  EXPECT_THROW(command(f, "next_sortie"), flight::CommandRefused);  // not after an interrupted mission
+  command(f, "resume");
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_EQ(u["waypoints"], std::string(before.size(), 'R'));
+  ASSERT_GE(u["missions"].size(), 2U);
+  EXPECT_EQ(u["missions"][0]["state"], "interrupted");
+  EXPECT_EQ(u["missions"][1]["kind"], "resume");
+  EXPECT_EQ(u["missions"][1]["from_waypoint"], static_cast<int>(last));
+  for (std::size_t k = 1; k < u["missions"].size(); ++k) EXPECT_EQ(u["missions"][k]["state"], "done");
+  // nothing reached twice: each waypoint's history is C R (or R), once
+  for (const auto& [key, h] : waypoint_histories(rec.all(), nullptr)) EXPECT_TRUE(h == "CR" || h == "R") << h;
+}
+
 TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
   const Plan p = plan(field(150, 100, 2));
   Sim s(p, 50);
