@@ -150,7 +150,10 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   const Plan p = plan(field(150, 100, 4));
   Sim s(p, 50);
   Recorder rec;
-  flight::Flight f(1, p, s.config(), rec);
+  flight::FlightConfig c = s.config();
+  c.separation_m = 1000;      // every pair in the air is "too close": separation alerts
+  c.low_battery_pct = 99.95;  // the first percent drained raises a low-battery alert
+  flight::Flight f(1, p, c, rec);
   EXPECT_EQ(f.state(), "created");
   f.start();
   upload_and_start(s, f);
@@ -185,6 +188,19 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   EXPECT_GE(kinds["ack"], 4 * 3);  // upload, arm, mission start per UAV
   EXPECT_GT(kinds["statustext"], 4);
   EXPECT_GT(rec.changes.load(), 5);
+  // alerts: raised and cleared as records; separation clears once the UAVs landed
+  std::map<std::string, int> raised, cleared;
+  for (const auto& r : recs)
+    if (r.kind == "alert")
+      ++(r.data["active"].get<bool>() ? raised : cleared)[r.data["kind"].get<std::string>()];
+  EXPECT_GT(raised["separation"], 0);
+  EXPECT_EQ(cleared["separation"], raised["separation"]);
+  EXPECT_EQ(raised["low_battery"], 4);
+  for (const auto& a : snap["alerts"])
+    if (a["kind"] == "separation") {
+      EXPECT_FALSE(a["active"].get<bool>());
+      EXPECT_FALSE(a["other"].is_null());
+    }
   bool done_record = false;
   for (const auto& r : recs)
     done_record = done_record || (r.kind == "state" && r.data.value("state", "") == "done");
