@@ -357,8 +357,11 @@ void Flight::Impl::flush() {
       last_changed_ms = t;
     }
   }
-  if (!out.empty()) observer.on_records(id, out);
-  if (changed) observer.on_changed(id);
+  try {  // the observer's failure (a store that cannot write) must not stop the flight
+    if (!out.empty()) observer.on_records(id, out);
+    if (changed) observer.on_changed(id);
+  } catch (const std::exception&) {
+  }
 }
 
 // ---- reassignment ----

@@ -177,6 +177,8 @@ struct Flight::Impl {
 
   // ---- threads ----
   void vehicle_loop(std::size_t i, const std::stop_token& stop);
+  void vehicle_step(std::size_t i, mavlink::UdpLink& link, detail::Clock::time_point& next_heartbeat,
+                    std::vector<mavlink::Received>& batch, const std::stop_token& stop);
   void supervisor_loop(const std::stop_token& stop);
   void flush();
   std::int64_t last_changed_ms = 0;
