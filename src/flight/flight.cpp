@@ -667,8 +667,8 @@ void Flight::start() {
   for (std::size_t i = 0; i < f.uavs.size(); ++i) {
     const auto& b = f.uavs[i].binding;
     try {
-      auto link =
-          std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0}, 255, 190);
+      auto link = std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0},
+                                                 kGcsSysid, kGcsCompid);
       if (b.listen)
         link->learn_peer(true);
       else
@@ -683,8 +683,8 @@ void Flight::start() {
   for (auto& u : f.uavs) u.last_heard = now;  // judged lost only after link_timeout_s of silence
   f.running = true;
   for (std::size_t i = 0; i < f.uavs.size(); ++i)
-    f.threads.emplace_back([&f, i](std::stop_token st) { f.vehicle_loop(i, st); });
-  f.threads.emplace_back([&f](std::stop_token st) { f.supervisor_loop(st); });
+    f.threads.emplace_back([&f, i](const std::stop_token& st) { f.vehicle_loop(i, st); });
+  f.threads.emplace_back([&f](const std::stop_token& st) { f.supervisor_loop(st); });
 }
 
 void Flight::stop() {

@@ -18,7 +18,6 @@ namespace mav = uavcover::mavlink;
 
 namespace {
 
-constexpr std::uint8_t kGcsSysid = 255, kGcsCompid = 190;  // MAV_COMP_ID_MISSIONPLANNER
 constexpr std::uint8_t kArmedFlag = 128;
 constexpr std::uint8_t kStateActive = 3, kStatePaused = 4, kStateComplete = 5;
 constexpr std::size_t kBatch = 256;  // messages handled per lock
@@ -440,10 +439,10 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::UdpLink& link, Clock::time_p
   // telemetry
   batch.clear();
   if (auto r = link.receive(20ms)) {
-    batch.push_back(std::move(*r));
+    batch.push_back(*r);
     while (batch.size() < kBatch)
       if (auto more = link.receive(0ms))
-        batch.push_back(std::move(*more));
+        batch.push_back(*more);
       else
         break;
   }

@@ -224,6 +224,15 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   RecordProperty("sim_seconds", std::to_string(std::lround(s.fleet.sim_time())));
   std::cout << "flight threads: " << cpu << " s CPU for 4 vehicles over " << s.fleet.sim_time()
             << " simulated s\n";
+  // the log's size (docs/flights.md): JSON bytes of telemetry and of the other records
+  std::size_t tele_n = 0, tele_bytes = 0, other_n = 0, other_bytes = 0;
+  for (const auto& r : recs) {
+    const std::size_t b = r.uav.size() + r.kind.size() + r.data.dump().size() + 16;
+    (r.kind == "telemetry" ? tele_n : other_n) += 1;
+    (r.kind == "telemetry" ? tele_bytes : other_bytes) += b;
+  }
+  std::cout << "log: " << tele_n << " telemetry records, " << tele_bytes << " B; " << other_n
+            << " other records, " << other_bytes << " B\n";
 }
 
 TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
