@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "flight/coverage.hpp"
 #include "flight/runtime.hpp"
 #include "sim/sim_vehicle.hpp"
 #include "sorties/sorties.hpp"
@@ -216,6 +217,10 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
     }
   // the flown tracks
   for (const auto& [uav, track] : f.tracks()) EXPECT_GT(track.size(), 10U) << uav;
+  // flown coverage of those tracks through the evaluator: at least the planned PoC less one point
+  const auto cov = flight::flown_coverage(p, f.tracks());
+  EXPECT_GE(cov.flown_poc, cov.planned_poc - 0.01) << cov.flown_poc << " vs " << cov.planned_poc;
+  std::cout << "flown PoC " << cov.flown_poc << ", planned " << cov.planned_poc << "\n";
   // what following cost (docs/flights.md, Runtime): CPU of the flight's threads per vehicle and per
   // simulated second
   const double cpu = snap["runtime"]["cpu_s"].get<double>();
@@ -406,6 +411,10 @@ TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
   for (const auto& r : rec.all())
     if (r.kind == "reassignment") states.push_back(r.data["state"]);
   EXPECT_EQ(states, (std::vector<std::string>{"offered", "applied"}));
+  // what the tracks heard (B's only up to its link loss, the helpers' whole flights) covers the field
+  const auto cov = flight::flown_coverage(p, f.tracks());
+  std::cout << "after reassignment: flown PoC " << cov.flown_poc << ", planned " << cov.planned_poc << "\n";
+  EXPECT_GE(cov.flown_poc, cov.planned_poc - 0.01);
 }
 
 TEST(Flight, ForcedLandingIsReassignedAutomatically) {
