@@ -1,10 +1,15 @@
 #!/usr/bin/env node
 // Independent MAVLink vehicle for tests/mavlink, built on node-mavlink: receives one mission upload over
 // UDP on 127.0.0.1 and prints what it got.
-// Usage: node vehicle.js [sequential|reverse] [sysid]
+// Usage: node vehicle.js [sequential|reverse|fly] [sysid]
 //   prints {"port": N} once bound, then, after acking the upload, {"items": [...]} and exits 0.
 //   "reverse" requests the items last to first (out of order, to exercise the GCS).
-//   Bounded: re-requests every 250 ms, gives up (exit 1) after 10 s.
+//   "fly" (issue 12: an independent vehicle a flight follows in place of our simulator): keeps running
+//   after the upload, sends HEARTBEAT (PX4 modes) every 200 ms, acks every COMMAND_LONG, arms on
+//   MAV_CMD_COMPONENT_ARM_DISARM and, on MAV_CMD_MISSION_START, "flies" the items: every 40 ms the next
+//   item's GLOBAL_POSITION_INT, MISSION_CURRENT and MISSION_ITEM_REACHED, then MISSION_CURRENT complete,
+//   lands, disarms, prints {"flown": [seqs]} and exits 0.
+//   Bounded: re-requests every 250 ms, gives up (exit 1) after 10 s (fly: 60 s).
 'use strict'
 const dgram = require('node:dgram')
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common } = require('node-mavlink')
@@ -51,7 +56,96 @@ function finish() {
   send(ack)
   const list = [...items.keys()].sort((a, b) => a - b).map((k) => items.get(k))
   process.stdout.write(JSON.stringify({ items: list }) + '\n')
+  if (order === 'fly') {
+    mission = list
+    return
+  }
   setTimeout(() => { socket.close(); process.exit(0) }, 50)
+}
+
+// ---- "fly" mode ----
+let mission = []
+let armed = false
+let flying = false
+let pos = { lat: 0, lon: 0, alt: 0 }
+const flown = []
+const PX4_AUTO = 4, PX4_READY = 1, PX4_MISSION = 4, PX4_LOITER = 3
+
+function heartbeat() {
+  if (!peer) return
+  const hb = new minimal.Heartbeat()
+  hb.type = 2  // quadrotor
+  hb.autopilot = 12  // PX4
+  hb.baseMode = 1 | (armed ? 128 : 0)  // custom mode enabled, safety armed
+  hb.customMode = ((PX4_AUTO << 16) | ((flying ? PX4_MISSION : armed ? PX4_LOITER : PX4_READY) << 24)) >>> 0
+  hb.systemStatus = armed ? 4 : 3  // active / standby
+  hb.mavlinkVersion = 3
+  send(hb)
+}
+
+function position() {
+  const g = new common.GlobalPositionInt()
+  g.timeBootMs = Date.now() % 4294967296
+  g.lat = pos.lat
+  g.lon = pos.lon
+  g.alt = Math.round(pos.alt * 1000)
+  g.relativeAlt = Math.round(pos.alt * 1000)
+  g.hdg = 65535
+  send(g)
+}
+
+function current(seq, state) {
+  const c = new common.MissionCurrent()
+  c.seq = seq
+  c.total = mission.length
+  c.missionState = state
+  send(c)
+}
+
+function ack(command) {
+  const a = new common.CommandAck()
+  a.command = command
+  a.result = 0
+  a.targetSystem = gcs.system
+  a.targetComponent = gcs.component
+  send(a)
+}
+
+function fly(seq) {
+  if (seq >= mission.length) {
+    current(mission.length - 1, 5)  // MISSION_STATE_COMPLETE
+    flying = false
+    pos.alt = 0
+    position()
+    armed = false
+    heartbeat()
+    process.stdout.write(JSON.stringify({ flown }) + '\n')
+    setTimeout(() => { socket.close(); process.exit(0) }, 1500)
+    return
+  }
+  const it = mission[seq]
+  if (it.command === 16 || it.command === 22 || it.command === 21) {
+    pos = { lat: it.x, lon: it.y, alt: it.command === 21 ? 0 : it.z }
+    position()
+  }
+  current(seq, 3)  // MISSION_STATE_ACTIVE
+  const r = new common.MissionItemReached()
+  r.seq = seq
+  send(r)
+  flown.push(seq)
+  setTimeout(() => fly(seq + 1), 40)
+}
+
+function onCommand(c) {
+  if (c.targetSystem !== sysid) return
+  gcs = { system: c.header.sysid, component: c.header.compid }
+  ack(c.command)
+  if (c.command === 400) armed = c._param1 === 1  // MAV_CMD_COMPONENT_ARM_DISARM
+  if (c.command === 300 && !flying && mission.length > 0) {  // MAV_CMD_MISSION_START
+    armed = true
+    flying = true
+    fly(0)
+  }
 }
 
 parser.on('data', (packet) => {
@@ -65,6 +159,8 @@ parser.on('data', (packet) => {
     pending = [...Array(count).keys()]
     if (order === 'reverse') pending.reverse()
     requestNext()
+  } else if (clazz === common.CommandLong && order === 'fly') {
+    onCommand({ ...data, command: data.command, header: packet.header })
   } else if (clazz === common.MissionItemInt && data.targetSystem === sysid && count >= 0) {
     if (pending.length > 0 && data.seq === pending[0]) {
       items.set(data.seq, data)
@@ -82,4 +178,8 @@ socket.on('message', (msg, rinfo) => {
 socket.bind(0, '127.0.0.1', () => {
   process.stdout.write(JSON.stringify({ port: socket.address().port }) + '\n')
 })
-setTimeout(() => { process.stderr.write('vehicle.js: no complete upload within 10 s\n'); process.exit(1) }, 10000)
+if (order === 'fly') setInterval(heartbeat, 200)
+setTimeout(() => {
+  process.stderr.write(order === 'fly' ? 'vehicle.js: not flown within 60 s\n' : 'vehicle.js: no complete upload within 10 s\n')
+  process.exit(1)
+}, order === 'fly' ? 60000 : 10000)
