@@ -81,34 +81,27 @@ Point from_mm(MmPoint p) {
   return {static_cast<double>(p.x()) / kMmPerM, static_cast<double>(p.y()) / kMmPerM};
 }
 
-MmMultiPolygon to_mm(const MultiPolygon& mp) {
-  MmMultiPolygon out;
+/// The polygons with every point converted by `f` (e.g. metres to millimetres), corrected.
+template <class To, class From, class F>
+To convert(const From& mp, F f) {
+  To out;
   for (const auto& poly : mp) {
-    MmPolygon q;
-    for (const auto& p : poly.outer()) q.outer().push_back(to_mm(p));
+    auto& q = out.emplace_back();
+    for (const auto& p : poly.outer()) q.outer().push_back(f(p));
     for (const auto& inner : poly.inners()) {
       auto& ring = q.inners().emplace_back();
-      for (const auto& p : inner) ring.push_back(to_mm(p));
+      for (const auto& p : inner) ring.push_back(f(p));
     }
-    out.push_back(std::move(q));
   }
   bg::correct(out);
   return out;
 }
 
+MmMultiPolygon to_mm(const MultiPolygon& mp) {
+  return convert<MmMultiPolygon>(mp, [](Point p) { return to_mm(p); });
+}
 MultiPolygon from_mm(const MmMultiPolygon& mp) {
-  MultiPolygon out;
-  for (const auto& poly : mp) {
-    Polygon q;
-    for (const auto& p : poly.outer()) q.outer().push_back(from_mm(p));
-    for (const auto& inner : poly.inners()) {
-      auto& ring = q.inners().emplace_back();
-      for (const auto& p : inner) ring.push_back(from_mm(p));
-    }
-    out.push_back(std::move(q));
-  }
-  bg::correct(out);
-  return out;
+  return convert<MultiPolygon>(mp, [](MmPoint p) { return from_mm(p); });
 }
 
 /// Union of polygons [lo, hi), halves first (each polygon takes part in O(log n) unions).
@@ -167,6 +160,23 @@ std::vector<PathPart> in_frame(std::vector<PathPart> parts, const geodesy::Local
     for (const auto& p : part.wgs84) part.local.push_back(frame.to_local(p));
   }
   return parts;
+}
+
+/// The area re-planned. The planners keep paths inside the area (strict mode) on a grid or lattice
+/// of it, so a remainder made of strips one or two cells wide would lose its edges (measured on the
+/// olive grove: 53 % of bravo's remainder covered when planned as it is). A path within w/2 of the
+/// remainder still scans it, so the remainder is grown by w/2 (round joins), within the mission's free
+/// area: 94 % covered there.
+MultiPolygon planned_area(const Plan& plan, const MultiPolygon& rest, const geodesy::LocalFrame& frame) {
+  const double grow = evaluation::footprint_for(plan.mission) / 2.0;
+  MultiPolygon grown;
+  bg::buffer(rest, grown, bg::strategy::buffer::distance_symmetric<double>(grow),
+             bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_round(16),
+             bg::strategy::buffer::end_flat(), bg::strategy::buffer::point_square());
+  if (!(bg::area(grown) >= bg::area(rest))) return rest;  // a failed buffer: the remainder as it is
+  MmMultiPolygon clipped;
+  bg::intersection(to_mm(grown), to_mm(evaluation::free_area(plan.mission, frame)), clipped);
+  return from_mm(clipped);
 }
 
 }  // namespace
@@ -228,9 +238,10 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
   out.area_m2 = std::abs(bg::area(rest));
 
   // the sub-mission: the remainder, the same no-fly zones, sensor, planner and seed, over the helpers
+  const MultiPolygon planned = planned_area(plan, rest, frame);
   Mission sub = plan.mission;
   sub.name = plan.mission.name + " (reassigned from " + up.id + ")";
-  sub.area = out.area;
+  sub.area = to_geo(planned, frame);
   sub.planner = plan.planner;
   sub.uavs.clear();
   double total = 0.0;
