@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <map>
 
 #include "evaluation/cost.hpp"
@@ -334,6 +335,12 @@ void Flight::Impl::supervisor_loop(const std::stop_token& stop) {
     flush();
     std::this_thread::sleep_for(50ms);
   }
+  add_thread_cpu();
+}
+
+void Flight::Impl::add_thread_cpu() {
+  timespec ts{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0) cpu_ns += ts.tv_sec * 1'000'000'000LL + ts.tv_nsec;
 }
 
 void Flight::Impl::flush() {
@@ -350,8 +357,11 @@ void Flight::Impl::flush() {
       last_changed_ms = t;
     }
   }
-  if (!out.empty()) observer.on_records(id, out);
-  if (changed) observer.on_changed(id);
+  try {  // the observer's failure (a store that cannot write) must not stop the flight
+    if (!out.empty()) observer.on_records(id, out);
+    if (changed) observer.on_changed(id);
+  } catch (const std::exception&) {
+  }
 }
 
 // ---- reassignment ----
@@ -630,8 +640,13 @@ json Flight::Impl::snapshot_locked() const {
     x["to"] = std::move(to);
     jr.push_back(std::move(x));
   }
-  return {{"state", state},        {"started", started},      {"config", config_json(config)},
-          {"uavs", std::move(ju)}, {"alerts", std::move(ja)}, {"reassignments", std::move(jr)}};
+  return {{"state", state},
+          {"started", started},
+          {"config", config_json(config)},
+          {"uavs", std::move(ju)},
+          {"alerts", std::move(ja)},
+          {"reassignments", std::move(jr)},
+          {"runtime", {{"cpu_s", static_cast<double>(cpu_ns.load()) * 1e-9}}}};
 }
 
 // ---- the public class ----
@@ -652,8 +667,8 @@ void Flight::start() {
   for (std::size_t i = 0; i < f.uavs.size(); ++i) {
     const auto& b = f.uavs[i].binding;
     try {
-      auto link =
-          std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0}, 255, 190);
+      auto link = std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0},
+                                                 kGcsSysid, kGcsCompid);
       if (b.listen)
         link->learn_peer(true);
       else
@@ -668,8 +683,8 @@ void Flight::start() {
   for (auto& u : f.uavs) u.last_heard = now;  // judged lost only after link_timeout_s of silence
   f.running = true;
   for (std::size_t i = 0; i < f.uavs.size(); ++i)
-    f.threads.emplace_back([&f, i](std::stop_token st) { f.vehicle_loop(i, st); });
-  f.threads.emplace_back([&f](std::stop_token st) { f.supervisor_loop(st); });
+    f.threads.emplace_back([&f, i](const std::stop_token& st) { f.vehicle_loop(i, st); });
+  f.threads.emplace_back([&f](const std::stop_token& st) { f.supervisor_loop(st); });
 }
 
 void Flight::stop() {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -149,7 +150,10 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   const Plan p = plan(field(150, 100, 4));
   Sim s(p, 50);
   Recorder rec;
-  flight::Flight f(1, p, s.config(), rec);
+  flight::FlightConfig c = s.config();
+  c.separation_m = 1000;      // every pair in the air is "too close": separation alerts
+  c.low_battery_pct = 99.95;  // the first percent drained raises a low-battery alert
+  flight::Flight f(1, p, c, rec);
   EXPECT_EQ(f.state(), "created");
   f.start();
   upload_and_start(s, f);
@@ -184,6 +188,19 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   EXPECT_GE(kinds["ack"], 4 * 3);  // upload, arm, mission start per UAV
   EXPECT_GT(kinds["statustext"], 4);
   EXPECT_GT(rec.changes.load(), 5);
+  // alerts: raised and cleared as records; separation clears once the UAVs landed
+  std::map<std::string, int> raised, cleared;
+  for (const auto& r : recs)
+    if (r.kind == "alert")
+      ++(r.data["active"].get<bool>() ? raised : cleared)[r.data["kind"].get<std::string>()];
+  EXPECT_GT(raised["separation"], 0);
+  EXPECT_EQ(cleared["separation"], raised["separation"]);
+  EXPECT_EQ(raised["low_battery"], 4);
+  for (const auto& a : snap["alerts"])
+    if (a["kind"] == "separation") {
+      EXPECT_FALSE(a["active"].get<bool>());
+      EXPECT_FALSE(a["other"].is_null());
+    }
   bool done_record = false;
   for (const auto& r : recs)
     done_record = done_record || (r.kind == "state" && r.data.value("state", "") == "done");
@@ -199,6 +216,64 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
     }
   // the flown tracks
   for (const auto& [uav, track] : f.tracks()) EXPECT_GT(track.size(), 10U) << uav;
+  // what following cost (docs/flights.md, Runtime): CPU of the flight's threads per vehicle and per
+  // simulated second
+  const double cpu = snap["runtime"]["cpu_s"].get<double>();
+  EXPECT_GT(cpu, 0.0);
+  RecordProperty("flight_cpu_ms_per_vehicle", std::to_string(std::lround(cpu * 1000 / 4)));
+  RecordProperty("sim_seconds", std::to_string(std::lround(s.fleet.sim_time())));
+  std::cout << "flight threads: " << cpu << " s CPU for 4 vehicles over " << s.fleet.sim_time()
+            << " simulated s\n";
+  // the log's size (docs/flights.md): JSON bytes of telemetry and of the other records
+  std::size_t tele_n = 0, tele_bytes = 0, other_n = 0, other_bytes = 0;
+  for (const auto& r : recs) {
+    const std::size_t b = r.uav.size() + r.kind.size() + r.data.dump().size() + 16;
+    (r.kind == "telemetry" ? tele_n : other_n) += 1;
+    (r.kind == "telemetry" ? tele_bytes : other_bytes) += b;
+  }
+  std::cout << "log: " << tele_n << " telemetry records, " << tele_bytes << " B; " << other_n
+            << " other records, " << other_bytes << " B\n";
+}
+
+TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
+  const Plan p = plan(field(100, 60, 1));
+  std::uint16_t port = 0;
+  {
+    mavlink::UdpLink probe({"127.0.0.1", 0}, 1, 1);  // a free port for the flight to listen on
+    port = probe.local_port();
+  }
+  Sim s(p, 20);
+  s.fleet.vehicles()[0]->set_peer({"127.0.0.1", port});  // the vehicle sends to us first (a router)
+  flight::FlightConfig c = s.config();
+  c.vehicles[0].endpoint = {"127.0.0.1", port};
+  c.vehicles[0].listen = true;
+  Recorder rec;
+  flight::Flight f(8, p, c, rec);
+  f.start();
+  ASSERT_TRUE(wait_for(s, 200, [&] { return f.snapshot()["uavs"][0]["link"]["state"] == "ok"; }));
+  // another system on the same port: an armed vehicle in mission mode with something to say
+  mavlink::UdpLink stranger({"127.0.0.1", 0}, 77, 1);
+  stranger.set_peer(mavlink::Endpoint{"127.0.0.1", port});
+  for (int k = 0; k < 20; ++k) {
+    mavlink::Heartbeat hb;
+    hb.type = 2;
+    hb.base_mode = 128 | 4;
+    hb.custom_mode = 2;
+    stranger.send(hb);
+    stranger.send(mavlink::StatusText::make(mavlink::kSeverityCritical, "intruder"));
+    stranger.send_raw({0xFD, 0x09, 0xFF, 0x00, 0x13, 0x37});  // a truncated frame
+    std::this_thread::sleep_for(5ms);
+  }
+  command(f, "upload");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "ready"; }));
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_FALSE(u["armed"].get<bool>());
+  EXPECT_EQ(u["link"]["state"], "ok");
+  f.stop();
+  for (const auto& r : rec.all())
+    if (r.kind == "statustext") {
+      EXPECT_NE(r.data["text"], "intruder");
+    }
 }
 
 TEST(Flight, LossyLinksTwentyPercentEndDoneWithRetriedUploads) {
@@ -331,6 +406,83 @@ TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
   for (const auto& r : rec.all())
     if (r.kind == "reassignment") states.push_back(r.data["state"]);
   EXPECT_EQ(states, (std::vector<std::string>{"offered", "applied"}));
+}
+
+TEST(Flight, ForcedLandingIsReassignedAutomatically) {
+  const Plan p = plan(field(150, 100, 3));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{2, sim::Failure{0.4, sim::FailureKind::Land}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.reassign_after_s = 0.5;
+  c.auto_reassign = true;
+  flight::Flight f(10, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  const json snap = f.snapshot();
+  ASSERT_EQ(snap["reassignments"].size(), 1U);
+  EXPECT_EQ(snap["reassignments"][0]["failed_uav"], "C");
+  EXPECT_EQ(snap["reassignments"][0]["state"], "applied");
+  const json failed = snap["uavs"][2];
+  EXPECT_EQ(failed["phase"], "done");  // landed, its rest given away
+  EXPECT_EQ(failed["link"]["state"], "ok");
+  const std::string w = failed["waypoints"];
+  EXPECT_NE(w.find('R'), std::string::npos);
+  EXPECT_NE(w.find('S'), std::string::npos);
+  EXPECT_EQ(w.find_first_of("PC"), std::string::npos);
+  int flown = 0;
+  for (const auto& u : snap["uavs"])
+    for (const auto& ms : u["missions"])
+      if (ms["kind"] == "reassigned" && ms["state"] == "done") ++flown;
+  EXPECT_GT(flown, 0);
+  bool critical = false;  // the vehicle said why
+  for (const auto& r : rec.all())
+    critical =
+        critical || (r.kind == "statustext" && r.uav == "C" && r.data["text"] == "failure: forced landing");
+  EXPECT_TRUE(critical);
+}
+
+TEST(Flight, PauseContinueThenForcedLandingAndResumeFromTheLastReachedWaypoint) {
+  const Plan p = plan(field(150, 100, 1));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{0, sim::Failure{0.4, sim::FailureKind::Land}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.reassign_after_s = 3600;  // no offer: the operator resumes
+  flight::Flight f(9, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "flying"; }));
+  command(f, "pause");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "paused"; })) << f.snapshot().dump(1);
+  EXPECT_TRUE(wait_for(s, 100, [&] { return f.snapshot()["uavs"][0]["mode"] == "hold"; }));  // next HEARTBEAT
+  EXPECT_THROW(command(f, "pause"), flight::CommandRefused);
+  command(f, "continue");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "flying"; }));
+  // the forced landing at 40 %: landed with coverage left
+  ASSERT_TRUE(wait_for(s, 2000, [&] {
+    const json u = f.snapshot()["uavs"][0];
+    return u["phase"] == "landed" && u["interrupted"].get<bool>();
+  })) << f.snapshot().dump(1);
+  const std::string before = f.snapshot()["uavs"][0]["waypoints"];
+  const auto last = before.find_last_of('R');
+  ASSERT_NE(last, std::string::npos);
+  ASSERT_NE(before.find('P'), std::string::npos);
+  EXPECT_EQ(before.substr(0, last + 1).find_first_not_of('R'), std::string::npos) << before;
+  EXPECT_THROW(command(f, "next_sortie"), flight::CommandRefused);  // not after an interrupted mission
+  command(f, "resume");
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_EQ(u["waypoints"], std::string(before.size(), 'R'));
+  ASSERT_GE(u["missions"].size(), 2U);
+  EXPECT_EQ(u["missions"][0]["state"], "interrupted");
+  EXPECT_EQ(u["missions"][1]["kind"], "resume");
+  EXPECT_EQ(u["missions"][1]["from_waypoint"], static_cast<int>(last));
+  for (std::size_t k = 1; k < u["missions"].size(); ++k) EXPECT_EQ(u["missions"][k]["state"], "done");
+  // nothing reached twice: each waypoint's history is C R (or R), once
+  for (const auto& [key, h] : waypoint_histories(rec.all(), nullptr)) EXPECT_TRUE(h == "CR" || h == "R") << h;
 }
 
 TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
