@@ -195,6 +195,15 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                    200, {{"items", items},
                          {"next_after", page.next_after ? json(*page.next_after) : json(nullptr)}});
              }));
+  router.add("GET", base + "/coverage", guarded([&ctx](const Request& req) {
+               return Response::json(200, manager(ctx).coverage(id_param(req, "id"))->summary);
+             }));
+  router.add("GET", base + "/coverage.png", guarded([&ctx](const Request& req) {
+               Response r;
+               r.content_type = "image/png";
+               r.body = manager(ctx).coverage(id_param(req, "id"))->png;
+               return r;
+             }));
   router.add("GET", base + "/log.csv", guarded([&ctx](const Request& req) {
                const store::Id id = id_param(req, "id");
                return attachment(log_csv(whole_log(ctx, id)), "text/csv",

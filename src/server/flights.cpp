@@ -10,6 +10,7 @@
 #include <set>
 
 #include "export/export.hpp"
+#include "flight/coverage.hpp"
 #include "io/plan_io.hpp"
 #include "server/api.hpp"
 #include "server/http.hpp"
@@ -27,6 +28,8 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kMaxPendingRecords = 100000;
 /// Log records read back to rebuild tracks of a flight that is not live.
 constexpr std::int64_t kMaxTrackRecords = 500000;
+/// A flight's flown coverage is computed again at most this often.
+constexpr auto kCoverageMaxAge = std::chrono::seconds(3);
 
 std::int64_t now_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -137,6 +140,7 @@ json flight_json(const store::StoredFlight& row, const json& snapshot) {
 
 struct FlightManager::Live {
   store::StoredFlight row;  ///< id, plan, mission, config, created (fixed); updated_ms moves
+  Plan plan;                ///< what the flight flies (flown coverage)
   std::unique_ptr<sim::Fleet> fleet;
   std::jthread fleet_thread;
   std::unique_ptr<flight::Flight> flight;  ///< declared last: stopped first, before the fleet
@@ -237,6 +241,7 @@ void FlightManager::attach(const store::StoredFlight& row, const std::optional<j
   live->row = row;
   live->saved_state = row.state;
   live->saved_at = Clock::now();
+  live->plan = plan;
   live->flight =
       std::make_unique<flight::Flight>(row.id, std::move(plan), std::move(config), *this, restored);
   live->flight->start();
@@ -290,6 +295,7 @@ json FlightManager::create(const store::Job& plan_job, const json& body) {
   live->saved_state = live->row.state;
   live->saved_at = Clock::now();
   live->fleet = std::move(fleet);
+  live->plan = plan;
   try {
     live->flight = std::make_unique<flight::Flight>(id, std::move(plan), std::move(config), *this);
     live->flight->start();
@@ -406,6 +412,38 @@ Tracks FlightManager::tracks(store::Id id) {
     if (!page.next_after) break;
     after = *page.next_after;
   }
+  return out;
+}
+
+std::shared_ptr<const FlightManager::Coverage> FlightManager::coverage(store::Id id) {
+  const auto now = Clock::now();
+  {
+    const std::lock_guard lock(coverage_mutex_);
+    if (const auto it = coverage_cache_.find(id);
+        it != coverage_cache_.end() && now - it->second.first < kCoverageMaxAge)
+      return it->second.second;
+  }
+  Plan plan;
+  if (const auto live = find(id)) {
+    plan = live->plan;
+  } else {
+    const auto row = store_.get_flight(id);
+    if (!row) throw store::NotFound("no flight " + std::to_string(id));
+    const auto job = store_.get_job(row->plan_id);
+    if (!job) throw store::NotFound("plan " + std::to_string(row->plan_id) + " does not exist");
+    plan = load_job_plan(store_, *job);
+  }
+  const flight::FlownCoverage fc = flight::flown_coverage(plan, tracks(id));
+  auto out = std::make_shared<Coverage>();
+  out->summary = {{"flown_poc", fc.flown_poc},
+                  {"planned_poc", fc.planned_poc},
+                  {"flown_pooc", fc.flown_pooc},
+                  {"bounds", {{fc.bounds.south, fc.bounds.west}, {fc.bounds.north, fc.bounds.east}}},
+                  {"updated", iso_time(now_ms())}};
+  out->png = fc.overlay.bytes;
+  const std::lock_guard lock(coverage_mutex_);
+  std::erase_if(coverage_cache_, [&](const auto& e) { return now - e.second.first >= kCoverageMaxAge; });
+  coverage_cache_[id] = {now, out};
   return out;
 }
 

@@ -72,6 +72,14 @@ class FlightManager final : public flight::Observer {
   nlohmann::json remove(store::Id id);
   /// Each UAV's flown track: live, or rebuilt from the log's telemetry. NotFound.
   Tracks tracks(store::Id id);
+  /// Flown coverage (flight::flown_coverage over tracks()): {"flown_poc", "planned_poc", "flown_pooc",
+  /// "bounds": [[s, w], [n, e]], "updated"} and the overlay PNG. Computed at most every few seconds per
+  /// flight (cached). NotFound.
+  struct Coverage {
+    nlohmann::json summary;
+    std::string png;
+  };
+  std::shared_ptr<const Coverage> coverage(store::Id id);
   /// Writes every pending record and changed snapshot now (stop, tests).
   void flush();
   [[nodiscard]] std::size_t live_count() const;
@@ -98,6 +106,9 @@ class FlightManager final : public flight::Observer {
   std::set<store::Id> changed_;
   bool stopping_ = false;
   std::mutex write_mutex_;  ///< one write_pending() at a time
+  std::mutex coverage_mutex_;
+  std::map<store::Id, std::pair<std::chrono::steady_clock::time_point, std::shared_ptr<const Coverage>>>
+      coverage_cache_;
   std::thread writer_;
 };
 

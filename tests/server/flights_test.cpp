@@ -182,7 +182,7 @@ TEST_P(FlightApiTest, CommandsAreCheckedAgainstTheFlightsState) {
 
 TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) {
   const store::Id plan = done_plan();
-  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}, {"log_period_s", 0.5}});
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}, {"log_period_s", 0.05}});
   ASSERT_EQ(created.status, 201) << created.body;
   const auto id = created.json().at("id").get<store::Id>();
   const std::string url = "/api/v1/flights/" + std::to_string(id);
@@ -223,7 +223,8 @@ TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) 
       last_seq = r.at("seq");
       if (r.at("kind") == "waypoint" && r.at("data").at("status") == "R")
         reached[r.at("uav")].insert(r.at("data").at("waypoint").get<int>());
-      if (r.at("kind") == "telemetry") ++telemetry[r.at("uav")];
+      // (before its first position a UAV's telemetry has no lon/lat: not a track point)
+      if (r.at("kind") == "telemetry" && r.at("data").at("lon").is_number()) ++telemetry[r.at("uav")];
     }
     if (body.at("next_after").is_null()) break;
     after = body.at("next_after");
@@ -261,6 +262,23 @@ TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) 
   EXPECT_GT(points, 0);
   const Tracks flown = flights_->tracks(id);
   ASSERT_EQ(flown.size(), 2u) << "tracks of an ended flight come from its log";
+
+  // flown coverage through the plan's evaluator: the nominal flight covers what the plan covers (issue 12:
+  // flown PoC at least planned PoC - 1 point). The flight ended: its tracks come from the log's telemetry,
+  // kept every log_period_s of wall time (0.05 s here: 2.5 simulated s at speedup 50)
+  const Answer cov = call("GET", url + "/coverage");
+  ASSERT_EQ(cov.status, 200) << cov.body;
+  const json c = cov.json();
+  EXPECT_GT(c.at("planned_poc").get<double>(), 0.5);
+  EXPECT_GE(c.at("flown_poc").get<double>(), c.at("planned_poc").get<double>() - 0.01) << c.dump();
+  const auto& b = c.at("bounds");
+  EXPECT_LT(b[0][0].get<double>(), b[1][0].get<double>());
+  EXPECT_LT(b[0][1].get<double>(), b[1][1].get<double>());
+  const Answer png = call("GET", url + "/coverage.png");
+  ASSERT_EQ(png.status, 200);
+  EXPECT_EQ(png.content_type, "image/png");
+  EXPECT_TRUE(png.body.starts_with("\x89PNG")) << png.body.substr(0, 8);
+  EXPECT_EQ(call("GET", "/api/v1/flights/987654/coverage").status, 404);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FlightApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
