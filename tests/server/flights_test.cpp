@@ -180,6 +180,47 @@ TEST_P(FlightApiTest, CommandsAreCheckedAgainstTheFlightsState) {
   EXPECT_EQ(call("GET", url + "/log").status, 404);
 }
 
+// A server that starts again follows its stored flights that had not ended (from their snapshots); a
+// simulated one cannot be (its fleet ran in the stopped server): it ends aborted, saying why.
+TEST_P(FlightApiTest, AtStartFlightsThatHadNotEndedAreFollowedAgainOrAbortedWhenSimulated) {
+  const store::Id plan = done_plan();
+  const Answer sim = post_flight(plan, {{"simulate", json::object()}});
+  ASSERT_EQ(sim.status, 201) << sim.body;
+  const Answer real = post_flight(plan, {{"vehicles",
+                                          {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 1}},
+                                           {{"uav", "B"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 2}}}}});
+  ASSERT_EQ(real.status, 201) << real.body;
+  const auto sim_id = sim.json().at("id").get<store::Id>();
+  const auto real_id = real.json().at("id").get<store::Id>();
+  EXPECT_EQ(flights_->live_count(), 2u);
+
+  // the server stops (the vehicles would keep flying) and starts again on the same database
+  flights_->stop();
+  FlightLimits limits;
+  limits.flush_period = 50ms;
+  flights_ = std::make_unique<FlightManager>(*store_, limits);
+  ctx_->flights = flights_.get();
+  flights_->start();
+
+  EXPECT_EQ(flights_->live_count(), 1u);
+  const json again = call("GET", "/api/v1/flights/" + std::to_string(real_id)).json();
+  EXPECT_EQ(again.at("state"), "created");
+  EXPECT_EQ(again.at("config"), real.json().at("config"));
+  EXPECT_EQ(
+      call("POST", "/api/v1/flights/" + std::to_string(real_id) + "/commands", R"({"command": "pause"})")
+          .status,
+      409)
+      << "followed: its commands are checked against its state";
+
+  EXPECT_EQ(call("GET", "/api/v1/flights/" + std::to_string(sim_id)).json().at("state"), "aborted");
+  const json log = call("GET", "/api/v1/flights/" + std::to_string(sim_id) + "/log?limit=1000").json();
+  ASSERT_FALSE(log.at("items").empty());
+  const json& last = log.at("items").back();
+  EXPECT_EQ(last.at("kind"), "state");
+  EXPECT_EQ(last.at("data").at("state"), "aborted");
+  EXPECT_NE(last.at("data").at("reason").get<std::string>().find("simulated fleet"), std::string::npos);
+}
+
 TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) {
   const store::Id plan = done_plan();
   const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}, {"log_period_s", 0.05}});
