@@ -304,7 +304,7 @@ json FlightManager::create(const store::Job& plan_job, const json& body) {
     throw;
   }
   if (live->fleet)
-    live->fleet_thread = std::jthread([fleet = live->fleet.get(), id](std::stop_token stop) {
+    live->fleet_thread = std::jthread([fleet = live->fleet.get(), id](const std::stop_token& stop) {
       try {
         fleet->run(stop);
       } catch (const std::exception& e) {
