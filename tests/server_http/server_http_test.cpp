@@ -4,6 +4,7 @@
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
@@ -747,6 +748,61 @@ TEST(EventHub, SendsChangesOnlyAndDropsGoneSubscribers) {
   hub.close(sub);
   EXPECT_EQ(hub.subscriber_count(), 0U);
   hub.stop();
+}
+
+TEST(EventHub, ParsesFlightSubscriptionsBesideJobs) {
+  auto m = parse_client_message(R"({"subscribe": {"jobs": [1], "flights": [7, 8]}})", 64);
+  ASSERT_EQ(m.op, ClientMessage::Op::Subscribe) << m.error_message;
+  EXPECT_EQ(m.jobs, (std::vector<std::int64_t>{1}));
+  EXPECT_EQ(m.flights, (std::vector<std::int64_t>{7, 8}));
+  m = parse_client_message(R"({"unsubscribe": {"flights": [8]}})", 64);
+  ASSERT_EQ(m.op, ClientMessage::Op::Unsubscribe);
+  EXPECT_TRUE(m.jobs.empty());
+  EXPECT_EQ(m.flights, (std::vector<std::int64_t>{8}));
+  m = parse_client_message(R"({"subscribe": {"flights": [3, 0]}})", 64);
+  EXPECT_EQ(m.op, ClientMessage::Op::Invalid);
+  EXPECT_EQ(m.error_field, "subscribe.flights[1]");
+  m = parse_client_message(R"({"subscribe": {"flights": [1, 2, 3]}})", 2);
+  EXPECT_EQ(m.op, ClientMessage::Op::Invalid);
+  EXPECT_EQ(m.error_field, "subscribe.flights");
+  m = parse_client_message(R"({"subscribe": {"planes": [1]}})", 64);
+  EXPECT_EQ(m.op, ClientMessage::Op::Invalid);
+  EXPECT_EQ(m.error_field, "subscribe");
+  m = parse_client_message(R"({"subscribe": {}})", 64);
+  EXPECT_EQ(m.op, ClientMessage::Op::Invalid);
+}
+
+// A flight that changes on every look is sent at most once per flight period (200 ms), never per poll.
+TEST(EventHub, SendsAChangingFlightAtMostEveryFlightPeriod) {
+  struct Changing : MapSource {
+    std::atomic<int> looks{0};
+    std::vector<json> flights(const std::vector<std::int64_t>& ids) override {
+      std::vector<json> out;
+      for (const auto id : ids) out.push_back({{"id", id}, {"look", ++looks}});
+      return out;
+    }
+  } source;
+  EventHub hub(source, std::chrono::milliseconds(10), std::chrono::milliseconds(200));
+  hub.start();
+  std::mutex m;
+  std::vector<std::pair<std::chrono::steady_clock::time_point, json>> got;
+  const auto sub = hub.open([&](const std::string& text) {
+    const std::lock_guard lock(m);
+    got.emplace_back(std::chrono::steady_clock::now(), json::parse(text));
+    return true;
+  });
+  EXPECT_FALSE(hub.subscribe_flights(sub, {1, 2, 3}, 2));
+  ASSERT_TRUE(hub.subscribe_flights(sub, {5}, 2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  hub.stop();
+  const std::lock_guard lock(m);
+  ASSERT_GE(got.size(), 1U) << "the first state is sent at once";
+  for (const auto& [t, message] : got) {
+    EXPECT_EQ(message["type"], "flight");
+    EXPECT_EQ(message["flight"]["id"], 5);
+  }
+  for (std::size_t i = 1; i < got.size(); ++i)
+    EXPECT_GE(got[i].first - got[i - 1].first, std::chrono::milliseconds(150)) << "message " << i;
 }
 
 class CaptureSink : public spdlog::sinks::base_sink<std::mutex> {
