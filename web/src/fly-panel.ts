@@ -49,7 +49,7 @@ export class FlyPanel {
     private colourOf: (uav: string) => string,
   ) {
     const alertsHead = el('div', { class: 'fly-subhead' }, 'Alerts');
-    this.el.append(this.cardBox, this.offers, alertsHead, this.alerts);
+    this.el.append(this.offers, alertsHead, this.alerts, el('div', { class: 'fly-subhead' }, 'UAVs'), this.cardBox);
   }
 
   clear(): void {

@@ -254,6 +254,7 @@ export const flyTab: Tab = {
       replay.setFlight(f?.id ?? null, f ? flightEnded(f.state) : false);
       if (!f) return;
       flightSel.value = String(f.id);
+      create.box.open = false; // the flight's panel gets the room; "New flight" opens again on a click
       applyFlight(f);
       unwatch = events.watchFlight(
         f.id,
@@ -279,7 +280,7 @@ export const flyTab: Tab = {
       if (plan !== p) return;
       flightSel.replaceChildren(el('option', { value: '' }, items.length ? `${items.length} flight${items.length === 1 ? '' : 's'}` : 'no flights yet'));
       for (const f of items) flightSel.append(el('option', { value: String(f.id), 'data-state': f.state }, flightLabel(f)));
-      create.box.open = items.length === 0 || create.box.open;
+      if (items.length === 0) create.box.open = true;
       const want = select === 'newest' ? items[0]?.id : select === 'keep' ? flight?.id : select;
       if (want === undefined || want === null) {
         flightSel.value = '';
