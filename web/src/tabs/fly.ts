@@ -112,14 +112,18 @@ export const flyTab: Tab = {
     const reassignAfter = numberInput('fly-reassign-after', '10', { min: '1', step: '1' });
     const autoRow = el('label', { class: 'plan-check' });
     autoRow.append(autoReassign, document.createTextNode(' apply reassignments without asking'));
-    settingsBox.body.append(
-      autoRow,
-      labelled('separation m', separation),
-      labelled('deviation m', deviation),
-      labelled('low battery %', lowBattery),
-      labelled('link lost after s', linkTimeout),
-      labelled('offer reassignment after s', reassignAfter),
-    );
+    const settingsGrid = el('div', { class: 'fly-settings-grid' });
+    for (const [label, input] of [
+      ['separation alert below (m)', separation],
+      ['off-path alert beyond (m)', deviation],
+      ['low battery alert below (%)', lowBattery],
+      ['link lost after (s)', linkTimeout],
+      ['offer reassignment after (s)', reassignAfter],
+    ] as [string, HTMLInputElement][]) {
+      input.setAttribute('aria-label', label);
+      settingsGrid.append(el('span', { class: 'muted' }, label), input);
+    }
+    settingsBox.body.append(autoRow, settingsGrid);
     const createMsg = el('div', { class: 'fly-message', 'data-testid': 'fly-create-message', role: 'status' });
     create.body.append(simRow, failRow, realBox.box, settingsBox.box, createMsg);
 
