@@ -8,7 +8,7 @@
 // waypoints and the lines have canvas renderers of their own (panes flyWaypoints and flyLines), so a
 // moving trail never redraws thousands of waypoints.
 import L from 'leaflet';
-import { changedIndices, STATUS_COLOUR, type FlightMission, type Status, type UavLines } from './fly-model.ts';
+import { changedIndices, STATUS_COLOUR, STATUS_NAME, type FlightMission, type Status, type UavLines } from './fly-model.ts';
 
 const PANES: [string, number][] = [
   ['flyCoverage', 360],
@@ -89,9 +89,10 @@ export class FlyLayers {
       for (const c of l.transit)
         planned.push(L.polyline(c, { renderer: this.lines, color: u.colour, weight: 1.5, opacity: 0.4, dashArray: '6 5', interactive: false }).addTo(this.group));
       const trail = L.polyline([], { renderer: this.lines, color: u.colour, weight: 3, opacity: 0.9, interactive: false }).addTo(this.group);
+      const status = (i: number) => STATUS_NAME[(this.uavs.get(u.id)?.statuses[i] ?? 'P') as Status] ?? '';
       const dots = l.waypoints.map((p, i) =>
         L.circleMarker(p, { renderer: this.dotsRenderer, ...dotStyle('P', this.dotRadius), interactive: true })
-          .bindTooltip(() => `${u.id} waypoint ${i}`, { direction: 'top' })
+          .bindTooltip(() => `${u.id} waypoint ${i}: ${status(i)}`, { direction: 'top' })
           .addTo(this.group),
       );
       this.uavs.set(u.id, {
@@ -244,6 +245,12 @@ export class FlyLayers {
   removeCoverage(): void {
     this.coverage?.remove();
     this.coverage = null;
+  }
+
+  /** Pans the map to a UAV (when it has a position). */
+  focus(uav: string): void {
+    const m = this.uavs.get(uav)?.marker;
+    if (m && this.shown) this.map.panTo(m.getLatLng());
   }
 
   /** The plan's bounds (its waypoints and lines), for fitting the view. */

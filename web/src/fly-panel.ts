@@ -47,6 +47,7 @@ export class FlyPanel {
   constructor(
     private send: SendCommand,
     private colourOf: (uav: string) => string,
+    private focus: (uav: string) => void,
   ) {
     const alertsHead = el('div', { class: 'fly-subhead' }, 'Alerts');
     this.el.append(this.offers, alertsHead, this.alerts, el('div', { class: 'fly-subhead' }, 'UAVs'), this.cardBox);
@@ -75,7 +76,9 @@ export class FlyPanel {
     const sw = el('span', { class: 'plan-swatch' });
     sw.style.background = this.colourOf(uav);
     const phase = el('span', { class: 'fly-phase', 'data-field': 'phase' });
-    head.append(sw, el('strong', {}, uav), phase);
+    const name = el('button', { type: 'button', class: 'fly-card-name', title: 'Show it on the map', 'data-testid': 'fly-uav-focus' }, uav);
+    name.addEventListener('click', () => this.focus(uav));
+    head.append(sw, name, phase);
     const bar = el('progress', { max: '1', value: '0', class: 'fly-progress' });
     const grid = el('div', { class: 'fly-card-grid' });
     const fields = { phase } as Record<Field, HTMLElement>;
@@ -120,7 +123,7 @@ export class FlyPanel {
     const alt = u.position?.alt_m;
     set(c, 'band', `${u.band ?? '—'}${alt !== undefined && alt !== null ? ` · ${alt.toFixed(0)} m` : ''}`, u.band ?? 'unknown');
     set(c, 'sortie', u.sorties ? `${(u.sortie ?? 0) + 1}/${u.sorties}` : '—');
-    for (const b of c.box.querySelectorAll<HTMLButtonElement>('button')) b.disabled = ended;
+    for (const b of c.box.querySelectorAll<HTMLButtonElement>('.fly-card-cmds button')) b.disabled = ended;
   }
 
   private updateAlerts(alerts: FlightAlert[]): void {

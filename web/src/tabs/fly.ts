@@ -143,6 +143,7 @@ export const flyTab: Tab = {
     const live = new FlyPanel(
       (cmd, extra) => void send(cmd, extra),
       (uav) => plan?.uavs.find((u) => u.id === uav)?.colour ?? '#888',
+      (uav) => layers.focus(uav),
     );
     const replay = new FlyReplay(
       layers,
