@@ -214,6 +214,9 @@ export class FlyLayers {
         for (const d of r.dots) d.remove();
         u.reassigned.delete(key);
       }
+    // how many reassigned paths are drawn, on the lines' pane (for tests and tools)
+    const pane = this.map.getPane('flyLines');
+    if (pane) pane.dataset.reassigned = String([...this.uavs.values()].reduce((n, x) => n + x.reassigned.size, 0));
   }
 
   /**

@@ -140,6 +140,20 @@ export const flyTab: Tab = {
     const stop = el('button', { type: 'button', 'data-testid': 'fly-stop', class: 'plan-small' }, 'Stop following');
     stop.title = 'DELETE the flight: the server stops following it (and stops its simulated fleet)';
     const cmdMsg = el('div', { class: 'fly-message', 'data-testid': 'fly-message', role: 'status' });
+    stop.addEventListener('click', async () => {
+      const f = flight;
+      if (!f) return;
+      stop.disabled = true;
+      try {
+        applyFlight(await api.del<Flight>(`/flights/${f.id}`));
+        cmdMsg.className = 'fly-message';
+        cmdMsg.textContent = 'The server no longer follows this flight.';
+      } catch (e) {
+        stop.disabled = false;
+        cmdMsg.className = 'fly-message plan-error';
+        cmdMsg.textContent = `Stop: ${errorText(e as ApiError)}`;
+      }
+    });
     const live = new FlyPanel(
       (cmd, extra) => void send(cmd, extra),
       (uav) => plan?.uavs.find((u) => u.id === uav)?.colour ?? '#888',

@@ -150,3 +150,45 @@ test('simulate the fleet from the Fly tab: UAVs move, waypoints turn green, the 
   }
   assert.deepEqual(problems, [], 'no console errors or warnings');
 });
+
+test('a UAV that fails: link-lost alert, a reassignment offer applied from the Fly tab, the reassigned path drawn dashed', async () => {
+  // the page of the first test: the plan is open in the Fly tab
+  await page.waitForSelector('[data-testid=fly-simulate]', { state: 'attached' });
+  if (!(await page.locator('[data-testid=fly-new]').evaluate((d) => d.open))) await page.click('[data-testid=fly-new] > summary');
+  if (!(await page.locator('[data-testid=fly-settings]').evaluate((d) => d.open))) await page.click('[data-testid=fly-settings] > summary');
+  await page.fill('[data-testid=fly-link-timeout]', '1');
+  await page.fill('[data-testid=fly-reassign-after]', '2');
+  await page.fill('[data-testid=fly-speedup]', '40');
+  await page.selectOption('[data-testid=fly-fail-uav]', '2');
+  await page.fill('[data-testid=fly-fail-at]', '40');
+  await page.selectOption('[data-testid=fly-fail-kind]', 'link');
+  const before = await page.locator('[data-testid=fly-state]').innerText();
+  await page.click('[data-testid=fly-simulate]');
+  await page.waitForFunction((b) => {
+    const s = document.querySelector('[data-testid=fly-state]');
+    return s && s.textContent !== b && /Flight #\d+/.test(s.textContent);
+  }, before);
+  const flightId = Number((await page.locator('[data-testid=fly-state]').innerText()).match(/Flight #(\d+)/)[1]);
+  const flight = await server.api(`/flights/${flightId}`);
+  assert.equal(flight.config?.simulate?.fail ?? flight.config?.fail ?? '2@0.4:link', '2@0.4:link');
+  const failed = flight.uavs[1].uav;
+
+  await page.waitForSelector(`[data-testid=fly-alert][data-kind=link_lost][data-uav="${failed}"]`, { timeout: 120000 });
+  await page.waitForSelector('[data-testid=fly-reassignment][data-state=offered] [data-testid=fly-reassign-apply]', { timeout: 120000 });
+  assert.match(await page.locator('[data-testid=fly-reassignment]').first().innerText(), new RegExp(`${failed}'s remaining`));
+  await h.shot(page, 'fly-6-offer');
+  await page.click('[data-testid=fly-reassign-apply]');
+  await page.waitForSelector('[data-testid=fly-reassignment]:not([data-state=offered])', { timeout: 60000 });
+  const applied = await server.api(`/flights/${flightId}`);
+  assert.ok(applied.reassignments.some((r) => r.failed_uav === failed && r.state !== 'offered' && r.state !== 'declined'), JSON.stringify(applied.reassignments));
+  // the helpers' reassigned work is drawn dashed (once it is in their missions)
+  const withWork = applied.uavs.filter((u) => (u.missions ?? []).some((m) => m.kind === 'reassigned'));
+  if (withWork.length) await page.waitForFunction(() => Number(document.querySelector('.leaflet-flyLines-pane')?.dataset.reassigned) > 0, null, { timeout: 30000 });
+  await h.shot(page, 'fly-7-reassigned');
+
+  // the failed UAV's marker shows the lost link; the flight can be stopped from the tab
+  assert.ok(await page.locator(`[data-testid=fly-uav-marker][data-uav="${failed}"]`).evaluate((e) => e.classList.contains('fly-uav-lost')));
+  await page.click('[data-testid=fly-stop]');
+  await page.waitForSelector('[data-testid=fly-state][data-state=aborted]', { timeout: 30000 });
+  assert.deepEqual(problems, [], 'no console errors or warnings');
+});
