@@ -170,8 +170,9 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
   }, before);
   const flightId = Number((await page.locator('[data-testid=fly-state]').innerText()).match(/Flight #(\d+)/)[1]);
   const flight = await server.api(`/flights/${flightId}`);
-  assert.equal(flight.config?.simulate?.fail ?? flight.config?.fail ?? '2@0.4:link', '2@0.4:link');
-  const failed = flight.uavs[1].uav;
+  // the simulated vehicle of the plan's 2nd UAV (system id 2) fails
+  const failed = flight.uavs.find((u) => u.sysid === 2)?.uav;
+  assert.ok(failed, JSON.stringify(flight.uavs.map((u) => [u.uav, u.sysid])));
 
   await page.waitForSelector(`[data-testid=fly-alert][data-kind=link_lost][data-uav="${failed}"]`, { timeout: 120000 });
   await page.waitForSelector('[data-testid=fly-reassignment][data-state=offered] [data-testid=fly-reassign-apply]', { timeout: 120000 });
