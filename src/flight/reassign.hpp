@@ -15,19 +15,25 @@ namespace uavcover::flight {
 
 /// A helper UAV and what it has left.
 struct Helper {
-  std::size_t index = 0;           ///< into plan.uavs
-  double battery_fraction = 1.0;   ///< of a full battery left now (0..1); later sorties start full
+  std::size_t index = 0;          ///< into plan.uavs
+  double battery_fraction = 1.0;  ///< of a full battery left now (0..1); later sorties start full
 };
 
 /// What one helper flies in addition to its own plan.
 struct ReassignedWork {
   std::string uav;
-  std::size_t index = 0;                                       ///< into plan.uavs
-  std::vector<PathPart> parts;                                 ///< the sub-plan's parts for this UAV
-  std::vector<Sortie> sorties;                                 ///< battery sorties of that work
-  std::vector<std::vector<exporting::MissionItem>> missions;   ///< one per sortie, at its transition altitude
+  std::size_t index = 0;  ///< into plan.uavs
+  /// The sub-plan's parts for this UAV; `local` in the full plan's frame (plan.origin).
+  std::vector<PathPart> parts;
+  /// Battery sorties of that work (local likewise); waypoint indices count the work's coverage
+  /// waypoints (0..waypoints-1). Empty when one leg does not fit a battery (a warning says so; the
+  /// work is then one mission).
+  std::vector<Sortie> sorties;
+  /// One per sortie, at the helper's transition altitude of the full plan; MissionItem::waypoint counts
+  /// as `sorties` do.
+  std::vector<std::vector<exporting::MissionItem>> missions;
   double coverage_length_m = 0.0;
-  int waypoints = 0;                                           ///< coverage waypoints
+  int waypoints = 0;  ///< coverage waypoints
 };
 
 struct Reassignment {
@@ -36,16 +42,25 @@ struct Reassignment {
   std::vector<int> remaining_waypoints;  ///< its coverage waypoints not flown (global indices)
   std::vector<GeoPolygon> area;          ///< the remainder re-planned (WGS84)
   double area_m2 = 0.0;
-  std::vector<ReassignedWork> work;      ///< one per helper that got some
+  std::vector<ReassignedWork> work;  ///< one per helper that got some
   std::vector<std::string> warnings;
 };
+
+/// The failed UAV's region (local metres) minus the evaluator's footprint swept along its coverage
+/// legs up to waypoint `last_reached`, without pieces smaller than one footprint square. Empty when
+/// `last_reached` is its last waypoint. InputError naming "failed" or "last_reached" when out of range.
+MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reached, const Context& ctx = {});
 
 /// The remainder of UAV `failed` after it reached coverage waypoint `last_reached` (-1: none): its
 /// region minus the footprint swept along its coverage up to that waypoint, re-planned with
 /// plan.mission's planner and seed over `helpers` (shares by remaining battery), cut into sorties.
-/// InputError when `failed` or a helper is out of range, or no helper is given. Empty work when nothing
-/// is left to cover.
-Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached, const std::vector<Helper>& helpers,
-                      const exporting::AltitudeOptions& altitude = {}, const Context& ctx = {});
+/// New missions start with a full battery (they are uploaded after the helper's current sortie lands);
+/// battery_fraction sets the shares. InputError naming "failed", "last_reached", "helpers",
+/// "helpers[i].index" (out of range, the failed UAV, twice), "helpers[i].battery_fraction" (outside
+/// (0, 1]) or "altitude.*". Empty work when nothing is left to cover. ctx: progress ("reassign",
+/// "reassign/<plan stage>") and stops (Cancelled).
+Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
+                      const std::vector<Helper>& helpers, const exporting::AltitudeOptions& altitude = {},
+                      const Context& ctx = {});
 
 }  // namespace uavcover::flight

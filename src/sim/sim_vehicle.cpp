@@ -21,6 +21,7 @@ namespace {
 
 constexpr double kGround = 0.05;  // metres: at or below this the vehicle is on the ground
 constexpr double kBatteryCapacityMah = 5000.0;
+constexpr double kSwapRadiusM = 5.0;  // arming this close to home swaps a used battery
 constexpr double kCellsFull = 4.2, kCellsEmpty = 3.3;
 constexpr int kCells = 4;
 
@@ -180,6 +181,12 @@ void SimVehicle::load_mission() {
 std::uint8_t SimVehicle::arm(bool on, bool force) {
   if (on) {
     if (st_.armed) return mav::kResultAccepted;
+    // on the ground at home with a used battery: the operator swapped it (the next sortie starts full)
+    if (!st_.airborne && std::hypot(st_.p.x, st_.p.y) <= kSwapRadiusM && st_.battery < 1.0) {
+      st_.battery = 1.0;
+      low_battery_sent_ = false;
+      status(mav::kSeverityInfo, "battery swapped");
+    }
     if (st_.battery <= 0) return mav::kResultDenied;
     st_.armed = true;
     st_.mode = Mode::Standby;

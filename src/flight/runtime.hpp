@@ -1,0 +1,189 @@
+// The flight runtime's internal state (docs/flights.md, "Runtime"): shared by flight.cpp (commands,
+// supervision, reassignment, snapshot) and link.cpp (one thread per vehicle: the MAVLink link,
+// telemetry, waypoint statuses). Everything under Impl::mutex.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "export/mission_items.hpp"
+#include "flight/flight.hpp"
+#include "flight/reassign.hpp"
+#include "geodesy/local_frame.hpp"
+#include "mavlink/messages.hpp"
+#include "mavlink/udp.hpp"
+
+namespace uavcover::flight::detail {
+
+using Clock = std::chrono::steady_clock;
+
+inline constexpr std::size_t kTrailMax = 600;      ///< trail points per UAV in the snapshot
+inline constexpr std::size_t kTrackMax = 20000;    ///< flown track points per UAV (decimated beyond)
+inline constexpr std::size_t kAlertsMax = 256;     ///< alerts kept (the oldest inactive go first)
+inline constexpr std::size_t kPendingMax = 20000;  ///< log records waiting for the observer
+inline constexpr std::size_t kActionsMax = 64;     ///< queued link actions per UAV
+inline constexpr std::size_t kReassignMax = 64;    ///< reassignments per flight
+inline constexpr int kUploadAttempts = 3;          ///< whole mission uploads before giving up
+inline constexpr std::chrono::milliseconds kCommandPeriod{1000};  ///< COMMAND_LONG resend period
+
+/// One mission of a UAV's queue: a battery sortie of its plan, a resumed rest, or reassigned work.
+struct MissionSpec {
+  std::string kind = "sortie";                 ///< "sortie", "resume", "reassigned"
+  int index = 0;                               ///< the sortie's number (for reassigned work: within the work)
+  int first_waypoint = 0, last_waypoint = -1;  ///< coverage waypoints (own: global; reassigned: the work's)
+  int from_waypoint = -1;  ///< own kinds: the last reached waypoint the list was built from (-1: the plan)
+  int k = 0;               ///< position in that list (reassigned: in the work's missions)
+  int reassignment = 0;    ///< reassigned: its id
+  std::string state = "pending";  ///< pending, uploading, ready, flying, done, interrupted, skipped
+  std::string waypoints;          ///< reassigned: statuses of first..last
+  std::vector<exporting::MissionItem> items;
+  // ETA: per item, the path length and coverage waypoints from that item to the end
+  std::vector<double> rest_m;
+  std::vector<int> rest_turns;
+  std::vector<std::optional<Point>> where;  ///< each item's position (local metres), if it has one
+};
+
+struct Action {
+  enum class Kind { Upload, Command } kind = Kind::Command;
+  std::size_t mission = 0;  ///< Upload: index into the UAV's missions
+  mavlink::CommandLong cmd;
+  std::string name;  ///< command name for the log ("arm", "mission_start", ...)
+};
+
+struct Alert {
+  std::string kind, uav, other, message;
+  std::int64_t since_ms = 0;
+  bool active = true;
+};
+
+struct UavRt {
+  std::size_t index = 0;  ///< into plan.uavs
+  VehicleBinding binding;
+  std::string phase = "idle";
+  // link
+  std::string link_state = "unknown";  ///< unknown, ok, lost
+  Clock::time_point last_heard{};
+  std::int64_t last_heard_ms = 0;
+  std::size_t rx = 0, tx = 0;
+  std::optional<Clock::time_point> lost_since;
+  // telemetry
+  bool have_position = false;
+  double lon = 0, lat = 0, alt_m = 0, speed_mps = 0, heading_deg = 0;
+  bool armed = false;
+  std::string mode = "unknown";
+  std::optional<double> battery_pct;
+  std::string band = "ground";
+  Clock::time_point next_log{};
+  bool deviating = false, low_battery = false;  ///< alerts raised
+  // missions
+  std::vector<MissionSpec> missions;
+  std::size_t current = 0;     ///< the mission flown or next to fly (== missions.size(): none left)
+  std::string waypoints;       ///< own coverage waypoints: P, C, R, S
+  bool airborne_seen = false;  ///< during the current mission
+  bool interrupted = false;    ///< landed (or lost) with the current mission's coverage left
+  std::optional<Clock::time_point> interrupted_since;
+  bool offered = false;             ///< a reassignment was offered for this failure
+  std::optional<int> current_item;  ///< mission item index (seq minus home) the vehicle flies
+  Clock::time_point retry_after{};  ///< automatic next sortie / start: not before
+  // tracks
+  std::deque<std::array<double, 3>> trail;
+  std::vector<std::array<double, 3>> track;
+  std::size_t track_stride = 1, track_skip = 0;
+  // link actions (executed by the UAV's thread in order)
+  std::deque<Action> actions;
+  bool command_active = false;
+  Action active;
+  int tries_left = 0;
+  Clock::time_point resend_at{};
+  std::optional<std::uint8_t> ack_result;  ///< COMMAND_ACK received for the active command
+};
+
+struct ReassignmentRt {
+  int id = 0;
+  std::string failed_uav;
+  std::size_t failed = 0;
+  std::string state = "offered";  ///< offered, applied, declined
+  std::int64_t at_ms = 0;
+  int last_reached = -1;
+  std::vector<Helper> helpers;
+  std::shared_ptr<const Reassignment> result;
+};
+
+}  // namespace uavcover::flight::detail
+
+namespace uavcover::flight {
+
+struct Flight::Impl {
+  Impl(std::int64_t id, Plan plan, FlightConfig config, Observer& observer);
+
+  const std::int64_t id;
+  const Plan plan;
+  const FlightConfig config;
+  Observer& observer;
+  const geodesy::LocalFrame frame;
+
+  mutable std::mutex mutex;
+  std::vector<detail::UavRt> uavs;
+  std::vector<detail::Alert> alerts;
+  std::vector<detail::ReassignmentRt> reassignments;
+  bool started = false;  ///< a start was commanded once
+  bool aborted = false;
+  std::string state = "created";
+  std::vector<LogRecord> pending;
+  bool dirty = true;
+
+  std::mutex flush_mutex;  ///< keeps the observer's records in order
+  std::vector<std::unique_ptr<mavlink::UdpLink>> links;
+  std::vector<std::jthread> threads;
+  bool running = false;
+
+  // ---- under mutex ----
+  void record(const std::string& uav, const std::string& kind, nlohmann::json data);
+  void set_alert(const std::string& kind, const std::string& uav, const std::string& other, bool active,
+                 const std::string& message);
+  void set_phase(detail::UavRt& u, const std::string& phase);
+  void set_waypoint(detail::UavRt& u, detail::MissionSpec& m, int waypoint, char status);
+  void on_current(detail::UavRt& u, int item, std::uint8_t mission_state);
+  void on_reached(detail::UavRt& u, int item);
+  void on_heartbeat(detail::UavRt& u, const mavlink::Heartbeat& hb);
+  void on_position(detail::UavRt& u, const mavlink::GlobalPositionInt& g);
+  void check_landed(detail::UavRt& u);
+  void finish_command(detail::UavRt& u, bool ok, const std::string& outcome);
+  [[nodiscard]] bool command_effect_seen(const detail::UavRt& u) const;
+  [[nodiscard]] bool has_work_left(const detail::UavRt& u) const;
+  [[nodiscard]] bool settled(const detail::UavRt& u) const;
+  [[nodiscard]] int last_reached(const detail::UavRt& u) const;
+  void queue_upload_and_start(detail::UavRt& u);
+  void queue_command(detail::UavRt& u, const std::string& name, std::uint16_t command, float p1 = 0,
+                     float p2 = 0);
+  void update_state();
+  void supervise_locked(detail::Clock::time_point now);
+  detail::MissionSpec make_mission(std::size_t uav, std::vector<exporting::MissionItem> items) const;
+  [[nodiscard]] std::vector<detail::MissionSpec> own_missions(std::size_t uav, int from_waypoint) const;
+  void apply_reassignment(detail::ReassignmentRt& r);
+  [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,
+                                                       const ReassignedWork& w, std::size_t k) const;
+  [[nodiscard]] nlohmann::json snapshot_locked() const;
+  void restore(const nlohmann::json& s);
+
+  // ---- threads ----
+  void vehicle_loop(std::size_t i, const std::stop_token& stop);
+  void supervisor_loop(const std::stop_token& stop);
+  void flush();
+  std::int64_t last_changed_ms = 0;
+  std::atomic<std::int64_t> cpu_ns{0};  ///< CPU time of the flight's threads that ended (docs: runtime)
+  void add_thread_cpu();
+};
+
+std::int64_t now_ms();
+
+}  // namespace uavcover::flight

@@ -1,0 +1,553 @@
+// The flight runtime (docs/flights.md) against an in-process simulated fleet on loopback: uploads,
+// start, waypoint statuses, battery sorties, packet loss, failure and reassignment, restore. Bounds are
+// on simulated time (a wall-time cap only keeps a broken run from hanging); no assertion on wall time.
+#include "flight/flight.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "flight/runtime.hpp"
+#include "sim/sim_vehicle.hpp"
+#include "sorties/sorties.hpp"
+#include "uavcover/error.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+constexpr double kLon0 = 22.95, kLat0 = 40.60;
+constexpr double kMlat = 1.0 / 111320.0;
+const double kMlon = kMlat / std::cos(kLat0 * M_PI / 180.0);
+
+LonLat at(double x, double y) { return {kLon0 + x * kMlon, kLat0 + y * kMlat}; }
+
+// A w x h metres field with n UAVs starting 30 m apart south of it, scanned every 25 m at 20 m.
+Mission field(double w, double h, int n, double endurance_min = 30) {
+  json area = json::array(
+      {json::array({json::array({at(0, 0).lon, at(0, 0).lat}), json::array({at(w, 0).lon, at(w, 0).lat}),
+                    json::array({at(w, h).lon, at(w, h).lat}), json::array({at(0, h).lon, at(0, h).lat}),
+                    json::array({at(0, 0).lon, at(0, 0).lat})})});
+  json uavs = json::array();
+  for (int i = 0; i < n; ++i) {
+    const LonLat s = at(10.0 + 30.0 * i, -20.0);
+    uavs.push_back({{"id", std::string(1, static_cast<char>('A' + i))},
+                    {"start", {s.lon, s.lat}},
+                    {"speed_mps", 8},
+                    {"endurance_min", endurance_min}});
+  }
+  json m{{"name", "flight test"}, {"area", {{"type", "Polygon"}, {"coordinates", area}}},
+         {"spacing_m", 25},       {"altitude_m", 20},
+         {"uavs", uavs},          {"seed", 7}};
+  return parse_mission(m.dump());
+}
+
+struct Recorder : flight::Observer {
+  std::mutex m;
+  std::vector<flight::LogRecord> records;
+  std::atomic<int> changes{0};
+  void on_records(std::int64_t, const std::vector<flight::LogRecord>& r) override {
+    std::lock_guard lock(m);
+    records.insert(records.end(), r.begin(), r.end());
+  }
+  void on_changed(std::int64_t) override { ++changes; }
+  std::vector<flight::LogRecord> all() {
+    std::lock_guard lock(m);
+    return records;
+  }
+};
+
+// The simulated fleet, one vehicle per UAV of `plan` at its start, in a thread.
+struct Sim {
+  sim::Fleet fleet;
+  std::jthread thread;
+  Sim(const Plan& plan, double speedup, double loss = 0,
+      std::optional<std::pair<int, sim::Failure>> fail = {})
+      : fleet(configs(plan, loss, fail), sim::FleetOptions{speedup, 0.05}) {
+    thread = std::jthread([this](std::stop_token st) { fleet.run(st, 20000.0); });
+  }
+  static std::vector<sim::VehicleConfig> configs(const Plan& plan, double loss,
+                                                 std::optional<std::pair<int, sim::Failure>> fail) {
+    std::vector<sim::VehicleConfig> out;
+    for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+      sim::VehicleConfig c;
+      c.sysid = static_cast<std::uint8_t>(i + 1);
+      c.home = plan.mission.uavs[i].start_resolved;
+      c.endurance_min = 60;  // the plan's endurance cuts the sorties; the vehicles never run dry here
+      c.loss = loss;
+      c.seed = 11;
+      if (fail && fail->first == static_cast<int>(i)) c.failure = fail->second;
+      out.push_back(c);
+    }
+    return out;
+  }
+  flight::FlightConfig config(double link_timeout_s = 3) {
+    flight::FlightConfig c;
+    for (std::size_t i = 0; i < fleet.vehicles().size(); ++i) {
+      flight::VehicleBinding b;
+      b.uav = std::string(1, static_cast<char>('A' + i));
+      b.endpoint = {"127.0.0.1", fleet.vehicles()[i]->port()};
+      b.sysid = static_cast<std::uint8_t>(i + 1);
+      c.vehicles.push_back(b);
+    }
+    c.link_timeout_s = link_timeout_s;
+    c.log_period_s = 0.2;
+    return c;
+  }
+};
+
+// Waits until `pred` holds, at most `sim_s` simulated seconds (and a wall-time cap against hangs).
+template <typename Pred>
+bool wait_for(const Sim& s, double sim_s, Pred pred) {
+  const double until = s.fleet.sim_time() + sim_s;
+  const auto cap = std::chrono::steady_clock::now() + 90s;
+  while (!pred()) {
+    if (s.fleet.sim_time() > until || std::chrono::steady_clock::now() > cap) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+  return true;
+}
+
+void command(flight::Flight& f, const std::string& c, const std::string& uav = "") {
+  f.command(flight::Command{c, uav, std::nullopt});
+}
+
+// Uploads every UAV's first mission and starts them.
+void upload_and_start(Sim& s, flight::Flight& f) {
+  command(f, "upload");
+  ASSERT_TRUE(wait_for(s, 2000, [&] { return f.state() == "ready" || f.state() == "created"; }));
+  ASSERT_TRUE(wait_for(s, 2000, [&] {
+    const json j = f.snapshot();
+    for (const auto& u : j["uavs"])
+      if (u["phase"] != "ready") return false;
+    return true;
+  })) << f.snapshot().dump();
+  command(f, "start");
+}
+
+// Per UAV and waypoint, the statuses its "waypoint" records went through (own coverage only).
+std::map<std::pair<std::string, int>, std::string> waypoint_histories(
+    const std::vector<flight::LogRecord>& recs, std::map<std::string, std::vector<int>>* order) {
+  std::map<std::pair<std::string, int>, std::string> h;
+  for (const auto& r : recs)
+    if (r.kind == "waypoint" && r.data["mission"] != "reassigned") {
+      const int w = r.data["waypoint"].get<int>();
+      const std::string s = r.data["status"].get<std::string>();
+      h[{r.uav, w}] += s;
+      if (order && s == "R") (*order)[r.uav].push_back(w);
+    }
+  return h;
+}
+
+TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
+  const Plan p = plan(field(150, 100, 4));
+  Sim s(p, 50);
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.separation_m = 1000;      // every pair in the air is "too close": separation alerts
+  c.low_battery_pct = 99.95;  // the first percent drained raises a low-battery alert
+  flight::Flight f(1, p, c, rec);
+  EXPECT_EQ(f.state(), "created");
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  const json snap = f.snapshot();
+  std::size_t total = 0;
+  for (const auto& u : snap["uavs"]) {
+    const std::string wp = u["waypoints"];
+    total += wp.size();
+    EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
+    EXPECT_EQ(u["phase"], "done");
+    EXPECT_DOUBLE_EQ(u["progress"].get<double>(), 1.0);
+    EXPECT_EQ(u["eta_s"], 0);
+    EXPECT_GT(u["trail"].size(), 10U);
+    EXPECT_LE(u["trail"].size(), flight::detail::kTrailMax);
+    EXPECT_EQ(u["link"]["state"], "ok");
+  }
+  ASSERT_GT(total, 8U);
+  const auto recs = rec.all();
+  std::map<std::string, std::vector<int>> order;
+  const auto hist = waypoint_histories(recs, &order);
+  EXPECT_EQ(hist.size(), total);
+  for (const auto& [key, h] : hist) EXPECT_EQ(h, "CR") << key.first << " waypoint " << key.second;
+  for (const auto& [uav, ws] : order)
+    for (std::size_t k = 0; k < ws.size(); ++k) EXPECT_EQ(ws[k], static_cast<int>(k)) << uav;
+  // the log: telemetry, commands with their ACKs, states; the observer was told of changes
+  std::map<std::string, int> kinds;
+  for (const auto& r : recs) ++kinds[r.kind];
+  EXPECT_GT(kinds["telemetry"], 4);
+  EXPECT_GE(kinds["ack"], 4 * 3);  // upload, arm, mission start per UAV
+  EXPECT_GT(kinds["statustext"], 4);
+  EXPECT_GT(rec.changes.load(), 5);
+  // alerts: raised and cleared as records; separation clears once the UAVs landed
+  std::map<std::string, int> raised, cleared;
+  for (const auto& r : recs)
+    if (r.kind == "alert")
+      ++(r.data["active"].get<bool>() ? raised : cleared)[r.data["kind"].get<std::string>()];
+  EXPECT_GT(raised["separation"], 0);
+  EXPECT_EQ(cleared["separation"], raised["separation"]);
+  EXPECT_EQ(raised["low_battery"], 4);
+  for (const auto& a : snap["alerts"])
+    if (a["kind"] == "separation") {
+      EXPECT_FALSE(a["active"].get<bool>());
+      EXPECT_FALSE(a["other"].is_null());
+    }
+  bool done_record = false;
+  for (const auto& r : recs)
+    done_record = done_record || (r.kind == "state" && r.data.value("state", "") == "done");
+  EXPECT_TRUE(done_record);
+  // telemetry kept at most every log_period_s per UAV: never two records of one UAV closer than that
+  std::map<std::string, std::int64_t> last;
+  for (const auto& r : recs)
+    if (r.kind == "telemetry") {
+      if (last.contains(r.uav)) {
+        EXPECT_GE(r.t_ms - last[r.uav], 190) << r.uav;
+      }
+      last[r.uav] = r.t_ms;
+    }
+  // the flown tracks
+  for (const auto& [uav, track] : f.tracks()) EXPECT_GT(track.size(), 10U) << uav;
+  // what following cost (docs/flights.md, Runtime): CPU of the flight's threads per vehicle and per
+  // simulated second
+  const double cpu = snap["runtime"]["cpu_s"].get<double>();
+  EXPECT_GT(cpu, 0.0);
+  RecordProperty("flight_cpu_ms_per_vehicle", std::to_string(std::lround(cpu * 1000 / 4)));
+  RecordProperty("sim_seconds", std::to_string(std::lround(s.fleet.sim_time())));
+  std::cout << "flight threads: " << cpu << " s CPU for 4 vehicles over " << s.fleet.sim_time()
+            << " simulated s\n";
+}
+
+TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
+  const Plan p = plan(field(100, 60, 1));
+  std::uint16_t port = 0;
+  {
+    mavlink::UdpLink probe({"127.0.0.1", 0}, 1, 1);  // a free port for the flight to listen on
+    port = probe.local_port();
+  }
+  Sim s(p, 20);
+  s.fleet.vehicles()[0]->set_peer({"127.0.0.1", port});  // the vehicle sends to us first (a router)
+  flight::FlightConfig c = s.config();
+  c.vehicles[0].endpoint = {"127.0.0.1", port};
+  c.vehicles[0].listen = true;
+  Recorder rec;
+  flight::Flight f(8, p, c, rec);
+  f.start();
+  ASSERT_TRUE(wait_for(s, 200, [&] { return f.snapshot()["uavs"][0]["link"]["state"] == "ok"; }));
+  // another system on the same port: an armed vehicle in mission mode with something to say
+  mavlink::UdpLink stranger({"127.0.0.1", 0}, 77, 1);
+  stranger.set_peer(mavlink::Endpoint{"127.0.0.1", port});
+  for (int k = 0; k < 20; ++k) {
+    mavlink::Heartbeat hb;
+    hb.type = 2;
+    hb.base_mode = 128 | 4;
+    hb.custom_mode = 2;
+    stranger.send(hb);
+    stranger.send(mavlink::StatusText::make(mavlink::kSeverityCritical, "intruder"));
+    stranger.send_raw({0xFD, 0x09, 0xFF, 0x00, 0x13, 0x37});  // a truncated frame
+    std::this_thread::sleep_for(5ms);
+  }
+  command(f, "upload");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "ready"; }));
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_FALSE(u["armed"].get<bool>());
+  EXPECT_EQ(u["link"]["state"], "ok");
+  f.stop();
+  for (const auto& r : rec.all())
+    if (r.kind == "statustext") {
+      EXPECT_NE(r.data["text"], "intruder");
+    }
+}
+
+TEST(Flight, LossyLinksTwentyPercentEndDoneWithRetriedUploads) {
+  const Plan p = plan(field(150, 100, 4));
+  Sim s(p, 50, 0.2);
+  Recorder rec;
+  flight::Flight f(2, p, s.config(3), rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 4000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  for (const auto& u : f.snapshot()["uavs"]) {
+    const std::string wp = u["waypoints"];
+    EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
+  }
+  const auto recs = rec.all();
+  std::size_t retried = 0;
+  for (const auto& r : recs)
+    if (r.kind == "ack" && r.data["command"] == "upload") {
+      EXPECT_TRUE(r.data["ok"].get<bool>()) << r.data.dump();
+      if (r.data["timeouts"].get<int>() > 0 || r.data["count_sent"].get<int>() > 1 ||
+          r.data["items_sent"].get<int>() > r.data["items"].get<int>())
+        ++retried;
+    }
+  EXPECT_GT(retried, 0U);
+  // statuses only move forward, and each waypoint ends reached, even when messages were lost
+  for (const auto& [key, h] : waypoint_histories(recs, nullptr)) EXPECT_TRUE(h == "CR" || h == "R") << h;
+}
+
+TEST(Flight, ThreeBatterySortiesFlownOneAfterAnother) {
+  Mission m = field(200, 150, 2);
+  Plan base = plan(m);
+  // per UAV, an endurance (in 2 % steps) at which it needs exactly three sorties
+  for (std::size_t i = 0; i < base.uavs.size(); ++i) {
+    double found = 0;
+    for (double e = 1.0; e < 30 && found == 0; e *= 1.02) {
+      Plan q = base;
+      q.mission.uavs[i].endurance_min = e;
+      try {
+        q.uavs[i].sorties = sorties::cut_sorties(q, i);
+      } catch (const InputError&) {
+        continue;
+      }
+      if (q.uavs[i].sorties.size() == 3) found = e;
+    }
+    ASSERT_GT(found, 0) << i;
+    m.uavs[i].endurance_min = found;
+  }
+  const Plan p = plan(m);
+  ASSERT_EQ(p.uavs[0].sorties.size(), 3U);
+  ASSERT_EQ(p.uavs[1].sorties.size(), 3U);
+  Sim s(p, 100);
+  Recorder rec;
+  flight::Flight f(3, p, s.config(), rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  const json snap = f.snapshot();
+  for (const auto& u : snap["uavs"]) {
+    const std::string wp = u["waypoints"];
+    EXPECT_EQ(wp, std::string(wp.size(), 'R'));
+    ASSERT_EQ(u["missions"].size(), 3U);
+    for (const auto& ms : u["missions"]) EXPECT_EQ(ms["state"], "done");
+    EXPECT_EQ(u["sorties"], 3);
+  }
+  std::map<std::string, std::vector<int>> flown;  // missions landed, per UAV
+  std::map<std::string, int> swaps;
+  for (const auto& r : rec.all()) {
+    if (r.kind == "sortie" && r.data["state"] == "done") flown[r.uav].push_back(r.data["index"].get<int>());
+    if (r.kind == "statustext" && r.data["text"] == "battery swapped") ++swaps[r.uav];
+  }
+  for (const std::string uav : {"A", "B"}) {
+    EXPECT_EQ(flown[uav], (std::vector<int>{0, 1, 2})) << uav;
+    EXPECT_EQ(swaps[uav], 2) << uav;  // before the second and the third sortie
+  }
+}
+
+TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
+  const Plan p = plan(field(150, 100, 3));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{1, sim::Failure{0.4, sim::FailureKind::Link}});
+  Recorder rec;
+  flight::FlightConfig c = s.config(0.5);
+  c.reassign_after_s = 1.0;
+  flight::Flight f(4, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 3000, [&] {
+    const json j = f.snapshot();
+    return !j["reassignments"].empty() && j["reassignments"][0]["state"] == "offered";
+  })) << f.snapshot().dump(1);
+  json snap = f.snapshot();
+  EXPECT_EQ(snap["uavs"][1]["phase"], "failed");
+  EXPECT_EQ(snap["uavs"][1]["link"]["state"], "lost");
+  bool link_alert = false;
+  for (const auto& a : snap["alerts"])
+    link_alert = link_alert || (a["kind"] == "link_lost" && a["uav"] == "B" && a["active"]);
+  EXPECT_TRUE(link_alert);
+  const json offer = snap["reassignments"][0];
+  EXPECT_EQ(offer["failed_uav"], "B");
+  ASSERT_FALSE(offer["to"].empty());
+  f.command(flight::Command{"reassign", "", offer["id"].get<int>()});
+  EXPECT_THROW(f.command(flight::Command{"decline", "", offer["id"].get<int>()}), flight::CommandRefused);
+  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  snap = f.snapshot();
+  const std::string failed = snap["uavs"][1]["waypoints"];
+  const auto first_s = failed.find('S');
+  ASSERT_NE(first_s, std::string::npos);
+  EXPECT_EQ(failed.substr(0, first_s).find_first_not_of('R'), std::string::npos) << failed;
+  EXPECT_EQ(failed.substr(first_s).find_first_not_of('S'), std::string::npos) << failed;
+  int reassigned_missions = 0;
+  for (const auto& u : snap["uavs"]) {
+    if (u["uav"] == "B") continue;
+    const std::string own = u["waypoints"];
+    EXPECT_EQ(own, std::string(own.size(), 'R'));
+    for (const auto& ms : u["missions"])
+      if (ms["kind"] == "reassigned") {
+        ++reassigned_missions;
+        EXPECT_EQ(ms["state"], "done");
+        const std::string w = ms["waypoints"];
+        EXPECT_EQ(w, std::string(w.size(), 'R'));
+      }
+  }
+  EXPECT_GT(reassigned_missions, 0);
+  std::vector<std::string> states;
+  for (const auto& r : rec.all())
+    if (r.kind == "reassignment") states.push_back(r.data["state"]);
+  EXPECT_EQ(states, (std::vector<std::string>{"offered", "applied"}));
+}
+
+TEST(Flight, PauseContinueThenForcedLandingAndResumeFromTheLastReachedWaypoint) {
+  const Plan p = plan(field(150, 100, 1));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{0, sim::Failure{0.4, sim::FailureKind::Land}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.reassign_after_s = 3600;  // no offer: the operator resumes
+  flight::Flight f(9, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["uavs"][0]["phase"] == "flying"; }));
+  command(f, "pause");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "paused"; })) << f.snapshot().dump(1);
+  EXPECT_TRUE(wait_for(s, 100, [&] { return f.snapshot()["uavs"][0]["mode"] == "hold"; }));  // next HEARTBEAT
+  EXPECT_THROW(command(f, "pause"), flight::CommandRefused);
+  command(f, "continue");
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.state() == "flying"; }));
+  // the forced landing at 40 %: landed with coverage left
+  ASSERT_TRUE(wait_for(s, 2000, [&] {
+    const json u = f.snapshot()["uavs"][0];
+    return u["phase"] == "landed" && u["interrupted"].get<bool>();
+  })) << f.snapshot().dump(1);
+  const std::string before = f.snapshot()["uavs"][0]["waypoints"];
+  const auto last = before.find_last_of('R');
+  ASSERT_NE(last, std::string::npos);
+  ASSERT_NE(before.find('P'), std::string::npos);
+  EXPECT_EQ(before.substr(0, last + 1).find_first_not_of('R'), std::string::npos) << before;
+  EXPECT_THROW(command(f, "next_sortie"), flight::CommandRefused);  // not after an interrupted mission
+  command(f, "resume");
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  const json u = f.snapshot()["uavs"][0];
+  EXPECT_EQ(u["waypoints"], std::string(before.size(), 'R'));
+  ASSERT_GE(u["missions"].size(), 2U);
+  EXPECT_EQ(u["missions"][0]["state"], "interrupted");
+  EXPECT_EQ(u["missions"][1]["kind"], "resume");
+  EXPECT_EQ(u["missions"][1]["from_waypoint"], static_cast<int>(last));
+  for (std::size_t k = 1; k < u["missions"].size(); ++k) EXPECT_EQ(u["missions"][k]["state"], "done");
+  // nothing reached twice: each waypoint's history is C R (or R), once
+  for (const auto& [key, h] : waypoint_histories(rec.all(), nullptr)) EXPECT_TRUE(h == "CR" || h == "R") << h;
+}
+
+TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
+  const Plan p = plan(field(150, 100, 2));
+  Sim s(p, 50);
+  Recorder rec;
+  json saved;
+  {
+    flight::Flight f(5, p, s.config(), rec);
+    f.start();
+    upload_and_start(s, f);
+    ASSERT_TRUE(wait_for(s, 2000, [&] {
+      const std::string w = f.snapshot()["uavs"][0]["waypoints"];
+      return w.find('R') != std::string::npos && w.find('P') != std::string::npos;
+    }));
+    saved = f.snapshot();
+  }  // the server stops: the vehicles fly on
+  flight::Flight g(5, p, s.config(), rec, saved);
+  EXPECT_EQ(g.snapshot()["uavs"][0]["waypoints"], saved["uavs"][0]["waypoints"]);
+  g.start();
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return g.finished(); })) << g.snapshot().dump(1);
+  g.stop();
+  for (const auto& u : g.snapshot()["uavs"]) {
+    const std::string wp = u["waypoints"];
+    EXPECT_EQ(wp, std::string(wp.size(), 'R'));
+  }
+  // a snapshot that does not fit the plan is refused, naming what
+  json bad = saved;
+  bad["uavs"][0]["waypoints"] = "RR";
+  EXPECT_THROW(flight::Flight(6, p, s.config(), rec, bad), InputError);
+}
+
+TEST(Flight, CommandsRefusedInTheWrongStateAndUnknownUav) {
+  const Plan p = plan(field(100, 60, 2));
+  Recorder rec;
+  flight::FlightConfig c;
+  c.vehicles = {flight::VehicleBinding{"A", {"127.0.0.1", 9}, false, 1, 1, false}};
+  flight::Flight f(7, p, c, rec);
+  EXPECT_THROW(command(f, "start"), flight::CommandRefused);  // nothing uploaded
+  EXPECT_THROW(command(f, "pause"), flight::CommandRefused);
+  EXPECT_THROW(command(f, "reassign"), flight::CommandRefused);
+  try {
+    command(f, "upload", "Z");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "uav");
+  }
+  EXPECT_EQ(f.snapshot()["uavs"][0]["waypoints"].get<std::string>().find_first_not_of('P'),
+            std::string::npos);
+}
+
+std::string field_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.field();
+  }
+  return "<no error>";
+}
+
+TEST(FlightConfig, ParseErrorsNameTheField) {
+  const Plan p = plan(field(100, 60, 2));
+  const json good = {{"vehicles",
+                      {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}, {"sysid", 3}},
+                       {{"uav", "B"}, {"endpoint", "udp:127.0.0.1:14551"}, {"listen", true}}}},
+                     {"link_timeout_s", 2},
+                     {"auto_reassign", true}};
+  const auto c = flight::parse_config(good, p);
+  ASSERT_EQ(c.vehicles.size(), 2U);
+  EXPECT_EQ(c.vehicles[0].sysid, 3);
+  EXPECT_EQ(c.vehicles[1].endpoint.port, 14551);
+  EXPECT_TRUE(c.vehicles[1].listen);
+  EXPECT_DOUBLE_EQ(c.link_timeout_s, 2);
+  EXPECT_TRUE(c.auto_reassign);
+  // config_json round-trips
+  const auto c2 = flight::parse_config(flight::config_json(c), p);
+  EXPECT_EQ(flight::config_json(c2), flight::config_json(c));
+
+  auto with = [&](const std::function<void(json&)>& edit) {
+    json j = good;
+    edit(j);
+    return field_of([&] { flight::parse_config(j, p); });
+  };
+  EXPECT_EQ(with([](json& j) { j["vehicles"][1]["endpoint"] = "tcp:1.2.3.4:5"; }), "vehicles[1].endpoint");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][1]["endpoint"] = "udp:127.0.0.1:0"; }), "vehicles[1].endpoint");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][0]["uav"] = "nobody"; }), "vehicles[0].uav");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][1]["uav"] = "A"; }), "vehicles[1].uav");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][0]["sysid"] = 256; }), "vehicles[0].sysid");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][0]["sysid"] = 1.5; }), "vehicles[0].sysid");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][0]["listen"] = "yes"; }), "vehicles[0].listen");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][0]["extra"] = 1; }), "vehicles[0].extra");
+  EXPECT_EQ(with([](json& j) { j["vehicles"] = json::array(); }), "vehicles");
+  EXPECT_EQ(with([](json& j) { j.erase("vehicles"); }), "vehicles");
+  EXPECT_EQ(with([](json& j) { j["link_timeout_s"] = -1; }), "link_timeout_s");
+  EXPECT_EQ(with([](json& j) { j["separation_m"] = "far"; }), "separation_m");
+  EXPECT_EQ(with([](json& j) { j["low_battery_pct"] = 101; }), "low_battery_pct");
+  EXPECT_EQ(with([](json& j) { j["command_retries"] = 1000; }), "command_retries");
+  EXPECT_EQ(with([](json& j) { j["surprise"] = 1; }), "surprise");
+
+  EXPECT_EQ(flight::parse_command({{"command", "rtl"}, {"uav", "A"}}).uav, "A");
+  EXPECT_EQ(flight::parse_command({{"command", "reassign"}, {"reassignment", 2}}).reassignment, 2);
+  EXPECT_EQ(field_of([] { flight::parse_command({{"command", "fly away"}}); }), "command");
+  EXPECT_EQ(field_of([] { flight::parse_command(json::object()); }), "command");
+  EXPECT_EQ(field_of([] { flight::parse_command({{"command", "rtl"}, {"uav", 5}}); }), "uav");
+  EXPECT_EQ(field_of([] {
+              flight::parse_command({{"command", "reassign"}, {"reassignment", 0}});
+            }),
+            "reassignment");
+  EXPECT_EQ(field_of([] { flight::parse_command({{"command", "rtl"}, {"x", 0}}); }), "x");
+}
+
+}  // namespace
+}  // namespace uavcover
