@@ -207,7 +207,7 @@ export const flyTab: Tab = {
       heading: u.position?.heading_deg ?? 0,
       statuses: u.waypoints ?? '',
       trail: Array.isArray(u.trail) ? u.trail.filter((p) => p.length >= 2).map((p) => [p[1], p[0]] as [number, number]) : null,
-      lost: !!u.link && u.link.state !== 'ok',
+      lost: u.link?.state === 'lost',
       phase: u.phase,
       missions: u.missions ?? [],
     });
