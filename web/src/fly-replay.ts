@@ -64,7 +64,12 @@ export class FlyReplay {
     this.load.textContent = ended ? 'Replay the flight' : 'Replay so far';
   }
 
-  showCoverage(c: FlightCoverage): void {
+  /** The flown and planned PoC; null: the server has no flown coverage. */
+  showCoverage(c: FlightCoverage | null): void {
+    if (!c) {
+      this.poc.textContent = 'Flown coverage: not available from this server';
+      return;
+    }
     const pct = (v: number | null) => (v === null || v === undefined ? '—' : `${(100 * v).toFixed(1)} %`);
     this.poc.dataset.flown = String(c.flown_poc ?? '');
     this.poc.dataset.planned = String(c.planned_poc ?? '');

@@ -248,7 +248,11 @@ export const flyTab: Tab = {
         if (flight?.id !== f.id) return;
         replay.showCoverage(c);
         if (c.bounds && visible) layers.setCoverage(`${API}/flights/${f.id}/coverage.png?v=${Date.now()}`, c.bounds);
-      } catch {
+      } catch (e) {
+        if (e instanceof ApiError && e.status === 404 && flight?.id === f.id) {
+          replay.showCoverage(null); // this server does not compute the flown coverage
+          return;
+        }
         /* not yet: the next round */
       }
       if (!once) scheduleCoverage();
@@ -364,7 +368,10 @@ export const flyTab: Tab = {
         createMsg.textContent = (e as Error).message;
         return;
       }
-      void createFlight({ simulate: sim }, simulate, true);
+      // telemetry kept once per simulated second, as a real flight's at the default 1 s (the server's
+      // floor is 0.05 s), so that the replay is as detailed at any speed-up
+      const logPeriod = Math.min(1, Math.max(0.05, 1 / Math.max(1, Number(speedup.value) || 1)));
+      void createFlight({ simulate: sim, log_period_s: Math.round(logPeriod * 1000) / 1000 }, simulate, true);
     });
     connect.addEventListener('click', () => {
       const vehicles = [...vehicleRows.querySelectorAll<HTMLElement>('.fly-vehicle')]
