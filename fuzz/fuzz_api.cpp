@@ -5,8 +5,8 @@
 // database does not fail), and every error must be {"error": {"field": string, "message": string}}.
 //
 // Input: byte 0 picks the method and the Content-Type; then the request target up to the first '\n'
-// ("/api/v1/missions?name=x&limit=3"; "/api/v1/" is prepended when it does not start with '/'), as the
-// router gets it after the transport's percent-decoding; the rest is the body.
+// ("/api/v1/missions?name=x&limit=3"; "/api/v1/" is prepended when it does not start with '/'), decoded
+// by the transport's decode_target(); the rest is the body.
 // The store holds the seeded catalogs, mission 1 (two UAVs, alpha and bravo), a done plan (job 1) with
 // artifacts and exports, and a done study (job 2). Requests change it (missions are created, jobs queued),
 // so it is opened afresh every kRunsPerStore inputs: memory stays bounded and ids stay small.
@@ -23,6 +23,7 @@
 #include <string_view>
 
 #include "server/api.hpp"
+#include "server/flights.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
 
@@ -73,13 +74,18 @@ void finish(store::Store& s, store::JobKind kind, const nlohmann::json& params, 
 
 struct World {
   std::unique_ptr<store::Store> store;
+  std::unique_ptr<uavcover::server::FlightManager> flights;
   std::unique_ptr<uavcover::server::ApiContext> ctx;
   std::unique_ptr<uavcover::server::Router> router;
 
   World() {
     store = store::open_store("sqlite::memory:");
+    // flights are looked up, never started: no live flight (max_live 0), so no socket is opened
+    uavcover::server::FlightLimits limits;
+    limits.max_live = 0;
+    flights = std::make_unique<uavcover::server::FlightManager>(*store, limits);
     ctx = std::make_unique<uavcover::server::ApiContext>(
-        uavcover::server::ApiContext{*store, uavcover::server::ApiConfig{}});
+        uavcover::server::ApiContext{*store, uavcover::server::ApiConfig{}, flights.get()});
     ctx->config.max_queued = kMaxQueued;
     ctx->config.max_body_bytes = 64 * 1024;
     router = std::make_unique<uavcover::server::Router>();
@@ -101,19 +107,6 @@ struct World {
            {{"study.json", "application/json", "{}"}});
   }
 };
-
-/// The tiny query splitter: a=b&c=d, the last one wins (the transport's rule, without decoding).
-void split_query(std::string_view query, Request& req) {
-  while (!query.empty()) {
-    const auto amp = query.find('&');
-    const std::string_view part = query.substr(0, amp);
-    query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
-    if (part.empty()) continue;
-    const auto eq = part.find('=');
-    req.query[std::string(part.substr(0, eq))] =
-        eq == std::string_view::npos ? std::string() : std::string(part.substr(eq + 1));
-  }
-}
 
 void check(const Request& req, const Response& res) {
   if (res.status == 500) fail(req, res, "500: an unhandled exception");
@@ -169,14 +162,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   req.request_id = "fuzz";
   const std::string_view rest(reinterpret_cast<const char*>(data) + 1, size - 1);
   const auto newline = rest.find('\n');
-  std::string_view target = rest.substr(0, newline);
+  std::string target(rest.substr(0, newline));
   if (newline != std::string_view::npos) req.body = std::string(rest.substr(newline + 1));
-  // the transport refuses NUL bytes in the path and query
-  if (target.find('\0') != std::string_view::npos) return 0;
-  const auto q = target.find('?');
-  req.path = std::string(target.substr(0, q));
-  if (!req.path.starts_with('/')) req.path.insert(0, "/api/v1/");
-  if (q != std::string_view::npos) split_query(target.substr(q + 1), req);
+  if (!target.starts_with('/')) target.insert(0, "/api/v1/");
+  try {
+    uavcover::server::decode_target(target, req);  // the transport's own decoding
+  } catch (const uavcover::server::HttpError&) {
+    return 0;  // 400, answered by the transport
+  }
 
   auto match = world->router->match(req.method, req.path);
   if (match.handler == nullptr) return 0;  // 404 or 405, answered by the transport

@@ -36,15 +36,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const ClientMessage m = uavcover::server::parse_client_message(text, max);
     switch (m.op) {
       case ClientMessage::Op::Subscribe:
-        check(m.jobs.size() <= max, "more subscribed ids than the cap");
-        check(positive(m.jobs), "a subscribed id is not positive");
+        check(m.jobs.size() <= max && m.flights.size() <= max, "more subscribed ids than the cap");
+        check(positive(m.jobs) && positive(m.flights), "a subscribed id is not positive");
         break;
       case ClientMessage::Op::Unsubscribe:
-        check(m.jobs.size() <= text.size() / 2, "more ids than the message can hold");
-        check(positive(m.jobs), "an unsubscribed id is not positive");
+        check(m.jobs.size() + m.flights.size() <= text.size() / 2, "more ids than the message can hold");
+        check(positive(m.jobs) && positive(m.flights), "an unsubscribed id is not positive");
         break;
       case ClientMessage::Op::Invalid:
-        check(m.jobs.empty(), "ids with an error");
+        check(m.jobs.empty() && m.flights.empty(), "ids with an error");
         check(!m.error_message.empty(), "an error without a message");
         break;
     }

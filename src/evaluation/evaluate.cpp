@@ -1,5 +1,6 @@
 #include "evaluation/evaluate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -30,6 +31,19 @@ MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame)
   const MultiPolygon area = geometry::unite(geometry::to_local(mission.area, frame));
   const MultiPolygon nfz = geometry::unite(geometry::to_local(mission.no_fly_zones, frame));
   return geometry::free_space(area, nfz);
+}
+
+GeoBounds lattice_bounds(const CoverageResult& cov, const geodesy::LocalFrame& frame) {
+  const double half = 0.5 * cov.lattice_m;
+  const double x0 = cov.lattice_origin.x() - half, y0 = cov.lattice_origin.y() - half;
+  const double x1 = x0 + cov.lattice_cols * cov.lattice_m, y1 = y0 + cov.lattice_rows * cov.lattice_m;
+  GeoBounds b{90, 180, -90, -180};
+  for (const Point& p : {Point(x0, y0), Point(x1, y0), Point(x1, y1), Point(x0, y1)}) {
+    const LonLat g = frame.to_wgs84(p);
+    b.south = std::min(b.south, g.lat), b.north = std::max(b.north, g.lat);
+    b.west = std::min(b.west, g.lon), b.east = std::max(b.east, g.lon);
+  }
+  return b;
 }
 
 Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>& flights,

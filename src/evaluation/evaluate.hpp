@@ -34,6 +34,16 @@ double footprint_for(const Mission& mission);
 /// Free area (area - no-fly zones) of the mission in the local frame centred at `origin`.
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame);
 
+/// A WGS84 box, e.g. the one a coverage lattice's picture spans.
+struct GeoBounds {
+  double south = 0.0, west = 0.0, north = 0.0, east = 0.0;
+};
+
+/// The WGS84 box render::heatmap_overlay_png's picture of `coverage` spans: each pixel is one sample's
+/// cell, centred on the sample; the corners of that local-frame rectangle (`frame`: the evaluation's),
+/// enclosed.
+GeoBounds lattice_bounds(const CoverageResult& coverage, const geodesy::LocalFrame& frame);
+
 /// Evaluates flights over `free` with the UAVs' speed/turn constants/endurance (uavs.size() ==
 /// flights.size()).
 Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>& flights,

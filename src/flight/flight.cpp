@@ -357,8 +357,11 @@ void Flight::Impl::flush() {
       last_changed_ms = t;
     }
   }
-  if (!out.empty()) observer.on_records(id, out);
-  if (changed) observer.on_changed(id);
+  try {  // the observer's failure (a store that cannot write) must not stop the flight
+    if (!out.empty()) observer.on_records(id, out);
+    if (changed) observer.on_changed(id);
+  } catch (const std::exception&) {
+  }
 }
 
 // ---- reassignment ----
@@ -664,8 +667,8 @@ void Flight::start() {
   for (std::size_t i = 0; i < f.uavs.size(); ++i) {
     const auto& b = f.uavs[i].binding;
     try {
-      auto link =
-          std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0}, 255, 190);
+      auto link = std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0},
+                                                 kGcsSysid, kGcsCompid);
       if (b.listen)
         link->learn_peer(true);
       else
@@ -680,8 +683,8 @@ void Flight::start() {
   for (auto& u : f.uavs) u.last_heard = now;  // judged lost only after link_timeout_s of silence
   f.running = true;
   for (std::size_t i = 0; i < f.uavs.size(); ++i)
-    f.threads.emplace_back([&f, i](std::stop_token st) { f.vehicle_loop(i, st); });
-  f.threads.emplace_back([&f](std::stop_token st) { f.supervisor_loop(st); });
+    f.threads.emplace_back([&f, i](const std::stop_token& st) { f.vehicle_loop(i, st); });
+  f.threads.emplace_back([&f](const std::stop_token& st) { f.supervisor_loop(st); });
 }
 
 void Flight::stop() {

@@ -64,8 +64,10 @@ struct LogRecord {
   nlohmann::json data = nlohmann::json::object();
 };
 
-/// Where a flight's records and changes go. Called from the flight's threads, never under the flight's
-/// lock: implementations may call snapshot() but must not block for long.
+/// Where a flight's records and changes go. Called from the flight's supervisor thread (and from stop()),
+/// never under the flight's lock: implementations may call snapshot() but must not block for long, nor
+/// call stop() or destroy the flight (that joins the calling thread). An exception thrown here is
+/// swallowed: the flight goes on.
 class Observer {
  public:
   virtual ~Observer() = default;
@@ -117,7 +119,7 @@ class Flight {
   /// True once the flight ended (done or aborted): nothing more will change.
   [[nodiscard]] bool finished() const;
   /// The flight as docs/flights.md's Flight object (without "id", "plan_id" and times, which the server
-  /// adds). Thread-safe.
+  /// adds), with the fields a restore needs ("Snapshot fields for restore"). Thread-safe.
   [[nodiscard]] nlohmann::json snapshot() const;
   /// Each UAV's flown track so far in WGS84 with altitudes (metres above take-off), for flown coverage.
   [[nodiscard]] std::vector<std::pair<std::string, std::vector<std::array<double, 3>>>> tracks() const;

@@ -18,7 +18,6 @@ namespace mav = uavcover::mavlink;
 
 namespace {
 
-constexpr std::uint8_t kGcsSysid = 255, kGcsCompid = 190;  // MAV_COMP_ID_MISSIONPLANNER
 constexpr std::uint8_t kArmedFlag = 128;
 constexpr std::uint8_t kStateActive = 3, kStatePaused = 4, kStateComplete = 5;
 constexpr std::size_t kBatch = 256;  // messages handled per lock
@@ -319,163 +318,175 @@ void Flight::Impl::finish_command(UavRt& u, bool ok, const std::string& outcome)
 
 void Flight::Impl::vehicle_loop(std::size_t i, const std::stop_token& stop) {
   mav::UdpLink& link = *links[i];
-  auto next_heartbeat = Clock::now();
+  Clock::time_point next_heartbeat = Clock::now();
   std::vector<mav::Received> batch;
   batch.reserve(kBatch);
   while (!stop.stop_requested()) {
-    const auto now = Clock::now();
-    if (now >= next_heartbeat && link.has_peer()) {
-      mav::Heartbeat hb;
-      hb.type = 6;       // MAV_TYPE_GCS
-      hb.autopilot = 8;  // MAV_AUTOPILOT_INVALID
-      hb.system_status = 4;
-      link.send(hb);
-      next_heartbeat = now + 1s;
-    }
-
-    // the next action step
-    std::optional<Action> upload;
-    std::vector<mav::MissionItemInt> items;
-    std::string phase_before;
-    {
-      std::lock_guard lock(mutex);
-      UavRt& u = uavs[i];
-      if (u.command_active) {
-        if (u.ack_result) {
-          const bool ok = *u.ack_result == mav::kResultAccepted;
-          finish_command(u, ok, ok ? "accepted" : fmt::format("refused (MAV_RESULT {})", *u.ack_result));
-        } else if (command_effect_seen(u)) {
-          finish_command(u, true, "seen in telemetry");
-        } else if (now >= u.resend_at) {
-          if (u.tries_left-- > 0) {
-            ++u.active.cmd.confirmation;
-            link.send(u.active.cmd);
-            u.resend_at = now + kCommandPeriod;
-          } else {
-            finish_command(u, false, "no COMMAND_ACK");
-          }
-        }
-      } else if (!u.actions.empty() && link.has_peer()) {
-        Action a = std::move(u.actions.front());
-        u.actions.pop_front();
-        if (a.kind == Action::Kind::Command) {
-          a.cmd.target_system = u.binding.sysid;
-          a.cmd.target_component = u.binding.compid;
-          u.active = a;
-          u.command_active = true;
-          u.ack_result.reset();
-          u.tries_left = config.command_retries;
-          u.resend_at = now + kCommandPeriod;
-          link.send(a.cmd);
-          record(u.binding.uav, "command", {{"command", a.name}, {"mav_cmd", a.cmd.command}});
-        } else if (a.mission < u.missions.size() &&
-                   (u.missions[a.mission].state == "pending" || u.missions[a.mission].state == "ready")) {
-          MissionSpec& m = u.missions[a.mission];
-          std::optional<LonLat> home;
-          if (u.binding.home_item) home = plan.mission.uavs[u.index].start_resolved;
-          items = mav::to_mission_items(m.items, home);
-          m.state = "uploading";
-          phase_before = u.phase == "uploading" ? "idle" : u.phase;
-          set_phase(u, "uploading");
-          upload = a;
-        }
+    try {
+      vehicle_step(i, link, next_heartbeat, batch, stop);
+    } catch (const std::exception& e) {  // a socket error: said, and tried again
+      {
+        std::lock_guard lock(mutex);
+        record(uavs[i].binding.uav, "alert",
+               {{"kind", "link_error"}, {"active", true}, {"message", printable(e.what()).substr(0, 200)}});
       }
-    }
-    if (upload) {
-      const UavRt& u0 = uavs[i];  // binding is never changed after construction
-      mav::UploadOptions opt;
-      opt.target_system = u0.binding.sysid;
-      opt.target_component = u0.binding.compid;
-      mav::UploadResult res;
-      int attempts = 0;
-      while (attempts < kUploadAttempts && !stop.stop_requested()) {
-        ++attempts;
-        res = mav::upload_mission(link, items, opt);
-        if (res.ok) break;
-      }
-      std::lock_guard lock(mutex);
-      UavRt& u = uavs[i];
-      MissionSpec& m = u.missions[upload->mission];
-      record(u.binding.uav, "ack",
-             {{"command", "upload"},
-              {"ok", res.ok},
-              {"result", res.ok ? "accepted" : res.error},
-              {"mission", upload->mission},
-              {"items", res.count},
-              {"attempts", attempts},
-              {"count_sent", res.count_sent},
-              {"items_sent", res.items_sent},
-              {"timeouts", res.timeouts}});
-      u.last_heard = Clock::now();  // the upload read the link meanwhile
-      if (res.ok) {
-        m.state = "ready";
-        u.airborne_seen = false;
-        u.current_item.reset();
-        set_phase(u, "ready");
-      } else {
-        m.state = "pending";
-        u.actions.clear();
-        u.retry_after = Clock::now() + 2s;
-        set_phase(u, phase_before);
-      }
-      continue;
-    }
-
-    // telemetry
-    batch.clear();
-    if (auto r = link.receive(20ms)) {
-      batch.push_back(std::move(*r));
-      while (batch.size() < kBatch)
-        if (auto more = link.receive(0ms))
-          batch.push_back(std::move(*more));
-        else
-          break;
-    }
-    std::lock_guard lock(mutex);
-    UavRt& u = uavs[i];
-    u.rx = link.stats().received;
-    u.tx = link.stats().sent;
-    for (const auto& r : batch) {
-      if (r.header.sysid != u.binding.sysid || (u.binding.compid != 0 && r.header.compid != u.binding.compid))
-        continue;  // another system or component: not ours
-      u.last_heard = Clock::now();
-      u.last_heard_ms = now_ms();
-      if (u.link_state != "ok") {
-        if (u.link_state == "lost") set_alert("link_lost", u.binding.uav, "", false, "link back");
-        u.link_state = "ok";
-        u.lost_since.reset();
-        dirty = true;
-      }
-      std::visit(
-          [&](const auto& msg) {
-            using T = std::decay_t<decltype(msg)>;
-            if constexpr (std::is_same_v<T, mav::Heartbeat>) {
-              on_heartbeat(u, msg);
-            } else if constexpr (std::is_same_v<T, mav::GlobalPositionInt>) {
-              on_position(u, msg);
-            } else if constexpr (std::is_same_v<T, mav::MissionCurrent>) {
-              on_current(u, static_cast<int>(msg.seq) - (u.binding.home_item ? 1 : 0), msg.mission_state);
-            } else if constexpr (std::is_same_v<T, mav::MissionItemReached>) {
-              on_reached(u, static_cast<int>(msg.seq) - (u.binding.home_item ? 1 : 0));
-            } else if constexpr (std::is_same_v<T, mav::SysStatus> || std::is_same_v<T, mav::BatteryStatus>) {
-              if (msg.battery_remaining >= 0 && msg.battery_remaining <= 100 &&
-                  u.battery_pct != static_cast<double>(msg.battery_remaining)) {
-                u.battery_pct = msg.battery_remaining;
-                dirty = true;
-              }
-            } else if constexpr (std::is_same_v<T, mav::StatusText>) {
-              record(u.binding.uav, "statustext",
-                     {{"severity", msg.severity}, {"text", printable(msg.str())}});
-            } else if constexpr (std::is_same_v<T, mav::CommandAck>) {
-              if (u.command_active && msg.command == u.active.cmd.command &&
-                  msg.result != 5)  // 5: in progress
-                u.ack_result = msg.result;
-            }
-          },
-          r.message);
+      std::this_thread::sleep_for(200ms);
     }
   }
   add_thread_cpu();
+}
+
+void Flight::Impl::vehicle_step(std::size_t i, mav::UdpLink& link, Clock::time_point& next_heartbeat,
+                                std::vector<mav::Received>& batch, const std::stop_token& stop) {
+  const auto now = Clock::now();
+  if (now >= next_heartbeat && link.has_peer()) {
+    mav::Heartbeat hb;
+    hb.type = 6;       // MAV_TYPE_GCS
+    hb.autopilot = 8;  // MAV_AUTOPILOT_INVALID
+    hb.system_status = 4;
+    link.send(hb);
+    next_heartbeat = now + 1s;
+  }
+
+  // the next action step
+  std::optional<Action> upload;
+  std::vector<mav::MissionItemInt> items;
+  std::string phase_before;
+  {
+    std::lock_guard lock(mutex);
+    UavRt& u = uavs[i];
+    if (u.command_active) {
+      if (u.ack_result) {
+        const bool ok = *u.ack_result == mav::kResultAccepted;
+        finish_command(u, ok, ok ? "accepted" : fmt::format("refused (MAV_RESULT {})", *u.ack_result));
+      } else if (command_effect_seen(u)) {
+        finish_command(u, true, "seen in telemetry");
+      } else if (now >= u.resend_at) {
+        if (u.tries_left-- > 0) {
+          ++u.active.cmd.confirmation;
+          link.send(u.active.cmd);
+          u.resend_at = now + kCommandPeriod;
+        } else {
+          finish_command(u, false, "no COMMAND_ACK");
+        }
+      }
+    } else if (!u.actions.empty() && link.has_peer()) {
+      Action a = std::move(u.actions.front());
+      u.actions.pop_front();
+      if (a.kind == Action::Kind::Command) {
+        a.cmd.target_system = u.binding.sysid;
+        a.cmd.target_component = u.binding.compid;
+        u.active = a;
+        u.command_active = true;
+        u.ack_result.reset();
+        u.tries_left = config.command_retries;
+        u.resend_at = now + kCommandPeriod;
+        link.send(a.cmd);
+        record(u.binding.uav, "command", {{"command", a.name}, {"mav_cmd", a.cmd.command}});
+      } else if (a.mission < u.missions.size() &&
+                 (u.missions[a.mission].state == "pending" || u.missions[a.mission].state == "ready")) {
+        MissionSpec& m = u.missions[a.mission];
+        std::optional<LonLat> home;
+        if (u.binding.home_item) home = plan.mission.uavs[u.index].start_resolved;
+        items = mav::to_mission_items(m.items, home);
+        m.state = "uploading";
+        phase_before = u.phase == "uploading" ? "idle" : u.phase;
+        set_phase(u, "uploading");
+        upload = a;
+      }
+    }
+  }
+  if (upload) {
+    const UavRt& u0 = uavs[i];  // binding is never changed after construction
+    mav::UploadOptions opt;
+    opt.target_system = u0.binding.sysid;
+    opt.target_component = u0.binding.compid;
+    mav::UploadResult res;
+    int attempts = 0;
+    while (attempts < kUploadAttempts && !stop.stop_requested()) {
+      ++attempts;
+      res = mav::upload_mission(link, items, opt);
+      if (res.ok) break;
+    }
+    std::lock_guard lock(mutex);
+    UavRt& u = uavs[i];
+    MissionSpec& m = u.missions[upload->mission];
+    record(u.binding.uav, "ack",
+           {{"command", "upload"},
+            {"ok", res.ok},
+            {"result", res.ok ? "accepted" : res.error},
+            {"mission", upload->mission},
+            {"items", res.count},
+            {"attempts", attempts},
+            {"count_sent", res.count_sent},
+            {"items_sent", res.items_sent},
+            {"timeouts", res.timeouts}});
+    u.last_heard = Clock::now();  // the upload read the link meanwhile
+    if (res.ok) {
+      m.state = "ready";
+      u.airborne_seen = false;
+      u.current_item.reset();
+      set_phase(u, "ready");
+    } else {
+      m.state = "pending";
+      u.actions.clear();
+      u.retry_after = Clock::now() + 2s;
+      set_phase(u, phase_before);
+    }
+    return;
+  }
+
+  // telemetry
+  batch.clear();
+  if (auto r = link.receive(20ms)) {
+    batch.push_back(*r);
+    while (batch.size() < kBatch)
+      if (auto more = link.receive(0ms))
+        batch.push_back(*more);
+      else
+        break;
+  }
+  std::lock_guard lock(mutex);
+  UavRt& u = uavs[i];
+  u.rx = link.stats().received;
+  u.tx = link.stats().sent;
+  for (const auto& r : batch) {
+    if (r.header.sysid != u.binding.sysid || (u.binding.compid != 0 && r.header.compid != u.binding.compid))
+      continue;  // another system or component: not ours
+    u.last_heard = Clock::now();
+    u.last_heard_ms = now_ms();
+    if (u.link_state != "ok") {
+      if (u.link_state == "lost") set_alert("link_lost", u.binding.uav, "", false, "link back");
+      u.link_state = "ok";
+      u.lost_since.reset();
+      dirty = true;
+    }
+    std::visit(
+        [&](const auto& msg) {
+          using T = std::decay_t<decltype(msg)>;
+          if constexpr (std::is_same_v<T, mav::Heartbeat>) {
+            on_heartbeat(u, msg);
+          } else if constexpr (std::is_same_v<T, mav::GlobalPositionInt>) {
+            on_position(u, msg);
+          } else if constexpr (std::is_same_v<T, mav::MissionCurrent>) {
+            on_current(u, static_cast<int>(msg.seq) - (u.binding.home_item ? 1 : 0), msg.mission_state);
+          } else if constexpr (std::is_same_v<T, mav::MissionItemReached>) {
+            on_reached(u, static_cast<int>(msg.seq) - (u.binding.home_item ? 1 : 0));
+          } else if constexpr (std::is_same_v<T, mav::SysStatus> || std::is_same_v<T, mav::BatteryStatus>) {
+            if (msg.battery_remaining >= 0 && msg.battery_remaining <= 100 &&
+                u.battery_pct != static_cast<double>(msg.battery_remaining)) {
+              u.battery_pct = msg.battery_remaining;
+              dirty = true;
+            }
+          } else if constexpr (std::is_same_v<T, mav::StatusText>) {
+            record(u.binding.uav, "statustext", {{"severity", msg.severity}, {"text", printable(msg.str())}});
+          } else if constexpr (std::is_same_v<T, mav::CommandAck>) {
+            if (u.command_active && msg.command == u.active.cmd.command && msg.result != 5)  // 5: in progress
+              u.ack_result = msg.result;
+          }
+        },
+        r.message);
+  }
 }
 
 }  // namespace uavcover::flight

@@ -81,34 +81,27 @@ Point from_mm(MmPoint p) {
   return {static_cast<double>(p.x()) / kMmPerM, static_cast<double>(p.y()) / kMmPerM};
 }
 
-MmMultiPolygon to_mm(const MultiPolygon& mp) {
-  MmMultiPolygon out;
+/// The polygons with every point converted by `f` (e.g. metres to millimetres), corrected.
+template <class To, class From, class F>
+To convert(const From& mp, F f) {
+  To out;
   for (const auto& poly : mp) {
-    MmPolygon q;
-    for (const auto& p : poly.outer()) q.outer().push_back(to_mm(p));
+    auto& q = out.emplace_back();
+    for (const auto& p : poly.outer()) q.outer().push_back(f(p));
     for (const auto& inner : poly.inners()) {
       auto& ring = q.inners().emplace_back();
-      for (const auto& p : inner) ring.push_back(to_mm(p));
+      for (const auto& p : inner) ring.push_back(f(p));
     }
-    out.push_back(std::move(q));
   }
   bg::correct(out);
   return out;
 }
 
+MmMultiPolygon to_mm(const MultiPolygon& mp) {
+  return convert<MmMultiPolygon>(mp, [](Point p) { return to_mm(p); });
+}
 MultiPolygon from_mm(const MmMultiPolygon& mp) {
-  MultiPolygon out;
-  for (const auto& poly : mp) {
-    Polygon q;
-    for (const auto& p : poly.outer()) q.outer().push_back(from_mm(p));
-    for (const auto& inner : poly.inners()) {
-      auto& ring = q.inners().emplace_back();
-      for (const auto& p : inner) ring.push_back(from_mm(p));
-    }
-    out.push_back(std::move(q));
-  }
-  bg::correct(out);
-  return out;
+  return convert<MultiPolygon>(mp, [](MmPoint p) { return from_mm(p); });
 }
 
 /// Union of polygons [lo, hi), halves first (each polygon takes part in O(log n) unions).

@@ -40,7 +40,9 @@ struct Reassignment {
   std::string failed_uav;
   int last_reached = -1;                 ///< the failed UAV's last reached coverage waypoint (global)
   std::vector<int> remaining_waypoints;  ///< its coverage waypoints not flown (global indices)
-  std::vector<GeoPolygon> area;          ///< the remainder re-planned (WGS84)
+  /// The remainder (WGS84). The sub-mission plans it grown by half a footprint within the free area,
+  /// so that the planners' grids reach its edges (docs/flights.md).
+  std::vector<GeoPolygon> area;
   double area_m2 = 0.0;
   std::vector<ReassignedWork> work;  ///< one per helper that got some
   std::vector<std::string> warnings;

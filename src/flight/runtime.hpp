@@ -34,6 +34,7 @@ inline constexpr std::size_t kActionsMax = 64;     ///< queued link actions per 
 inline constexpr std::size_t kReassignMax = 64;    ///< reassignments per flight
 inline constexpr int kUploadAttempts = 3;          ///< whole mission uploads before giving up
 inline constexpr std::chrono::milliseconds kCommandPeriod{1000};  ///< COMMAND_LONG resend period
+inline constexpr std::uint8_t kGcsSysid = 255, kGcsCompid = 190;  ///< ours (MAV_COMP_ID_MISSIONPLANNER)
 
 /// One mission of a UAV's queue: a battery sortie of its plan, a resumed rest, or reassigned work.
 struct MissionSpec {
@@ -177,6 +178,8 @@ struct Flight::Impl {
 
   // ---- threads ----
   void vehicle_loop(std::size_t i, const std::stop_token& stop);
+  void vehicle_step(std::size_t i, mavlink::UdpLink& link, detail::Clock::time_point& next_heartbeat,
+                    std::vector<mavlink::Received>& batch, const std::stop_token& stop);
   void supervisor_loop(const std::stop_token& stop);
   void flush();
   std::int64_t last_changed_ms = 0;

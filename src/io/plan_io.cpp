@@ -343,8 +343,10 @@ Plan load_plan_dir(const std::filesystem::path& dir) {
   if (!std::filesystem::exists(plan_path)) throw InputError("PLAN_DIR", "no plan.json in " + dir.string());
   if (!std::filesystem::exists(paths_path))
     throw InputError("PLAN_DIR", "no paths.geojson in " + dir.string());
-  const json pj = parse_file(plan_path, "plan.json");
-  const json gj = parse_file(paths_path, "paths.geojson");
+  return load_plan(parse_file(plan_path, "plan.json"), parse_file(paths_path, "paths.geojson"));
+}
+
+Plan load_plan(const json& pj, const json& gj) {
   Plan plan;
   try {
     if (!pj.is_object() || !pj.contains("mission")) throw InputError("plan.json: mission", "missing");

@@ -51,5 +51,7 @@ std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& 
 /// Reads DIR/plan.json and DIR/paths.geojson back into a Plan (mission, UAVs, parts with local
 /// and WGS84 coordinates). Throws InputError naming the file and field when they are unusable.
 Plan load_plan_dir(const std::filesystem::path& dir);
+/// The same from the two documents already parsed (a plan job's artifacts in the server's store).
+Plan load_plan(const nlohmann::json& plan_json, const nlohmann::json& paths_geojson);
 
 }  // namespace uavcover::io

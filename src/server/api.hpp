@@ -19,9 +19,12 @@ struct ApiConfig {
   std::size_t max_body_bytes = std::size_t{10} << 20;  ///< 413 beyond (the transport checks too)
 };
 
+class FlightManager;
+
 struct ApiContext {
   store::Store& store;
   ApiConfig config;
+  FlightManager* flights;  ///< the live flights (src/server/flights.hpp); null: the flight routes answer 503
 };
 
 /// Registers every /api/v1 route of docs/api.md on `router`. Handlers answer every error as the JSON

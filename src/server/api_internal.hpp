@@ -29,5 +29,6 @@ std::int64_t id_param(const Request& req, const std::string& name, const std::st
 void add_mission_routes(Router& router, ApiContext& ctx);
 void add_job_routes(Router& router, ApiContext& ctx);
 void add_catalog_routes(Router& router, ApiContext& ctx);
+void add_flight_routes(Router& router, ApiContext& ctx);
 
 }  // namespace uavcover::server::detail

@@ -13,6 +13,7 @@
 #include "json/strict.hpp"
 #include "server/api.hpp"
 #include "server/events.hpp"
+#include "server/flights.hpp"
 #include "server/metrics.hpp"
 #include "server/worker.hpp"
 #include "uavcover/error.hpp"
@@ -20,10 +21,11 @@
 namespace uavcover::server {
 namespace {
 
-/// Job events straight from the database, so a client sees jobs other servers run.
+/// Job events straight from the database, so a client sees jobs other servers run; flights from the
+/// FlightManager (live ones from memory, the others as stored).
 class StoreEvents : public EventSource {
  public:
-  explicit StoreEvents(store::Store& store) : store_(store) {}
+  StoreEvents(store::Store& store, FlightManager& flights) : store_(store), flights_(flights) {}
   std::vector<nlohmann::json> snapshot(const std::vector<std::int64_t>& job_ids) override {
     std::vector<nlohmann::json> out;
     try {
@@ -33,9 +35,18 @@ class StoreEvents : public EventSource {
     }
     return out;
   }
+  std::vector<nlohmann::json> flights(const std::vector<std::int64_t>& ids) override {
+    try {
+      return flights_.get_many(ids);
+    } catch (const std::exception& e) {
+      spdlog::warn("flight events: {}", e.what());
+      return {};
+    }
+  }
 
  private:
   store::Store& store_;
+  FlightManager& flights_;
 };
 
 /// Stores every mission file of the folder; files that cannot be read or are not valid missions are
@@ -72,12 +83,16 @@ void serve(const ServeOptions& options) {
   }
   if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
 
-  ApiContext ctx{*store, ApiConfig{}};
+  FlightLimits flight_limits;
+  flight_limits.allow_remote = options.http.token.has_value();  // vehicles beyond loopback need the token
+  FlightManager flights(*store, flight_limits);
+  flights.start();  // the flights that were flying when the server stopped are followed again
+  ApiContext ctx{*store, ApiConfig{}, &flights};
   ctx.config.max_queued = options.max_queued;
   ctx.config.max_body_bytes = options.http.max_body;
   Router router;
   add_api_routes(router, ctx);
-  StoreEvents events(*store);
+  StoreEvents events(*store, flights);
 
   set_job_counts_provider([&store]() -> std::map<std::string, std::int64_t> {
     const store::JobCounts c = store->count_jobs();
@@ -112,6 +127,7 @@ void serve(const ServeOptions& options) {
   server.run();
   spdlog::info("stopping: running jobs are left for the next lease");
   workers.stop();
+  flights.stop();
   set_job_counts_provider(nullptr);
 }
 

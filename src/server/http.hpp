@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -78,6 +79,14 @@ class Router {
   };
   std::vector<Route> routes_;
 };
+
+/// Splits a request target ("/path?a=1&b=%20") into the percent-decoded path and query parameters
+/// ('+' is a space in the query; the last of a repeated key wins). HttpError 400 ("path" or "query") on
+/// a target without a leading '/', a malformed escape or a NUL byte.
+void decode_target(std::string_view target, Request& req);
+
+/// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
+bool is_loopback(const std::string& host);
 
 /// A positive decimal id from a path or query parameter; HttpError 400 (field) otherwise.
 std::int64_t parse_id(const std::string& text, const std::string& field = "id");

@@ -51,9 +51,6 @@ struct ListenAddress {
 };
 ListenAddress parse_listen(const std::string& listen);
 
-/// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
-bool is_loopback(const std::string& host);
-
 /// The serve command's rule: a non-loopback address needs a token. InputError("--listen", ...) otherwise
 /// (and when the address is malformed).
 void check_listen_policy(const ServerConfig& config);

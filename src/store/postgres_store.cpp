@@ -106,6 +106,34 @@ CREATE TABLE meta (
 );
 )sql";
 
+// Migration 3: flights of done plans (docs/flights.md) and their logs; both go with their plan job.
+const char* const kSchemaV3 = R"sql(
+CREATE TABLE flights (
+  id BIGINT GENERATED ALWAYS AS IDENTITY PRIMARY KEY,
+  plan_id BIGINT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  mission_id BIGINT NOT NULL REFERENCES missions(id) ON DELETE CASCADE,
+  state TEXT NOT NULL,
+  config TEXT NOT NULL,
+  snapshot TEXT NOT NULL,
+  simulated BOOLEAN NOT NULL DEFAULT false,
+  log_seq BIGINT NOT NULL DEFAULT 0,
+  created_ms BIGINT NOT NULL,
+  updated_ms BIGINT NOT NULL
+);
+CREATE INDEX flights_plan ON flights (plan_id, created_ms);
+CREATE INDEX flights_mission ON flights (mission_id);
+CREATE INDEX flights_active ON flights (id) WHERE state NOT IN ('done', 'aborted');
+CREATE TABLE flight_log (
+  flight_id BIGINT NOT NULL REFERENCES flights(id) ON DELETE CASCADE,
+  seq BIGINT NOT NULL,
+  t_ms BIGINT NOT NULL,
+  uav TEXT NOT NULL,
+  kind TEXT NOT NULL,
+  data TEXT NOT NULL,
+  PRIMARY KEY (flight_id, seq)
+);
+)sql";
+
 Id insert_entry(PGconn* c, const char* kind, const std::string& name, const nlohmann::json& data) {
   return exec(c,
               "INSERT INTO catalog (kind, name, data, updated_ms) VALUES ($1, $2, $3, " NOW_MS
@@ -166,8 +194,9 @@ struct Migration {
 const Migration kMigrations[] = {
     {1, [](PGconn* c) { pg::exec_script(c, kSchemaV1); }},
     {2, seed_catalogs},
+    {3, [](PGconn* c) { pg::exec_script(c, kSchemaV3); }},
 };
-constexpr int kLatestVersion = 2;
+constexpr int kLatestVersion = 3;
 
 // ---- rows ----
 
@@ -205,6 +234,29 @@ Job job_from(const Result& r, int row) {
   j.result = parse_json(r.str(row, 16));
   j.error = parse_json(r.str(row, 17));
   return j;
+}
+
+#define FLIGHT_COLUMNS \
+  "id, plan_id, mission_id, state, config, snapshot, simulated, created_ms, updated_ms, log_seq"
+
+StoredFlight flight_from(const Result& r, int row) {
+  StoredFlight f;
+  f.id = r.i64(row, 0);
+  f.plan_id = r.i64(row, 1);
+  f.mission_id = r.i64(row, 2);
+  f.state = r.str(row, 3);
+  f.config = parse_json(r.str(row, 4));
+  f.snapshot = parse_json(r.str(row, 5));
+  f.simulated = r.boolean(row, 6);
+  f.created_ms = r.i64(row, 7);
+  f.updated_ms = r.i64(row, 8);
+  f.log_records = r.i64(row, 9);
+  return f;
+}
+
+/// JSON text for a column; text the vehicles sent (STATUSTEXT) may not be UTF-8: replaced, not thrown.
+std::string dump(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 CatalogEntry entry_from(const Result& r, int row) {
@@ -325,6 +377,14 @@ class PostgresStore final : public Store {
                {integer(mission)})
               .rows() > 0)
         throw Conflict("mission " + std::to_string(mission) + " has queued or running jobs");
+      if (const auto f =
+              exec(c,
+                   "SELECT id FROM flights WHERE mission_id = $1 AND state NOT IN ('done', 'aborted') "
+                   "LIMIT 1",
+                   {integer(mission)});
+          f.rows() > 0)
+        throw Conflict("mission " + std::to_string(mission) + " has a flight that is not done or aborted (" +
+                       std::to_string(f.i64(0, 0)) + ")");
       exec(c, "DELETE FROM jobs WHERE mission_id = $1", {integer(mission)});
       exec(c, "DELETE FROM missions WHERE id = $1", {integer(mission)});
       return true;
@@ -594,6 +654,112 @@ class PostgresStore final : public Store {
                {text(kind_name(kind)), integer(id)})
               .rows() == 0)
         throw NotFound(std::string(kind_name(kind)) + " " + std::to_string(id) + " does not exist");
+      return true;
+    });
+  }
+
+  // ---- flights ----
+
+  Id create_flight(const NewFlight& flight) override {
+    return transaction([&](PGconn* c) {
+      // FOR KEY SHARE: the job cannot be deleted (delete_mission) before the flight is in
+      const auto j = exec(c, "SELECT mission_id, kind, state FROM jobs WHERE id = $1 FOR KEY SHARE",
+                          {integer(flight.plan_id)});
+      if (j.rows() == 0) throw NotFound("plan " + std::to_string(flight.plan_id) + " does not exist");
+      if (j.str(0, 1) != "plan" || j.str(0, 2) != "done")
+        throw Conflict("job " + std::to_string(flight.plan_id) + " is not a done plan");
+      return exec(c,
+                  "INSERT INTO flights (plan_id, mission_id, state, config, snapshot, simulated, created_ms, "
+                  "updated_ms) VALUES ($1, $2, $3, $4, $5, $6, " NOW_MS ", " NOW_MS ") RETURNING id",
+                  {integer(flight.plan_id), integer(j.i64(0, 0)), text(flight.state),
+                   text(dump(flight.config)), text(dump(flight.snapshot)), pg::boolean(flight.simulated)})
+          .i64(0, 0);
+    });
+  }
+
+  std::optional<StoredFlight> get_flight(Id flight) override {
+    return read([&](PGconn* c) -> std::optional<StoredFlight> {
+      const auto r = exec(c, "SELECT " FLIGHT_COLUMNS " FROM flights WHERE id = $1", {integer(flight)});
+      if (r.rows() == 0) return std::nullopt;
+      return flight_from(r, 0);
+    });
+  }
+
+  std::vector<StoredFlight> list_flights(Id plan, int limit) override {
+    return read([&](PGconn* c) {
+      const auto r = exec(c,
+                          "SELECT " FLIGHT_COLUMNS
+                          " FROM flights WHERE plan_id = $1 ORDER BY created_ms DESC, id DESC LIMIT $2",
+                          {integer(plan), integer(std::clamp(limit, 1, 1000))});
+      std::vector<StoredFlight> out;
+      for (int i = 0; i < r.rows(); ++i) out.push_back(flight_from(r, i));
+      return out;
+    });
+  }
+
+  std::vector<StoredFlight> list_active_flights() override {
+    return read([&](PGconn* c) {
+      const auto r = exec(
+          c, "SELECT " FLIGHT_COLUMNS " FROM flights WHERE state NOT IN ('done', 'aborted') ORDER BY id");
+      std::vector<StoredFlight> out;
+      for (int i = 0; i < r.rows(); ++i) out.push_back(flight_from(r, i));
+      return out;
+    });
+  }
+
+  void update_flight(Id flight, const std::string& state, const nlohmann::json& snapshot) override {
+    transaction([&](PGconn* c) {
+      if (exec(c, "UPDATE flights SET state = $2, snapshot = $3, " BUMP_UPDATED " WHERE id = $1 RETURNING id",
+               {integer(flight), text(state), text(dump(snapshot))})
+              .rows() == 0)
+        throw NotFound("flight " + std::to_string(flight) + " does not exist");
+      return true;
+    });
+  }
+
+  std::int64_t append_flight_log(Id flight, const std::vector<FlightLogRecord>& records) override {
+    // one round trip for the batch: the records as one JSON array parameter
+    nlohmann::json batch = nlohmann::json::array();
+    for (const auto& r : records)
+      batch.push_back({{"t", r.t_ms}, {"u", r.uav}, {"k", r.kind}, {"d", r.data}});
+    const std::string batch_text = dump(batch);
+    return transaction([&](PGconn* c) {
+      // the row lock orders concurrent appends to one flight; the range of seqs is reserved here
+      const auto r = exec(c, "UPDATE flights SET log_seq = log_seq + $2 WHERE id = $1 RETURNING log_seq",
+                          {integer(flight), integer(static_cast<std::int64_t>(records.size()))});
+      if (r.rows() == 0) throw NotFound("flight " + std::to_string(flight) + " does not exist");
+      const std::int64_t last = r.i64(0, 0);
+      if (!records.empty())
+        exec(c,
+             "INSERT INTO flight_log (flight_id, seq, t_ms, uav, kind, data) "
+             "SELECT $1, $2 + x.n, (x.e->>'t')::bigint, x.e->>'u', x.e->>'k', (x.e->'d')::text "
+             "FROM json_array_elements($3::json) WITH ORDINALITY AS x(e, n)",
+             {integer(flight), integer(last - static_cast<std::int64_t>(records.size())), text(batch_text)});
+      return last;
+    });
+  }
+
+  FlightLogPage read_flight_log(Id flight, std::int64_t after, int limit) override {
+    limit = std::clamp(limit, 1, 10000);
+    return read([&](PGconn* c) {
+      const auto r =
+          exec(c,
+               "SELECT seq, t_ms, uav, kind, data FROM flight_log WHERE flight_id = $1 AND seq > $2 "
+               "ORDER BY seq LIMIT $3",
+               {integer(flight), integer(after), integer(limit + 1)});
+      FlightLogPage page;
+      const int n = std::min(r.rows(), limit);
+      for (int i = 0; i < n; ++i)
+        page.items.push_back({r.i64(i, 0), r.i64(i, 1), r.str(i, 2), r.str(i, 3), parse_json(r.str(i, 4))});
+      if (r.rows() > limit) page.next_after = page.items.back().seq;
+      return page;
+    });
+  }
+
+  void delete_flight(Id flight) override {
+    transaction([&](PGconn* c) {
+      if (exec(c, "DELETE FROM flights WHERE id = $1 RETURNING id", {integer(flight)}).rows() == 0)
+        throw NotFound("flight " + std::to_string(flight) + " does not exist");
       return true;
     });
   }

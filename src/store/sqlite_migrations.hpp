@@ -8,7 +8,7 @@
 
 namespace uavcover::store::sqlite_schema {
 
-inline constexpr std::array<std::string_view, 2> kMigrations{
+inline constexpr std::array<std::string_view, 3> kMigrations{
     // 1: missions with revisions, the job queue, artifacts over content-addressed blobs, catalogs, meta
     R"sql(
 CREATE TABLE missions (
@@ -117,6 +117,34 @@ FROM (SELECT 1 AS o, 'DJI Phantom 4 Pro V2.0' AS name, 10 AS speed, 4 AS accel, 
       UNION ALL SELECT 3, 'DJI Matrice 300 RTK', 15, 5, 55, 'DJI Zenmuse P1 (35 mm lens)'
       UNION ALL SELECT 4, 'Generic quadrotor', 5, 2, 25, NULL) AS u
 ORDER BY u.o;
+)sql",
+    // 3: flights of done plans (docs/flights.md) and their logs; both go with their plan job
+    R"sql(
+CREATE TABLE flights (
+  id INTEGER PRIMARY KEY,
+  plan_id INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  mission_id INTEGER NOT NULL REFERENCES missions(id) ON DELETE CASCADE,
+  state TEXT NOT NULL,
+  config TEXT NOT NULL,
+  snapshot TEXT NOT NULL,
+  simulated INTEGER NOT NULL DEFAULT 0,
+  log_seq INTEGER NOT NULL DEFAULT 0,
+  created_ms INTEGER NOT NULL,
+  updated_ms INTEGER NOT NULL
+);
+CREATE INDEX flights_plan ON flights(plan_id, created_ms);
+CREATE INDEX flights_mission ON flights(mission_id);
+CREATE INDEX flights_active ON flights(state) WHERE state NOT IN ('done', 'aborted');
+
+CREATE TABLE flight_log (
+  flight_id INTEGER NOT NULL REFERENCES flights(id) ON DELETE CASCADE,
+  seq INTEGER NOT NULL,
+  t_ms INTEGER NOT NULL,
+  uav TEXT NOT NULL,
+  kind TEXT NOT NULL,
+  data TEXT NOT NULL,
+  PRIMARY KEY (flight_id, seq)
+) WITHOUT ROWID;
 )sql",
 };
 

@@ -227,6 +227,30 @@ Job read_job(const Query& q) {
   return j;
 }
 
+#define UAVCOVER_FLIGHT_COLUMNS                                                                        \
+  "id, plan_id, mission_id, state, config, snapshot, simulated, created_ms, updated_ms, log_seq FROM " \
+  "flights "
+
+StoredFlight read_flight(const Query& q) {
+  StoredFlight f;
+  f.id = q.i64(0);
+  f.plan_id = q.i64(1);
+  f.mission_id = q.i64(2);
+  f.state = q.text(3);
+  f.config = parse_column(q.text(4));
+  f.snapshot = parse_column(q.text(5));
+  f.simulated = q.i32(6) != 0;
+  f.created_ms = q.i64(7);
+  f.updated_ms = q.i64(8);
+  f.log_records = q.i64(9);
+  return f;
+}
+
+/// JSON text for a column; text the vehicles sent (STATUSTEXT) may not be UTF-8: replaced, not thrown.
+std::string dump(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 std::optional<Job> load_job(Connection& c, Id id) {
   Query q(c, "SELECT " UAVCOVER_JOB_COLUMNS "WHERE id = ?1");
   q.bind(1, id);
@@ -500,6 +524,14 @@ class SqliteStore final : public Store {
         if (q.step())
           throw Conflict("mission " + std::to_string(mission) + " has a queued or running job (" +
                          std::to_string(q.i64(0)) + ")");
+      }
+      {
+        Query q(c,
+                "SELECT id FROM flights WHERE mission_id = ?1 AND state NOT IN ('done', 'aborted') LIMIT 1");
+        q.bind(1, mission);
+        if (q.step())
+          throw Conflict("mission " + std::to_string(mission) +
+                         " has a flight that is not done or aborted (" + std::to_string(q.i64(0)) + ")");
       }
       std::vector<std::string> blobs;
       {
@@ -839,6 +871,126 @@ class SqliteStore final : public Store {
       q.bind(1, catalog_text(kind)).bind(2, id);
       if (q.run() == 0)
         throw NotFound(std::string(catalog_text(kind)) + " " + std::to_string(id) + " does not exist");
+      return 0;
+    });
+  }
+
+  // ---- flights ----
+
+  Id create_flight(const NewFlight& flight) override {
+    const std::string config = dump(flight.config);
+    const std::string snapshot = dump(flight.snapshot);
+    return write([&](Connection& c) {
+      Id mission = 0;
+      {
+        Query q(c, "SELECT mission_id, kind, state FROM jobs WHERE id = ?1");
+        q.bind(1, flight.plan_id);
+        if (!q.step()) throw NotFound("plan " + std::to_string(flight.plan_id) + " does not exist");
+        if (q.text(1) != "plan" || q.text(2) != "done")
+          throw Conflict("job " + std::to_string(flight.plan_id) + " is not a done plan");
+        mission = q.i64(0);
+      }
+      Query q(c,
+              "INSERT INTO flights (plan_id, mission_id, state, config, snapshot, simulated, created_ms, "
+              "updated_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?7)");
+      q.bind(1, flight.plan_id).bind(2, mission).bind(3, flight.state).bind(4, config).bind(5, snapshot);
+      q.bind(6, flight.simulated ? 1 : 0).bind(7, now_ms()).run();
+      return static_cast<Id>(sqlite3_last_insert_rowid(c.db()));
+    });
+  }
+
+  std::optional<StoredFlight> get_flight(Id flight) override {
+    return read([&](Connection& c) -> std::optional<StoredFlight> {
+      Query q(c, "SELECT " UAVCOVER_FLIGHT_COLUMNS "WHERE id = ?1");
+      q.bind(1, flight);
+      if (!q.step()) return std::nullopt;
+      return read_flight(q);
+    });
+  }
+
+  std::vector<StoredFlight> list_flights(Id plan, int limit) override {
+    return read([&](Connection& c) {
+      Query q(c, "SELECT " UAVCOVER_FLIGHT_COLUMNS
+                 "WHERE plan_id = ?1 ORDER BY created_ms DESC, id DESC LIMIT ?2");
+      q.bind(1, plan).bind(2, static_cast<std::int64_t>(std::clamp(limit, 1, 1000)));
+      std::vector<StoredFlight> out;
+      while (q.step()) out.push_back(read_flight(q));
+      return out;
+    });
+  }
+
+  std::vector<StoredFlight> list_active_flights() override {
+    return read([&](Connection& c) {
+      Query q(c, "SELECT " UAVCOVER_FLIGHT_COLUMNS "WHERE state NOT IN ('done', 'aborted') ORDER BY id");
+      std::vector<StoredFlight> out;
+      while (q.step()) out.push_back(read_flight(q));
+      return out;
+    });
+  }
+
+  void update_flight(Id flight, const std::string& state, const nlohmann::json& snapshot) override {
+    const std::string text = dump(snapshot);
+    write([&](Connection& c) {
+      Query q(
+          c,
+          "UPDATE flights SET state = ?2, snapshot = ?3, updated_ms = MAX(?4, updated_ms + 1) WHERE id = ?1");
+      q.bind(1, flight).bind(2, state).bind(3, text).bind(4, now_ms());
+      if (q.run() == 0) throw NotFound("flight " + std::to_string(flight) + " does not exist");
+      return 0;
+    });
+  }
+
+  std::int64_t append_flight_log(Id flight, const std::vector<FlightLogRecord>& records) override {
+    std::vector<std::string> data;
+    data.reserve(records.size());
+    for (const auto& r : records) data.push_back(dump(r.data));
+    return write([&](Connection& c) {
+      std::int64_t last = 0;
+      {
+        // reserves the sequence numbers (and checks the flight is there)
+        Query q(c, "UPDATE flights SET log_seq = log_seq + ?2 WHERE id = ?1 RETURNING log_seq");
+        q.bind(1, flight).bind(2, static_cast<std::int64_t>(records.size()));
+        if (!q.step()) throw NotFound("flight " + std::to_string(flight) + " does not exist");
+        last = q.i64(0);
+        while (q.step()) {
+        }
+      }
+      std::int64_t seq = last - static_cast<std::int64_t>(records.size());
+      for (std::size_t i = 0; i < records.size(); ++i) {
+        Query q(
+            c,
+            "INSERT INTO flight_log (flight_id, seq, t_ms, uav, kind, data) VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+        q.bind(1, flight).bind(2, ++seq).bind(3, records[i].t_ms).bind(4, records[i].uav);
+        q.bind(5, records[i].kind).bind(6, data[i]).run();
+      }
+      return last;
+    });
+  }
+
+  FlightLogPage read_flight_log(Id flight, std::int64_t after, int limit) override {
+    limit = std::clamp(limit, 1, 10000);
+    return read([&](Connection& c) {
+      Query q(c,
+              "SELECT seq, t_ms, uav, kind, data FROM flight_log WHERE flight_id = ?1 AND seq > ?2 "
+              "ORDER BY seq LIMIT ?3");
+      q.bind(1, flight).bind(2, after).bind(3, static_cast<std::int64_t>(limit) + 1);
+      FlightLogPage page;
+      while (q.step()) {
+        if (static_cast<int>(page.items.size()) == limit) {
+          page.next_after = page.items.back().seq;
+          break;
+        }
+        page.items.push_back({q.i64(0), q.i64(1), q.text(2), q.text(3), parse_column(q.text(4))});
+      }
+      return page;
+    });
+  }
+
+  void delete_flight(Id flight) override {
+    write([&](Connection& c) {
+      Query q(c, "DELETE FROM flights WHERE id = ?1");
+      q.bind(1, flight);
+      if (q.run() == 0) throw NotFound("flight " + std::to_string(flight) + " does not exist");
       return 0;
     });
   }

@@ -156,6 +156,46 @@ struct CatalogEntry {
   std::int64_t updated_ms = 0;
 };
 
+// ---- flights (docs/flights.md) ----
+
+/// A flight's state words: "created", "uploading", "ready", "flying", "paused", "done", "aborted".
+/// Done and aborted are terminal: the flight is no longer followed.
+inline bool flight_terminal(const std::string& state) { return state == "done" || state == "aborted"; }
+
+struct NewFlight {
+  Id plan_id = 0;  ///< a done plan job
+  std::string state = "created";
+  nlohmann::json config = nlohmann::json::object();    ///< flight::config_json()
+  nlohmann::json snapshot = nlohmann::json::object();  ///< flight::Flight::snapshot()
+  bool simulated = false;
+};
+
+struct StoredFlight {
+  Id id = 0;
+  Id plan_id = 0;
+  Id mission_id = 0;  ///< the plan job's mission
+  std::string state;
+  nlohmann::json config = nlohmann::json::object();
+  nlohmann::json snapshot = nlohmann::json::object();
+  bool simulated = false;
+  std::int64_t created_ms = 0, updated_ms = 0;
+  std::int64_t log_records = 0;  ///< flight-log records appended so far (the last seq)
+};
+
+/// One flight-log record (flight::LogRecord with its sequence number).
+struct FlightLogRecord {
+  std::int64_t seq = 0;  ///< 1.. per flight, in append order (ignored by append_flight_log)
+  std::int64_t t_ms = 0;
+  std::string uav;
+  std::string kind;
+  nlohmann::json data = nlohmann::json::object();
+};
+
+struct FlightLogPage {
+  std::vector<FlightLogRecord> items;
+  std::optional<std::int64_t> next_after;  ///< pass as `after` for the next page; empty on the last page
+};
+
 class Store {
  public:
   virtual ~Store() = default;
@@ -174,8 +214,9 @@ class Store {
   /// The latest revision, or revision `revision`. Empty when the mission or revision does not exist.
   virtual std::optional<MissionRevision> get_mission(Id mission, std::optional<int> revision = {}) = 0;
   virtual MissionPage list_missions(const MissionQuery& query) = 0;
-  /// Deletes the mission, its revisions and its finished jobs. Conflict while one of its jobs is queued
-  /// or running; NotFound when it does not exist.
+  /// Deletes the mission, its revisions, its finished jobs and their flights. Conflict while one of its
+  /// jobs is queued or running, or one of its flights is not done or aborted; NotFound when it does not
+  /// exist.
   virtual void delete_mission(Id mission) = 0;
   [[nodiscard]] virtual std::int64_t count_missions() = 0;
 
@@ -220,6 +261,26 @@ class Store {
   virtual std::vector<CatalogEntry> list_entries(CatalogKind kind) = 0;
   virtual void update_entry(CatalogKind kind, Id id, const std::string& name, const nlohmann::json& data) = 0;
   virtual void delete_entry(CatalogKind kind, Id id) = 0;  ///< NotFound
+
+  // flights
+  /// Stores a new flight of a plan job. NotFound when the job does not exist; Conflict when it is not a
+  /// done plan.
+  virtual Id create_flight(const NewFlight& flight) = 0;
+  virtual std::optional<StoredFlight> get_flight(Id flight) = 0;
+  /// A plan's flights, newest first, at most `limit` (clamped to 1..1000).
+  virtual std::vector<StoredFlight> list_flights(Id plan, int limit) = 0;
+  /// Every flight that is not done or aborted, oldest first (a server re-attaches them at start).
+  virtual std::vector<StoredFlight> list_active_flights() = 0;
+  /// Records the flight's state and snapshot. NotFound.
+  virtual void update_flight(Id flight, const std::string& state, const nlohmann::json& snapshot) = 0;
+  /// Appends records in one transaction (all or none), numbered after the last; returns the last seq.
+  /// NotFound when the flight does not exist (e.g. deleted meanwhile).
+  virtual std::int64_t append_flight_log(Id flight, const std::vector<FlightLogRecord>& records) = 0;
+  /// Records with seq > `after`, in order, at most `limit` (clamped to 1..10000).
+  virtual FlightLogPage read_flight_log(Id flight, std::int64_t after, int limit) = 0;
+  /// Deletes the flight and its log. NotFound. (delete_mission deletes its missions' flights with its
+  /// jobs, and refuses with Conflict while one of them is not done or aborted.)
+  virtual void delete_flight(Id flight) = 0;
 
   /// True exactly once per database: the caller then seeds it (example missions). Atomic.
   virtual bool claim_first_start() = 0;

@@ -58,18 +58,8 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
       if (options.heatmap_overlay && cov.lattice_cols > 0 && cov.lattice_rows > 0 &&
           cov.lattice_cols <= 20000 && cov.lattice_rows <= 20000) {
         out.artifacts.push_back(render::heatmap_overlay_png(cov));
-        // each pixel is one sample's cell, centred on the sample
-        const double half = 0.5 * cov.lattice_m;
-        const double x0 = cov.lattice_origin.x() - half, y0 = cov.lattice_origin.y() - half;
-        const double x1 = x0 + cov.lattice_cols * cov.lattice_m, y1 = y0 + cov.lattice_rows * cov.lattice_m;
-        const geodesy::LocalFrame frame(plan.origin);
-        double south = 90, west = 180, north = -90, east = -180;
-        for (const Point& p : {Point(x0, y0), Point(x1, y0), Point(x1, y1), Point(x0, y1)}) {
-          const LonLat g = frame.to_wgs84(p);
-          south = std::min(south, g.lat), north = std::max(north, g.lat);
-          west = std::min(west, g.lon), east = std::max(east, g.lon);
-        }
-        out.heatmap_bounds = {{south, west}, {north, east}};
+        const auto b = evaluation::lattice_bounds(cov, geodesy::LocalFrame(plan.origin));
+        out.heatmap_bounds = {{b.south, b.west}, {b.north, b.east}};
       }
     }
   }

@@ -224,6 +224,15 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   RecordProperty("sim_seconds", std::to_string(std::lround(s.fleet.sim_time())));
   std::cout << "flight threads: " << cpu << " s CPU for 4 vehicles over " << s.fleet.sim_time()
             << " simulated s\n";
+  // the log's size (docs/flights.md): JSON bytes of telemetry and of the other records
+  std::size_t tele_n = 0, tele_bytes = 0, other_n = 0, other_bytes = 0;
+  for (const auto& r : recs) {
+    const std::size_t b = r.uav.size() + r.kind.size() + r.data.dump().size() + 16;
+    (r.kind == "telemetry" ? tele_n : other_n) += 1;
+    (r.kind == "telemetry" ? tele_bytes : other_bytes) += b;
+  }
+  std::cout << "log: " << tele_n << " telemetry records, " << tele_bytes << " B; " << other_n
+            << " other records, " << other_bytes << " B\n";
 }
 
 TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
@@ -397,6 +406,42 @@ TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
   for (const auto& r : rec.all())
     if (r.kind == "reassignment") states.push_back(r.data["state"]);
   EXPECT_EQ(states, (std::vector<std::string>{"offered", "applied"}));
+}
+
+TEST(Flight, ForcedLandingIsReassignedAutomatically) {
+  const Plan p = plan(field(150, 100, 3));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{2, sim::Failure{0.4, sim::FailureKind::Land}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.reassign_after_s = 0.5;
+  c.auto_reassign = true;
+  flight::Flight f(10, p, c, rec);
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  const json snap = f.snapshot();
+  ASSERT_EQ(snap["reassignments"].size(), 1U);
+  EXPECT_EQ(snap["reassignments"][0]["failed_uav"], "C");
+  EXPECT_EQ(snap["reassignments"][0]["state"], "applied");
+  const json failed = snap["uavs"][2];
+  EXPECT_EQ(failed["phase"], "done");  // landed, its rest given away
+  EXPECT_EQ(failed["link"]["state"], "ok");
+  const std::string w = failed["waypoints"];
+  EXPECT_NE(w.find('R'), std::string::npos);
+  EXPECT_NE(w.find('S'), std::string::npos);
+  EXPECT_EQ(w.find_first_of("PC"), std::string::npos);
+  int flown = 0;
+  for (const auto& u : snap["uavs"])
+    for (const auto& ms : u["missions"])
+      if (ms["kind"] == "reassigned" && ms["state"] == "done") ++flown;
+  EXPECT_GT(flown, 0);
+  bool critical = false;  // the vehicle said why
+  for (const auto& r : rec.all())
+    critical =
+        critical || (r.kind == "statustext" && r.uav == "C" && r.data["text"] == "failure: forced landing");
+  EXPECT_TRUE(critical);
 }
 
 TEST(Flight, PauseContinueThenForcedLandingAndResumeFromTheLastReachedWaypoint) {

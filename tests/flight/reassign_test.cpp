@@ -15,7 +15,7 @@
 #include "evaluation/evaluate.hpp"
 #include "geometry/geometry.hpp"
 #include "sorties/sorties.hpp"
-#include "support/files.hpp"
+#include "support/examples.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -24,14 +24,7 @@ namespace {
 
 using flight::Helper;
 
-const Plan& olive_grove() {
-  static const Plan p = [] {
-    const Mission m = parse_mission(
-        testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json"));
-    return plan(m);
-  }();
-  return p;
-}
+const Plan& olive_grove() { return testing::olive_grove_plan(); }
 
 int waypoint_count(const Plan& p, std::size_t i) {
   return static_cast<int>(sorties::coverage_waypoints(p.uavs[i]).size());
@@ -328,35 +321,28 @@ TEST(Reassign, NothingFlownGivesTheWholeRegion) {
   EXPECT_FALSE(r.work.empty());
 }
 
-std::string field_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.field();
-  }
-  return "(no InputError)";
-}
+using testing::input_error_field;
 
 TEST(Reassign, RefusesBadInputNamingTheField) {
   const Plan& p = olive_grove();
   const int n = waypoint_count(p, 1);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 3, 0, {{0, 1.0}}); }), "failed");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {}); }), "helpers");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, -2, {{0, 1.0}}); }), "last_reached");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, n, {{0, 1.0}}); }), "last_reached");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{0, 1.0}, {5, 1.0}}); }), "helpers[1].index");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{1, 1.0}}); }), "helpers[0].index");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{0, 1.0}, {0, 0.5}}); }), "helpers[1].index");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{0, 0.0}}); }), "helpers[0].battery_fraction");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{0, 1.5}}); }), "helpers[0].battery_fraction");
-  EXPECT_EQ(field_of([&] { flight::reassign(p, 1, 0, {{0, nan}}); }), "helpers[0].battery_fraction");
-  EXPECT_EQ(field_of([&] {
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 3, 0, {{0, 1.0}}); }), "failed");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {}); }), "helpers");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, -2, {{0, 1.0}}); }), "last_reached");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, n, {{0, 1.0}}); }), "last_reached");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{0, 1.0}, {5, 1.0}}); }), "helpers[1].index");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{1, 1.0}}); }), "helpers[0].index");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{0, 1.0}, {0, 0.5}}); }), "helpers[1].index");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{0, 0.0}}); }), "helpers[0].battery_fraction");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{0, 1.5}}); }), "helpers[0].battery_fraction");
+  EXPECT_EQ(input_error_field([&] { flight::reassign(p, 1, 0, {{0, nan}}); }), "helpers[0].battery_fraction");
+  EXPECT_EQ(input_error_field([&] {
               flight::reassign(p, 1, 0, {{0, 1.0}}, {.transition_base_m = -1});
             }),
             "altitude.transition_base_m");
-  EXPECT_EQ(field_of([&] { flight::remainder_area(p, 1, n); }), "last_reached");
-  EXPECT_EQ(field_of([&] { flight::remainder_area(p, 7, 0); }), "failed");
+  EXPECT_EQ(input_error_field([&] { flight::remainder_area(p, 1, n); }), "last_reached");
+  EXPECT_EQ(input_error_field([&] { flight::remainder_area(p, 7, 0); }), "failed");
 }
 
 TEST(Reassign, ReportsProgressAndStops) {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "server/api.hpp"
+#include "server/flights.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
 #include "store/test_backends.hpp"
@@ -68,7 +69,12 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
   void open(int max_queued = 100) {
     url_ = uavcover::testing::fresh_store_url(GetParam());
     store_ = uavcover::testing::open_test_store(url_);
-    ctx_ = std::make_unique<ApiContext>(ApiContext{*store_, ApiConfig{}});
+    FlightLimits limits;
+    limits.flush_period = std::chrono::milliseconds(50);
+    limits.max_live = 4;
+    flights_ = std::make_unique<FlightManager>(*store_, limits);
+    flights_->start();
+    ctx_ = std::make_unique<ApiContext>(ApiContext{*store_, ApiConfig{}, flights_.get()});
     ctx_->config.max_queued = max_queued;
     router_ = std::make_unique<Router>();
     add_api_routes(*router_, *ctx_);
@@ -76,30 +82,19 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
   void close() {
     router_.reset();
     ctx_.reset();
+    flights_.reset();
     store_.reset();
     if (!url_.empty()) uavcover::testing::remove_test_store(url_);
     url_.clear();
   }
 
-  /// Dispatches like the transport: target may carry a query (no percent-decoding needed here).
+  /// Dispatches like the transport: the target is decoded by the transport's decode_target().
   Answer call(const std::string& method, const std::string& target, const std::string& body = "",
               std::map<std::string, std::string> headers = {}) {
     Request req;
     req.method = method;
     req.request_id = "test";
-    const auto q = target.find('?');
-    req.path = target.substr(0, q);
-    if (q != std::string::npos) {
-      std::string rest = target.substr(q + 1);
-      std::size_t pos = 0;
-      while (pos <= rest.size()) {
-        const std::size_t amp = std::min(rest.find('&', pos), rest.size());
-        const std::string kv = rest.substr(pos, amp - pos);
-        const auto eq = kv.find('=');
-        if (!kv.empty()) req.query[kv.substr(0, eq)] = eq == std::string::npos ? "" : kv.substr(eq + 1);
-        pos = amp + 1;
-      }
-    }
+    decode_target(target, req);
     if (!body.empty() && !headers.contains("content-type")) headers["content-type"] = "application/json";
     req.headers = std::move(headers);
     req.body = body;
@@ -129,6 +124,7 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
   std::filesystem::path dir_;  ///< scratch files
   std::string url_;
   std::unique_ptr<store::Store> store_;
+  std::unique_ptr<FlightManager> flights_;
   std::unique_ptr<ApiContext> ctx_;
   std::unique_ptr<Router> router_;
 };

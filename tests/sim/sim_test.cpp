@@ -423,6 +423,36 @@ TEST(SimVehicleModel, WindLimitsAndDeterminism) {
   EXPECT_EQ(windy, again);
 }
 
+// Arming at home after a flight swaps the used battery (the next sortie starts full); a vehicle that
+// landed away from home keeps what it has.
+TEST(SimVehicleModel, BatterySwappedWhenArmingAtHome) {
+  auto flown = [](std::optional<sim::Failure> failure) {
+    auto c = config(9);
+    c.home = kHome;
+    c.endurance_min = 30;
+    c.failure = failure;
+    auto v = std::make_unique<sim::SimVehicle>(c);
+    v->set_mission(square_mission());
+    EXPECT_EQ(v->arm(true), kResultAccepted);
+    EXPECT_EQ(v->start_mission(), kResultAccepted);
+    for (int i = 0; i < 40000 && (v->state().armed || v->state().t < 1); ++i) v->step(0.05);
+    EXPECT_FALSE(v->state().armed);
+    return v;
+  };
+  auto home = flown(std::nullopt);
+  EXPECT_LT(std::hypot(home->state().p.x, home->state().p.y), 1.0);
+  const double used = home->state().battery;
+  EXPECT_LT(used, 0.95);
+  EXPECT_EQ(home->arm(true), kResultAccepted);
+  EXPECT_DOUBLE_EQ(home->state().battery, 1.0);
+
+  auto away = flown(sim::Failure{0.4, sim::FailureKind::Land});
+  EXPECT_GT(std::hypot(away->state().p.x, away->state().p.y), 50.0);
+  const double left = away->state().battery;
+  EXPECT_EQ(away->arm(true), kResultAccepted);
+  EXPECT_DOUBLE_EQ(away->state().battery, left);
+}
+
 TEST(SimVehicleModel, ParseFailure) {
   const auto [id, f] = sim::parse_failure("3@0.4:land");
   EXPECT_EQ(id, 3);

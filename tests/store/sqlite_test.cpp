@@ -69,17 +69,17 @@ TEST(SqliteStore, CreatesItsFolderAndUsesWal) {
   EXPECT_TRUE(fs::exists(nested));
   EXPECT_EQ(s->backend(), "sqlite");
   EXPECT_TRUE(s->ping());
-  EXPECT_EQ(s->schema_version(), 2);
+  EXPECT_EQ(s->schema_version(), 3);
   s->create_mission(revision("wal"));
   EXPECT_EQ(scalar(nested, "SELECT journal_mode = 'wal' FROM pragma_journal_mode"), 1);
-  EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM schema_migrations"), 2);
+  EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM schema_migrations"), 3);
   EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM catalog WHERE kind = 'uav'"), 4);
   EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM catalog WHERE kind = 'camera'"), 5);
 }
 
 TEST(SqliteStore, MemoryDatabaseWorksFromSeveralThreads) {
   auto s = open_sqlite(":memory:");
-  EXPECT_EQ(s->schema_version(), 2);
+  EXPECT_EQ(s->schema_version(), 3);
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t)
     threads.emplace_back([&] {
@@ -219,7 +219,7 @@ TEST(SqliteStore, KillNineDuringWritesLosesNothingAcknowledged) {
     ASSERT_TRUE(m) << "acknowledged mission " << acknowledged[i] << " lost";
     EXPECT_EQ(m->name, "burst " + std::to_string(i));
   }
-  EXPECT_EQ(s->schema_version(), 2);
+  EXPECT_EQ(s->schema_version(), 3);
   EXPECT_EQ(scalar(tmp.path(), "SELECT COUNT(*) FROM pragma_integrity_check WHERE integrity_check <> 'ok'"),
             0);
 }

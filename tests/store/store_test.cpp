@@ -2,6 +2,9 @@
 // PostgreSQL when one is configured, see test_backends.hpp). Real databases, no mocks; every test on a
 // fresh database, yet written not to assume empty tables (unique names, counts before and after).
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <map>
@@ -757,6 +760,262 @@ TEST_P(StoreConformance, ConcurrentWorkersClaimEachJobOnce) {
     EXPECT_EQ(j->completions, 1);
     EXPECT_EQ(j->attempts, 1);
   }
+}
+
+// ---- flights ----
+
+/// A done plan job of mission `m`.
+Id done_plan(Store& s, Id m) {
+  NewJob j;
+  j.mission_id = m;
+  j.revision = 1;
+  const Id id = s.enqueue(j, 1000000);
+  const auto claimed = s.claim_job("test-plan", 60s, 3);
+  EXPECT_TRUE(claimed && claimed->id == id);
+  EXPECT_TRUE(s.finish_job(id, "test-plan", JobState::Done, {}, nullptr, {}));
+  return id;
+}
+
+FlightLogRecord record(std::int64_t t, const std::string& uav, const std::string& kind, nlohmann::json data) {
+  FlightLogRecord r;
+  r.t_ms = t;
+  r.uav = uav;
+  r.kind = kind;
+  r.data = std::move(data);
+  return r;
+}
+
+TEST_P(StoreConformance, FlightsBelongToDonePlansAndKeepTheirStateAndSnapshot) {
+  const Id m = mission();
+  const Id queued = job(m);
+  NewFlight nf;
+  nf.plan_id = queued;
+  EXPECT_THROW(store_->create_flight(nf), Conflict) << "a queued plan cannot fly";
+  nf.plan_id = 987654321;
+  EXPECT_THROW(store_->create_flight(nf), NotFound);
+  store_->request_cancel(queued);
+
+  const Id plan = done_plan(*store_, m);
+  nf.plan_id = plan;
+  nf.config = {{"vehicles", {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}}}}};
+  nf.snapshot = {{"state", "created"}, {"uavs", nlohmann::json::array()}};
+  nf.simulated = true;
+  const Id f1 = store_->create_flight(nf);
+  nf.simulated = false;
+  const Id f2 = store_->create_flight(nf);
+  EXPECT_NE(f1, f2);
+
+  auto got = store_->get_flight(f1);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->plan_id, plan);
+  EXPECT_EQ(got->mission_id, m);
+  EXPECT_EQ(got->state, "created");
+  EXPECT_EQ(got->config, nf.config);
+  EXPECT_EQ(got->snapshot, nf.snapshot);
+  EXPECT_TRUE(got->simulated);
+  EXPECT_FALSE(store_->get_flight(f2)->simulated);
+  EXPECT_GT(got->created_ms, 0);
+  EXPECT_EQ(got->log_records, 0);
+  EXPECT_FALSE(store_->get_flight(987654321));
+
+  const auto listed = store_->list_flights(plan, 10);
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(listed[0].id, f2) << "newest first";
+  EXPECT_EQ(listed[1].id, f1);
+  EXPECT_EQ(store_->list_flights(plan, 1).size(), 1u);
+  EXPECT_TRUE(store_->list_flights(queued, 10).empty());
+
+  const std::int64_t before = got->updated_ms;
+  const nlohmann::json flying = {{"state", "flying"}, {"uavs", {{{"uav", "A"}, {"waypoints", "RRCP"}}}}};
+  store_->update_flight(f1, "flying", flying);
+  got = store_->get_flight(f1);
+  EXPECT_EQ(got->state, "flying");
+  EXPECT_EQ(got->snapshot, flying);
+  EXPECT_GT(got->updated_ms, before);
+  EXPECT_THROW(store_->update_flight(987654321, "done", flying), NotFound);
+
+  auto active = [&] {
+    std::set<Id> ids;
+    for (const auto& f : store_->list_active_flights()) ids.insert(f.id);
+    return ids;
+  };
+  EXPECT_EQ(active(), (std::set<Id>{f1, f2}));
+  store_->update_flight(f2, "aborted", nf.snapshot);
+  store_->update_flight(f1, "done", flying);
+  EXPECT_TRUE(active().empty());
+
+  store_->delete_flight(f2);
+  EXPECT_FALSE(store_->get_flight(f2));
+  EXPECT_THROW(store_->delete_flight(f2), NotFound);
+  EXPECT_EQ(store_->list_flights(plan, 10).size(), 1u);
+}
+
+TEST_P(StoreConformance, FlightLogIsNumberedInOrderAndPages) {
+  const Id m = mission();
+  NewFlight nf;
+  nf.plan_id = done_plan(*store_, m);
+  const Id f = store_->create_flight(nf);
+  const Id other = store_->create_flight(nf);
+
+  EXPECT_EQ(store_->append_flight_log(f, {}), 0) << "an empty batch is no record";
+  std::vector<FlightLogRecord> batch;
+  for (int i = 0; i < 25; ++i)
+    batch.push_back(record(1000 + i, i % 2 ? "A" : "B", "telemetry", {{"i", i}, {"lat", 39.5 + i * 1e-6}}));
+  EXPECT_EQ(store_->append_flight_log(f, batch), 25);
+  EXPECT_EQ(store_->append_flight_log(other, {record(5, "", "state", {{"state", "ready"}})}), 1)
+      << "every flight numbers its own records";
+  // text a vehicle sent: quotes, non-ASCII, and bytes that are not UTF-8 (replaced, never an error)
+  const std::string status = std::string("Ελλάδα \"low\" battery \xff\xfe");
+  EXPECT_EQ(store_->append_flight_log(f, {record(2000, "A", "statustext", {{"text", status}}),
+                                          record(2001, "", "state", {{"state", "done"}})}),
+            27);
+  EXPECT_EQ(store_->get_flight(f)->log_records, 27);
+
+  std::vector<FlightLogRecord> all;
+  std::int64_t after = 0;
+  int pages = 0;
+  for (;;) {
+    const auto page = store_->read_flight_log(f, after, 10);
+    ++pages;
+    all.insert(all.end(), page.items.begin(), page.items.end());
+    if (!page.next_after) break;
+    EXPECT_EQ(*page.next_after, page.items.back().seq);
+    after = *page.next_after;
+  }
+  EXPECT_EQ(pages, 3);
+  ASSERT_EQ(all.size(), 27u);
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(all[i].seq, static_cast<std::int64_t>(i + 1));
+  for (int i = 0; i < 25; ++i) {
+    EXPECT_EQ(all[i].t_ms, 1000 + i);
+    EXPECT_EQ(all[i].uav, i % 2 ? "A" : "B");
+    EXPECT_EQ(all[i].kind, "telemetry");
+    EXPECT_EQ(all[i].data, batch[i].data);
+  }
+  EXPECT_EQ(all[25].kind, "statustext");
+  const std::string text = all[25].data.at("text").get<std::string>();
+  EXPECT_TRUE(text.starts_with("Ελλάδα \"low\" battery ")) << text;
+  EXPECT_EQ(all[26].data, (nlohmann::json{{"state", "done"}}));
+  EXPECT_TRUE(store_->read_flight_log(f, 27, 10).items.empty());
+  EXPECT_FALSE(store_->read_flight_log(f, 27, 10).next_after);
+  EXPECT_EQ(store_->read_flight_log(other, 0, 10).items.size(), 1u);
+  EXPECT_THROW(store_->append_flight_log(987654321, batch), NotFound);
+
+  store_->delete_flight(f);
+  EXPECT_TRUE(store_->read_flight_log(f, 0, 100).items.empty()) << "the log goes with its flight";
+  EXPECT_EQ(store_->read_flight_log(other, 0, 10).items.size(), 1u);
+}
+
+TEST_P(StoreConformance, ConcurrentAppendsToOneFlightGetDistinctConsecutiveSeqs) {
+  NewFlight nf;
+  nf.plan_id = done_plan(*store_, mission());
+  const Id f = store_->create_flight(nf);
+  constexpr int kThreads = 4, kBatches = 20, kEach = 5;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      try {
+        for (int b = 0; b < kBatches; ++b) {
+          std::vector<FlightLogRecord> batch;
+          for (int i = 0; i < kEach; ++i)
+            batch.push_back(record(b, "U" + std::to_string(t), "telemetry", {{"b", b}, {"i", i}}));
+          store_->append_flight_log(f, batch);
+        }
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  const auto page = store_->read_flight_log(f, 0, 10000);
+  ASSERT_EQ(page.items.size(), static_cast<std::size_t>(kThreads * kBatches * kEach));
+  std::map<std::string, int> next;  // per thread: batches stay whole and in order
+  for (std::size_t k = 0; k < page.items.size(); ++k) {
+    const auto& r = page.items[k];
+    EXPECT_EQ(r.seq, static_cast<std::int64_t>(k + 1));
+    const int b = r.data.at("b"), i = r.data.at("i");
+    EXPECT_EQ(b * kEach + i, next[r.uav]++) << "record " << r.seq << " of " << r.uav;
+  }
+}
+
+TEST_P(StoreConformance, DeleteMissionRefusesWhileAFlightIsActiveThenTakesItsFlights) {
+  const Id m = mission();
+  const Id plan = done_plan(*store_, m);
+  NewFlight nf;
+  nf.plan_id = plan;
+  nf.state = "flying";
+  const Id f = store_->create_flight(nf);
+  store_->append_flight_log(f, {record(1, "A", "telemetry", {{"lat", 1}})});
+  EXPECT_THROW(store_->delete_mission(m), Conflict);
+  EXPECT_TRUE(store_->get_flight(f));
+  store_->update_flight(f, "done", {});
+  store_->delete_mission(m);
+  EXPECT_FALSE(store_->get_flight(f));
+  EXPECT_TRUE(store_->read_flight_log(f, 0, 10).items.empty());
+  EXPECT_FALSE(store_->get_job(plan));
+}
+
+// A child process appends flight-log batches as fast as it can and reports each acknowledged batch's
+// last seq through a pipe; the parent kills it with SIGKILL mid-burst, reopens the store and finds every
+// acknowledged record, whole (on every backend: SQLite's synchronous=FULL, PostgreSQL's commit).
+TEST_P(StoreConformance, KillNineWhileAppendingLosesNoAcknowledgedFlightRecord) {
+  NewFlight nf;
+  nf.plan_id = done_plan(*store_, mission());
+  const Id f = store_->create_flight(nf);
+  store_.reset();  // the child opens its own connections; none are shared across fork()
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(fds[0]);
+    try {
+      auto s = uavcover::testing::open_test_store(url_);
+      for (int b = 0;; ++b) {
+        std::vector<FlightLogRecord> batch;
+        for (int i = 0; i < 7; ++i)
+          batch.push_back(record(b, "A", "telemetry", {{"b", b}, {"i", i}, {"pad", std::string(40, 'x')}}));
+        const std::int64_t last = s->append_flight_log(f, batch);
+        if (::write(fds[1], &last, sizeof last) != static_cast<ssize_t>(sizeof last)) ::_exit(3);
+      }
+    } catch (...) {
+      ::_exit(2);
+    }
+  }
+  ::close(fds[1]);
+  std::int64_t acknowledged = 0;
+  int batches = 0;
+  bool killed = false;
+  for (;;) {
+    std::int64_t last = 0;
+    std::size_t got = 0;
+    while (got < sizeof last) {
+      const ssize_t n = ::read(fds[0], reinterpret_cast<char*>(&last) + got, sizeof last - got);
+      if (n <= 0) break;
+      got += static_cast<std::size_t>(n);
+    }
+    if (got < sizeof last) break;  // the child is gone and the pipe drained
+    EXPECT_EQ(last, acknowledged + 7);
+    acknowledged = last;
+    if (!killed && ++batches >= 60) {
+      ASSERT_EQ(::kill(child, SIGKILL), 0);
+      killed = true;
+    }
+  }
+  ::close(fds[0]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(killed) << "the child stopped early (exit " << WEXITSTATUS(status) << ")";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+
+  store_ = uavcover::testing::open_test_store(url_);
+  const auto page = store_->read_flight_log(f, 0, 10000);
+  ASSERT_GE(static_cast<std::int64_t>(page.items.size()), acknowledged) << "acknowledged records lost";
+  EXPECT_EQ(page.items.size() % 7, 0u) << "a batch is all or nothing";
+  for (std::size_t k = 0; k < page.items.size(); ++k) {
+    EXPECT_EQ(page.items[k].seq, static_cast<std::int64_t>(k + 1));
+    EXPECT_EQ(page.items[k].data.at("b"), static_cast<int>(k / 7));
+    EXPECT_EQ(page.items[k].data.at("i"), static_cast<int>(k % 7));
+  }
+  EXPECT_EQ(store_->get_flight(f)->log_records, static_cast<std::int64_t>(page.items.size()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, StoreConformance,

@@ -1,0 +1,211 @@
+// Flights (docs/flights.md): POST/GET /plans/{id}/flights, GET/DELETE /flights/{id}, commands, and the
+// flight log as pages, CSV and GeoJSON. The live flights are the FlightManager's.
+#include <fmt/format.h>
+
+#include <charconv>
+#include <map>
+
+#include "server/api_internal.hpp"
+#include "server/flights.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::server::detail {
+namespace {
+
+using nlohmann::json;
+
+/// Records an export (CSV, GeoJSON) reads at most.
+constexpr std::int64_t kMaxExportRecords = 200000;
+
+FlightManager& manager(ApiContext& ctx) {
+  if (ctx.flights == nullptr) throw HttpError(503, "", "this server does not follow flights");
+  return *ctx.flights;
+}
+
+/// An integer query parameter in [lo, hi], `fallback` when absent; 400 naming it otherwise.
+std::int64_t query_int(const Request& req, const std::string& name, std::int64_t fallback, std::int64_t lo,
+                       std::int64_t hi) {
+  const auto it = req.query.find(name);
+  if (it == req.query.end()) return fallback;
+  const std::string& text = it->second;
+  std::int64_t v = 0;
+  const char* end = text.data() + text.size();
+  const auto [p, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || p != end || v < lo || v > hi)
+    throw HttpError(400, name,
+                    fmt::format("expected an integer in [{}, {}], got \"{}\"", lo, hi, text.substr(0, 40)));
+  return v;
+}
+
+store::Job plan_job(ApiContext& ctx, store::Id id) {
+  auto job = ctx.store.get_job(id);
+  if (!job || job->kind != store::JobKind::Plan)
+    throw HttpError(404, "id", "no plan job " + std::to_string(id));
+  return *std::move(job);
+}
+
+json flight_or_404(ApiContext& ctx, store::Id id) {
+  auto f = manager(ctx).get(id);
+  if (!f) throw HttpError(404, "id", "no flight " + std::to_string(id));
+  return *std::move(f);
+}
+
+json record_json(const store::FlightLogRecord& r) {
+  return {{"seq", r.seq}, {"t", iso_time(r.t_ms)}, {"uav", r.uav}, {"kind", r.kind}, {"data", r.data}};
+}
+
+/// Every record of the flight's log (at most kMaxExportRecords), in order; 404 for an unknown flight.
+std::vector<store::FlightLogRecord> whole_log(ApiContext& ctx, store::Id id) {
+  if (!ctx.store.get_flight(id)) throw HttpError(404, "id", "no flight " + std::to_string(id));
+  std::vector<store::FlightLogRecord> out;
+  std::int64_t after = 0;
+  while (static_cast<std::int64_t>(out.size()) < kMaxExportRecords) {
+    auto page = ctx.store.read_flight_log(id, after, 10000);
+    for (auto& r : page.items) out.push_back(std::move(r));
+    if (!page.next_after) break;
+    after = *page.next_after;
+  }
+  return out;
+}
+
+Response attachment(std::string body, const std::string& type, const std::string& file) {
+  Response r;
+  r.content_type = type;
+  r.body = std::move(body);
+  r.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + file + "\"");
+  return r;
+}
+
+/// RFC 4180 field: quoted when it holds a comma, quote or line break.
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string number_or_empty(const json& data, const char* key) {
+  const auto it = data.find(key);
+  if (it == data.end() || !it->is_number()) return "";
+  return fmt::format("{}", it->get<double>());
+}
+
+std::string log_csv(const std::vector<store::FlightLogRecord>& log) {
+  std::string out = "seq,time,uav,kind,lon,lat,alt_m,speed_mps,battery_pct,data\n";
+  for (const auto& r : log) {
+    const bool object = r.data.is_object();
+    const json none = json::object();
+    const json& d = object ? r.data : none;
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.seq, iso_time(r.t_ms), csv_field(r.uav),
+                       csv_field(r.kind), number_or_empty(d, "lon"), number_or_empty(d, "lat"),
+                       number_or_empty(d, "alt_m"), number_or_empty(d, "speed_mps"),
+                       number_or_empty(d, "battery_pct"),
+                       csv_field(r.data.dump(-1, ' ', false, json::error_handler_t::replace)));
+  }
+  return out;
+}
+
+/// Telemetry as one LineString per UAV ([lon, lat, alt_m]); every other record as a Point where its UAV
+/// last was (flight-wide records, or before the first position: geometry null).
+json log_geojson(const std::vector<store::FlightLogRecord>& log) {
+  std::map<std::string, json> tracks;
+  std::map<std::string, json> last;
+  json events = json::array();
+  for (const auto& r : log) {
+    if (r.kind == "telemetry" && r.data.is_object() && r.data.contains("lon") && r.data.contains("lat") &&
+        r.data["lon"].is_number() && r.data["lat"].is_number()) {
+      const json p = {r.data["lon"], r.data["lat"],
+                      r.data.contains("alt_m") && r.data["alt_m"].is_number() ? r.data["alt_m"] : json(0.0)};
+      auto& t = tracks[r.uav];
+      if (t.is_null()) t = json::array();
+      t.push_back(p);
+      last[r.uav] = p;
+      continue;
+    }
+    if (r.kind == "telemetry") continue;
+    const auto at = last.find(r.uav);
+    events.push_back(
+        {{"type", "Feature"},
+         {"geometry",
+          at == last.end() ? json(nullptr) : json{{"type", "Point"}, {"coordinates", at->second}}},
+         {"properties",
+          {{"seq", r.seq}, {"t", iso_time(r.t_ms)}, {"uav", r.uav}, {"kind", r.kind}, {"data", r.data}}}});
+  }
+  json features = json::array();
+  for (auto& [uav, coords] : tracks) {
+    if (coords.size() < 2) coords.push_back(coords.front());  // a LineString needs two positions
+    features.push_back({{"type", "Feature"},
+                        {"geometry", {{"type", "LineString"}, {"coordinates", coords}}},
+                        {"properties", {{"uav", uav}, {"kind", "track"}, {"positions", coords.size()}}}});
+  }
+  for (auto& e : events) features.push_back(std::move(e));
+  return {{"type", "FeatureCollection"}, {"features", features}};
+}
+
+}  // namespace
+
+void add_flight_routes(Router& router, ApiContext& ctx) {
+  router.add("POST", kApi + "/plans/{id}/flights", guarded([&ctx](const Request& req) {
+               const store::Job job = plan_job(ctx, id_param(req, "id"));
+               if (job.state != store::JobState::Done)
+                 throw HttpError(409, "state",
+                                 "the plan is " + store::to_string(job.state) + "; only a done plan flies");
+               const json body = parse_body(req, ctx, false);
+               const json flight = manager(ctx).create(job, body);
+               Response r = Response::json(201, flight);
+               r.headers.emplace_back("Location",
+                                      kApi + "/flights/" + std::to_string(flight.at("id").get<store::Id>()));
+               return r;
+             }));
+  router.add("GET", kApi + "/plans/{id}/flights", guarded([&ctx](const Request& req) {
+               const store::Job job = plan_job(ctx, id_param(req, "id"));
+               const auto limit = static_cast<int>(query_int(req, "limit", 100, 1, 1000));
+               json items = json::array();
+               for (const auto& row : ctx.store.list_flights(job.id, limit)) {
+                 auto f = manager(ctx).get(row.id);
+                 if (!f) continue;  // deleted meanwhile
+                 if (auto it = f->find("uavs"); it != f->end() && it->is_array())
+                   for (auto& u : *it)
+                     if (u.is_object()) u.erase("waypoints");  // the listing leaves them out
+                 items.push_back(std::move(*f));
+               }
+               return Response::json(200, {{"items", items}});
+             }));
+  const std::string base = kApi + "/flights/{id}";
+  router.add("GET", base, guarded([&ctx](const Request& req) {
+               return Response::json(200, flight_or_404(ctx, id_param(req, "id")));
+             }));
+  router.add("DELETE", base, guarded([&ctx](const Request& req) {
+               return Response::json(200, manager(ctx).remove(id_param(req, "id")));
+             }));
+  router.add("POST", base + "/commands", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               const json body = parse_body(req, ctx, false);
+               return Response::json(202, manager(ctx).command(id, body));
+             }));
+  router.add("GET", base + "/log", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               const std::int64_t after = query_int(req, "after", 0, 0, std::int64_t{1} << 53);
+               const auto limit = static_cast<int>(query_int(req, "limit", 100, 1, 1000));
+               if (!ctx.store.get_flight(id)) throw HttpError(404, "id", "no flight " + std::to_string(id));
+               const auto page = ctx.store.read_flight_log(id, after, limit);
+               json items = json::array();
+               for (const auto& r : page.items) items.push_back(record_json(r));
+               return Response::json(
+                   200, {{"items", items},
+                         {"next_after", page.next_after ? json(*page.next_after) : json(nullptr)}});
+             }));
+  router.add("GET", base + "/log.csv", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               return attachment(log_csv(whole_log(ctx, id)), "text/csv",
+                                 "flight-" + std::to_string(id) + "-log.csv");
+             }));
+  router.add("GET", base + "/log.geojson", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               return attachment(
+                   log_geojson(whole_log(ctx, id)).dump(-1, ' ', false, json::error_handler_t::replace),
+                   "application/geo+json", "flight-" + std::to_string(id) + "-log.geojson");
+             }));
+}
+
+}  // namespace uavcover::server::detail

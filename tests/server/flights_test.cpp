@@ -1,0 +1,270 @@
+// The flight routes (docs/flights.md) over a real store (SQLite and PostgreSQL): a small field planned by
+// a WorkerPool, then flights: validation with the field named (404, 409, 422), and a simulated flight
+// on loopback that uploads, starts, flies and ends done with every waypoint reached in its log.
+// Waits are bounded by wall-time caps only against hangs; nothing asserts a duration.
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "server/api_fixture.hpp"
+#include "server/worker.hpp"
+
+namespace uavcover::server::testing {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+/// A 150 m x 100 m field, two UAVs 30 m apart south of it, scanned every 25 m at 20 m.
+std::string small_field() {
+  constexpr double lon0 = 22.95, lat0 = 40.60, mlat = 1.0 / 111320.0;
+  const double mlon = mlat / std::cos(lat0 * M_PI / 180.0);
+  auto at = [&](double x, double y) { return json::array({lon0 + x * mlon, lat0 + y * mlat}); };
+  json uavs = json::array();
+  for (int i = 0; i < 2; ++i)
+    uavs.push_back({{"id", std::string(1, static_cast<char>('A' + i))},
+                    {"start", at(10.0 + 30.0 * i, -20.0)},
+                    {"speed_mps", 8},
+                    {"endurance_min", 30}});
+  json doc{{"name", "flight field"},
+           {"area",
+            {{"type", "Polygon"},
+             {"coordinates",
+              json::array({json::array({at(0, 0), at(150, 0), at(150, 100), at(0, 100), at(0, 0)})})}}},
+           {"spacing_m", 25},
+           {"altitude_m", 20},
+           {"uavs", uavs},
+           {"seed", 7}};
+  return doc.dump();
+}
+
+class FlightApiTest : public ApiTest {
+ protected:
+  /// A done plan job of the small field; its id.
+  store::Id done_plan() {
+    const auto mission_id = create_mission(small_field());
+    const Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
+    EXPECT_EQ(a.status, 202) << a.body;
+    const auto id = a.json().at("id").get<store::Id>();
+    WorkerConfig config;
+    config.lease = 2000ms;
+    config.heartbeat = 100ms;
+    config.idle = 20ms;
+    WorkerPool pool(*store_, config);
+    pool.start();
+    const auto cap = Clock::now() + 120s;
+    while (Clock::now() < cap && call("GET", plan_url(id)).json().at("state") != "done")
+      std::this_thread::sleep_for(20ms);
+    pool.stop();
+    EXPECT_EQ(call("GET", plan_url(id)).json().at("state"), "done");
+    return id;
+  }
+  static std::string plan_url(store::Id id) { return "/api/v1/plans/" + std::to_string(id); }
+
+  /// Polls the flight until `until` holds (or a wall-time cap against hangs); the last Flight JSON.
+  json wait_flight(store::Id id, const std::function<bool(const json&)>& until,
+                   std::chrono::seconds cap = 120s) {
+    const auto end = Clock::now() + cap;
+    json f;
+    while (Clock::now() < end) {
+      const Answer a = call("GET", "/api/v1/flights/" + std::to_string(id));
+      EXPECT_EQ(a.status, 200) << a.body;
+      f = a.json();
+      if (until(f)) break;
+      std::this_thread::sleep_for(20ms);
+    }
+    return f;
+  }
+
+  Answer post_flight(store::Id plan, const json& body) {
+    return call("POST", plan_url(plan) + "/flights", body.dump());
+  }
+};
+
+TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
+  const store::Id plan = done_plan();
+  auto expect_error = [&](const Answer& a, int status, const std::string& field) {
+    EXPECT_EQ(a.status, status) << a.body;
+    if (a.status == status) {
+      EXPECT_EQ(a.error_field(), field) << a.body;
+    }
+  };
+  expect_error(post_flight(987654, {{"simulate", json::object()}}), 404, "id");
+  expect_error(call("POST", plan_url(plan) + "/flights", ""), 400, "body");
+  expect_error(post_flight(plan, json::array()), 422, "");
+  expect_error(post_flight(plan, {{"simulate", {{"speedup", 0}}}}), 422, "simulate.speedup");
+  expect_error(post_flight(plan, {{"simulate", {{"loss", 0.95}}}}), 422, "simulate.loss");
+  expect_error(post_flight(plan, {{"simulate", {{"fail", "9@0.5"}}}}), 422, "simulate.fail");
+  expect_error(post_flight(plan, {{"simulate", {{"fail", "1@1.5"}}}}), 422, "simulate.fail");
+  expect_error(post_flight(plan, {{"simulate", {{"battery_min", 0.1}}}}), 422, "simulate.battery_min");
+  expect_error(post_flight(plan, {{"simulate", {{"colour", "red"}}}}), 422, "simulate.colour");
+  expect_error(post_flight(plan, {{"simulate", json::object()},
+                                  {"vehicles", {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}}}}}),
+               422, "simulate");
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "Z"}, {"endpoint", "udp:127.0.0.1:14550"}}}}}), 422,
+               "vehicles[0].uav");
+  expect_error(post_flight(plan, {{"vehicles",
+                                   {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}},
+                                    {{"uav", "B"}, {"endpoint", "tcp:127.0.0.1:1"}}}}}),
+               422, "vehicles[1].endpoint");
+  // the server has no token here: vehicles beyond loopback are refused
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "udp:10.1.2.3:14550"}}}}}), 422,
+               "vehicles[0].endpoint");
+  expect_error(post_flight(plan, {{"simulate", json::object()}, {"link_timeout_s", -1}}), 422,
+               "link_timeout_s");
+  EXPECT_TRUE(call("GET", plan_url(plan) + "/flights").json().at("items").empty()) << "nothing was stored";
+
+  // a plan that is not done cannot fly
+  const auto mission_id = create_mission(small_field());
+  const Answer queued = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
+  expect_error(post_flight(queued.json().at("id").get<store::Id>(), {{"simulate", json::object()}}), 409,
+               "state");
+
+  expect_error(call("GET", "/api/v1/flights/987654"), 404, "id");
+  expect_error(call("GET", "/api/v1/flights/x"), 400, "id");
+  expect_error(call("GET", "/api/v1/flights/987654/log"), 404, "id");
+  expect_error(call("GET", "/api/v1/flights/987654/log.csv"), 404, "id");
+  expect_error(call("DELETE", "/api/v1/flights/987654"), 404, "id");
+  expect_error(call("POST", "/api/v1/flights/987654/commands", R"({"command": "start"})"), 404, "id");
+  expect_error(call("GET", "/api/v1/plans/987654/flights"), 404, "id");
+}
+
+TEST_P(FlightApiTest, CommandsAreCheckedAgainstTheFlightsState) {
+  const store::Id plan = done_plan();
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 20}}}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const json flight = created.json();
+  const auto id = flight.at("id").get<store::Id>();
+  EXPECT_EQ(created.header("Location"), "/api/v1/flights/" + std::to_string(id));
+  EXPECT_EQ(flight.at("plan_id"), plan);
+  EXPECT_EQ(flight.at("simulated"), true);
+  EXPECT_EQ(flight.at("state"), "created");
+  ASSERT_EQ(flight.at("uavs").size(), 2u);
+  for (const auto& v : flight.at("config").at("vehicles"))
+    EXPECT_TRUE(v.at("endpoint").get<std::string>().starts_with("udp:127.0.0.1:")) << v;
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+
+  Answer a = call("POST", url + "/commands", R"({"command": "fly"})");
+  EXPECT_EQ(a.status, 422);
+  EXPECT_EQ(a.error_field(), "command");
+  a = call("POST", url + "/commands", R"({"command": "pause"})");
+  EXPECT_EQ(a.status, 409) << "nothing flies yet: " << a.body;
+  EXPECT_EQ(a.error_field(), "command");
+  a = call("POST", url + "/commands", R"({"command": "upload", "uav": "Q"})");
+  EXPECT_EQ(a.status, 422) << a.body;
+
+  const json listed = call("GET", plan_url(plan) + "/flights").json();
+  ASSERT_EQ(listed.at("items").size(), 1u);
+  EXPECT_EQ(listed["items"][0].at("id"), id);
+  EXPECT_FALSE(listed["items"][0].at("uavs")[0].contains("waypoints")) << "the listing leaves them out";
+
+  // DELETE stops following: the flight ends aborted and commands are refused
+  a = call("DELETE", url);
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.json().at("state"), "aborted");
+  EXPECT_EQ(flights_->live_count(), 0u);
+  EXPECT_EQ(call("GET", url).json().at("state"), "aborted");
+  a = call("POST", url + "/commands", R"({"command": "upload"})");
+  EXPECT_EQ(a.status, 409) << a.body;
+  bool aborted_record = false;
+  const json log = call("GET", url + "/log?limit=1000").json();
+  for (const auto& r : log.at("items"))
+    aborted_record = aborted_record || (r.at("kind") == "state" && r.at("data").at("state") == "aborted");
+  EXPECT_TRUE(aborted_record);
+  // a second DELETE removes the ended flight and its log
+  EXPECT_EQ(call("DELETE", url).status, 200);
+  EXPECT_EQ(call("GET", url).status, 404);
+  EXPECT_EQ(call("GET", url + "/log").status, 404);
+}
+
+TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) {
+  const store::Id plan = done_plan();
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}, {"log_period_s", 0.5}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const auto id = created.json().at("id").get<store::Id>();
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "upload"})").status, 202);
+  json f = wait_flight(id, [](const json& j) { return j.at("state") == "ready"; });
+  ASSERT_EQ(f.at("state"), "ready") << f.dump();
+  const Answer started = call("POST", url + "/commands", R"({"command": "start"})");
+  ASSERT_EQ(started.status, 202) << started.body;
+  f = wait_flight(id, [](const json& j) { return j.at("state") == "done" || j.at("state") == "aborted"; });
+  ASSERT_EQ(f.at("state"), "done") << f.dump();
+  std::map<std::string, std::size_t> waypoints;  // per UAV: its coverage waypoints, every one reached
+  for (const auto& u : f.at("uavs")) {
+    const std::string w = u.at("waypoints");
+    EXPECT_FALSE(w.empty());
+    EXPECT_EQ(w, std::string(w.size(), 'R')) << u.at("uav");
+    waypoints[u.at("uav")] = w.size();
+  }
+
+  // the writer stores the end: the flight is no longer followed, its stored state is done
+  const auto cap = Clock::now() + 30s;
+  while (flights_->live_count() > 0 && Clock::now() < cap) std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(flights_->live_count(), 0u);
+  EXPECT_EQ(store_->get_flight(id)->state, "done");
+
+  // the log, page by page: every coverage waypoint of every UAV reached, telemetry per UAV, seqs in order
+  std::map<std::string, std::set<int>> reached;
+  std::map<std::string, int> telemetry;
+  std::int64_t last_seq = 0, after = 0;
+  int pages = 0;
+  for (;;) {
+    const Answer page = call("GET", url + "/log?limit=20&after=" + std::to_string(after));
+    ASSERT_EQ(page.status, 200) << page.body;
+    ++pages;
+    const json body = page.json();
+    for (const auto& r : body.at("items")) {
+      EXPECT_GT(r.at("seq").get<std::int64_t>(), last_seq);
+      last_seq = r.at("seq");
+      if (r.at("kind") == "waypoint" && r.at("data").at("status") == "R")
+        reached[r.at("uav")].insert(r.at("data").at("waypoint").get<int>());
+      if (r.at("kind") == "telemetry") ++telemetry[r.at("uav")];
+    }
+    if (body.at("next_after").is_null()) break;
+    after = body.at("next_after");
+  }
+  EXPECT_GT(pages, 1);
+  for (const auto& [uav, n] : waypoints) {
+    EXPECT_EQ(reached[uav].size(), n) << uav;
+    EXPECT_GT(telemetry[uav], 2) << uav;
+  }
+
+  const Answer csv = call("GET", url + "/log.csv");
+  ASSERT_EQ(csv.status, 200);
+  EXPECT_EQ(csv.content_type, "text/csv");
+  EXPECT_TRUE(csv.body.starts_with("seq,time,uav,kind,lon,lat,alt_m,speed_mps,battery_pct,data\n"));
+  EXPECT_EQ(static_cast<std::int64_t>(std::count(csv.body.begin(), csv.body.end(), '\n')), last_seq + 1)
+      << "one line per record and the header";
+
+  const Answer geo = call("GET", url + "/log.geojson");
+  ASSERT_EQ(geo.status, 200);
+  std::set<std::string> tracks;
+  int points = 0;
+  const json collection = geo.json();
+  for (const auto& feature : collection.at("features")) {
+    if (feature.at("properties").at("kind") == "track") {
+      EXPECT_EQ(feature.at("geometry").at("type"), "LineString");
+      EXPECT_EQ(feature.at("geometry").at("coordinates").size(),
+                static_cast<std::size_t>(telemetry[feature.at("properties").at("uav")]));
+      tracks.insert(feature.at("properties").at("uav"));
+    } else if (!feature.at("geometry").is_null()) {
+      EXPECT_EQ(feature.at("geometry").at("type"), "Point");
+      ++points;
+    }
+  }
+  EXPECT_EQ(tracks, (std::set<std::string>{"A", "B"}));
+  EXPECT_GT(points, 0);
+  const Tracks flown = flights_->tracks(id);
+  ASSERT_EQ(flown.size(), 2u) << "tracks of an ended flight come from its log";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, FlightApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
+                         backend_name);
+
+}  // namespace
+}  // namespace uavcover::server::testing
