@@ -282,6 +282,31 @@ std::string read_line(FILE* f) {
   return line;
 }
 
+/// What vehicle.js reported after an upload to it as system 9: our result, its exit status, and the items
+/// as node-mavlink decoded them.
+struct NodeUpload {
+  UploadResult result;
+  int status = -1;
+  json items;
+};
+
+NodeUpload upload_to_node(const std::vector<MissionItemInt>& items, const std::string& order) {
+  NodeUpload out;
+  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' " + order + " 9";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return out;
+  const auto port = json::parse(read_line(pipe)).at("port").get<std::uint16_t>();
+  UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
+  gcs.set_peer(Endpoint{"127.0.0.1", port});
+  UploadOptions opt;
+  opt.target_system = 9;
+  out.result = upload_mission(gcs, items, opt);
+  const std::string report = read_line(pipe);
+  out.status = ::pclose(pipe);
+  if (out.result.ok) out.items = json::parse(report).at("items");
+  return out;
+}
+
 }  // namespace
 
 TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
@@ -300,25 +325,15 @@ TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
   }
   for (const std::string order : {"sequential", "reverse"}) {
     SCOPED_TRACE(order);
-    const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' " + order + " 9";
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    const json hello = json::parse(read_line(pipe));
-    const auto port = hello.at("port").get<std::uint16_t>();
-    UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
-    gcs.set_peer(Endpoint{"127.0.0.1", port});
-    UploadOptions opt;
-    opt.target_system = 9;
-    const UploadResult res = upload_mission(gcs, items, opt);
-    const std::string report = read_line(pipe);
-    const int status = ::pclose(pipe);
+    const NodeUpload up = upload_to_node(items, order);
+    const UploadResult& res = up.result;
     ASSERT_TRUE(res.ok) << res.error;
-    EXPECT_EQ(status, 0);
+    EXPECT_EQ(up.status, 0);
     EXPECT_EQ(res.unique_items, items.size());
     if (order == "reverse") {
       EXPECT_EQ(res.out_of_order, items.size() - 1);
     }
-    const json got = json::parse(report).at("items");
+    const json& got = up.items;
     ASSERT_EQ(got.size(), items.size());
     for (std::size_t i = 0; i < items.size(); ++i) {
       MissionItemInt want = items[i];
@@ -336,19 +351,10 @@ TEST(NodeMavlinkPeer, UploadCarriesCameraTriggersAndGimbal) {
   const uavcover::Plan plan = uavcover::fixture::two_uav_plan(true);
   const std::vector<MissionItemInt> items =
       to_mission_items(uavcover::exporting::mission_items(plan, 0), std::nullopt);
-  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' sequential 9";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  const auto port = json::parse(read_line(pipe)).at("port").get<std::uint16_t>();
-  UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
-  gcs.set_peer(Endpoint{"127.0.0.1", port});
-  UploadOptions opt;
-  opt.target_system = 9;
-  const UploadResult res = upload_mission(gcs, items, opt);
-  const std::string report = read_line(pipe);
-  EXPECT_EQ(::pclose(pipe), 0);
-  ASSERT_TRUE(res.ok) << res.error;
-  const json got = json::parse(report).at("items");
+  const NodeUpload up = upload_to_node(items, "sequential");
+  EXPECT_EQ(up.status, 0);
+  ASSERT_TRUE(up.result.ok) << up.result.error;
+  const json& got = up.items;
   ASSERT_EQ(got.size(), items.size());
   int gimbal = 0, start = 0, stop = 0;
   // JSON has no NaN: node's JSON.stringify writes NaN params (yaw "keep heading", unset rates) as null

@@ -187,27 +187,10 @@ TEST(SqliteStore, KillNineDuringWritesLosesNothingAcknowledged) {
   }
   ::close(fds[1]);
   std::vector<Id> acknowledged;
-  bool killed = false;
-  for (;;) {
-    Id id = 0;
-    std::size_t got = 0;
-    while (got < sizeof id) {
-      const ssize_t n = ::read(fds[0], reinterpret_cast<char*>(&id) + got, sizeof id - got);
-      if (n <= 0) break;
-      got += static_cast<std::size_t>(n);
-    }
-    if (got < sizeof id) break;  // the child is gone and the pipe drained
+  ASSERT_TRUE(uavcover::testing::read_until_killed(fds[0], child, [&](std::int64_t id) {
     acknowledged.push_back(id);
-    if (!killed && acknowledged.size() >= 200) {
-      ASSERT_EQ(::kill(child, SIGKILL), 0);
-      killed = true;
-    }
-  }
-  ::close(fds[0]);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(killed) << "the child stopped early (exit " << WEXITSTATUS(status) << ")";
-  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+    return acknowledged.size() >= 200;
+  })) << "the child stopped early";
   ASSERT_GE(acknowledged.size(), 200u);
 
   auto s = open_sqlite(tmp.path());

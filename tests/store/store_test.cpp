@@ -983,28 +983,11 @@ TEST_P(StoreConformance, KillNineWhileAppendingLosesNoAcknowledgedFlightRecord) 
   ::close(fds[1]);
   std::int64_t acknowledged = 0;
   int batches = 0;
-  bool killed = false;
-  for (;;) {
-    std::int64_t last = 0;
-    std::size_t got = 0;
-    while (got < sizeof last) {
-      const ssize_t n = ::read(fds[0], reinterpret_cast<char*>(&last) + got, sizeof last - got);
-      if (n <= 0) break;
-      got += static_cast<std::size_t>(n);
-    }
-    if (got < sizeof last) break;  // the child is gone and the pipe drained
+  ASSERT_TRUE(uavcover::testing::read_until_killed(fds[0], child, [&](std::int64_t last) {
     EXPECT_EQ(last, acknowledged + 7);
     acknowledged = last;
-    if (!killed && ++batches >= 60) {
-      ASSERT_EQ(::kill(child, SIGKILL), 0);
-      killed = true;
-    }
-  }
-  ::close(fds[0]);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_TRUE(killed) << "the child stopped early (exit " << WEXITSTATUS(status) << ")";
-  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+    return ++batches >= 60;
+  })) << "the child stopped early";
 
   store_ = uavcover::testing::open_test_store(url_);
   const auto page = store_->read_flight_log(f, 0, 10000);

@@ -9,7 +9,12 @@
 // (This file is not called backends.hpp: "store/backends.hpp" must keep naming src/store/backends.hpp.)
 #pragma once
 
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <cstdint>
+#include <functional>
 
 #include <atomic>
 #include <cstdlib>
@@ -65,6 +70,31 @@ inline std::vector<std::string> store_test_urls() {
 }
 
 /// A name no other test (nor an earlier run against the same PostgreSQL database) uses.
+/// The kill -9 tests: reads the 64-bit values a child process writes to `fd` (what the store acknowledged
+/// to it) and hands each to `on_value`; once that returns true, kills the child with SIGKILL, drains the
+/// pipe and reaps the child. True when the child was killed by that SIGKILL (not stopped before).
+inline bool read_until_killed(int fd, pid_t child, const std::function<bool(std::int64_t)>& on_value) {
+  bool killed = false;
+  for (;;) {
+    std::int64_t value = 0;
+    std::size_t got = 0;
+    while (got < sizeof value) {
+      const ssize_t n = ::read(fd, reinterpret_cast<char*>(&value) + got, sizeof value - got);
+      if (n <= 0) break;
+      got += static_cast<std::size_t>(n);
+    }
+    if (got < sizeof value) break;  // the child is gone and the pipe drained
+    if (on_value(value) && !killed) {
+      if (::kill(child, SIGKILL) != 0) break;
+      killed = true;
+    }
+  }
+  ::close(fd);
+  int status = 0;
+  if (::waitpid(child, &status, 0) != child) return false;
+  return killed && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
 inline std::string unique_name(const std::string& prefix) {
   static std::atomic<int> counter{0};
   static const unsigned salt = std::random_device{}();
