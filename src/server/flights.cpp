@@ -147,6 +147,7 @@ struct FlightManager::Live {
   std::string saved_state;                 ///< the state last stored
   Clock::time_point saved_at{};
   std::atomic<std::int64_t> changed_ms{0};
+  std::once_flag retired;  ///< retire() runs once; a second caller waits until it has stored the end
 
   json snapshot_json() const {
     store::StoredFlight r = row;
@@ -322,7 +323,11 @@ json FlightManager::create(const store::Job& plan_job, const json& body) {
 }
 
 std::optional<json> FlightManager::get(store::Id id) {
-  if (const auto live = find(id)) return live->snapshot_json();
+  if (const auto live = find(id)) {
+    // a flight is shown ended only once its whole log is stored (the writer may not have retired it yet)
+    if (!live->flight->finished()) return live->snapshot_json();
+    retire(live, live->flight->state(), "finished");
+  }
   const auto row = store_.get_flight(id);
   if (!row) return std::nullopt;
   return flight_json(*row, row->snapshot);
@@ -354,19 +359,21 @@ json FlightManager::command(store::Id id, const json& body) {
 
 void FlightManager::retire(const std::shared_ptr<Live>& live, const std::string& state,
                            const std::string& reason) {
-  {
-    const std::lock_guard lock(mutex_);
-    live_.erase(live->row.id);
-  }
-  const std::string from = live->flight->state();
-  live->stop();
-  flush();  // what the flight recorded up to its stop
-  json snapshot = live->flight->snapshot();
-  snapshot["state"] = state;
-  if (state != from)
-    store_.append_flight_log(
-        live->row.id, {{0, now_ms(), "", "state", {{"state", state}, {"from", from}, {"reason", reason}}}});
-  store_.update_flight(live->row.id, state, snapshot);
+  std::call_once(live->retired, [&] {
+    {
+      const std::lock_guard lock(mutex_);
+      live_.erase(live->row.id);
+    }
+    const std::string from = live->flight->state();
+    live->stop();
+    flush();  // what the flight recorded up to its stop
+    json snapshot = live->flight->snapshot();
+    snapshot["state"] = state;
+    if (state != from)
+      store_.append_flight_log(
+          live->row.id, {{0, now_ms(), "", "state", {{"state", state}, {"from", from}, {"reason", reason}}}});
+    store_.update_flight(live->row.id, state, snapshot);
+  });
 }
 
 json FlightManager::remove(store::Id id) {
