@@ -133,6 +133,16 @@ void upload_and_start(Sim& s, flight::Flight& f) {
   command(f, "start");
 }
 
+// Starts following, uploads and starts every UAV, and waits (at most `sim_s` simulated seconds) until the
+// flight ended done.
+void fly_to_done(Sim& s, flight::Flight& f, double sim_s) {
+  f.start();
+  upload_and_start(s, f);
+  ASSERT_TRUE(wait_for(s, sim_s, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+}
+
 // Per UAV and waypoint, the statuses its "waypoint" records went through (own coverage only).
 std::map<std::pair<std::string, int>, std::string> waypoint_histories(
     const std::vector<flight::LogRecord>& recs, std::map<std::string, std::vector<int>>* order) {
@@ -156,11 +166,7 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   c.low_battery_pct = 99.95;  // the first percent drained raises a low-battery alert
   flight::Flight f(1, p, c, rec);
   EXPECT_EQ(f.state(), "created");
-  f.start();
-  upload_and_start(s, f);
-  ASSERT_TRUE(wait_for(s, 3000, [&] { return f.finished(); })) << f.snapshot().dump(1);
-  f.stop();
-  EXPECT_EQ(f.state(), "done");
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 3000));
   const json snap = f.snapshot();
   std::size_t total = 0;
   for (const auto& u : snap["uavs"]) {
@@ -286,11 +292,7 @@ TEST(Flight, LossyLinksTwentyPercentEndDoneWithRetriedUploads) {
   Sim s(p, 50, 0.2);
   Recorder rec;
   flight::Flight f(2, p, s.config(3), rec);
-  f.start();
-  upload_and_start(s, f);
-  ASSERT_TRUE(wait_for(s, 4000, [&] { return f.finished(); })) << f.snapshot().dump(1);
-  f.stop();
-  EXPECT_EQ(f.state(), "done");
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 4000));
   for (const auto& u : f.snapshot()["uavs"]) {
     const std::string wp = u["waypoints"];
     EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
@@ -334,11 +336,7 @@ TEST(Flight, ThreeBatterySortiesFlownOneAfterAnother) {
   Sim s(p, 100);
   Recorder rec;
   flight::Flight f(3, p, s.config(), rec);
-  f.start();
-  upload_and_start(s, f);
-  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
-  f.stop();
-  EXPECT_EQ(f.state(), "done");
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 6000));
   const json snap = f.snapshot();
   for (const auto& u : snap["uavs"]) {
     const std::string wp = u["waypoints"];
@@ -425,11 +423,7 @@ TEST(Flight, ForcedLandingIsReassignedAutomatically) {
   c.reassign_after_s = 0.5;
   c.auto_reassign = true;
   flight::Flight f(10, p, c, rec);
-  f.start();
-  upload_and_start(s, f);
-  ASSERT_TRUE(wait_for(s, 6000, [&] { return f.finished(); })) << f.snapshot().dump(1);
-  f.stop();
-  EXPECT_EQ(f.state(), "done");
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 6000));
   const json snap = f.snapshot();
   ASSERT_EQ(snap["reassignments"].size(), 1U);
   EXPECT_EQ(snap["reassignments"][0]["failed_uav"], "C");
