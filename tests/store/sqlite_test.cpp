@@ -169,25 +169,12 @@ TEST(SqliteStore, ForeignKeysHoldOnEveryConnection) {
 TEST(SqliteStore, KillNineDuringWritesLosesNothingAcknowledged) {
   TempDb tmp;
   open_sqlite(tmp.path()).reset();  // created and migrated before the burst
-  int fds[2];
-  ASSERT_EQ(::pipe(fds), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    ::close(fds[0]);
-    try {
-      auto s = open_sqlite(tmp.path());
-      for (int i = 0;; ++i) {
-        const Id id = s->create_mission(revision("burst " + std::to_string(i)));
-        if (::write(fds[1], &id, sizeof id) != static_cast<ssize_t>(sizeof id)) ::_exit(3);
-      }
-    } catch (...) {
-      ::_exit(2);
-    }
-  }
-  ::close(fds[1]);
   std::vector<Id> acknowledged;
-  ASSERT_TRUE(uavcover::testing::read_until_killed(fds[0], child, [&](std::int64_t id) {
+  const auto create_missions = [&](const std::function<void(std::int64_t)>& ack) {
+    auto s = open_sqlite(tmp.path());
+    for (int i = 0;; ++i) ack(s->create_mission(revision("burst " + std::to_string(i))));
+  };
+  ASSERT_TRUE(uavcover::testing::kill_nine_during(create_missions, [&](std::int64_t id) {
     acknowledged.push_back(id);
     return acknowledged.size() >= 200;
   })) << "the child stopped early";

@@ -961,29 +961,18 @@ TEST_P(StoreConformance, KillNineWhileAppendingLosesNoAcknowledgedFlightRecord) 
   nf.plan_id = done_plan(*store_, mission());
   const Id f = store_->create_flight(nf);
   store_.reset();  // the child opens its own connections; none are shared across fork()
-  int fds[2];
-  ASSERT_EQ(::pipe(fds), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    ::close(fds[0]);
-    try {
-      auto s = uavcover::testing::open_test_store(url_);
-      for (int b = 0;; ++b) {
-        std::vector<FlightLogRecord> batch;
-        for (int i = 0; i < 7; ++i)
-          batch.push_back(record(b, "A", "telemetry", {{"b", b}, {"i", i}, {"pad", std::string(40, 'x')}}));
-        const std::int64_t last = s->append_flight_log(f, batch);
-        if (::write(fds[1], &last, sizeof last) != static_cast<ssize_t>(sizeof last)) ::_exit(3);
-      }
-    } catch (...) {
-      ::_exit(2);
-    }
-  }
-  ::close(fds[1]);
   std::int64_t acknowledged = 0;
   int batches = 0;
-  ASSERT_TRUE(uavcover::testing::read_until_killed(fds[0], child, [&](std::int64_t last) {
+  const auto append_batches = [&](const std::function<void(std::int64_t)>& ack) {
+    auto s = uavcover::testing::open_test_store(url_);
+    for (int b = 0;; ++b) {
+      std::vector<FlightLogRecord> batch;
+      for (int i = 0; i < 7; ++i)
+        batch.push_back(record(b, "A", "telemetry", {{"b", b}, {"i", i}, {"pad", std::string(40, 'x')}}));
+      ack(s->append_flight_log(f, batch));
+    }
+  };
+  ASSERT_TRUE(uavcover::testing::kill_nine_during(append_batches, [&](std::int64_t last) {
     EXPECT_EQ(last, acknowledged + 7);
     acknowledged = last;
     return ++batches >= 60;

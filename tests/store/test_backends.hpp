@@ -95,6 +95,31 @@ inline bool read_until_killed(int fd, pid_t child, const std::function<bool(std:
   return killed && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
 }
 
+/// The kill -9 tests' set-up: forks a child that runs `writer` until it is killed; `writer` reports each
+/// value the store acknowledged to it through its argument (a pipe to the parent). The parent hands each
+/// value to `on_value` and kills the child with SIGKILL once that returns true (read_until_killed).
+/// True when the child was killed by that SIGKILL, not stopped before (a writer error exits the child).
+inline bool kill_nine_during(const std::function<void(const std::function<void(std::int64_t)>&)>& writer,
+                             const std::function<bool(std::int64_t)>& on_value) {
+  int fds[2];
+  if (::pipe(fds) != 0) return false;
+  const pid_t child = ::fork();
+  if (child < 0) return false;
+  if (child == 0) {
+    ::close(fds[0]);
+    try {
+      writer([&](std::int64_t value) {
+        if (::write(fds[1], &value, sizeof value) != static_cast<ssize_t>(sizeof value)) ::_exit(3);
+      });
+    } catch (...) {
+      ::_exit(2);
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  return read_until_killed(fds[0], child, on_value);
+}
+
 inline std::string unique_name(const std::string& prefix) {
   static std::atomic<int> counter{0};
   static const unsigned salt = std::random_device{}();
