@@ -26,15 +26,21 @@ struct Mesh {
   std::vector<std::array<int, 3>> neighbours;  ///< across the edge opposite vertex i; -1: none (border)
 };
 
+/// Lloyd optimiser: CGAL's lloyd_optimize_mesh_2, or the same move (centroid of the restricted
+/// Voronoi cell) applied on the triangulation by flips (linear per step).
+enum class LloydMethod { Local, Cgal };
+
 struct MeshOptions {
-  double max_edge_m = 0.0;        ///< refinement bound on every triangle edge (W_d)
-  int lloyd_iterations = 10;      ///< Lloyd steps after refinement (0: none)
+  double max_edge_m = 0.0;    ///< refinement bound on every triangle edge (W_d)
+  int lloyd_iterations = 10;  ///< Lloyd steps after refinement (0: none)
+  LloydMethod lloyd = LloydMethod::Local;
   std::size_t max_triangles = 0;  ///< refuse (InputError on `field`) beyond this many
 };
 
 struct MeshReport {
   AngleStats before_lloyd, after_lloyd;
   double refine_s = 0.0, lloyd_s = 0.0;
+  double lloyd_cpu_s = 0.0;  ///< the Lloyd steps' CPU time on this thread
   std::size_t triangles_before_lloyd = 0;
   double max_edge_m = 0.0;  ///< longest edge of the final mesh
 };

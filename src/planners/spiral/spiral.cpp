@@ -86,6 +86,8 @@ class SpiralPlanner final : public Planner {
     MeshOptions mo;
     mo.max_edge_m = fp.side_m;
     mo.lloyd_iterations = params.value("lloyd_iterations", 10);
+    mo.lloyd =
+        params.value("lloyd_method", std::string("local")) == "cgal" ? LloydMethod::Cgal : LloydMethod::Local;
     mo.max_triangles = kMaxTriangles;
     MeshReport mr;
     const Mesh mesh = build_mesh(p.free, mo, ctx, mr);
@@ -138,7 +140,9 @@ class SpiralPlanner final : public Planner {
                          {"max_edge_m", mr.max_edge_m},
                          {"refine_s", mr.refine_s},
                          {"lloyd_iterations", mo.lloyd_iterations},
+                         {"lloyd_method", mo.lloyd == LloydMethod::Cgal ? "cgal" : "local"},
                          {"lloyd_s", mr.lloyd_s},
+                         {"lloyd_cpu_s", mr.lloyd_cpu_s},
                          {"angles_before_lloyd", to_json(mr.before_lloyd)},
                          {"angles_after_lloyd", to_json(mr.after_lloyd)}}},
                        {"partition",
@@ -167,6 +171,11 @@ PlannerInfo spiral_planner_info() {
       "(Balampanis et al. 2017)";
   info.params.push_back(number("lloyd_iterations", 10, 0.0, 1000.0,
                                "Lloyd optimisation steps after refinement", ParamSpec::Type::Integer));
+  info.params.push_back(param("lloyd_method", ParamSpec::Type::String, "local", std::nullopt, std::nullopt,
+                              "local: each step moves every free vertex to its restricted Voronoi centroid "
+                              "on the triangulation (flips; linear); cgal: CGAL's lloyd_optimize_mesh_2 "
+                              "(super-linear)",
+                              {"local", "cgal"}));
   info.params.push_back(
       number("valley_sensitivity", 2.0, 1.0, 1000.0,
              "S_s: a step longer than S_s times the largest neighbour distance is deferred"));
