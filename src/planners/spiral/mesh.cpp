@@ -273,6 +273,7 @@ Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Cont
     // lands between steps. Super-linear: each step keeps its largest moves in a sorted std::list of
     // n/100 entries searched linearly per vertex, and re-inserts each vertex with an unhinted locate.
     for (int i = 0; i < options.lloyd_iterations; ++i) {
+      ctx.report("spiral", 0.05 + 0.35 * i / options.lloyd_iterations);
       ctx.check();
       CGAL::lloyd_optimize_mesh_2(cdt, CGAL::parameters::max_iteration_number = 1,
                                   CGAL::parameters::convergence = 0.0, CGAL::parameters::freeze_bound = 0.0,
@@ -281,7 +282,10 @@ Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Cont
     }
   } else {
     std::vector<CDT::Vertex_handle> movable = free_vertices(cdt);
-    for (int i = 0; i < options.lloyd_iterations; ++i) lloyd_step(cdt, movable, seeds, ctx);
+    for (int i = 0; i < options.lloyd_iterations; ++i) {
+      ctx.report("spiral", 0.05 + 0.35 * i / options.lloyd_iterations);
+      lloyd_step(cdt, movable, seeds, ctx);
+    }
   }
   report.lloyd_s = since(t1);
   report.lloyd_cpu_s = thread_cpu_s() - cpu1;
