@@ -4,7 +4,8 @@
 #     spiral through bench/compare/run.sh (one evaluator, 1 m lattice);
 #  2. a coastline-like bay (coastline.py: inlets, two islands, 3 UAVs 30/40/30 %, ds 20 m) through
 #     `uavcover compare` with the three planners;
-#  3. speed and memory: mesh, Lloyd (0/10/60/100 steps) and partition times from plan.json diagnostics, peak
+#  3. speed and memory: mesh, Lloyd (0/10/60/100 steps, local and CGAL) and partition times from plan.json
+#     diagnostics, the stop latency inside Lloyd (--time-limit), peak
 #     RSS from /usr/bin/time, on squares of 1, 10 and 100 km2 at ds 20 m (about 1e4, 1e5, 1e6 triangles).
 # usage: bench/spiral/run.sh [BUILD_DIR]
 set -euo pipefail
@@ -28,30 +29,42 @@ python3 "$here/coastline.py" "$work/coastline.json" spiral 20
 "$bin" -q plan "$work/coastline.json" -o "$work/coastline-spiral" --no-images --no-evaluate
 
 # 3. speed: squares of side 1, 3.16 and 10 km at ds 20 m
-square() {  # side_m lloyd out.json
-  python3 - "$1" "$2" "$3" <<'PY'
+square() {  # side_m lloyd method out.json
+  python3 - "$1" "$2" "$3" "$4" <<'PY'
 import json, math, sys
-side, lloyd, out = float(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+side, lloyd, method, out = float(sys.argv[1]), int(sys.argv[2]), sys.argv[3], sys.argv[4]
 lon0, lat0 = 24.40, 40.93
 mx, my = 111320.0 * math.cos(math.radians(lat0)), 110540.0
 h = side / 2
 ring = [[lon0 + x / mx, lat0 + y / my] for x, y in [(-h, -h), (h, -h), (h, h), (-h, h), (-h, -h)]]
 json.dump({"name": f"square {side:.0f} m", "area": {"type": "Polygon", "coordinates": [ring]}, "spacing_m": 20,
-           "planner": "spiral", "planner_params": {"lloyd_iterations": lloyd},
+           "planner": "spiral", "planner_params": {"lloyd_iterations": lloyd, "lloyd_method": method},
            "uavs": [{"id": "a", "share": 0.3, "start": ring[0]}, {"id": "b", "share": 0.4, "start": ring[1]},
                     {"id": "c", "share": 0.3, "start": ring[2]}], "seed": 1}, open(out, "w"))
 PY
 }
 mkdir -p "$work/speed"
 runs=""
-for spec in 1000:0 1000:10 1000:60 1000:100 3162:0 3162:10 10000:0; do
-  side="${spec%%:*}"; lloyd="${spec##*:}"
-  m="$work/speed/s${side}_l${lloyd}.json"
-  square "$side" "$lloyd" "$m"
-  echo "speed: side $side m, $lloyd Lloyd steps" >&2
-  /usr/bin/time -f "%M %e" -o "$work/speed/s${side}_l${lloyd}.time" \
-    "$bin" -q plan "$m" -o "$work/speed/s${side}_l${lloyd}" --no-images --no-evaluate
-  runs="$runs $work/speed/s${side}_l${lloyd}"
+# side:steps:method; CGAL's lloyd_optimize_mesh_2 only where it ends in minutes (10 km2: 320 s before)
+for spec in ${SPEED_RUNS:-1000:0:local 1000:10:local 1000:60:local 1000:100:local 1000:10:cgal 1000:100:cgal \
+    3162:0:local 3162:10:local 3162:100:local 10000:0:local 10000:10:local}; do
+  IFS=: read -r side lloyd method <<<"$spec"
+  name="s${side}_l${lloyd}_${method}"
+  m="$work/speed/$name.json"
+  square "$side" "$lloyd" "$method" "$m"
+  echo "speed: side $side m, $lloyd Lloyd steps ($method)" >&2
+  /usr/bin/time -f "%M %e" -o "$work/speed/$name.time" \
+    "$bin" -q plan "$m" -o "$work/speed/$name" --no-images --no-evaluate
+  runs="$runs $work/speed/$name"
+done
+# stop latency: a time limit that lands inside the Lloyd steps (10 km2, 100 steps)
+for spec in ${STOP_RUNS:-3162:local:20}; do
+  IFS=: read -r side method limit <<<"$spec"
+  square "$side" 100 "$method" "$work/speed/stop.json"
+  start=$(date +%s.%N)
+  "$bin" -q plan "$work/speed/stop.json" -o "$work/speed/stop" --no-images --no-evaluate --time-limit "$limit" \
+    2>/dev/null || true
+  echo "$side $method $limit $(echo "$(date +%s.%N) - $start" | bc)" >>"$work/speed/stop.txt"
 done
 
 python3 "$here/table.py" "$work" "$("$bin" --version)" $runs | tee "$out"

@@ -64,15 +64,28 @@ for u in plan["uavs"]:
                + " / ".join(str(x) for x in p["angle_histogram_30deg"]) + " |")
 
 out.append("\n## Speed and memory (squares at ds 20 m, 3 UAVs 30/40/30 %, `uavcover plan --no-evaluate --no-images`)\n")
-out.append("| area km2 | Lloyd steps | triangles | refine s | Lloyd s | partition s | planning s (whole plan) | peak RSS MB |")
-out.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
+out.append("Wall times are shared-machine upper bounds; `Lloyd CPU s` is the planner thread's CPU time for "
+           "the Lloyd steps (clock_gettime(CLOCK_THREAD_CPUTIME_ID)), which other sessions do not inflate.\n")
+out.append("| area km2 | Lloyd method | Lloyd steps | triangles | refine s | Lloyd s | Lloyd CPU s | partition s | "
+           "planning s (whole plan) | peak RSS MB |")
+out.append("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
 for r in runs:
     p = json.load(open(os.path.join(r, "plan.json")))
     m = p["planner_diagnostics"]["mesh"]
     rss_kb, _wall = open(r + ".time").read().split()[-2:]
     area = p["planner_diagnostics"]["partition"]
     side = float(p["mission"]["name"].split()[1])
-    out.append(f"| {side * side / 1e6:.1f} | {m['lloyd_iterations']} | {m['triangles']} | {m['refine_s']:.3f} | "
-               f"{m['lloyd_s']:.3f} | {area['time_s']:.3f} | {p['totals'].get('compute_time_s', 0):.2f} | "
-               f"{int(rss_kb) / 1024:.0f} |")
+    out.append(f"| {side * side / 1e6:.1f} | {m.get('lloyd_method', 'cgal')} | {m['lloyd_iterations']} | "
+               f"{m['triangles']} | {m['refine_s']:.3f} | {m['lloyd_s']:.3f} | {m.get('lloyd_cpu_s', 0):.3f} | "
+               f"{area['time_s']:.3f} | {p['totals'].get('compute_time_s', 0):.2f} | {int(rss_kb) / 1024:.0f} |")
+stops = [l.split() for l in open(os.path.join(work, "speed", "stop.txt"))] if os.path.exists(
+    os.path.join(work, "speed", "stop.txt")) else []
+if stops:
+    out.append("\nStop latency inside Lloyd (`uavcover plan --time-limit L` on the square, 100 Lloyd steps; the "
+               "limit lands inside the Lloyd steps; latency = process wall time - L, so it includes start-up):\n")
+    out.append("| area km2 | Lloyd method | limit s | process wall s | latency s |")
+    out.append("|---:|---|---:|---:|---:|")
+    for side, method, limit, wall in stops:
+        out.append(f"| {float(side) ** 2 / 1e6:.1f} | {method} | {float(limit):.0f} | {float(wall):.2f} | "
+                   f"{float(wall) - float(limit):.2f} |")
 print("\n".join(out))

@@ -1,5 +1,6 @@
 #include "planners/spiral/spiral.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -55,6 +56,38 @@ Footprint footprint_of(const Problem& p, const json& params, std::vector<std::st
   return camera_footprint(p.altitude_m, hfov, vfov, pitch);
 }
 
+/// planner_params.uav_footprint_m: one ground footprint width (m) per UAV in the mission's order,
+/// comma-separated ("30,30,15"); empty: every UAV flies the mission's footprint. Bounded: one number
+/// per UAV, each in [1, 10000] m.
+std::vector<double> uav_footprints(const json& params, std::size_t n) {
+  constexpr const char* kField = "planner_params.uav_footprint_m";
+  std::vector<double> out;
+  const std::string text = params.value("uav_footprint_m", std::string());
+  if (text.empty()) return out;
+  if (text.size() > 32 * n + 64) throw InputError(kField, "must hold one number per UAV");
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t end = std::min(text.find(',', pos), text.size());
+    const std::string item = text.substr(pos, end - pos);
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && item[used] == ' ') ++used;
+    if (used == 0 || used != item.size() || !std::isfinite(v) || v < 1.0 || v > 10000.0)
+      throw InputError(kField, "\"" + item + "\" is not a footprint width in metres between 1 and 10000");
+    out.push_back(v);
+    pos = end + 1;
+  }
+  if (out.size() != n)
+    throw InputError(
+        kField, "gives " + std::to_string(out.size()) + " footprints for " + std::to_string(n) + " UAVs");
+  return out;
+}
+
 class SpiralPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& p, const json& params, const Context& ctx) const override {
@@ -74,17 +107,26 @@ class SpiralPlanner final : public Planner {
     const Footprint fp = footprint_of(p, params, out.warnings);
     if (!(fp.side_m > 0.0) || !std::isfinite(fp.side_m))
       throw InputError("camera", "gives no positive footprint for the spiral mesh");
-    // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more
-    const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * fp.side_m * fp.side_m);
+    // heterogeneous cameras: each UAV's W_d scales with its footprint width against the mission's
+    // (footprint_m with a camera, spacing_m without); the shared mesh uses the team's largest (the paper)
+    const std::vector<double> widths = uav_footprints(params, n);
+    const double reference_m = p.camera && p.footprint_m > 0.0 ? p.footprint_m : p.spacing_m;
+    std::vector<double> side(n, fp.side_m);
+    for (std::size_t k = 0; k < widths.size(); ++k) side[k] = fp.side_m * widths[k] / reference_m;
+    const double team_side = *std::max_element(side.begin(), side.end());
+    const double smallest = *std::min_element(side.begin(), side.end());
+    // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more;
+    // bounded at the smallest W_d, as if one UAV re-meshed the whole area
+    const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * smallest * smallest);
     if (estimate > static_cast<double>(kMaxTriangles))
-      throw InputError("spacing_m", "the spiral mesh would need about " +
-                                        std::to_string(static_cast<long long>(estimate)) +
-                                        " triangles (at most " + std::to_string(kMaxTriangles) +
-                                        "); use a larger spacing or a smaller area");
+      throw InputError(widths.empty() ? "spacing_m" : "planner_params.uav_footprint_m",
+                       "the spiral mesh would need about " +
+                           std::to_string(static_cast<long long>(estimate)) + " triangles (at most " +
+                           std::to_string(kMaxTriangles) + "); use a larger spacing or a smaller area");
 
     // 2. mesh
     MeshOptions mo;
-    mo.max_edge_m = fp.side_m;
+    mo.max_edge_m = team_side;
     mo.lloyd_iterations = params.value("lloyd_iterations", 10);
     mo.lloyd =
         params.value("lloyd_method", std::string("local")) == "cgal" ? LloydMethod::Cgal : LloydMethod::Local;
@@ -113,18 +155,43 @@ class SpiralPlanner final : public Planner {
       auto& ua = out.uavs[k];
       ua.share_actual = part.share[k];
       if (part.seed[k] < 0) continue;
-      const SpiralOrder so =
-          spiral_order(mesh, centroid, part.owner, level, static_cast<int>(k), p.starts[k], s_s, ctx);
-      ua.coverage = route(mesh, centroid, part.owner, static_cast<int>(k), so.order, ctx);
-      ua.region = region_of(mesh, part.owner, static_cast<int>(k));
+      const int uav = static_cast<int>(k);
+      ua.region = region_of(mesh, part.owner, uav);
+      // a UAV with a smaller footprint re-meshes its own sub-area at its own W_d
+      const bool own_mesh = side[k] < team_side * (1.0 - 1e-9);
+      Mesh sub;
+      MeshReport sub_report;
+      if (own_mesh) {
+        MeshOptions own = mo;
+        own.max_edge_m = side[k];
+        sub = build_mesh(ua.region, own, ctx, sub_report);
+        if (sub.triangles.empty()) continue;
+      }
+      const Mesh& m = own_mesh ? sub : mesh;
+      const std::vector<Point> sub_centroid = own_mesh ? centroids(sub) : std::vector<Point>{};
+      const std::vector<Point>& c = own_mesh ? sub_centroid : centroid;
+      const std::vector<int> sub_owner =
+          own_mesh ? std::vector<int>(sub.triangles.size(), uav) : std::vector<int>{};
+      const std::vector<int>& owner = own_mesh ? sub_owner : part.owner;
+      const std::vector<int> sub_level = own_mesh ? levels(sub, sub_owner) : std::vector<int>{};
+      const std::vector<int>& lv = own_mesh ? sub_level : level;
+      const SpiralOrder so = spiral_order(m, c, owner, lv, uav, p.starts[k], s_s, ctx);
+      ua.coverage = route(m, c, owner, uav, so.order, ctx);
       int max_level = 0, triangles = 0;
-      for (std::size_t t = 0; t < level.size(); ++t)
-        if (part.owner[t] == static_cast<int>(k)) max_level = std::max(max_level, level[t]), ++triangles;
+      for (std::size_t t = 0; t < lv.size(); ++t)
+        if (owner[t] == uav) max_level = std::max(max_level, lv[t]), ++triangles;
       ua.diagnostics = {{"triangles", triangles},
+                        {"triangle_side_m", side[k]},
+                        {"own_mesh", own_mesh},
                         {"levels", max_level + 1},
                         {"valley_step_bound_m", so.step_bound_m},
                         {"valley_deferrals", so.deferred},
                         {"path", to_json(path_stats(ua.coverage))}};
+      if (own_mesh)
+        ua.diagnostics["mesh"] = {{"max_edge_m", sub_report.max_edge_m},
+                                  {"refine_s", sub_report.refine_s},
+                                  {"lloyd_s", sub_report.lloyd_s},
+                                  {"angles_after_lloyd", to_json(sub_report.after_lloyd)}};
       ctx.report(kStage, 0.6 + 0.4 * static_cast<double>(k + 1) / static_cast<double>(n));
     }
     out.diagnostics = {{"footprint",
@@ -186,6 +253,12 @@ PlannerInfo spiral_planner_info() {
   info.params.push_back(
       number("vfov_deg", nullptr, 1.0, 170.0,
              "vertical (along-track) field of view; absent: the same as the horizontal one"));
+  info.params.push_back(
+      param("uav_footprint_m", ParamSpec::Type::String, "", std::nullopt, std::nullopt,
+            "heterogeneous cameras: one ground footprint width (m) per UAV in the mission's order, "
+            "comma-separated (\"30,30,15\"); the mesh uses the largest, and each UAV with a smaller one "
+            "re-meshes its sub-area at its own triangle side (scaled from the mission's footprint_m, or "
+            "spacing_m without a camera); empty: the mission's footprint for all"));
   info.params.push_back(number("gimbal_pitch_deg", 0.0, 0.0, 80.0,
                                "camera pitch forward from nadir (the footprint becomes a trapezoid)"));
   info.supports = Capabilities{true, true, true, true, true, false};

@@ -313,6 +313,39 @@ TEST(SpiralPlanner, PathsStayInsideTheirRegionsAndCoverEveryTriangle) {
   EXPECT_LE(a.diagnostics["mesh"]["max_edge_m"].get<double>(), std::sqrt(3.0) / 2.0 * 20.0 + 1e-9);
 }
 
+TEST(SpiralPlanner, ASmallerFootprintGetsSmallerTrianglesInItsOwnSubArea) {
+  // ds 20 m without a camera: W_d = 17.32 m; UAV b flies a 10 m footprint: W_d = 8.66 m in its sub-area
+  const MultiPolygon free = l_with_hole();
+  const Problem pr = problem_of(free, {{10, 10}, {590, 10}}, {0.5, 0.5}, 20.0);
+  const Assignment a =
+      require("spiral").create()->plan(pr, params({{"uav_footprint_m", "20, 10"}}), Context{});
+  ASSERT_EQ(a.uavs.size(), 2u);
+  const auto& da = a.uavs[0].diagnostics;
+  const auto& db = a.uavs[1].diagnostics;
+  EXPECT_FALSE(da["own_mesh"].get<bool>());
+  ASSERT_TRUE(db["own_mesh"].get<bool>());
+  const double side_b = std::sqrt(3.0) / 2.0 * 10.0;
+  EXPECT_NEAR(db["triangle_side_m"].get<double>(), side_b, 1e-9);
+  EXPECT_LE(db["mesh"]["max_edge_m"].get<double>(), side_b * (1.0 + 1e-9))
+      << "no edge longer than b's own W_d";
+  EXPECT_LE(a.diagnostics["mesh"]["max_edge_m"].get<double>(), std::sqrt(3.0) / 2.0 * 20.0 + 1e-9);
+  // half the area each: about four times as many triangles at half the side
+  const double ratio = db["triangles"].get<double>() / da["triangles"].get<double>();
+  EXPECT_GT(ratio, 3.0);
+  EXPECT_LT(ratio, 5.5);
+  double total = 0.0;
+  for (const auto& u : a.uavs) {
+    total += bg::area(u.region);
+    ASSERT_FALSE(u.coverage.empty());
+    for (const auto& part : u.coverage)
+      for (std::size_t i = 1; i < part.size(); ++i)
+        EXPECT_TRUE(geometry::segment_within(u.region, part[i - 1], part[i], 1e-6));
+  }
+  EXPECT_NEAR(total, bg::area(free), 1e-6 * bg::area(free)) << "re-meshing keeps the partition's regions";
+  // the smaller footprint's path is longer: twice the triangle density along the spiral
+  EXPECT_GT(db["path"]["waypoints"].get<int>(), 2 * da["path"]["waypoints"].get<int>());
+}
+
 TEST(SpiralPlanner, TheSameProblemGivesTheSamePlan) {
   const Problem pr = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
   const auto planner = require("spiral").create();
@@ -348,6 +381,17 @@ TEST(SpiralPlanner, BadParametersAreRefusedByName) {
   refused({{"share_tolerance", "x"}}, "planner_params.share_tolerance");
   refused({{"gimbal_pitch_deg", 95}}, "planner_params.gimbal_pitch_deg");
   refused({{"vfov_deg", 0}}, "planner_params.vfov_deg");
+  refused({{"lloyd_method", "fast"}}, "planner_params.lloyd_method");
+  // per-UAV footprints: numbers in [1, 10000] m, one per UAV (checked when planning)
+  for (const char* bad : {"20", "20,x", "20,0.5", "20,,10", "20,10,5", "20,nan"}) {
+    const Problem two = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
+    try {
+      (void)require("spiral").create()->plan(two, params({{"uav_footprint_m", bad}}), Context{});
+      ADD_FAILURE() << "uav_footprint_m \"" << bad << "\" accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("planner_params.uav_footprint_m"), std::string::npos) << e.what();
+    }
+  }
   // a pitch whose footprint reaches the horizon, with a camera
   Problem pr = problem_of(comb(), {{10, 10}}, {1.0}, 20.0);
   pr.camera = Camera{};
