@@ -49,7 +49,11 @@ Footprint footprint_of(const Problem& p, const json& params, std::vector<std::st
     if (pitch != 0.0 || has_vfov)
       warnings.push_back(
           "planner_params: gimbal_pitch_deg and vfov_deg need a camera; triangles are sized by spacing_m");
-    return square_footprint(p.spacing_m);
+    // the rule: ds is the footprint side; "footprint": the mission's footprint width (1.5 ds),
+    // which the evaluator sweeps; triangles with edges <= sqrt(3)/2 w lie within w/2 of their centroid
+    const bool by_footprint =
+        params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0;
+    return square_footprint(by_footprint ? p.footprint_m : p.spacing_m);
   }
   const double hfov = 2.0 * std::atan(p.footprint_m / (2.0 * p.altitude_m)) * 180.0 / std::numbers::pi;
   const double vfov = has_vfov ? params["vfov_deg"].get<double>() : hfov;
@@ -110,7 +114,9 @@ class SpiralPlanner final : public Planner {
     // heterogeneous cameras: each UAV's W_d scales with its footprint width against the mission's
     // (footprint_m with a camera, spacing_m without); the shared mesh uses the team's largest (the paper)
     const std::vector<double> widths = uav_footprints(params, n);
-    const double reference_m = p.camera && p.footprint_m > 0.0 ? p.footprint_m : p.spacing_m;
+    const bool by_footprint =
+        p.camera || (params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0);
+    const double reference_m = by_footprint && p.footprint_m > 0.0 ? p.footprint_m : p.spacing_m;
     std::vector<double> side(n, fp.side_m);
     for (std::size_t k = 0; k < widths.size(); ++k) side[k] = fp.side_m * widths[k] / reference_m;
     const double team_side = *std::max_element(side.begin(), side.end());
@@ -253,6 +259,11 @@ PlannerInfo spiral_planner_info() {
   info.params.push_back(
       number("vfov_deg", nullptr, 1.0, 170.0,
              "vertical (along-track) field of view; absent: the same as the horizontal one"));
+  info.params.push_back(param("size_by", ParamSpec::Type::String, "spacing", std::nullopt, std::nullopt,
+                              "without a camera: spacing (the footprint side is ds, the issue's rule) or "
+                              "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "
+                              "larger triangles, a shorter path)",
+                              {"spacing", "footprint"}));
   info.params.push_back(
       param("uav_footprint_m", ParamSpec::Type::String, "", std::nullopt, std::nullopt,
             "heterogeneous cameras: one ground footprint width (m) per UAV in the mission's order, "

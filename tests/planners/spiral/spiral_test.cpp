@@ -382,6 +382,7 @@ TEST(SpiralPlanner, BadParametersAreRefusedByName) {
   refused({{"gimbal_pitch_deg", 95}}, "planner_params.gimbal_pitch_deg");
   refused({{"vfov_deg", 0}}, "planner_params.vfov_deg");
   refused({{"lloyd_method", "fast"}}, "planner_params.lloyd_method");
+  refused({{"size_by", "camera"}}, "planner_params.size_by");
   // per-UAV footprints: numbers in [1, 10000] m, one per UAV (checked when planning)
   for (const char* bad : {"20", "20,x", "20,0.5", "20,,10", "20,10,5", "20,nan"}) {
     const Problem two = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
@@ -412,9 +413,17 @@ TEST(SpiralPlanner, TheEvaluatorSeesAtLeast995PercentOfARegion) {
   nlohmann::json j = nlohmann::json::parse(uavcover::testing::roi_text("roi09.json"));
   j["planner"] = "spiral";
   j["uavs"] = 2;
-  const Plan pl = plan(parse_mission(j.dump()));
-  const auto ev = evaluation::evaluate_plan(pl);
-  EXPECT_GE(ev.coverage.total.poc, 0.995);
+  // triangles sized by ds (the rule) and by the footprint w = 1.5 ds that the evaluator sweeps:
+  // edges <= sqrt(3)/2 w keep every triangle within w/2 of its centroid, so both must see it all
+  double length[2] = {0.0, 0.0};
+  for (int i = 0; i < 2; ++i) {
+    j["planner_params"] = {{"size_by", i == 0 ? "spacing" : "footprint"}};
+    const Plan pl = plan(parse_mission(j.dump()));
+    const auto ev = evaluation::evaluate_plan(pl);
+    EXPECT_GE(ev.coverage.total.poc, 0.995) << j["planner_params"];
+    for (const auto& u : pl.uavs) length[i] += u.coverage_length_m;
+  }
+  EXPECT_LT(length[1], 0.8 * length[0]) << "larger triangles give a shorter path";
 }
 
 #endif  // UAVCOVER_HAS_SPIRAL
