@@ -157,6 +157,7 @@ class SpiralPlanner final : public Planner {
     // 4. border-to-centre levels, 5. spiral waypoint lists
     const std::vector<int> level = levels(mesh, part.owner);
     const double s_s = params.value("valley_sensitivity", 2.0);
+    const double reversal_deg = params.value("smooth_reversal_deg", 0.0);
     for (std::size_t k = 0; k < n; ++k) {
       auto& ua = out.uavs[k];
       ua.share_actual = part.share[k];
@@ -181,7 +182,28 @@ class SpiralPlanner final : public Planner {
       const std::vector<int>& owner = own_mesh ? sub_owner : part.owner;
       const std::vector<int> sub_level = own_mesh ? levels(sub, sub_owner) : std::vector<int>{};
       const std::vector<int>& lv = own_mesh ? sub_level : level;
-      const SpiralOrder so = spiral_order(m, c, owner, lv, uav, p.starts[k], s_s, ctx);
+      SpiralOrder so = spiral_order(m, c, owner, lv, uav, p.starts[k], s_s, ctx);
+      json smoothing;
+      if (reversal_deg > 0.0) {
+        // the turns of the centroid sequence before and after the smoothing pass
+        auto turns = [&](const std::vector<int>& order) {
+          std::vector<Point> pts;
+          pts.reserve(order.size());
+          for (const int t : order) pts.push_back(c[static_cast<std::size_t>(t)]);
+          int below = 0;
+          for (std::size_t i = 1; i + 1 < pts.size(); ++i)
+            if (turn_angle_deg(pts[i - 1], pts[i], pts[i + 1]) < reversal_deg) ++below;
+          const PathStats st = path_stats({pts});
+          return json{{"reversals", below},
+                      {"length_m", st.length_m},
+                      {"mean_angle_deg", st.mean_angle_deg},
+                      {"angle_histogram_30deg", st.angle_bins}};
+        };
+        smoothing["reversal_deg"] = reversal_deg;
+        smoothing["before"] = turns(so.order);
+        smoothing["runs_reversed"] = smooth_order(c, lv, so.order, reversal_deg, ctx);
+        smoothing["after"] = turns(so.order);
+      }
       ua.coverage = route(m, c, owner, uav, so.order, ctx);
       int max_level = 0, triangles = 0;
       for (std::size_t t = 0; t < lv.size(); ++t)
@@ -193,6 +215,7 @@ class SpiralPlanner final : public Planner {
                         {"valley_step_bound_m", so.step_bound_m},
                         {"valley_deferrals", so.deferred},
                         {"path", to_json(path_stats(ua.coverage))}};
+      if (!smoothing.is_null()) ua.diagnostics["smoothing"] = smoothing;
       if (own_mesh)
         ua.diagnostics["mesh"] = {{"max_edge_m", sub_report.max_edge_m},
                                   {"refine_s", sub_report.refine_s},
@@ -259,6 +282,9 @@ PlannerInfo spiral_planner_info() {
   info.params.push_back(
       number("vfov_deg", nullptr, 1.0, 170.0,
              "vertical (along-track) field of view; absent: the same as the horizontal one"));
+  info.params.push_back(number("smooth_reversal_deg", 0.0, 0.0, 179.0,
+                               "smoothing pass: turns sharper than this (180 = straight on) are reversals, "
+                               "removed by reversing runs of 2-4 triangles of one level; 0: off"));
   info.params.push_back(param("size_by", ParamSpec::Type::String, "spacing", std::nullopt, std::nullopt,
                               "without a camera: spacing (the footprint side is ds, the issue's rule) or "
                               "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "

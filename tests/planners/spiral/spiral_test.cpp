@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <numbers>
@@ -292,6 +293,41 @@ TEST(SpiralValley, TheValleyRuleDefersAFarStepOnAComb) {
   EXPECT_GT(longest, tight.step_bound_m);
 }
 
+TEST(SpiralSmoothing, ReversalsDropAndEveryTriangleIsStillVisitedLevelByLevel) {
+  for (const MultiPolygon& free : {l_with_hole(), comb()}) {
+    const Mesh m = mesh_of(free, 17.32, 10);
+    const std::vector<Point> c = centroids(m);
+    const std::vector<int> owner(m.triangles.size(), 0);
+    const std::vector<int> lv = levels(m, owner);
+    const std::vector<int> before = spiral_order(m, c, owner, lv, 0, {0, 0}, 2.0, Context{}).order;
+    auto reversals = [&](const std::vector<int>& o, double deg) {
+      int n = 0;
+      for (std::size_t i = 1; i + 1 < o.size(); ++i)
+        if (turn_angle_deg(c[static_cast<std::size_t>(o[i - 1])], c[static_cast<std::size_t>(o[i])],
+                           c[static_cast<std::size_t>(o[i + 1])]) < deg)
+          ++n;
+      return n;
+    };
+    for (const double deg : {45.0, 90.0}) {
+      std::vector<int> after = before;
+      const int runs = smooth_order(c, lv, after, deg, Context{});
+      EXPECT_GT(runs, 0) << deg;
+      EXPECT_LT(reversals(after, deg), reversals(before, deg)) << deg;
+      // the same triangles, each once, and the same level at every position (border levels first)
+      std::vector<int> a = after, b = before;
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      EXPECT_EQ(a, b);
+      EXPECT_EQ(a.size(), m.triangles.size());
+      for (std::size_t i = 0; i < after.size(); ++i)
+        ASSERT_EQ(lv[static_cast<std::size_t>(after[i])], lv[static_cast<std::size_t>(before[i])]) << i;
+    }
+    std::vector<int> off = before;
+    EXPECT_EQ(smooth_order(c, lv, off, 0.0, Context{}), 0);
+    EXPECT_EQ(off, before) << "0 degrees: the pass is off";
+  }
+}
+
 TEST(SpiralPlanner, PathsStayInsideTheirRegionsAndCoverEveryTriangle) {
   const MultiPolygon free = l_with_hole();
   const Problem pr = problem_of(free, {{10, 10}, {590, 10}, {10, 390}}, {0.3, 0.4, 0.3}, 20.0);
@@ -383,6 +419,7 @@ TEST(SpiralPlanner, BadParametersAreRefusedByName) {
   refused({{"vfov_deg", 0}}, "planner_params.vfov_deg");
   refused({{"lloyd_method", "fast"}}, "planner_params.lloyd_method");
   refused({{"size_by", "camera"}}, "planner_params.size_by");
+  refused({{"smooth_reversal_deg", 180}}, "planner_params.smooth_reversal_deg");
   // per-UAV footprints: numbers in [1, 10000] m, one per UAV (checked when planning)
   for (const char* bad : {"20", "20,x", "20,0.5", "20,,10", "20,10,5", "20,nan"}) {
     const Problem two = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
