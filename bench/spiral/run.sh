@@ -4,6 +4,7 @@
 #     spiral through bench/compare/run.sh (one evaluator, 1 m lattice);
 #  2. a coastline-like bay (coastline.py: inlets, two islands, 3 UAVs 30/40/30 %, ds 20 m) through
 #     `uavcover compare` with the three planners;
+#  4. spiral variants on the 20 regions: size_by footprint, the smoothing pass at 45 and 90 degrees;
 #  3. speed and memory: mesh, Lloyd (0/10/60/100 steps, local and CGAL) and partition times from plan.json
 #     diagnostics, the stop latency inside Lloyd (--time-limit), peak
 #     RSS from /usr/bin/time, on squares of 1, 10 and 100 km2 at ds 20 m (about 1e4, 1e5, 1e6 triangles).
@@ -65,6 +66,26 @@ for spec in ${STOP_RUNS:-3162:local:20}; do
   "$bin" -q plan "$work/speed/stop.json" -o "$work/speed/stop" --no-images --no-evaluate --time-limit "$limit" \
     2>/dev/null || true
   echo "$side $method $limit $(echo "$(date +%s.%N) - $start" | bc)" >>"$work/speed/stop.txt"
+done
+
+# 4. spiral variants on the same regions (spiral only, `uavcover compare`, 1 m lattice): triangles sized by
+#    the swept footprint (size_by footprint) and the smoothing pass (smooth_reversal_deg 45 and 90)
+for variant in size_by=footprint smooth_reversal_deg=45 smooth_reversal_deg=90; do
+  for m in "$work"/rois/strict/roi*/mission.json; do
+    roi="$(basename "$(dirname "$m")")"
+    d="$work/variants/$variant/$roi"
+    mkdir -p "$d"
+    python3 - "$m" "$variant" "$d/mission.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+key, value = sys.argv[2].split("=")
+m["planner"] = "spiral"
+m["planner_params"] = {key: value if key == "size_by" else float(value)}
+json.dump(m, open(sys.argv[3], "w"))
+PY
+    "$bin" -q compare "$d/mission.json" --planners spiral --lattice 1 --no-images --out "$d" >/dev/null
+    "$bin" -q plan "$d/mission.json" -o "$d/plan" --no-images --no-evaluate
+  done
 done
 
 python3 "$here/table.py" "$work" "$("$bin" --version)" $runs | tee "$out"

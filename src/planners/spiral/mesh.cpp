@@ -281,7 +281,8 @@ Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Cont
                                   CGAL::parameters::seeds_end = seeds.end(), CGAL::parameters::mark = true);
     }
   } else {
-    std::vector<CDT::Vertex_handle> movable = free_vertices(cdt);
+    std::vector<CDT::Vertex_handle> movable;
+    if (options.lloyd_iterations > 0) movable = free_vertices(cdt);
     for (int i = 0; i < options.lloyd_iterations; ++i) {
       ctx.report("spiral", 0.05 + 0.35 * i / options.lloyd_iterations);
       lloyd_step(cdt, movable, seeds, ctx);
