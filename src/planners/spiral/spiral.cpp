@@ -256,6 +256,11 @@ ParamSpec number(std::string name, json def, std::optional<double> lo, std::opti
   return param(std::move(name), type, std::move(def), lo, hi, std::move(what));
 }
 
+ParamSpec choice(std::string name, std::string def, std::vector<std::string> choices, std::string what) {
+  return param(std::move(name), ParamSpec::Type::String, std::move(def), std::nullopt, std::nullopt,
+               std::move(what), std::move(choices));
+}
+
 }  // namespace
 
 PlannerInfo spiral_planner_info() {
@@ -267,11 +272,10 @@ PlannerInfo spiral_planner_info() {
       "(Balampanis et al. 2017)";
   info.params.push_back(number("lloyd_iterations", 10, 0.0, 1000.0,
                                "Lloyd optimisation steps after refinement", ParamSpec::Type::Integer));
-  info.params.push_back(param("lloyd_method", ParamSpec::Type::String, "local", std::nullopt, std::nullopt,
-                              "local: each step moves every free vertex to its restricted Voronoi centroid "
-                              "on the triangulation (flips; linear); cgal: CGAL's lloyd_optimize_mesh_2 "
-                              "(super-linear)",
-                              {"local", "cgal"}));
+  info.params.push_back(choice("lloyd_method", "local", {"local", "cgal"},
+                               "local: each step moves every free vertex to its restricted Voronoi centroid "
+                               "on the triangulation (flips; linear); cgal: CGAL's lloyd_optimize_mesh_2 "
+                               "(super-linear)"));
   info.params.push_back(
       number("valley_sensitivity", 2.0, 1.0, 1000.0,
              "S_s: a step longer than S_s times the largest neighbour distance is deferred"));
@@ -285,11 +289,11 @@ PlannerInfo spiral_planner_info() {
   info.params.push_back(number("smooth_reversal_deg", 0.0, 0.0, 179.0,
                                "smoothing pass: turns sharper than this (180 = straight on) are reversals, "
                                "removed by reversing runs of 2-4 triangles of one level; 0: off"));
-  info.params.push_back(param("size_by", ParamSpec::Type::String, "spacing", std::nullopt, std::nullopt,
-                              "without a camera: spacing (the footprint side is ds, the issue's rule) or "
-                              "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "
-                              "larger triangles, a shorter path)",
-                              {"spacing", "footprint"}));
+  info.params.push_back(
+      choice("size_by", "spacing", {"spacing", "footprint"},
+             "without a camera: spacing (the footprint side is ds, the issue's rule) or "
+             "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "
+             "larger triangles, a shorter path)"));
   info.params.push_back(
       param("uav_footprint_m", ParamSpec::Type::String, "", std::nullopt, std::nullopt,
             "heterogeneous cameras: one ground footprint width (m) per UAV in the mission's order, "
