@@ -4,10 +4,12 @@
 #     spiral through bench/compare/run.sh (one evaluator, 1 m lattice);
 #  2. a coastline-like bay (coastline.py: inlets, two islands, 3 UAVs 30/40/30 %, ds 20 m) through
 #     `uavcover compare` with the three planners;
-#  4. spiral variants on the 20 regions: size_by footprint, the smoothing pass at 45 and 90 degrees;
 #  3. speed and memory: mesh, Lloyd (0/10/60/100 steps, local and CGAL) and partition times from plan.json
-#     diagnostics, the stop latency inside Lloyd (--time-limit), peak
-#     RSS from /usr/bin/time, on squares of 1, 10 and 100 km2 at ds 20 m (about 1e4, 1e5, 1e6 triangles).
+#     diagnostics, the stop latency inside Lloyd (--time-limit), peak RSS from /usr/bin/time, on squares of
+#     1, 10 and 100 km2 at ds 20 m (about 1e4, 1e5, 1e6 triangles);
+#  4. spiral variants on the 20 regions: size_by footprint, the smoothing pass at 45 and 90 degrees;
+#  5. turn angles at the coverage waypoints (bench/spiral/angles.py) for darp, boustrophedon and the spirals.
+# Env: SPEED_RUNS / STOP_RUNS override the speed specs (side:steps:method, side:method:limit).
 # usage: bench/spiral/run.sh [BUILD_DIR]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -87,6 +89,35 @@ PY
     "$bin" -q plan "$d/mission.json" -o "$d/plan" --no-images --no-evaluate
   done
 done
+
+# 5. turn angles at the coverage waypoints (18 regions, all but 6 and 18): darp, boustrophedon, spiral
+#    and its variants, from each plan's paths.geojson
+labels=""
+for spec in darp: boustrophedon: spiral: spiral:size_by=footprint spiral:smooth_reversal_deg=45; do
+  planner="${spec%%:*}"; variant="${spec#*:}"
+  dirs=""
+  for m in "$work"/rois/strict/roi*/mission.json; do
+    roi="$(basename "$(dirname "$m")")"
+    [[ "$roi" == roi06 || "$roi" == roi18 ]] && continue
+    d="$work/angles/$planner${variant:+-$variant}/$roi"
+    mkdir -p "$d"
+    python3 - "$m" "$planner" "$variant" "$d/mission.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+m["planner"] = sys.argv[2]
+m["planner_params"] = {}
+if sys.argv[3]:
+    key, value = sys.argv[3].split("=")
+    m["planner_params"] = {key: value if key == "size_by" else float(value)}
+json.dump(m, open(sys.argv[4], "w"))
+PY
+    "$bin" -q plan "$d/mission.json" -o "$d" --no-images --no-evaluate
+    dirs="$dirs${dirs:+,}$d"
+  done
+  labels="$labels $planner${variant:+($variant)}@$dirs"
+done
+# shellcheck disable=SC2086 # one LABEL@DIRS argument per configuration, no spaces
+python3 "$here/angles.py" $labels >"$work/angles.md"
 
 python3 "$here/table.py" "$work" "$("$bin" --version)" $runs | tee "$out"
 cp "$work/coastline/compare.png" "$repo/bench/results/spiral-coastline.png" 2>/dev/null || true

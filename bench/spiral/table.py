@@ -56,6 +56,11 @@ if os.path.isdir(vdir):
                    + (f"{rev[0] / n:.1f} -> {rev[1] / n:.1f}" if rev[0] else "") + " |")
     out.append("")
 
+if os.path.exists(os.path.join(work, "angles.md")):
+    out.append("Turn angles at the coverage waypoints (`bench/spiral/angles.py` on each plan's paths.geojson, "
+               "18 regions summed; 180 = straight on):\n")
+    out.append(open(os.path.join(work, "angles.md")).read().strip() + "\n")
+
 out.append("## Coastline-like bay (3 UAVs, shares 30/40/30 %, ds 20 m)\n")
 out.append("`bench/spiral/coastline.py`: radius 600 m +- 40 % with inlets at 5, 13 and 29 per turn, two islands "
            "(holes), free area about 1.1 km2.\n")
