@@ -171,8 +171,10 @@ TEST(SpiralMesh, AStopDuringLloydEndsTheMeshing) {
       },
       stop.get_token());
   MeshOptions o;
-  o.max_edge_m = 17.32;
+  o.max_edge_m = 12.0;
   o.lloyd_iterations = 10;
+  // more than one block of 1024 vertices between the checks inside a step
+  ASSERT_GT(mesh_of(l_with_hole(), o.max_edge_m, 0).vertices.size(), 2048u);
   MeshReport r;
   EXPECT_THROW((void)build_mesh(l_with_hole(), o, ctx, r), Cancelled);
   EXPECT_EQ(reports, 1) << "no Lloyd step after the stop";
