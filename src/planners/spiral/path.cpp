@@ -228,6 +228,62 @@ std::vector<Point> merge_collinear(const std::vector<Point>& pts, double tol_deg
   return out;
 }
 
+double turn_angle_deg(Point a, Point b, Point c) {
+  const double ux = a.x() - b.x(), uy = a.y() - b.y();
+  const double vx = c.x() - b.x(), vy = c.y() - b.y();
+  return std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180.0 / std::numbers::pi;
+}
+
+int smooth_order(const std::vector<Point>& centroid, const std::vector<int>& level, std::vector<int>& order,
+                 double reversal_deg, const Context& ctx) {
+  if (!(reversal_deg > 0.0) || order.size() < 4) return 0;
+  constexpr std::size_t kWindow = 4;  // longest run reversed in one move
+  const auto c = [&](std::size_t i) { return centroid[static_cast<std::size_t>(order[i])]; };
+  // reversals and length of the turns at positions [lo, hi] and the legs between lo-1 and hi+1
+  const auto cost = [&](std::size_t lo, std::size_t hi, int& reversals, double& length) {
+    reversals = 0;
+    length = 0.0;
+    for (std::size_t m = std::max<std::size_t>(lo, 1); m <= hi && m + 1 < order.size(); ++m)
+      if (turn_angle_deg(c(m - 1), c(m), c(m + 1)) < reversal_deg) ++reversals;
+    for (std::size_t m = std::max<std::size_t>(lo, 1); m <= std::min(hi + 1, order.size() - 1); ++m)
+      length += dist(c(m - 1), c(m));
+  };
+  int moves = 0;
+  for (int pass = 0; pass < 3; ++pass) {
+    bool changed = false;
+    for (std::size_t a = 1; a + 1 < order.size(); ++a) {
+      if (a % 1024 == 0) ctx.check();
+      if (turn_angle_deg(c(a - 1), c(a), c(a + 1)) >= reversal_deg) continue;
+      // a reversal at a: try reversing a run order[i..j] around it, all of one level
+      bool done = false;
+      for (std::size_t i = a > kWindow ? a - kWindow + 1 : 1; i <= a + 1 && !done; ++i)
+        for (std::size_t j = std::max(i + 1, a); j < std::min(order.size() - 1, i + kWindow) && !done; ++j) {
+          const int lv = level[static_cast<std::size_t>(order[i])];
+          bool same = true;
+          for (std::size_t k = i; k <= j && same; ++k) same = level[static_cast<std::size_t>(order[k])] == lv;
+          if (!same) continue;
+          const std::size_t lo = i > 0 ? i - 1 : 0, hi = j + 1;
+          int r0 = 0, r1 = 0;
+          double l0 = 0.0, l1 = 0.0;
+          cost(lo, hi, r0, l0);
+          std::reverse(order.begin() + static_cast<std::ptrdiff_t>(i),
+                       order.begin() + static_cast<std::ptrdiff_t>(j + 1));
+          cost(lo, hi, r1, l1);
+          // fewer reversals, the local path at most a quarter longer
+          if (r1 < r0 && l1 <= 1.25 * l0) {
+            done = changed = true;
+            ++moves;
+          } else {
+            std::reverse(order.begin() + static_cast<std::ptrdiff_t>(i),
+                         order.begin() + static_cast<std::ptrdiff_t>(j + 1));
+          }
+        }
+    }
+    if (!changed) break;
+  }
+  return moves;
+}
+
 PathStats path_stats(const std::vector<std::vector<Point>>& parts) {
   PathStats s;
   double angle_sum = 0.0;
@@ -242,10 +298,7 @@ PathStats path_stats(const std::vector<std::vector<Point>>& parts) {
       s.min_step_m = std::min(s.min_step_m, d);
       s.max_step_m = std::max(s.max_step_m, d);
       if (k + 1 < p.size()) {
-        const double ux = p[k - 1].x() - p[k].x(), uy = p[k - 1].y() - p[k].y();
-        const double vx = p[k + 1].x() - p[k].x(), vy = p[k + 1].y() - p[k].y();
-        const double deg =
-            std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180.0 / std::numbers::pi;
+        const double deg = turn_angle_deg(p[k - 1], p[k], p[k + 1]);
         s.min_angle_deg = std::min(s.min_angle_deg, deg);
         s.max_angle_deg = std::max(s.max_angle_deg, deg);
         angle_sum += deg;

@@ -37,6 +37,17 @@ std::vector<std::vector<Point>> route(const Mesh& mesh, const std::vector<Point>
 /// Drops interior points where the path goes straight on (turn below `tol_deg`); reversals stay.
 std::vector<Point> merge_collinear(const std::vector<Point>& pts, double tol_deg = 0.5);
 
+/// The angle at b of the path a-b-c in degrees: 180 straight on, 0 a full reversal.
+double turn_angle_deg(Point a, Point b, Point c);
+
+/// The optional smoothing pass (beyond the paper): where the path through the centroids in `order`
+/// turns by an angle below `reversal_deg` (a reversal), reverses a run of 2-4 consecutive triangles of
+/// one level around it when that leaves fewer reversals among the turns it touches and the local
+/// path at most 25 % longer; up to three passes. The order stays a permutation of the same triangles
+/// and border levels keep their place. Returns the runs reversed; 0 when reversal_deg <= 0.
+int smooth_order(const std::vector<Point>& centroid, const std::vector<int>& level, std::vector<int>& order,
+                 double reversal_deg, const Context& ctx);
+
 /// The paper's path metrics (Tables I-III).
 struct PathStats {
   double length_m = 0.0;

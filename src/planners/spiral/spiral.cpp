@@ -1,5 +1,6 @@
 #include "planners/spiral/spiral.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -48,11 +49,47 @@ Footprint footprint_of(const Problem& p, const json& params, std::vector<std::st
     if (pitch != 0.0 || has_vfov)
       warnings.push_back(
           "planner_params: gimbal_pitch_deg and vfov_deg need a camera; triangles are sized by spacing_m");
-    return square_footprint(p.spacing_m);
+    // the rule: ds is the footprint side; "footprint": the mission's footprint width (1.5 ds),
+    // which the evaluator sweeps; triangles with edges <= sqrt(3)/2 w lie within w/2 of their centroid
+    const bool by_footprint =
+        params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0;
+    return square_footprint(by_footprint ? p.footprint_m : p.spacing_m);
   }
   const double hfov = 2.0 * std::atan(p.footprint_m / (2.0 * p.altitude_m)) * 180.0 / std::numbers::pi;
   const double vfov = has_vfov ? params["vfov_deg"].get<double>() : hfov;
   return camera_footprint(p.altitude_m, hfov, vfov, pitch);
+}
+
+/// planner_params.uav_footprint_m: one ground footprint width (m) per UAV in the mission's order,
+/// comma-separated ("30,30,15"); empty: every UAV flies the mission's footprint. Bounded: one number
+/// per UAV, each in [1, 10000] m.
+std::vector<double> uav_footprints(const json& params, std::size_t n) {
+  constexpr const char* kField = "planner_params.uav_footprint_m";
+  std::vector<double> out;
+  const std::string text = params.value("uav_footprint_m", std::string());
+  if (text.empty()) return out;
+  if (text.size() > 32 * n + 64) throw InputError(kField, "must hold one number per UAV");
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t end = std::min(text.find(',', pos), text.size());
+    const std::string item = text.substr(pos, end - pos);
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && item[used] == ' ') ++used;
+    if (used == 0 || used != item.size() || !std::isfinite(v) || v < 1.0 || v > 10000.0)
+      throw InputError(kField, "\"" + item + "\" is not a footprint width in metres between 1 and 10000");
+    out.push_back(v);
+    pos = end + 1;
+  }
+  if (out.size() != n)
+    throw InputError(
+        kField, "gives " + std::to_string(out.size()) + " footprints for " + std::to_string(n) + " UAVs");
+  return out;
 }
 
 class SpiralPlanner final : public Planner {
@@ -74,18 +111,31 @@ class SpiralPlanner final : public Planner {
     const Footprint fp = footprint_of(p, params, out.warnings);
     if (!(fp.side_m > 0.0) || !std::isfinite(fp.side_m))
       throw InputError("camera", "gives no positive footprint for the spiral mesh");
-    // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more
-    const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * fp.side_m * fp.side_m);
+    // heterogeneous cameras: each UAV's W_d scales with its footprint width against the mission's
+    // (footprint_m with a camera, spacing_m without); the shared mesh uses the team's largest (the paper)
+    const std::vector<double> widths = uav_footprints(params, n);
+    const bool by_footprint =
+        p.camera || (params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0);
+    const double reference_m = by_footprint && p.footprint_m > 0.0 ? p.footprint_m : p.spacing_m;
+    std::vector<double> side(n, fp.side_m);
+    for (std::size_t k = 0; k < widths.size(); ++k) side[k] = fp.side_m * widths[k] / reference_m;
+    const double team_side = *std::max_element(side.begin(), side.end());
+    const double smallest = *std::min_element(side.begin(), side.end());
+    // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more;
+    // bounded at the smallest W_d, as if one UAV re-meshed the whole area
+    const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * smallest * smallest);
     if (estimate > static_cast<double>(kMaxTriangles))
-      throw InputError("spacing_m", "the spiral mesh would need about " +
-                                        std::to_string(static_cast<long long>(estimate)) +
-                                        " triangles (at most " + std::to_string(kMaxTriangles) +
-                                        "); use a larger spacing or a smaller area");
+      throw InputError(widths.empty() ? "spacing_m" : "planner_params.uav_footprint_m",
+                       "the spiral mesh would need about " +
+                           std::to_string(static_cast<long long>(estimate)) + " triangles (at most " +
+                           std::to_string(kMaxTriangles) + "); use a larger spacing or a smaller area");
 
     // 2. mesh
     MeshOptions mo;
-    mo.max_edge_m = fp.side_m;
+    mo.max_edge_m = team_side;
     mo.lloyd_iterations = params.value("lloyd_iterations", 10);
+    mo.lloyd =
+        params.value("lloyd_method", std::string("local")) == "cgal" ? LloydMethod::Cgal : LloydMethod::Local;
     mo.max_triangles = kMaxTriangles;
     MeshReport mr;
     const Mesh mesh = build_mesh(p.free, mo, ctx, mr);
@@ -107,22 +157,70 @@ class SpiralPlanner final : public Planner {
     // 4. border-to-centre levels, 5. spiral waypoint lists
     const std::vector<int> level = levels(mesh, part.owner);
     const double s_s = params.value("valley_sensitivity", 2.0);
+    const double reversal_deg = params.value("smooth_reversal_deg", 0.0);
     for (std::size_t k = 0; k < n; ++k) {
       auto& ua = out.uavs[k];
       ua.share_actual = part.share[k];
       if (part.seed[k] < 0) continue;
-      const SpiralOrder so =
-          spiral_order(mesh, centroid, part.owner, level, static_cast<int>(k), p.starts[k], s_s, ctx);
-      ua.coverage = route(mesh, centroid, part.owner, static_cast<int>(k), so.order, ctx);
-      ua.region = region_of(mesh, part.owner, static_cast<int>(k));
+      const int uav = static_cast<int>(k);
+      ua.region = region_of(mesh, part.owner, uav);
+      // a UAV with a smaller footprint re-meshes its own sub-area at its own W_d
+      const bool own_mesh = side[k] < team_side * (1.0 - 1e-9);
+      Mesh sub;
+      MeshReport sub_report;
+      if (own_mesh) {
+        MeshOptions own = mo;
+        own.max_edge_m = side[k];
+        sub = build_mesh(ua.region, own, ctx, sub_report);
+        if (sub.triangles.empty()) continue;
+      }
+      const Mesh& m = own_mesh ? sub : mesh;
+      const std::vector<Point> sub_centroid = own_mesh ? centroids(sub) : std::vector<Point>{};
+      const std::vector<Point>& c = own_mesh ? sub_centroid : centroid;
+      const std::vector<int> sub_owner =
+          own_mesh ? std::vector<int>(sub.triangles.size(), uav) : std::vector<int>{};
+      const std::vector<int>& owner = own_mesh ? sub_owner : part.owner;
+      const std::vector<int> sub_level = own_mesh ? levels(sub, sub_owner) : std::vector<int>{};
+      const std::vector<int>& lv = own_mesh ? sub_level : level;
+      SpiralOrder so = spiral_order(m, c, owner, lv, uav, p.starts[k], s_s, ctx);
+      json smoothing;
+      if (reversal_deg > 0.0) {
+        // the turns of the centroid sequence before and after the smoothing pass
+        auto turns = [&](const std::vector<int>& order) {
+          std::vector<Point> pts;
+          pts.reserve(order.size());
+          for (const int t : order) pts.push_back(c[static_cast<std::size_t>(t)]);
+          int below = 0;
+          for (std::size_t i = 1; i + 1 < pts.size(); ++i)
+            if (turn_angle_deg(pts[i - 1], pts[i], pts[i + 1]) < reversal_deg) ++below;
+          const PathStats st = path_stats({pts});
+          return json{{"reversals", below},
+                      {"length_m", st.length_m},
+                      {"mean_angle_deg", st.mean_angle_deg},
+                      {"angle_histogram_30deg", st.angle_bins}};
+        };
+        smoothing["reversal_deg"] = reversal_deg;
+        smoothing["before"] = turns(so.order);
+        smoothing["runs_reversed"] = smooth_order(c, lv, so.order, reversal_deg, ctx);
+        smoothing["after"] = turns(so.order);
+      }
+      ua.coverage = route(m, c, owner, uav, so.order, ctx);
       int max_level = 0, triangles = 0;
-      for (std::size_t t = 0; t < level.size(); ++t)
-        if (part.owner[t] == static_cast<int>(k)) max_level = std::max(max_level, level[t]), ++triangles;
+      for (std::size_t t = 0; t < lv.size(); ++t)
+        if (owner[t] == uav) max_level = std::max(max_level, lv[t]), ++triangles;
       ua.diagnostics = {{"triangles", triangles},
+                        {"triangle_side_m", side[k]},
+                        {"own_mesh", own_mesh},
                         {"levels", max_level + 1},
                         {"valley_step_bound_m", so.step_bound_m},
                         {"valley_deferrals", so.deferred},
                         {"path", to_json(path_stats(ua.coverage))}};
+      if (!smoothing.is_null()) ua.diagnostics["smoothing"] = smoothing;
+      if (own_mesh)
+        ua.diagnostics["mesh"] = {{"max_edge_m", sub_report.max_edge_m},
+                                  {"refine_s", sub_report.refine_s},
+                                  {"lloyd_s", sub_report.lloyd_s},
+                                  {"angles_after_lloyd", to_json(sub_report.after_lloyd)}};
       ctx.report(kStage, 0.6 + 0.4 * static_cast<double>(k + 1) / static_cast<double>(n));
     }
     out.diagnostics = {{"footprint",
@@ -138,7 +236,9 @@ class SpiralPlanner final : public Planner {
                          {"max_edge_m", mr.max_edge_m},
                          {"refine_s", mr.refine_s},
                          {"lloyd_iterations", mo.lloyd_iterations},
+                         {"lloyd_method", mo.lloyd == LloydMethod::Cgal ? "cgal" : "local"},
                          {"lloyd_s", mr.lloyd_s},
+                         {"lloyd_cpu_s", mr.lloyd_cpu_s},
                          {"angles_before_lloyd", to_json(mr.before_lloyd)},
                          {"angles_after_lloyd", to_json(mr.after_lloyd)}}},
                        {"partition",
@@ -156,6 +256,11 @@ ParamSpec number(std::string name, json def, std::optional<double> lo, std::opti
   return param(std::move(name), type, std::move(def), lo, hi, std::move(what));
 }
 
+ParamSpec choice(std::string name, std::string def, std::vector<std::string> choices, std::string what) {
+  return param(std::move(name), ParamSpec::Type::String, std::move(def), std::nullopt, std::nullopt,
+               std::move(what), std::move(choices));
+}
+
 }  // namespace
 
 PlannerInfo spiral_planner_info() {
@@ -167,6 +272,10 @@ PlannerInfo spiral_planner_info() {
       "(Balampanis et al. 2017)";
   info.params.push_back(number("lloyd_iterations", 10, 0.0, 1000.0,
                                "Lloyd optimisation steps after refinement", ParamSpec::Type::Integer));
+  info.params.push_back(choice("lloyd_method", "local", {"local", "cgal"},
+                               "local: each step moves every free vertex to its restricted Voronoi centroid "
+                               "on the triangulation (flips; linear); cgal: CGAL's lloyd_optimize_mesh_2 "
+                               "(super-linear)"));
   info.params.push_back(
       number("valley_sensitivity", 2.0, 1.0, 1000.0,
              "S_s: a step longer than S_s times the largest neighbour distance is deferred"));
@@ -177,6 +286,20 @@ PlannerInfo spiral_planner_info() {
   info.params.push_back(
       number("vfov_deg", nullptr, 1.0, 170.0,
              "vertical (along-track) field of view; absent: the same as the horizontal one"));
+  info.params.push_back(number("smooth_reversal_deg", 0.0, 0.0, 179.0,
+                               "smoothing pass: turns sharper than this (180 = straight on) are reversals, "
+                               "removed by reversing runs of 2-4 triangles of one level; 0: off"));
+  info.params.push_back(
+      choice("size_by", "spacing", {"spacing", "footprint"},
+             "without a camera: spacing (the footprint side is ds, the issue's rule) or "
+             "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "
+             "larger triangles, a shorter path)"));
+  info.params.push_back(
+      param("uav_footprint_m", ParamSpec::Type::String, "", std::nullopt, std::nullopt,
+            "heterogeneous cameras: one ground footprint width (m) per UAV in the mission's order, "
+            "comma-separated (\"30,30,15\"); the mesh uses the largest, and each UAV with a smaller one "
+            "re-meshes its sub-area at its own triangle side (scaled from the mission's footprint_m, or "
+            "spacing_m without a camera); empty: the mission's footprint for all"));
   info.params.push_back(number("gimbal_pitch_deg", 0.0, 0.0, 80.0,
                                "camera pitch forward from nadir (the footprint becomes a trapezoid)"));
   info.supports = Capabilities{true, true, true, true, true, false};

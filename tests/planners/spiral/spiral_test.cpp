@@ -5,11 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <stop_token>
+#include <utility>
 
 #include "evaluation/evaluate.hpp"
 #include "geometry/geometry.hpp"
@@ -54,11 +57,13 @@ MultiPolygon comb() {
   return geometry::unite(teeth);
 }
 
-Mesh mesh_of(const MultiPolygon& free, double side, int lloyd, MeshReport* report = nullptr) {
+Mesh mesh_of(const MultiPolygon& free, double side, int lloyd, MeshReport* report = nullptr,
+             LloydMethod method = LloydMethod::Local) {
   MeshReport r;
   MeshOptions o;
   o.max_edge_m = side;
   o.lloyd_iterations = lloyd;
+  o.lloyd = method;
   o.max_triangles = 1'000'000;
   Mesh m = build_mesh(free, o, Context{}, r);
   if (report) *report = r;
@@ -114,9 +119,10 @@ TEST(SpiralFootprint, ATiltedGimbalGivesTheTrapezoidComputedByHand) {
 
 TEST(SpiralMesh, NoEdgeIsLongerThanTheTriangleSideAndHolesAreNotMeshed) {
   const MultiPolygon free = l_with_hole();
-  for (int lloyd : {0, 10}) {
+  for (const auto& [lloyd, method] : {std::pair{0, LloydMethod::Local}, std::pair{10, LloydMethod::Local},
+                                      std::pair{10, LloydMethod::Cgal}}) {
     const double side = 17.32;
-    const Mesh m = mesh_of(free, side, lloyd);
+    const Mesh m = mesh_of(free, side, lloyd, nullptr, method);
     ASSERT_GT(m.triangles.size(), 500u);
     EXPECT_LE(longest_edge(m), side * (1.0 + 1e-9)) << lloyd << " Lloyd steps";
     double total = 0.0;
@@ -140,12 +146,38 @@ TEST(SpiralMesh, TheSameAreaGivesTheSameMesh) {
 }
 
 TEST(SpiralMesh, LloydImprovesTheAngles) {
+  MeshReport local, cgal;
+  (void)mesh_of(l_with_hole(), 17.32, 10, &local, LloydMethod::Local);
+  (void)mesh_of(l_with_hole(), 17.32, 10, &cgal, LloydMethod::Cgal);
+  for (const MeshReport& r : {local, cgal}) {
+    // measured 0.39 -> 0.62 of the angles within 10 degrees of 60 on the coastline bench (10 steps)
+    EXPECT_GT(r.after_lloyd.within_10_of_60, r.before_lloyd.within_10_of_60 + 0.1);
+    EXPECT_GT(r.after_lloyd.mean_min_deg, r.before_lloyd.mean_min_deg + 2.0);
+    EXPECT_GE(r.before_lloyd.min_deg, 20.0) << "CGAL's shape bound 0.125 keeps angles above 20.7 degrees";
+  }
+  // the same move (centroid of the restricted Voronoi cell) from the same mesh: CGAL weights it by its
+  // sizing field, the local steps by a uniform density, so the two end close but not equal
+  EXPECT_NEAR(local.after_lloyd.within_10_of_60, cgal.after_lloyd.within_10_of_60, 0.05);
+  EXPECT_NEAR(local.after_lloyd.mean_min_deg, cgal.after_lloyd.mean_min_deg, 1.5);
+}
+
+TEST(SpiralMesh, AStopDuringLloydEndsTheMeshing) {
+  // the stop is requested while step 2 of 10 starts: the next check (inside that step) throws
+  std::stop_source stop;
+  int reports = 0;
+  const Context ctx(
+      [&](std::string_view stage, double fraction) {
+        if (stage == "spiral" && fraction > 0.05) ++reports, stop.request_stop();
+      },
+      stop.get_token());
+  MeshOptions o;
+  o.max_edge_m = 12.0;
+  o.lloyd_iterations = 10;
+  // more than one block of 1024 vertices between the checks inside a step
+  ASSERT_GT(mesh_of(l_with_hole(), o.max_edge_m, 0).vertices.size(), 2048u);
   MeshReport r;
-  (void)mesh_of(l_with_hole(), 17.32, 10, &r);
-  // measured 0.39 -> 0.62 of the angles within 10 degrees of 60 on the coastline bench (10 steps)
-  EXPECT_GT(r.after_lloyd.within_10_of_60, r.before_lloyd.within_10_of_60 + 0.1);
-  EXPECT_GT(r.after_lloyd.mean_min_deg, r.before_lloyd.mean_min_deg + 2.0);
-  EXPECT_GE(r.before_lloyd.min_deg, 20.0) << "CGAL's shape bound 0.125 keeps angles above 20.7 degrees";
+  EXPECT_THROW((void)build_mesh(l_with_hole(), o, ctx, r), Cancelled);
+  EXPECT_EQ(reports, 1) << "no Lloyd step after the stop";
 }
 
 namespace {
@@ -263,6 +295,41 @@ TEST(SpiralValley, TheValleyRuleDefersAFarStepOnAComb) {
   EXPECT_GT(longest, tight.step_bound_m);
 }
 
+TEST(SpiralSmoothing, ReversalsDropAndEveryTriangleIsStillVisitedLevelByLevel) {
+  for (const MultiPolygon& free : {l_with_hole(), comb()}) {
+    const Mesh m = mesh_of(free, 17.32, 10);
+    const std::vector<Point> c = centroids(m);
+    const std::vector<int> owner(m.triangles.size(), 0);
+    const std::vector<int> lv = levels(m, owner);
+    const std::vector<int> before = spiral_order(m, c, owner, lv, 0, {0, 0}, 2.0, Context{}).order;
+    auto reversals = [&](const std::vector<int>& o, double deg) {
+      int n = 0;
+      for (std::size_t i = 1; i + 1 < o.size(); ++i)
+        if (turn_angle_deg(c[static_cast<std::size_t>(o[i - 1])], c[static_cast<std::size_t>(o[i])],
+                           c[static_cast<std::size_t>(o[i + 1])]) < deg)
+          ++n;
+      return n;
+    };
+    for (const double deg : {45.0, 90.0}) {
+      std::vector<int> after = before;
+      const int runs = smooth_order(c, lv, after, deg, Context{});
+      EXPECT_GT(runs, 0) << deg;
+      EXPECT_LT(reversals(after, deg), reversals(before, deg)) << deg;
+      // the same triangles, each once, and the same level at every position (border levels first)
+      std::vector<int> a = after, b = before;
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      EXPECT_EQ(a, b);
+      EXPECT_EQ(a.size(), m.triangles.size());
+      for (std::size_t i = 0; i < after.size(); ++i)
+        ASSERT_EQ(lv[static_cast<std::size_t>(after[i])], lv[static_cast<std::size_t>(before[i])]) << i;
+    }
+    std::vector<int> off = before;
+    EXPECT_EQ(smooth_order(c, lv, off, 0.0, Context{}), 0);
+    EXPECT_EQ(off, before) << "0 degrees: the pass is off";
+  }
+}
+
 TEST(SpiralPlanner, PathsStayInsideTheirRegionsAndCoverEveryTriangle) {
   const MultiPolygon free = l_with_hole();
   const Problem pr = problem_of(free, {{10, 10}, {590, 10}, {10, 390}}, {0.3, 0.4, 0.3}, 20.0);
@@ -282,6 +349,39 @@ TEST(SpiralPlanner, PathsStayInsideTheirRegionsAndCoverEveryTriangle) {
   }
   EXPECT_NEAR(total, bg::area(free), 1e-6 * bg::area(free));
   EXPECT_LE(a.diagnostics["mesh"]["max_edge_m"].get<double>(), std::sqrt(3.0) / 2.0 * 20.0 + 1e-9);
+}
+
+TEST(SpiralPlanner, ASmallerFootprintGetsSmallerTrianglesInItsOwnSubArea) {
+  // ds 20 m without a camera: W_d = 17.32 m; UAV b flies a 10 m footprint: W_d = 8.66 m in its sub-area
+  const MultiPolygon free = l_with_hole();
+  const Problem pr = problem_of(free, {{10, 10}, {590, 10}}, {0.5, 0.5}, 20.0);
+  const Assignment a =
+      require("spiral").create()->plan(pr, params({{"uav_footprint_m", "20, 10"}}), Context{});
+  ASSERT_EQ(a.uavs.size(), 2u);
+  const auto& da = a.uavs[0].diagnostics;
+  const auto& db = a.uavs[1].diagnostics;
+  EXPECT_FALSE(da["own_mesh"].get<bool>());
+  ASSERT_TRUE(db["own_mesh"].get<bool>());
+  const double side_b = std::sqrt(3.0) / 2.0 * 10.0;
+  EXPECT_NEAR(db["triangle_side_m"].get<double>(), side_b, 1e-9);
+  EXPECT_LE(db["mesh"]["max_edge_m"].get<double>(), side_b * (1.0 + 1e-9))
+      << "no edge longer than b's own W_d";
+  EXPECT_LE(a.diagnostics["mesh"]["max_edge_m"].get<double>(), std::sqrt(3.0) / 2.0 * 20.0 + 1e-9);
+  // half the area each: about four times as many triangles at half the side
+  const double ratio = db["triangles"].get<double>() / da["triangles"].get<double>();
+  EXPECT_GT(ratio, 3.0);
+  EXPECT_LT(ratio, 5.5);
+  double total = 0.0;
+  for (const auto& u : a.uavs) {
+    total += bg::area(u.region);
+    ASSERT_FALSE(u.coverage.empty());
+    for (const auto& part : u.coverage)
+      for (std::size_t i = 1; i < part.size(); ++i)
+        EXPECT_TRUE(geometry::segment_within(u.region, part[i - 1], part[i], 1e-6));
+  }
+  EXPECT_NEAR(total, bg::area(free), 1e-6 * bg::area(free)) << "re-meshing keeps the partition's regions";
+  // the smaller footprint's path is longer: twice the triangle density along the spiral
+  EXPECT_GT(db["path"]["waypoints"].get<int>(), 2 * da["path"]["waypoints"].get<int>());
 }
 
 TEST(SpiralPlanner, TheSameProblemGivesTheSamePlan) {
@@ -319,6 +419,19 @@ TEST(SpiralPlanner, BadParametersAreRefusedByName) {
   refused({{"share_tolerance", "x"}}, "planner_params.share_tolerance");
   refused({{"gimbal_pitch_deg", 95}}, "planner_params.gimbal_pitch_deg");
   refused({{"vfov_deg", 0}}, "planner_params.vfov_deg");
+  refused({{"lloyd_method", "fast"}}, "planner_params.lloyd_method");
+  refused({{"size_by", "camera"}}, "planner_params.size_by");
+  refused({{"smooth_reversal_deg", 180}}, "planner_params.smooth_reversal_deg");
+  // per-UAV footprints: numbers in [1, 10000] m, one per UAV (checked when planning)
+  for (const char* bad : {"20", "20,x", "20,0.5", "20,,10", "20,10,5", "20,nan"}) {
+    const Problem two = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
+    try {
+      (void)require("spiral").create()->plan(two, params({{"uav_footprint_m", bad}}), Context{});
+      ADD_FAILURE() << "uav_footprint_m \"" << bad << "\" accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("planner_params.uav_footprint_m"), std::string::npos) << e.what();
+    }
+  }
   // a pitch whose footprint reaches the horizon, with a camera
   Problem pr = problem_of(comb(), {{10, 10}}, {1.0}, 20.0);
   pr.camera = Camera{};
@@ -339,9 +452,17 @@ TEST(SpiralPlanner, TheEvaluatorSeesAtLeast995PercentOfARegion) {
   nlohmann::json j = nlohmann::json::parse(uavcover::testing::roi_text("roi09.json"));
   j["planner"] = "spiral";
   j["uavs"] = 2;
-  const Plan pl = plan(parse_mission(j.dump()));
-  const auto ev = evaluation::evaluate_plan(pl);
-  EXPECT_GE(ev.coverage.total.poc, 0.995);
+  // triangles sized by ds (the rule) and by the footprint w = 1.5 ds that the evaluator sweeps:
+  // edges <= sqrt(3)/2 w keep every triangle within w/2 of its centroid, so both must see it all
+  double length[2] = {0.0, 0.0};
+  for (int i = 0; i < 2; ++i) {
+    j["planner_params"] = {{"size_by", i == 0 ? "spacing" : "footprint"}};
+    const Plan pl = plan(parse_mission(j.dump()));
+    const auto ev = evaluation::evaluate_plan(pl);
+    EXPECT_GE(ev.coverage.total.poc, 0.995) << j["planner_params"];
+    for (const auto& u : pl.uavs) length[i] += u.coverage_length_m;
+  }
+  EXPECT_LT(length[1], 0.8 * length[0]) << "larger triangles give a shorter path";
 }
 
 #endif  // UAVCOVER_HAS_SPIRAL
