@@ -44,8 +44,10 @@ std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
                         const std::vector<double>& shares);
 
 /// Splits `nodes` (one UAV's part) into connected subgraphs of about `size` nodes: square-ish tiles of
-/// the lattice, each tile's part split into its connected components.
-std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size);
+/// the lattice (`strips`: tiles two lattice lines wide and size / 2 long, along the nodes' longer
+/// extent, whose cycles turn only at their ends), each tile's part split into its connected components.
+std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size,
+                                    bool strips = false);
 
 /// The subgraph of `nodes` with the lattice's edges between them (local numbers follow `nodes`).
 Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes);
