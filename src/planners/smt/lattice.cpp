@@ -262,10 +262,10 @@ Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes) {
   return g;
 }
 
-std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk) {
+std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk, bool closed) {
   std::vector<Point> pts;
   for (int v : walk) pts.push_back(lat.pos[static_cast<std::size_t>(v)]);
-  if (!walk.empty()) pts.push_back(lat.pos[static_cast<std::size_t>(walk.front())]);
+  if (closed && !walk.empty()) pts.push_back(lat.pos[static_cast<std::size_t>(walk.front())]);
   if (pts.size() <= 2) return pts;
   std::vector<Point> out{pts.front()};
   for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
@@ -279,19 +279,28 @@ std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk) {
   return out;
 }
 
+Walk flight_order(const Lattice& lat, const Walk& walk, int entry, Point home) {
+  Walk out = walk;
+  const auto it = std::find(out.begin(), out.end(), entry);
+  if (it != out.end()) std::rotate(out.begin(), it, out.end());
+  // the walk's last node is one of the entry's two neighbours on it: the one nearer home
+  if (out.size() > 2 && dist2(lat.pos[static_cast<std::size_t>(out[1])], home) <
+                            dist2(lat.pos[static_cast<std::size_t>(out.back())], home))
+    std::reverse(out.begin() + 1, out.end());
+  return out;
+}
+
 RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
                      const LegFn& leg) {
-  Walk rotated = walk;
-  const auto it = std::find(rotated.begin(), rotated.end(), entry);
-  if (it != rotated.end()) std::rotate(rotated.begin(), it, rotated.end());
-  const Point e = lat.pos[static_cast<std::size_t>(entry)];
-  std::vector<Point> flight = leg(home, e);
+  const Walk path = flight_order(lat, walk, entry, home);
+  if (path.empty()) return {};
+  std::vector<Point> flight = leg(home, lat.pos[static_cast<std::size_t>(path.front())]);
   auto append = [&](const std::vector<Point>& pts) {
     for (const Point& p : pts)
       if (flight.empty() || dist2(flight.back(), p) > 1e-12) flight.push_back(p);
   };
-  append(walk_polyline(lat, rotated));
-  append(leg(e, home));
+  append(walk_polyline(lat, path, false));
+  append(leg(lat.pos[static_cast<std::size_t>(path.back())], home));
   RouteCost out;
   out.length_m = geometry::length(flight);
   out.turns = geometry::count_turns(flight);
@@ -425,8 +434,7 @@ std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Po
         break;
       }
     }
-    const auto it = std::find(route.walk.begin(), route.walk.end(), route.entry);
-    std::rotate(route.walk.begin(), it, route.walk.end());
+    route.walk = flight_order(lat, route.walk, route.entry, home);
     route.time_s = cost.time_s;
     route.length_m = cost.length_m;
     route.turns = cost.turns;

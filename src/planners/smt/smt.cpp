@@ -187,8 +187,8 @@ class SmtPlanner final : public Planner {
       } else {
         for (auto& w : walks) {
           smt::Route r;
-          r.walk = w;
           r.entry = w.front();
+          r.walk = smt::flight_order(lat, w, r.entry, problem.starts[u]);
           const auto c = smt::route_cost(lat, w, r.entry, problem.starts[u], uav, leg);
           r.time_s = c.time_s, r.length_m = c.length_m, r.turns = c.turns, r.walks = 1;
           if (r.time_s > limit) ++over;
@@ -199,7 +199,7 @@ class SmtPlanner final : public Planner {
       UavAssignment a;
       nlohmann::json sorties = nlohmann::json::array();
       for (const auto& r : routes) {
-        a.coverage.push_back(smt::walk_polyline(lat, r.walk));
+        a.coverage.push_back(smt::walk_polyline(lat, r.walk, false));  // entry to exit
         sorties.push_back({{"time_s", r.time_s},
                            {"length_m", r.length_m},
                            {"turns", r.turns},

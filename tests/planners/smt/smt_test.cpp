@@ -11,6 +11,7 @@
 #include <queue>
 #include <set>
 
+#include "evaluation/cost.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
 #include "planners/smt/cover.hpp"
@@ -219,9 +220,19 @@ TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
     EXPECT_GE(routes.size(), previous) << "limit " << limit;
     if (first == 0) first = routes.size();
     previous = routes.size();
-    for (const auto& part : a.uavs[0].coverage) {  // closed, from the route's node nearest home
+    for (std::size_t i = 0; i < routes.size(); ++i) {
+      // an open path from the route's entry to a lattice neighbour of it; with the legs from and back to
+      // home a closed cycle, whose modelled time is the route's
+      const auto& part = a.uavs[0].coverage[i];
       ASSERT_GE(part.size(), 2u);
-      EXPECT_LT(bg::distance(part.front(), part.back()), 1e-9);
+      EXPECT_NEAR(bg::distance(part.front(), part.back()), 10.0, 1e-9);
+      std::vector<Point> cycle{p.starts[0]};
+      cycle.insert(cycle.end(), part.begin(), part.end());
+      cycle.push_back(p.starts[0]);
+      const double t =
+          evaluation::flight_duration_min(geometry::length(cycle), geometry::count_turns(cycle), p.uavs[0]) *
+          60.0;
+      EXPECT_NEAR(routes[i].at("time_s").get<double>(), t, 1e-6);
     }
     EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
   }
@@ -294,6 +305,7 @@ TEST(SmtParams, BadParametersAreRefusedByName) {
       {{{"turns", 1}}, "planner_params.turns"},
       {{{"turn_penalty_m", -1}}, "planner_params.turn_penalty_m"},
       {{{"turn_penalty_m", 1e6}}, "planner_params.turn_penalty_m"},
+      {{{"subgraph_shape", "round"}}, "planner_params.subgraph_shape"},
   };
   for (const auto& [params, field] : bad) {
     try {
@@ -373,14 +385,10 @@ TEST(SmtCover, ATurnPenaltyNeverGivesMoreTurnsThanTheLengthOptimum) {
   EXPECT_GT(fewer, 0) << "the penalty removed turns somewhere";
 }
 
-TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithFewerTurns) {
+TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithNoMoreTurnPairs) {
+  // (the routes' flown turns also depend on how the walks are stitched: not compared)
   const Problem p = problem(mp({rect(0, 0, 80, 40)}), {}, {Point{-10, -10}}, 10.0);
   const smt::Lattice lat = smt::build_lattice(p, false, 10000);
-  auto turns = [](const Assignment& a) {
-    int t = 0;
-    for (const auto& part : a.uavs[0].coverage) t += geometry::count_turns(part);
-    return t;
-  };
   const nlohmann::json params{{"max_flight_time_s", 600}, {"subgraph_size", 12}};
   nlohmann::json with = params;
   with["turn_penalty_m"] = 15;
@@ -394,7 +402,26 @@ TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithFewerTurns) {
   const auto& subs = penalised.diagnostics.at("subgraphs");
   EXPECT_LE(subs.at("turn_pairs").get<int>(), plain.diagnostics.at("subgraphs").at("turn_pairs").get<int>());
   EXPECT_EQ(subs.at("turn_penalty_m").get<double>(), 15.0);
-  EXPECT_LE(turns(penalised), turns(plain));
+}
+
+TEST(SmtRoutes, StripSubgraphsAreTwoLinesWideAlongTheLongerExtent) {
+  const Problem p = problem(mp({rect(0, 0, 120, 50)}), {}, {Point{-10, -10}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  std::vector<int> all(static_cast<std::size_t>(lat.size()));
+  for (int v = 0; v < lat.size(); ++v) all[static_cast<std::size_t>(v)] = v;
+  std::vector<int> seen(all.size(), 0);
+  for (const auto& part : smt::split(lat, all, 20, true)) {
+    std::set<int> rows;
+    for (int v : part) {
+      rows.insert(lat.cell[static_cast<std::size_t>(v)][1]);
+      ++seen[static_cast<std::size_t>(v)];
+    }
+    EXPECT_LE(rows.size(), 2u) << "12 columns by 5 rows: strips run along the rows";
+    EXPECT_LE(part.size(), 20u);
+  }
+  for (int c : seen) EXPECT_EQ(c, 1);
+  const Assignment a = run(p, {{"subgraph_shape", "strip"}, {"max_flight_time_s", 600}});
+  EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
 }
 
 }  // namespace
