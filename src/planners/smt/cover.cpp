@@ -118,6 +118,31 @@ long long used_length(const Subgraph& g, const std::vector<int>& use) {
   return total;
 }
 
+/// The subgraph of g's lightest edges (same nodes; turning pairs renumbered).
+Subgraph lightest_edges(const Subgraph& g) {
+  Subgraph out;
+  out.n = g.n;
+  if (g.weight.empty()) return out;
+  const int w = *std::min_element(g.weight.begin(), g.weight.end());
+  std::vector<int> index(g.edges.size(), -1);
+  for (std::size_t e = 0; e < g.edges.size(); ++e)
+    if (g.weight[e] == w) {
+      index[e] = static_cast<int>(out.edges.size());
+      out.edges.push_back(g.edges[e]);
+      out.weight.push_back(w);
+    }
+  for (const auto& t : g.turns) {
+    const int a = index[static_cast<std::size_t>(t[1])], b = index[static_cast<std::size_t>(t[2])];
+    if (a >= 0 && b >= 0) out.turns.push_back({t[0], a, b});
+  }
+  return out;
+}
+
+bool connected(const Subgraph& g) {
+  std::vector<int> label;
+  return components(g, incidence(g), std::vector<int>(g.edges.size(), 1), label) == 1;
+}
+
 int turn_pairs(const Subgraph& g, const std::vector<int>& use) {
   if (use.empty()) return 0;
   return static_cast<int>(std::count_if(g.turns.begin(), g.turns.end(), [&](const std::array<int, 3>& t) {
@@ -217,14 +242,35 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
   out.objective = out.length + penalty * out.turns;
   out.fallback = true;
   const long long lower = length_lower_bound(g);
+  // edges of several weights (the 8-connected lattice): solve on the lightest edges alone first (the
+  // 4-connected tile, where z3 proves optimality quickly), if they connect every node, and start from
+  // that walk; it is often at the lower bound already
+  if (const Subgraph light = lightest_edges(g); light.edges.size() < g.edges.size() && connected(light)) {
+    const CoverResult inner = solve_cover(light, options, interrupter);
+    out.checks += inner.checks;
+    out.cuts += inner.cuts;
+    const long long objective = inner.length + penalty * walk_turn_pairs(g, inner.walk);
+    if (!inner.fallback && objective < out.objective) {
+      out.walk = inner.walk;
+      out.length = inner.length;
+      out.turns = walk_turn_pairs(g, inner.walk);
+      out.objective = objective;
+      out.fallback = false;
+      out.first_length = out.length;
+      out.lengths.push_back(out.length);
+      out.objectives.push_back(out.objective);
+    }
+  }
   // a connected cover of nodes that are not all on one line turns somewhere: at least one turning pair
   const long long lower_objective = lower + (g.turns.empty() ? 0 : penalty);
-  if (g.n <= 1 || out.objective <= lower_objective) {  // one node, or the tree walk is optimal (two nodes)
-    out.fallback = false;
+  if (g.n <= 1 || out.objective <= lower_objective) {  // one node, or the walk so far is optimal
+    if (out.fallback) {
+      out.fallback = false;
+      out.first_length = out.length;
+      out.lengths.push_back(out.length);
+      out.objectives.push_back(out.objective);
+    }
     out.optimal = true;
-    out.first_length = out.length;
-    out.lengths.push_back(out.length);
-    out.objectives.push_back(out.objective);
     return out;
   }
   const auto inc = incidence(g);
