@@ -73,8 +73,9 @@ print("# SMT planner (POPCORN-style, z3) against DARP\n")
 print(f"`bench/smt/run.sh`, {version}, Release build, measured on a {cores}-core machine shared with other "
       f"jobs (load average {load} at the end): compute times are wall-clock on a busy machine, not a clean "
       "measurement. One evaluator for both planners (`uavcover compare`: square footprint 1.5 ds swept along each "
-      "leg, 1 m lattice). Length = coverage plus transit legs from and back to the start; the smt routes' legs to and "
-      "from home between sorties are in the route times (plan diagnostics), not in the plan's path.\n")
+      "leg, 1 m lattice). Length = coverage plus transit legs from and back to the start. Each smt route is an open path "
+      "from its entry node to its exit node (a neighbour of the entry); its legs from and back to home are in the route "
+      "times and route turns (plan diagnostics), while the plan's path joins one route's exit to the next one's entry.\n")
 print("## Thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, 5-minute limit\n")
 print("| run | planner | routes | PoC % | turns | coverage m | length m | route times s | route turns (with legs) | z3 subgraphs (optimal) | turn pairs | compute s |")
 print("|---|---|---:|---:|---:|---:|---:|---|---:|---|---:|---:|")
