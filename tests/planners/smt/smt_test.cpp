@@ -388,7 +388,7 @@ TEST(SmtCover, ATurnPenaltyNeverGivesMoreTurnsThanTheLengthOptimum) {
     const smt::Subgraph g = smt::subgraph(lat, nodes);
     ASSERT_FALSE(g.turns.empty());
     smt::CoverOptions plain, penalised;
-    plain.timeout_s = penalised.timeout_s = 30.0;
+    plain.timeout_s = penalised.timeout_s = 600.0;  // small instances: proven long before
     penalised.turn_penalty = 1500;
     const smt::CoverResult a = smt::solve_cover(g, plain, nullptr);
     const smt::CoverResult b = smt::solve_cover(g, penalised, nullptr);
@@ -418,7 +418,7 @@ TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithNoMoreTurnPairs) {
   // (the routes' flown turns also depend on how the walks are stitched: not compared)
   const Problem p = problem(mp({rect(0, 0, 80, 40)}), {}, {Point{-10, -10}}, 10.0);
   const smt::Lattice lat = smt::build_lattice(p, false, 10000);
-  const nlohmann::json params{{"max_flight_time_s", 600}, {"subgraph_size", 12}};
+  const nlohmann::json params{{"max_flight_time_s", 600}, {"subgraph_size", 12}, {"timeout_s", 600}};
   nlohmann::json with = params;
   with["turn_penalty_m"] = 15;
   const Assignment plain = run(p, params);
