@@ -3,7 +3,7 @@
 # POPCORN's 5-minute flight-time limit, and the 20 regions of bench/data/apostolidis2022 (1 UAV, ds 40 m,
 # coverage mode) under a 25-minute limit, each with `uavcover compare --planners smt,darp` (one evaluator)
 # plus `uavcover plan` for the smt plan's route diagnostics. Writes bench/results/smt.md.
-# usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage
+# usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage ROI_PARAMS='{"max_flight_time_s":1500}' RECT=1
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
@@ -14,6 +14,9 @@ work="${WORK:-${TMPDIR:-/tmp}/uavcover-smt-bench}"
 rois="${ROIS:-$(seq -w 1 20 | tr '\n' ' ')}"
 mode="${MODE:-coverage}"
 out="${OUT:-$repo/bench/results/smt.md}"
+# smt parameters on the 20 regions (JSON)
+export ROI_PARAMS="${ROI_PARAMS:-}"
+[[ -n "$ROI_PARAMS" ]] || ROI_PARAMS='{"max_flight_time_s":1500}'
 [[ -x "$bin" ]] || { echo "run.sh: no uavcover binary at $bin" >&2; exit 2; }
 rm -rf "$work"
 mkdir -p "$work"
@@ -45,11 +48,13 @@ variant rect1c "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300}'
 variant rect1c_strip "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"subgraph_shape":"strip"}'
 variant rect1c_strip_pen "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"subgraph_shape":"strip","turn_penalty_m":10}'
 variant rect1c_pen "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"turn_penalty_m":10}'
-for name in rect3 rect1 rect1_pen rect1_diag rect1c rect1c_pen rect1c_strip rect1c_strip_pen; do run "$name"; done
+if [[ "${RECT:-1}" == 1 ]]; then  # RECT=0: the 20 regions only
+  for name in rect3 rect1 rect1_pen rect1_diag rect1c rect1c_pen rect1c_strip rect1c_strip_pen; do run "$name"; done
+fi
 for n in $rois; do
   roi="roi$(printf %02d "$((10#$n))")"
   variant "$roi" "$data/apostolidis2022/$roi.json" \
-    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]={\"max_flight_time_s\":1500}"
+    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]=json.loads(__import__(\"os\").environ[\"ROI_PARAMS\"])"
   run "$roi"
 done
 
