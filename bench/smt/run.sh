@@ -3,7 +3,7 @@
 # POPCORN's 5-minute flight-time limit, and the 20 regions of bench/data/apostolidis2022 (1 UAV, ds 40 m,
 # coverage mode) under a 25-minute limit, each with `uavcover compare --planners smt,darp` (one evaluator)
 # plus `uavcover plan` for the smt plan's route diagnostics. Writes bench/results/smt.md.
-# usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage
+# usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage ROI_PARAMS='{"max_flight_time_s":1500}' RECT=1
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
@@ -14,6 +14,9 @@ work="${WORK:-${TMPDIR:-/tmp}/uavcover-smt-bench}"
 rois="${ROIS:-$(seq -w 1 20 | tr '\n' ' ')}"
 mode="${MODE:-coverage}"
 out="${OUT:-$repo/bench/results/smt.md}"
+# smt parameters on the 20 regions (JSON)
+export ROI_PARAMS="${ROI_PARAMS:-}"
+[[ -n "$ROI_PARAMS" ]] || ROI_PARAMS='{"max_flight_time_s":1500}'
 [[ -x "$bin" ]] || { echo "run.sh: no uavcover binary at $bin" >&2; exit 2; }
 rm -rf "$work"
 mkdir -p "$work"
@@ -38,11 +41,20 @@ variant rect3 "$rect" 'm["planner"]="smt"; m["planner_params"]={"max_flight_time
 # one home point at the south-west corner, routes as sorties of one UAV
 variant rect1 "$rect" 'm["planner"]="smt"; m["uavs"]=[dict(m["uavs"][0], start=m["area"]["coordinates"][0][0])]; m["planner_params"]={"max_flight_time_s":300}'
 variant rect1_diag "$rect" 'm["planner"]="smt"; m["uavs"]=[dict(m["uavs"][0], start=m["area"]["coordinates"][0][0])]; m["planner_params"]={"max_flight_time_s":300,"diagonal_edges":True}'
-for name in rect3 rect1 rect1_diag; do run "$name"; done
+variant rect1_pen "$rect" 'm["planner"]="smt"; m["uavs"]=[dict(m["uavs"][0], start=m["area"]["coordinates"][0][0])]; m["planner_params"]={"max_flight_time_s":300,"turn_penalty_m":10}'
+# home at the field's centre (the thesis's take-off point is not given): square tiles, strips, strips + penalty
+centre='c=m["area"]["coordinates"][0]; m["uavs"]=[dict(m["uavs"][0], start=[(c[0][0]+c[2][0])/2,(c[0][1]+c[2][1])/2])]; m["planner"]="smt"; '
+variant rect1c "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300}'
+variant rect1c_strip "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"subgraph_shape":"strip"}'
+variant rect1c_strip_pen "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"subgraph_shape":"strip","turn_penalty_m":10}'
+variant rect1c_pen "$rect" "$centre"'m["planner_params"]={"max_flight_time_s":300,"turn_penalty_m":10}'
+if [[ "${RECT:-1}" == 1 ]]; then  # RECT=0: the 20 regions only
+  for name in rect3 rect1 rect1_pen rect1_diag rect1c rect1c_pen rect1c_strip rect1c_strip_pen; do run "$name"; done
+fi
 for n in $rois; do
   roi="roi$(printf %02d "$((10#$n))")"
   variant "$roi" "$data/apostolidis2022/$roi.json" \
-    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]={\"max_flight_time_s\":1500}"
+    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]=json.loads(__import__(\"os\").environ[\"ROI_PARAMS\"])"
   run "$roi"
 done
 
@@ -66,13 +78,20 @@ print("# SMT planner (POPCORN-style, z3) against DARP\n")
 print(f"`bench/smt/run.sh`, {version}, Release build, measured on a {cores}-core machine shared with other "
       f"jobs (load average {load} at the end): compute times are wall-clock on a busy machine, not a clean "
       "measurement. One evaluator for both planners (`uavcover compare`: square footprint 1.5 ds swept along each "
-      "leg, 1 m lattice). Length = coverage plus transit legs from and back to the start; the smt routes' legs to and "
-      "from home between sorties are in the route times (plan diagnostics), not in the plan's path.\n")
+      "leg, 1 m lattice). Length = coverage plus transit legs from and back to the start. Each smt route is an open path "
+      "from its entry node to its exit node (a neighbour of the entry); its legs from and back to home are in the route "
+      "times and route turns (plan diagnostics), while the plan's path joins one route's exit to the next one's entry.\n")
 print("## Thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, 5-minute limit\n")
-print("| run | planner | routes | PoC % | turns | coverage m | length m | route times s | z3 subgraphs (optimal) | compute s |")
-print("|---|---|---:|---:|---:|---:|---:|---|---|---:|")
+print("| run | planner | routes | PoC % | turns | coverage m | length m | route times s | route turns (with legs) | z3 subgraphs (optimal) | turn pairs | compute s |")
+print("|---|---|---:|---:|---:|---:|---:|---|---:|---|---:|---:|")
+darp_done = set()
 for name, label in [("rect3", "3 UAVs, seeded starts"), ("rect1", "1 UAV, home SW corner"),
-                    ("rect1_diag", "1 UAV, home SW corner, 8-connected")]:
+                    ("rect1_pen", "1 UAV, home SW corner, turn penalty 10 m"),
+                    ("rect1_diag", "1 UAV, home SW corner, 8-connected"),
+                    ("rect1c", "1 UAV, home at the centre"),
+                    ("rect1c_pen", "1 UAV, home at the centre, turn penalty 10 m"),
+                    ("rect1c_strip", "1 UAV, home at the centre, strips"),
+                    ("rect1c_strip_pen", "1 UAV, home at the centre, strips, turn penalty 10 m")]:
     res, d = row(name)
     for planner in ("smt", "darp"):
         e = res.get(planner)
@@ -81,14 +100,21 @@ for name, label in [("rect3", "3 UAVs, seeded starts"), ("rect1", "1 UAV, home S
         if planner == "smt":
             routes = d.get("route_count", "")
             times = ", ".join(f"{r['time_s']:.0f}" for r in d.get("routes", []))
+            rturns = sum(r["turns"] for r in d.get("routes", []))
             sg = d.get("subgraphs", {})
             subs = f"{sg.get('count','')} ({sg.get('optimal','')})"
+            pairs = sg.get("turn_pairs", "")
         else:
-            routes, times, subs = "", "", ""
+            # DARP does not depend on the smt parameters: one row per home point
+            key = (name.startswith("rect1c"), name == "rect3")
+            if key in darp_done:
+                continue
+            darp_done.add(key)
+            routes, times, rturns, subs, pairs = "", "", "", "", ""
         print(f"| {label} | {planner} | {routes} | {100*e['poc']:.2f} | {e['turns']} | {e['coverage_length_m']:.0f} | "
-              f"{e['length_m']:.0f} | {times} | {subs} | {e['compute_time_s']:.2f} |")
-print("| thesis Table 5.3 | POPCORN | 3 | | 116 | 1960 | | 732 total | | 7 |")
-print("| thesis Table 5.3 | DARP (Java) | 3 | | 51 | 2002 | | 748 total | | 3 |")
+              f"{e['length_m']:.0f} | {times} | {rturns} | {subs} | {pairs} | {e['compute_time_s']:.2f} |")
+print("| thesis Table 5.3 | POPCORN | 3 | | 116 | 1960 | | 210, 266, 256 | | | | 7 |")
+print("| thesis Table 5.3 | DARP (Java) | 3 | | 51 | 2002 | | 262, 234, 252 | | | | 3 |")
 print(f"\n## The 20 regions of Apostolidis et al. 2022: 1 UAV, ds 40 m, {mode} mode, 25-minute limit\n")
 print("| region | smt routes | smt PoC % | darp PoC % | smt turns | darp turns | smt length km | darp length km | smt compute s | darp compute s |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")

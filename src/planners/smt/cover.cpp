@@ -96,6 +96,60 @@ std::vector<int> euler_walk(const Subgraph& g, const std::vector<std::vector<int
   return circuit;
 }
 
+/// Copies of each edge a closed walk uses (empty for a walk of fewer than two nodes, or when a step is
+/// no edge of g).
+std::vector<int> walk_uses(const Subgraph& g, const std::vector<int>& walk) {
+  if (walk.size() <= 1) return {};
+  std::vector<int> use(g.edges.size(), 0);
+  for (std::size_t k = 0; k < walk.size(); ++k) {
+    const int a = walk[k], b = walk[(k + 1) % walk.size()];
+    const auto it = std::find_if(g.edges.begin(), g.edges.end(), [&](const std::array<int, 2>& e) {
+      return (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a);
+    });
+    if (it == g.edges.end()) return {};
+    ++use[static_cast<std::size_t>(it - g.edges.begin())];
+  }
+  return use;
+}
+
+long long used_length(const Subgraph& g, const std::vector<int>& use) {
+  long long total = 0;
+  for (std::size_t e = 0; e < use.size(); ++e) total += static_cast<long long>(use[e]) * g.weight[e];
+  return total;
+}
+
+/// The subgraph of g's lightest edges (same nodes; turning pairs renumbered).
+Subgraph lightest_edges(const Subgraph& g) {
+  Subgraph out;
+  out.n = g.n;
+  if (g.weight.empty()) return out;
+  const int w = *std::min_element(g.weight.begin(), g.weight.end());
+  std::vector<int> index(g.edges.size(), -1);
+  for (std::size_t e = 0; e < g.edges.size(); ++e)
+    if (g.weight[e] == w) {
+      index[e] = static_cast<int>(out.edges.size());
+      out.edges.push_back(g.edges[e]);
+      out.weight.push_back(w);
+    }
+  for (const auto& t : g.turns) {
+    const int a = index[static_cast<std::size_t>(t[1])], b = index[static_cast<std::size_t>(t[2])];
+    if (a >= 0 && b >= 0) out.turns.push_back({t[0], a, b});
+  }
+  return out;
+}
+
+bool connected(const Subgraph& g) {
+  std::vector<int> label;
+  return components(g, incidence(g), std::vector<int>(g.edges.size(), 1), label) == 1;
+}
+
+int turn_pairs(const Subgraph& g, const std::vector<int>& use) {
+  if (use.empty()) return 0;
+  return static_cast<int>(std::count_if(g.turns.begin(), g.turns.end(), [&](const std::array<int, 3>& t) {
+    return use[static_cast<std::size_t>(t[1])] > 0 && use[static_cast<std::size_t>(t[2])] > 0;
+  }));
+}
+
 }  // namespace
 
 long long length_lower_bound(const Subgraph& g) {
@@ -166,35 +220,57 @@ std::vector<int> tree_walk(const Subgraph& g) {
 }
 
 long long walk_length(const Subgraph& g, const std::vector<int>& walk) {
-  if (walk.size() <= 1) return 0;
-  long long total = 0;
-  for (std::size_t k = 0; k < walk.size(); ++k) {
-    const int a = walk[k], b = walk[(k + 1) % walk.size()];
-    long long w = -1;
-    for (std::size_t e = 0; e < g.edges.size(); ++e)
-      if ((g.edges[e][0] == a && g.edges[e][1] == b) || (g.edges[e][0] == b && g.edges[e][1] == a)) {
-        w = g.weight[e];
-        break;
-      }
-    if (w < 0) return -1;
-    total += w;
-  }
-  return total;
+  const std::vector<int> use = walk_uses(g, walk);
+  if (use.empty() && walk.size() > 1) return -1;
+  return used_length(g, use);
+}
+
+int walk_turn_pairs(const Subgraph& g, const std::vector<int>& walk) {
+  const std::vector<int> use = walk_uses(g, walk);
+  if (use.empty() && walk.size() > 1) return -1;
+  return turn_pairs(g, use);
 }
 
 CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrupter* interrupter) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   CoverResult out;
+  const long long penalty = std::max(0, options.turn_penalty);
   out.walk = tree_walk(g);
   out.length = walk_length(g, out.walk);
+  out.turns = walk_turn_pairs(g, out.walk);
+  out.objective = out.length + penalty * out.turns;
   out.fallback = true;
   const long long lower = length_lower_bound(g);
-  if (g.n <= 1 || out.length <= lower) {  // one node, or the tree walk is already optimal (two nodes)
-    out.fallback = false;
+  // edges of several weights (the 8-connected lattice): solve on the lightest edges alone first (the
+  // 4-connected tile, where z3 proves optimality quickly), if they connect every node, and start from
+  // that walk; it is often at the lower bound already
+  if (const Subgraph light = lightest_edges(g); light.edges.size() < g.edges.size() && connected(light)) {
+    const CoverResult inner = solve_cover(light, options, interrupter);
+    out.checks += inner.checks;
+    out.cuts += inner.cuts;
+    const long long objective = inner.length + penalty * walk_turn_pairs(g, inner.walk);
+    if (!inner.fallback && objective < out.objective) {
+      out.walk = inner.walk;
+      out.length = inner.length;
+      out.turns = walk_turn_pairs(g, inner.walk);
+      out.objective = objective;
+      out.fallback = false;
+      out.first_length = out.length;
+      out.lengths.push_back(out.length);
+      out.objectives.push_back(out.objective);
+    }
+  }
+  // a connected cover of nodes that are not all on one line turns somewhere: at least one turning pair
+  const long long lower_objective = lower + (g.turns.empty() ? 0 : penalty);
+  if (g.n <= 1 || out.objective <= lower_objective) {  // one node, or the walk so far is optimal
+    if (out.fallback) {
+      out.fallback = false;
+      out.first_length = out.length;
+      out.lengths.push_back(out.length);
+      out.objectives.push_back(out.objective);
+    }
     out.optimal = true;
-    out.first_length = out.length;
-    out.lengths.push_back(out.length);
     return out;
   }
   const auto inc = incidence(g);
@@ -251,6 +327,19 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
       length_terms.push_back(twice[e]);
       length_coeffs.insert(length_coeffs.end(), {g.weight[e], g.weight[e]});
     }
+    // the objective: the length plus, with a turn penalty, a Boolean per turning pair that both of its
+    // edges imply (the solver keeps it false otherwise, the bound pushing it down)
+    z3::expr_vector objective_terms(c);  // a copy of an expr_vector would share its contents
+    for (const z3::expr& term : length_terms) objective_terms.push_back(term);
+    std::vector<int> objective_coeffs = length_coeffs;
+    if (penalty > 0)
+      for (std::size_t t = 0; t < g.turns.size(); ++t) {
+        const z3::expr turn = c.bool_const(("t" + std::to_string(t)).c_str());
+        s.add(!once[static_cast<std::size_t>(g.turns[t][1])] ||
+              !once[static_cast<std::size_t>(g.turns[t][2])] || turn);
+        objective_terms.push_back(turn);
+        objective_coeffs.push_back(static_cast<int>(penalty));
+      }
 
     // the subtours a lattice model falls into first, cut up front: an edge walked there and back, and the
     // 3- and 4-cycles (a lattice cell's square); each set must be left at least twice
@@ -293,8 +382,11 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
     std::vector<int> use(g.edges.size(), 0), label;
     // One bound: check, cut the model's subtours, check again until a connected model (1), unsat (0) or
     // no answer in the budget (-1). The bound and the cuts stay in the solver's current scope.
-    auto attempt = [&](long long bound) {
-      s.add(z3::pble(length_terms, length_coeffs.data(),
+    // `length_only`: bound the length alone (the probe for a Hamiltonian cycle), else the objective
+    auto attempt = [&](long long bound, bool length_only) {
+      const auto& terms = length_only ? length_terms : objective_terms;
+      const auto& coeffs = length_only ? length_coeffs : objective_coeffs;
+      s.add(z3::pble(terms, coeffs.data(),
                      static_cast<int>(std::min<long long>(bound, std::numeric_limits<int>::max()))));
       for (int round = 0; round < options.max_cut_rounds; ++round) {
         const double left = options.timeout_s - std::chrono::duration<double>(Clock::now() - t0).count();
@@ -327,44 +419,55 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
       }
       return -1;
     };
+    // a model replaces the best walk when its objective is lower (the probe's may not be)
     auto take = [&] {
-      long long len = 0;
-      for (std::size_t e = 0; e < g.edges.size(); ++e) len += static_cast<long long>(use[e]) * g.weight[e];
+      const long long len = used_length(g, use);
+      const int turns = turn_pairs(g, use);
+      const long long objective = len + penalty * turns;
       if (out.first_length < 0) out.first_length = len;
+      if (!out.fallback && objective >= out.objective) return false;
       out.lengths.push_back(len);
+      out.objectives.push_back(objective);
       ++out.models;
       out.walk = euler_walk(g, inc, use);
       out.length = len;
+      out.turns = turns;
+      out.objective = objective;
       out.fallback = false;
+      return true;
     };
-    long long bound = out.length - options.bound_offset * unit;  // the tree walk is known: ask for better
+    // each tightening asks for an objective lower by (bound_offset - 1) shortest edges and then some:
+    // with bound_offset 1, any better walk
+    const long long step = static_cast<long long>(options.bound_offset - 1) * unit + 1;
+    long long bound = out.objective - step;  // the tree walk is known: ask for better
     bool probed = false;
-    while (bound >= lower) {
-      const int r = attempt(bound);
+    while (bound >= lower_objective) {
+      const int r = attempt(bound, false);
       if (r == 0) out.optimal = true;
       if (r != 1) break;
       take();
-      if (out.length <= lower) {
+      if (out.objective <= lower_objective) {
         out.optimal = true;
         break;
       }
       if (!probed) {
-        // once: ask for the lower bound itself (a Hamiltonian cycle on most lattice tiles) in a scope of
-        // its own; if there is none, tightening goes on from the first model
+        // once: ask for the length's lower bound itself (a Hamiltonian cycle on most lattice tiles) in a
+        // scope of its own; without a turn penalty that is optimal, with one tightening goes on from the
+        // better of the two models; if there is none, from the first model
         probed = true;
         s.push();
-        const int at_lower = attempt(lower);
+        const int at_lower = attempt(lower, true);
         if (at_lower == 1) take();
         s.pop();
-        if (at_lower == 1) {
+        if (at_lower == 1 && penalty == 0) {
           out.optimal = true;
           break;
         }
         if (at_lower < 0) break;
       }
-      bound = out.length - options.bound_offset * unit;
+      bound = out.objective - step;
     }
-    if (bound < lower && !out.fallback) out.optimal = true;
+    if (bound < lower_objective && !out.fallback) out.optimal = true;
   } catch (const z3::exception&) {
   }
   if (out.fallback && out.optimal) out.fallback = false;  // z3 proved nothing beats the tree walk

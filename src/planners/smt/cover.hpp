@@ -8,6 +8,11 @@
 // sum(weight * use) <= bound. A Hamiltonian cycle is the case where every degree is 2; nodes of
 // degree 4 and doubled edges are revisits, needed where no Hamiltonian cycle exists (odd node
 // counts on the bipartite 4-connected lattice, dead ends).
+//
+// Optional turn penalty (beyond POPCORN): per pair of edges meeting at a node at an angle (not straight
+// on), a Boolean implied by both edges being used, each weighted by the penalty in the objective
+// sum(weight * use) + penalty * sum(turning pairs used) <= bound. Where every node has degree 2 (a
+// Hamiltonian cycle) the pairs are exactly the walk's turns; at a revisited node they over-count.
 #pragma once
 
 #include <array>
@@ -23,6 +28,9 @@ struct Subgraph {
   int n = 0;
   std::vector<std::array<int, 2>> edges;  ///< undirected, a != b
   std::vector<int> weight;                ///< per edge, > 0 (the planner uses millimetres)
+  /// (node, edge, edge): two edges meeting at the node at an angle other than 180 degrees, edge indices
+  /// ascending; empty: no geometry known (the turn penalty then has nothing to weigh)
+  std::vector<std::array<int, 3>> turns;
 };
 
 struct CoverOptions {
@@ -31,6 +39,7 @@ struct CoverOptions {
   unsigned rlimit = 0;       ///< z3 resource limit per check (0: none); deterministic, unlike time
   unsigned seed = 0;         ///< z3 random seeds
   int max_cut_rounds = 200;  ///< subtour-cut rounds per bound before giving up on that bound
+  int turn_penalty = 0;  ///< objective cost of one turning pair of used edges (weight units); 0: length only
 };
 
 struct CoverResult {
@@ -42,7 +51,10 @@ struct CoverResult {
   int cuts = 0;                 ///< subtour cuts added
   bool optimal = false;   ///< z3 proved the bound below `length` unsatisfiable (or it is the lower bound)
   bool fallback = false;  ///< no z3 model in budget: the doubled spanning tree walk
-  std::vector<long long> lengths;  ///< length of every connected model, in the order found
+  std::vector<long long> lengths;     ///< length of every connected model, in the order found
+  int turns = 0;                      ///< turning pairs (Subgraph::turns) among the edges `walk` uses
+  long long objective = 0;            ///< length + turn_penalty * turns of `walk`
+  std::vector<long long> objectives;  ///< objective of every connected model, in the order found
 };
 
 /// Interrupts running z3 checks from another thread (a stop request, the plan's deadline).
@@ -70,6 +82,9 @@ std::vector<int> tree_walk(const Subgraph& g);
 /// Length of a closed walk (the edge back to walk[0] included); -1 if two consecutive nodes are not
 /// joined by an edge of g.
 long long walk_length(const Subgraph& g, const std::vector<int>& walk);
+
+/// Turning pairs of g (Subgraph::turns) among the edges a closed walk uses (-1: a step is no edge).
+int walk_turn_pairs(const Subgraph& g, const std::vector<int>& walk);
 
 /// The best closed walk found within the options' budget; never fails on a connected subgraph
 /// (falls back to tree_walk). `interrupter` may be null.

@@ -180,9 +180,20 @@ std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
   return owner;
 }
 
-std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size) {
-  const int tw = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(size)))));
-  const int th = std::max(1, (size + tw - 1) / tw);
+std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size,
+                                    bool strips) {
+  int tw = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(size)))));
+  int th = std::max(1, (size + tw - 1) / tw);
+  if (strips && !nodes.empty()) {  // two lattice lines wide, along the nodes' longer extent
+    int c0 = lat.cols, c1 = -1, r0 = lat.rows, r1 = -1;
+    for (int v : nodes) {
+      const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];
+      c0 = std::min(c0, c), c1 = std::max(c1, c), r0 = std::min(r0, r), r1 = std::max(r1, r);
+    }
+    const int along = std::max(1, size / 2);
+    tw = r1 - r0 >= c1 - c0 ? 2 : along;
+    th = r1 - r0 >= c1 - c0 ? along : 2;
+  }
   std::map<std::pair<int, int>, std::vector<int>> tiles;  // (tile row, tile column) -> nodes
   for (int v : nodes) {
     const auto [c, r] = lat.cell[static_cast<std::size_t>(v)];
@@ -227,13 +238,34 @@ Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes) {
       g.edges.push_back({static_cast<int>(k), it->second});
       g.weight.push_back(lat.weight(nodes[k], b));
     }
+  // turning pairs: two edges at a node that do not continue straight on (lattice steps never overlap)
+  std::vector<std::vector<int>> at(nodes.size());
+  for (std::size_t e = 0; e < g.edges.size(); ++e)
+    for (int end : g.edges[e]) at[static_cast<std::size_t>(end)].push_back(static_cast<int>(e));
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const Point p = lat.pos[static_cast<std::size_t>(nodes[k])];
+    auto away = [&](int e) {
+      const auto& ed = g.edges[static_cast<std::size_t>(e)];
+      const int w = ed[0] == static_cast<int>(k) ? ed[1] : ed[0];
+      const Point q = lat.pos[static_cast<std::size_t>(nodes[static_cast<std::size_t>(w)])];
+      return std::array<double, 2>{q.x() - p.x(), q.y() - p.y()};
+    };
+    const auto& inc = at[k];
+    for (std::size_t i = 0; i < inc.size(); ++i)
+      for (std::size_t j = i + 1; j < inc.size(); ++j) {
+        const auto u = away(inc[i]), v = away(inc[j]);
+        const double cross = u[0] * v[1] - u[1] * v[0], dot = u[0] * v[0] + u[1] * v[1];
+        const bool straight = std::fabs(cross) <= 1e-9 * (std::fabs(dot) + 1.0) && dot < 0.0;
+        if (!straight) g.turns.push_back({static_cast<int>(k), inc[i], inc[j]});
+      }
+  }
   return g;
 }
 
-std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk) {
+std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk, bool closed) {
   std::vector<Point> pts;
   for (int v : walk) pts.push_back(lat.pos[static_cast<std::size_t>(v)]);
-  if (!walk.empty()) pts.push_back(lat.pos[static_cast<std::size_t>(walk.front())]);
+  if (closed && !walk.empty()) pts.push_back(lat.pos[static_cast<std::size_t>(walk.front())]);
   if (pts.size() <= 2) return pts;
   std::vector<Point> out{pts.front()};
   for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
@@ -247,19 +279,28 @@ std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk) {
   return out;
 }
 
+Walk flight_order(const Lattice& lat, const Walk& walk, int entry, Point home) {
+  Walk out = walk;
+  const auto it = std::find(out.begin(), out.end(), entry);
+  if (it != out.end()) std::rotate(out.begin(), it, out.end());
+  // the walk's last node is one of the entry's two neighbours on it: the one nearer home
+  if (out.size() > 2 && dist2(lat.pos[static_cast<std::size_t>(out[1])], home) <
+                            dist2(lat.pos[static_cast<std::size_t>(out.back())], home))
+    std::reverse(out.begin() + 1, out.end());
+  return out;
+}
+
 RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
                      const LegFn& leg) {
-  Walk rotated = walk;
-  const auto it = std::find(rotated.begin(), rotated.end(), entry);
-  if (it != rotated.end()) std::rotate(rotated.begin(), it, rotated.end());
-  const Point e = lat.pos[static_cast<std::size_t>(entry)];
-  std::vector<Point> flight = leg(home, e);
+  const Walk path = flight_order(lat, walk, entry, home);
+  if (path.empty()) return {};
+  std::vector<Point> flight = leg(home, lat.pos[static_cast<std::size_t>(path.front())]);
   auto append = [&](const std::vector<Point>& pts) {
     for (const Point& p : pts)
       if (flight.empty() || dist2(flight.back(), p) > 1e-12) flight.push_back(p);
   };
-  append(walk_polyline(lat, rotated));
-  append(leg(e, home));
+  append(walk_polyline(lat, path, false));
+  append(leg(lat.pos[static_cast<std::size_t>(path.back())], home));
   RouteCost out;
   out.length_m = geometry::length(flight);
   out.turns = geometry::count_turns(flight);
@@ -393,8 +434,7 @@ std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Po
         break;
       }
     }
-    const auto it = std::find(route.walk.begin(), route.walk.end(), route.entry);
-    std::rotate(route.walk.begin(), it, route.walk.end());
+    route.walk = flight_order(lat, route.walk, route.entry, home);
     route.time_s = cost.time_s;
     route.length_m = cost.length_m;
     route.turns = cost.turns;

@@ -44,8 +44,10 @@ std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
                         const std::vector<double>& shares);
 
 /// Splits `nodes` (one UAV's part) into connected subgraphs of about `size` nodes: square-ish tiles of
-/// the lattice, each tile's part split into its connected components.
-std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size);
+/// the lattice (`strips`: tiles two lattice lines wide and size / 2 long, along the nodes' longer
+/// extent, whose cycles turn only at their ends), each tile's part split into its connected components.
+std::vector<std::vector<int>> split(const Lattice& lat, const std::vector<int>& nodes, int size,
+                                    bool strips = false);
 
 /// The subgraph of `nodes` with the lattice's edges between them (local numbers follow `nodes`).
 Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes);
@@ -54,16 +56,23 @@ Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes);
 using Walk = std::vector<int>;
 
 struct Route {
-  Walk walk;            ///< starts at `entry`
+  Walk walk;            ///< in flight order (flight_order): from `entry` to the exit
   int entry = 0;        ///< the route's node nearest the home point
-  double time_s = 0;    ///< modelled flight time home -> entry -> walk -> entry -> home
+  double time_s = 0;    ///< modelled flight time home -> entry -> walk -> exit -> home
   double length_m = 0;  ///< the same flight's length
   int turns = 0;        ///< its turns
   int walks = 0;        ///< subgraph walks stitched into it
 };
 
-/// Flight time in seconds (eq. 15, with turns) and length of a route flown from `home`; `leg(a, b)`
-/// returns the transit polyline between two points (around no-fly zones).
+/// A closed walk in flight order: rotated to start at `entry` and turned so that its last node (the
+/// exit, a lattice neighbour of the entry) is the nearer of the entry's two neighbours on it to `home`.
+/// The route flies it as an open path, entry to exit: the closing step back to the entry is the leg
+/// home instead.
+Walk flight_order(const Lattice& lat, const Walk& walk, int entry, Point home);
+
+/// Flight time in seconds (eq. 15, with turns) and length of a route flown from `home` and back:
+/// home -> entry -> the walk in flight order -> exit -> home; `leg(a, b)` returns the transit polyline
+/// between two points (around no-fly zones).
 struct RouteCost {
   double time_s = 0, length_m = 0;
   int turns = 0;
@@ -81,7 +90,8 @@ std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Po
                           double max_time_s, const LegFn& leg, int* over_limit,
                           const std::function<void()>& check = {});
 
-/// The polyline of a closed walk from its first node back to it, collinear vertices dropped.
-std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk);
+/// The polyline of a walk from its first node (`closed`: back to it; else to its last node),
+/// collinear vertices dropped.
+std::vector<Point> walk_polyline(const Lattice& lat, const Walk& walk, bool closed = true);
 
 }  // namespace uavcover::smt

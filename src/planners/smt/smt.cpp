@@ -33,6 +33,8 @@ struct Options {
   std::optional<double> wall_clock_s;
   int max_nodes = 20000;
   int threads = 0;
+  double turn_penalty_m = 0.0;
+  bool strips = false;
 };
 
 Options read(const nlohmann::json& p) {
@@ -48,6 +50,8 @@ Options read(const nlohmann::json& p) {
   if (!p.at("wall_clock_s").is_null()) o.wall_clock_s = p.at("wall_clock_s").get<double>();
   o.max_nodes = p.at("max_nodes").get<int>();
   o.threads = p.at("threads").get<int>();
+  o.turn_penalty_m = p.at("turn_penalty_m").get<double>();
+  o.strips = p.at("subgraph_shape").get<std::string>() == "strip";
   return o;
 }
 
@@ -55,7 +59,7 @@ class SmtPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
                                 const Context& ctx) const override {
-    const Options opt = read(params);
+    Options opt = read(params);
     // a stop request ends planning; the deadline only cuts the z3 search short (best so far)
     const auto check = [&] {
       if (ctx.stop_requested()) ctx.check();
@@ -64,6 +68,9 @@ class SmtPlanner final : public Planner {
     check();
     const smt::Lattice lat = smt::build_lattice(problem, opt.diagonal_edges, opt.max_nodes, check);
     check();
+    // edge weights are in ds / 1000 (lattice.hpp): the penalty in the same unit
+    opt.cover.turn_penalty =
+        static_cast<int>(std::lround(std::min(opt.turn_penalty_m / lat.ds * 1000.0, 1e8)));
     const std::size_t k = problem.starts.size();
     const std::vector<int> owner = smt::divide(lat, problem.starts, problem.shares);
     std::vector<std::vector<int>> nodes_of(k);
@@ -74,7 +81,7 @@ class SmtPlanner final : public Planner {
     std::vector<std::vector<int>> subs;
     std::vector<std::size_t> sub_uav;
     for (std::size_t u = 0; u < k; ++u)
-      for (auto& s : smt::split(lat, nodes_of[u], opt.subgraph_size)) {
+      for (auto& s : smt::split(lat, nodes_of[u], opt.subgraph_size, opt.strips)) {
         subs.push_back(std::move(s));
         sub_uav.push_back(u);
       }
@@ -180,8 +187,8 @@ class SmtPlanner final : public Planner {
       } else {
         for (auto& w : walks) {
           smt::Route r;
-          r.walk = w;
           r.entry = w.front();
+          r.walk = smt::flight_order(lat, w, r.entry, problem.starts[u]);
           const auto c = smt::route_cost(lat, w, r.entry, problem.starts[u], uav, leg);
           r.time_s = c.time_s, r.length_m = c.length_m, r.turns = c.turns, r.walks = 1;
           if (r.time_s > limit) ++over;
@@ -192,7 +199,7 @@ class SmtPlanner final : public Planner {
       UavAssignment a;
       nlohmann::json sorties = nlohmann::json::array();
       for (const auto& r : routes) {
-        a.coverage.push_back(smt::walk_polyline(lat, r.walk));
+        a.coverage.push_back(smt::walk_polyline(lat, r.walk, false));  // entry to exit
         sorties.push_back({{"time_s", r.time_s},
                            {"length_m", r.length_m},
                            {"turns", r.turns},
@@ -236,7 +243,7 @@ class SmtPlanner final : public Planner {
                       over_limit_total));
 
     long long first_total = 0, best_total = 0;
-    int optimal = 0, fallback = 0, checks = 0, cuts = 0;
+    int optimal = 0, fallback = 0, checks = 0, cuts = 0, turns = 0;
     for (const auto& c : covers) {
       first_total += c.first_length >= 0 ? c.first_length : c.length;
       best_total += c.length;
@@ -244,6 +251,7 @@ class SmtPlanner final : public Planner {
       fallback += c.fallback ? 1 : 0;
       checks += c.checks;
       cuts += c.cuts;
+      turns += c.turns;
     }
     const double unit = lat.ds / 1000.0;
     int edges = 0;
@@ -262,6 +270,8 @@ class SmtPlanner final : public Planner {
                          {"cuts", cuts},
                          {"first_model_length_m", static_cast<double>(first_total) * unit},
                          {"length_m", static_cast<double>(best_total) * unit},
+                         {"turn_pairs", turns},
+                         {"turn_penalty_m", opt.turn_penalty_m},
                          {"threads", nthreads}}},
                        {"route_count", route_times.size()},
                        {"routes", std::move(routes_json)}};
@@ -340,6 +350,22 @@ PlannerInfo smt_planner_info() {
        "report the fewest UAVs that fly all routes within this many seconds (diagnostics)"},
       {"max_nodes", T::Integer, 20000, 1.0, 200000.0, {}, "largest lattice accepted"},
       {"threads", T::Integer, 0, 0.0, 64.0, {}, "worker threads for the subproblems (0: up to 4)"},
+      {"subgraph_shape",
+       T::String,
+       "square",
+       {},
+       {},
+       {"square", "strip"},
+       "square: square-ish lattice tiles (wadl); strip: tiles two lattice lines wide along the longer extent "
+       "(fewer turns)"},
+      {"turn_penalty_m",
+       T::Number,
+       0.0,
+       0.0,
+       1000.0,
+       {},
+       "metres added to a walk's length in the z3 objective per turn (pair of used edges meeting at an "
+       "angle at a node); 0: length only, as POPCORN"},
   };
   info.supports = {.shares = true,
                    .no_fly_zones = true,

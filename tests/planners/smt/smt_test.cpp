@@ -11,6 +11,7 @@
 #include <queue>
 #include <set>
 
+#include "evaluation/cost.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
 #include "planners/smt/cover.hpp"
@@ -219,9 +220,19 @@ TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
     EXPECT_GE(routes.size(), previous) << "limit " << limit;
     if (first == 0) first = routes.size();
     previous = routes.size();
-    for (const auto& part : a.uavs[0].coverage) {  // closed, from the route's node nearest home
+    for (std::size_t i = 0; i < routes.size(); ++i) {
+      // an open path from the route's entry to a lattice neighbour of it; with the legs from and back to
+      // home a closed cycle, whose modelled time is the route's
+      const auto& part = a.uavs[0].coverage[i];
       ASSERT_GE(part.size(), 2u);
-      EXPECT_LT(bg::distance(part.front(), part.back()), 1e-9);
+      EXPECT_NEAR(bg::distance(part.front(), part.back()), 10.0, 1e-9);
+      std::vector<Point> cycle{p.starts[0]};
+      cycle.insert(cycle.end(), part.begin(), part.end());
+      cycle.push_back(p.starts[0]);
+      const double t =
+          evaluation::flight_duration_min(geometry::length(cycle), geometry::count_turns(cycle), p.uavs[0]) *
+          60.0;
+      EXPECT_NEAR(routes[i].at("time_s").get<double>(), t, 1e-6);
     }
     EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
   }
@@ -292,6 +303,9 @@ TEST(SmtParams, BadParametersAreRefusedByName) {
       {{{"diagonal_edges", "yes"}}, "planner_params.diagonal_edges"},
       {{{"max_nodes", 0}}, "planner_params.max_nodes"},
       {{{"turns", 1}}, "planner_params.turns"},
+      {{{"turn_penalty_m", -1}}, "planner_params.turn_penalty_m"},
+      {{{"turn_penalty_m", 1e6}}, "planner_params.turn_penalty_m"},
+      {{{"subgraph_shape", "round"}}, "planner_params.subgraph_shape"},
   };
   for (const auto& [params, field] : bad) {
     try {
@@ -311,6 +325,35 @@ TEST(SmtParams, BadParametersAreRefusedByName) {
   }
 }
 
+TEST(SmtCover, DiagonalTilesAreNeverLongerThanTheirAxisTiles) {
+  // the 8-connected lattice has every 4-connected edge and more: its walks start from the 4-connected
+  // tile's walk, so they are never longer (z3 alone seldom proved 8-connected tiles in time)
+  const Problem p = l_field();
+  const smt::Lattice lat8 = smt::build_lattice(p, true, 10000), lat4 = smt::build_lattice(p, false, 10000);
+  ASSERT_EQ(lat8.size(), lat4.size());
+  std::vector<int> all(static_cast<std::size_t>(lat8.size()));
+  for (int v = 0; v < lat8.size(); ++v) all[static_cast<std::size_t>(v)] = v;
+  std::map<std::vector<int>, long long> axis;
+  for (const auto& part : smt::split(lat4, all, 20))
+    axis[part] = smt::solve_cover(smt::subgraph(lat4, part), {}, nullptr).length;
+  smt::CoverOptions o;
+  o.rlimit = 2000000;
+  int compared = 0, proven = 0;
+  for (const auto& part : smt::split(lat8, all, 20)) {
+    const smt::Subgraph g = smt::subgraph(lat8, part);
+    const smt::CoverResult r = smt::solve_cover(g, o, nullptr);
+    EXPECT_EQ(std::set<int>(r.walk.begin(), r.walk.end()).size(), part.size());
+    EXPECT_EQ(smt::walk_length(g, r.walk), r.length);
+    proven += r.optimal ? 1 : 0;
+    const auto it = axis.find(part);
+    if (it == axis.end()) continue;
+    ++compared;
+    EXPECT_LE(r.length, it->second);
+  }
+  EXPECT_GT(compared, 3);
+  EXPECT_GT(proven, 0);
+}
+
 TEST(SmtRoutes, DiagonalEdgesAlsoGiveValidWalks) {
   const Problem p = l_field();
   const Assignment a = run(p, {{"diagonal_edges", true}, {"subgraph_size", 9}});
@@ -318,6 +361,96 @@ TEST(SmtRoutes, DiagonalEdgesAlsoGiveValidWalks) {
     for (std::size_t k = 1; k < part.size(); ++k)
       EXPECT_TRUE(geometry::segment_within(p.free, part[k - 1], part[k], 1e-6));
   EXPECT_EQ(a.diagnostics.at("subgraphs").at("fallback").get<int>(), 0);
+}
+
+/// Turns of a subgraph walk flown as a closed polyline.
+int walk_turns(const smt::Lattice& lat, const std::vector<int>& nodes, const std::vector<int>& walk) {
+  smt::Walk global;
+  for (int local : walk) global.push_back(nodes[static_cast<std::size_t>(local)]);
+  std::vector<Point> loop = smt::walk_polyline(lat, global);
+  if (loop.size() > 2) loop.push_back(loop[1]);  // the turn at the first node counts too
+  return geometry::count_turns(loop);
+}
+
+TEST(SmtCover, ATurnPenaltyNeverGivesMoreTurnsThanTheLengthOptimum) {
+  // small fields (one subgraph each): rectangles with a Hamiltonian cycle, an odd one and an L; the
+  // penalty is 1.5 lattice steps a turn
+  MultiPolygon ell;
+  bg::union_(mp({rect(0, 0, 50, 20)}), mp({rect(0, 0, 20, 40)}), ell);
+  const std::vector<MultiPolygon> fields{mp({rect(0, 0, 40, 40)}), mp({rect(0, 0, 30, 40)}),
+                                         mp({rect(0, 0, 20, 80)}), mp({rect(0, 0, 50, 30)}), ell};
+  int fewer = 0;
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    const Problem p = problem(fields[f], {}, {Point{-5, -5}}, 10.0);
+    const smt::Lattice lat = smt::build_lattice(p, false, 1000);
+    std::vector<int> nodes(static_cast<std::size_t>(lat.size()));
+    for (int v = 0; v < lat.size(); ++v) nodes[static_cast<std::size_t>(v)] = v;
+    const smt::Subgraph g = smt::subgraph(lat, nodes);
+    ASSERT_FALSE(g.turns.empty());
+    smt::CoverOptions plain, penalised;
+    plain.timeout_s = penalised.timeout_s = 600.0;  // small instances: proven long before
+    penalised.turn_penalty = 1500;
+    const smt::CoverResult a = smt::solve_cover(g, plain, nullptr);
+    const smt::CoverResult b = smt::solve_cover(g, penalised, nullptr);
+    ASSERT_TRUE(a.optimal && b.optimal) << "field " << f;
+    EXPECT_EQ(a.turns, smt::walk_turn_pairs(g, a.walk));
+    EXPECT_EQ(b.turns, smt::walk_turn_pairs(g, b.walk));
+    EXPECT_EQ(b.objective, b.length + 1500LL * b.turns);
+    EXPECT_LE(b.turns, a.turns) << "field " << f;
+    EXPECT_LE(b.objective, a.length + 1500LL * a.turns) << "field " << f;
+    EXPECT_GE(b.length, a.length) << "field " << f << ": the length optimum is the shortest";
+    // the cover stays valid: every node, lattice steps only, even degrees
+    EXPECT_EQ(std::set<int>(b.walk.begin(), b.walk.end()).size(), static_cast<std::size_t>(g.n));
+    EXPECT_EQ(smt::walk_length(g, b.walk), b.length);
+    for (const auto& [v, d] : degrees(b.walk)) EXPECT_EQ(d % 2, 0);
+    for (std::size_t k = 1; k < b.objectives.size(); ++k) EXPECT_LT(b.objectives[k], b.objectives[k - 1]);
+    // where both are Hamiltonian cycles the turning pairs are the flown turns
+    if (b.length == g.n * 1000LL && a.length == g.n * 1000LL) {
+      EXPECT_EQ(walk_turns(lat, nodes, a.walk), a.turns);
+      EXPECT_EQ(walk_turns(lat, nodes, b.walk), b.turns);
+    }
+    fewer += b.turns < a.turns ? 1 : 0;
+  }
+  EXPECT_GT(fewer, 0) << "the penalty removed turns somewhere";
+}
+
+TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithNoMoreTurnPairs) {
+  // (the routes' flown turns also depend on how the walks are stitched: not compared)
+  const Problem p = problem(mp({rect(0, 0, 80, 40)}), {}, {Point{-10, -10}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  const nlohmann::json params{{"max_flight_time_s", 600}, {"subgraph_size", 12}, {"timeout_s", 600}};
+  nlohmann::json with = params;
+  with["turn_penalty_m"] = 15;
+  const Assignment plain = run(p, params);
+  const Assignment penalised = run(p, with);
+  // both proven optimal per subgraph: the penalised walks turn no more than the shortest ones
+  for (const auto* a : {&plain, &penalised})
+    ASSERT_EQ(a->diagnostics.at("subgraphs").at("optimal"), a->diagnostics.at("subgraphs").at("count"));
+  EXPECT_EQ(off_path(lat, penalised.uavs[0].coverage), 0) << "the routes pass every lattice node";
+  for (const auto& r : penalised.diagnostics.at("routes")) EXPECT_LE(r.at("time_s").get<double>(), 600.0);
+  const auto& subs = penalised.diagnostics.at("subgraphs");
+  EXPECT_LE(subs.at("turn_pairs").get<int>(), plain.diagnostics.at("subgraphs").at("turn_pairs").get<int>());
+  EXPECT_EQ(subs.at("turn_penalty_m").get<double>(), 15.0);
+}
+
+TEST(SmtRoutes, StripSubgraphsAreTwoLinesWideAlongTheLongerExtent) {
+  const Problem p = problem(mp({rect(0, 0, 120, 50)}), {}, {Point{-10, -10}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  std::vector<int> all(static_cast<std::size_t>(lat.size()));
+  for (int v = 0; v < lat.size(); ++v) all[static_cast<std::size_t>(v)] = v;
+  std::vector<int> seen(all.size(), 0);
+  for (const auto& part : smt::split(lat, all, 20, true)) {
+    std::set<int> rows;
+    for (int v : part) {
+      rows.insert(lat.cell[static_cast<std::size_t>(v)][1]);
+      ++seen[static_cast<std::size_t>(v)];
+    }
+    EXPECT_LE(rows.size(), 2u) << "12 columns by 5 rows: strips run along the rows";
+    EXPECT_LE(part.size(), 20u);
+  }
+  for (int c : seen) EXPECT_EQ(c, 1);
+  const Assignment a = run(p, {{"subgraph_shape", "strip"}, {"max_flight_time_s", 600}});
+  EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
 }
 
 }  // namespace
