@@ -214,4 +214,62 @@ std::vector<MultiPolygon> regions(const Lines& lines, const MultiPolygon& free, 
   return out;
 }
 
+std::vector<std::vector<int>> adjacency(const Lines& lines) {
+  const auto& segs = lines.segments;
+  std::vector<std::vector<int>> adj(segs.size());
+  auto span = [&](const Segment& s) {
+    const Frame& f = lines.parts[static_cast<std::size_t>(s.part)].frame;
+    const double y0 = f.to(s.a).y(), y1 = f.to(s.b).y();
+    return std::pair{std::min(y0, y1), std::max(y0, y1)};
+  };
+  // segments are part by part, line by line: the previous line's segments are just before
+  std::size_t prev_begin = 0, prev_end = 0, cur_begin = 0;
+  for (std::size_t s = 0; s < segs.size(); ++s) {
+    if (s > 0 && (segs[s].part != segs[s - 1].part || segs[s].line != segs[s - 1].line)) {
+      const bool next_line = segs[s].part == segs[s - 1].part && segs[s].line == segs[s - 1].line + 1;
+      prev_begin = next_line ? cur_begin : s;
+      prev_end = next_line ? s : s;
+      cur_begin = s;
+      if (segs[s].part != segs[s - 1].part) {
+        adj[s].push_back(static_cast<int>(s - 1));
+        adj[s - 1].push_back(static_cast<int>(s));
+      }
+    }
+    const auto [lo, hi] = span(segs[s]);
+    for (std::size_t t = prev_begin; t < prev_end; ++t) {
+      const auto [tlo, thi] = span(segs[t]);
+      if (std::max(lo, tlo) < std::min(hi, thi)) {
+        adj[s].push_back(static_cast<int>(t));
+        adj[t].push_back(static_cast<int>(s));
+      }
+    }
+  }
+  return adj;
+}
+
+std::vector<Segment> extended_for_coverage(const Lines& lines, const MultiPolygon& area,
+                                           const MultiPolygon& no_fly, double footprint, double clearance) {
+  std::vector<Segment> out = lines.segments;
+  const double len = 0.5 * footprint;
+  if (!(len > 0.01)) return out;
+  const MultiPolygon zones = grown(no_fly, clearance);
+  auto extend = [&](Point end, Point other) {
+    const double d = boustro::dist(end, other);
+    if (d < 1e-9) return end;
+    const Point dir{(end.x() - other.x()) / d, (end.y() - other.y()) / d};
+    // the end is on the outer boundary when just beyond it is outside the area (and not in a zone)
+    const Point probe{end.x() + 0.05 * dir.x(), end.y() + 0.05 * dir.y()};
+    if (bg::covered_by(probe, area)) return end;
+    const Point far{end.x() + len * dir.x(), end.y() + len * dir.y()};
+    if (!zones.empty() && bg::intersects(bg::model::segment<Point>{end, far}, zones)) return end;
+    return far;
+  };
+  for (auto& s : out) {
+    const Segment o = s;
+    s.a = extend(o.a, o.b);
+    s.b = extend(o.b, o.a);
+  }
+  return out;
+}
+
 }  // namespace uavcover::planners::milp

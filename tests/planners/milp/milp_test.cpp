@@ -369,6 +369,96 @@ TEST(MilpPlanner, NoLegEntersTheNoFlyZoneOfANonConvexArea) {
     }
 }
 
+/// The pieces (connected parts in the segment adjacency graph) of each UAV's segments.
+std::vector<int> pieces_per_uav(const std::vector<int>& who, const milp::Lines& lines, std::size_t uavs) {
+  const auto adj = milp::adjacency(lines);
+  std::vector<int> pieces(uavs, 0);
+  std::vector<char> seen(who.size(), 0);
+  for (std::size_t s = 0; s < who.size(); ++s) {
+    if (seen[s] || who[s] < 0) continue;
+    ++pieces[static_cast<std::size_t>(who[s])];
+    std::vector<std::size_t> stack{s};
+    seen[s] = 1;
+    while (!stack.empty()) {
+      const std::size_t u = stack.back();
+      stack.pop_back();
+      for (int v : adj[u])
+        if (!seen[static_cast<std::size_t>(v)] && who[static_cast<std::size_t>(v)] == who[s])
+          seen[static_cast<std::size_t>(v)] = 1, stack.push_back(static_cast<std::size_t>(v));
+    }
+  }
+  return pieces;
+}
+
+TEST(MilpPlanner, EachUavOfANonConvexAreaGetsOneConnectedPiece) {
+  // a wide U (lines along its 300 m base cross both arms) with a no-fly zone in the base: the lines in
+  // the arms have two segments each, so a split of the sweep order gives a UAV the tops of both arms
+  MultiPolygon u;
+  u.push_back(poly({{0, 0}, {300, 0}, {300, 200}, {200, 200}, {200, 60}, {100, 60}, {100, 200}, {0, 200}}));
+  MultiPolygon nfz;
+  nfz.push_back(rect(140, 20, 160, 40));
+  for (const std::vector<Point>& starts :
+       {std::vector<Point>{{-10, -10}, {310, -10}}, std::vector<Point>{{-10, -10}, {150, -10}, {310, -10}}}) {
+    SCOPED_TRACE(starts.size());
+    const Problem p = problem(u, nfz, starts, 10.0);
+    const Assignment a = run(p);
+    const milp::Lines lines = lines_of(p);
+    std::map<int, int> per_line;
+    for (const auto& s : lines.segments) ++per_line[s.line];
+    EXPECT_GE(std::count_if(per_line.begin(), per_line.end(), [](const auto& e) { return e.second == 2; }),
+              14)
+        << "the arms' lines and the lines through the zone have two segments";
+    const auto who = flown_by(a, lines);
+    for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
+    const auto pieces = pieces_per_uav(who, lines, starts.size());
+    for (std::size_t k = 0; k < starts.size(); ++k) {
+      EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s segments are not one connected piece";
+      EXPECT_EQ(a.uavs[k].region.size(), 1u) << "UAV " << k << "'s region is not one polygon";
+      for (const auto& leg : a.uavs[k].coverage)
+        EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
+    }
+  }
+}
+
+TEST(MilpPlanner, CoverageModeExtendsLegsPastTheBoundaryButNotIntoZones) {
+  // a 200 m x 100 m field, lines east-west; a zone inside it (legs stop 0.5 m short of it) and one just
+  // outside its east side (the legs there cannot be extended without entering it)
+  Problem p = problem({rect(0, 0, 200, 100)}, {rect(80, 40, 120, 60), rect(203, 0, 230, 30)},
+                      {{-10, -10}, {210, 110}}, 10.0);
+  p.mode = Mode::Coverage;
+  const double half = 0.5 * p.footprint_m;
+  const Assignment a = run(p);
+  const milp::Lines lines = lines_of(p);
+  std::size_t legs = 0, extended = 0;
+  for (const auto& uav : a.uavs)
+    for (const auto& leg : uav.coverage) {
+      ++legs;
+      ASSERT_EQ(leg.size(), 2u);
+      EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
+      for (const Point& e : leg) {
+        EXPECT_GE(geometry::distance(p.no_fly, e), 0.49);
+        const double out = bg::distance(e, p.area);
+        if (out > 1e-6) {
+          ++extended;
+          EXPECT_NEAR(out, half, 1e-6) << "an end beyond the boundary is half a footprint out";
+        }
+      }
+      // the leg covers a whole segment: it contains one of the lines' segments
+      EXPECT_TRUE(std::any_of(lines.segments.begin(), lines.segments.end(), [&](const milp::Segment& s) {
+        return bg::distance(s.a, bg::model::segment<Point>{leg[0], leg[1]}) < 1e-6 &&
+               bg::distance(s.b, bg::model::segment<Point>{leg[0], leg[1]}) < 1e-6;
+      }));
+    }
+  EXPECT_EQ(legs, lines.segments.size());
+  // 10 lines, two ends each on the boundary, the 3 lines next to the outer zone end short on the east
+  EXPECT_EQ(extended, 2 * 10 - 3u);
+  // strict mode keeps every end inside
+  p.mode = Mode::Strict;
+  for (const auto& uav : run(p).uavs)
+    for (const auto& leg : uav.coverage)
+      for (const Point& e : leg) EXPECT_LT(bg::distance(e, p.area), 1e-6);
+}
+
 TEST(MilpPlanner, TheTimeLimitReturnsTheBestAssignmentWithItsGap) {
   // 40 segments and 3 UAVs in one MILP: far from proven in a tenth of a second
   const Problem p = problem({rect(0, 0, 400, 200)}, {}, {{-20, 0}, {-20, 100}, {-20, 200}}, 5.0);
