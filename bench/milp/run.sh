@@ -10,8 +10,13 @@ repo="$(cd "$here/../.." && pwd)"
 build="${1:-$repo/build}"
 work="${WORK:-${TMPDIR:-/tmp}/uavcover-milp-bench}"
 out="${OUT:-$repo/bench/results/milp-compare.md}"
-PLANNERS=darp,boustrophedon,milp WORK="$work" OUT="$work/compare.md" \
+# bench/compare/run.sh also refreshes bench/results/compare-rectangle.png, which is compare.md's: kept as it was
+png="$repo/bench/results/compare-rectangle.png"
+mkdir -p "$work"
+cp "$png" "$work/compare-rectangle.png.keep" 2>/dev/null || true
+PLANNERS=darp,boustrophedon,milp WORK="$work/compare" OUT="$work/compare.md" \
   bash "$repo/bench/compare/run.sh" "$build" >/dev/null
+cp "$work/compare-rectangle.png.keep" "$png" 2>/dev/null || true
 {
   echo "# milp against darp and boustrophedon on the 20 regions"
   echo
