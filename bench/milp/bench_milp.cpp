@@ -1,7 +1,7 @@
 // The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
 // planner's split of the same problem.
 //   bench_milp [time_limit_s [model]]   (per MILP; default 10 s; model exact|contracted|auto, default auto)
-//   bench_milp stop                      stop latency: a 400 m x 200 m field at 5 m (40 segments), 3 UAVs in
+//   bench_milp stop [model delay_s]      stop latency: a 400 m x 200 m field at 5 m (40 segments), 3 UAVs in
 //                                        one MILP, exact and contracted, a stop requested 0.2-3 s in
 // Scenarios (local metres, spacing as given):
 //   4 lines    : 4 lines (8 waypoints) and 2 depots, 2 UAVs (where `model: auto` keeps the exact model)
@@ -93,20 +93,21 @@ double stop_latency(const PlannerInfo& milp, const Problem& p, const nlohmann::j
   return -1.0;
 }
 
-int stop_bench(const PlannerInfo& milp) {
+int stop_bench(const PlannerInfo& milp, const std::vector<std::string>& models,
+               const std::vector<double>& delays) {
   MultiPolygon a;
   a.push_back(poly({{0, 0}, {400, 0}, {400, 200}, {0, 200}}));
   const Problem p = problem(a, {{-20, 0}, {-20, 100}, {-20, 200}}, 5.0);
   std::printf("| model | stop after s | latency s |\n|---|---:|---:|\n");
-  for (const char* model : {"exact", "contracted"})
-    for (double delay : {0.2, 0.5, 1.0, 2.0, 3.0}) {
+  for (const std::string& model : models)
+    for (double delay : delays) {
       const nlohmann::json params = validate_params(milp, {{"max_segments", 60},
                                                            {"max_uavs_per_milp", 3},
                                                            {"node_limit", 10000000},
                                                            {"time_limit_s", 60},
                                                            {"model", model}});
       const double l = stop_latency(milp, p, params, delay);
-      std::printf("| %s | %.1f | %s |\n", model, delay,
+      std::printf("| %s | %.1f | %s |\n", model.c_str(), delay,
                   l < 0 ? "finished first" : std::to_string(l).substr(0, 5).c_str());
       std::fflush(stdout);
     }
@@ -118,7 +119,9 @@ int stop_bench(const PlannerInfo& milp) {
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "stop") {
     const PlannerInfo* m = find("milp");
-    return m ? stop_bench(*m) : 1;
+    if (!m) return 1;
+    if (argc > 3) return stop_bench(*m, {argv[2]}, {std::atof(argv[3])});
+    return stop_bench(*m, {"exact", "contracted"}, {0.2, 0.5, 1.0, 2.0, 3.0});
   }
   const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
   const std::string model = argc > 2 ? argv[2] : "auto";
