@@ -428,6 +428,7 @@ std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, cons
     int taken = 0;
     std::set<std::pair<int, int>> frontier;  // (key, segment)
     while (left > 0) {
+      if (taken % 64 == 63) stop_check(ctx);
       std::vector<int> pool;
       if (!frontier.empty())
         for (const auto& [k, s] : frontier) pool.push_back(s);

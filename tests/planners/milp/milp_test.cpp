@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/milp/lines.hpp"
 #include "planners/milp/model.hpp"
@@ -457,6 +458,41 @@ TEST(MilpPlanner, CoverageModeExtendsLegsPastTheBoundaryButNotIntoZones) {
   for (const auto& uav : run(p).uavs)
     for (const auto& leg : uav.coverage)
       for (const Point& e : leg) EXPECT_LT(bg::distance(e, p.area), 1e-6);
+}
+
+TEST(MilpRegions, ThousandsOfStripsKeepEveryBand) {
+  // a 2 km square at 2 m (1 000 lines) in 10 bands of uneven width: each region is its band, in one
+  // piece (uniting the strips one by one lost most of a band to the overlay in a plan of this size)
+  const std::vector<int> edges{0, 98, 199, 302, 400, 507, 600, 709, 800, 908, 1000};
+  // the third: the square as a mission gives it, 2 km on a side in WGS84 around (24.40 E, 40.93 N)
+  const double mx = 111320.0 * std::cos(40.93 * std::numbers::pi / 180.0), my = 110540.0;
+  GeoRing ring;
+  for (const auto& [x, y] :
+       std::vector<std::pair<double, double>>{{0, 0}, {2000, 0}, {2000, 2000}, {0, 2000}, {0, 0}})
+    ring.push_back({24.40 + x / mx, 40.93 + y / my});
+  const std::vector<GeoPolygon> geo{{ring}};
+  const MultiPolygon wgs = geometry::to_local(geo, geodesy::LocalFrame(geodesy::centroid(geo)));
+  for (const Polygon& square : {rect(0, 0, 2000, 2000), rect(-1000, -1000, 1000, 1000), wgs.front()})
+    for (const nlohmann::json& params :
+         {nlohmann::json(nullptr), nlohmann::json{{"angle_deg", 0}}, nlohmann::json{{"angle_deg", 90}}}) {
+      SCOPED_TRACE(params.dump() + " " + std::to_string(square.outer()[0].x()));
+      const Problem p = problem({square}, {}, {{0, 0}}, 2.0);
+      const milp::Lines lines = lines_of(p, params);
+      const std::size_t n = lines.segments.size();
+      ASSERT_NEAR(static_cast<double>(n), 1000.0, 10.0);
+      std::vector<int> owner(n);
+      std::vector<int> count(10, 0);
+      for (std::size_t k = 0; k + 1 < edges.size(); ++k)
+        for (std::size_t s = static_cast<std::size_t>(edges[k]) * n / 1000;
+             s < static_cast<std::size_t>(edges[k + 1]) * n / 1000; ++s)
+          owner[s] = static_cast<int>(k), ++count[k];
+      const auto regs = milp::regions(lines, p.free, owner, 10, Context{});
+      for (std::size_t k = 0; k < 10; ++k) {
+        EXPECT_EQ(regs[k].size(), 1u) << "band " << k;
+        const double want = static_cast<double>(count[k]) / static_cast<double>(n) * bg::area(p.free);
+        EXPECT_NEAR(bg::area(regs[k]), want, 2e-3 * bg::area(p.free)) << "band " << k;
+      }
+    }
 }
 
 TEST(MilpPlanner, TheTimeLimitReturnsTheBestAssignmentWithItsGap) {
