@@ -1,6 +1,8 @@
 // The MILP sweep planner (Hong et al. 2021) at the paper's sizes and beyond, against the boustrophedon
 // planner's split of the same problem.
 //   bench_milp [time_limit_s [model]]   (per MILP; default 10 s; model exact|contracted|auto, default auto)
+//   bench_milp stop [model delay_s]      stop latency: a 400 m x 200 m field at 5 m (40 segments), 3 UAVs in
+//                                        one MILP, exact and contracted, a stop requested 0.2-3 s in
 // Scenarios (local metres, spacing as given):
 //   4 lines    : 4 lines (8 waypoints) and 2 depots, 2 UAVs (where `model: auto` keeps the exact model)
 //   pentagon   : 8 lines (16 waypoints) and 3 depots = the paper's 19 nodes, 3 UAVs (paper: 0.80 s Gurobi)
@@ -13,10 +15,12 @@
 #include <cstdlib>
 #include <ctime>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
+#include "uavcover/error.hpp"
 
 using namespace uavcover;
 using namespace uavcover::planners;
@@ -66,9 +70,59 @@ struct Scenario {
   nlohmann::json params;
 };
 
+/// Seconds from a stop request (after `delay` s) to Cancelled, or -1 when the plan ended first.
+double stop_latency(const PlannerInfo& milp, const Problem& p, const nlohmann::json& params, double delay) {
+  std::stop_source stop;
+  std::chrono::steady_clock::time_point asked{};
+  std::jthread timer([&](std::stop_token own) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(delay);
+    while (!own.stop_requested() && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (own.stop_requested()) return;
+    asked = std::chrono::steady_clock::now();
+    stop.request_stop();
+  });
+  try {
+    (void)milp.create()->plan(p, params, Context([](std::string_view, double) {}, stop.get_token()));
+  } catch (const Cancelled&) {
+    const auto now = std::chrono::steady_clock::now();
+    timer.join();
+    return std::chrono::duration<double>(now - asked).count();
+  }
+  timer.request_stop();
+  return -1.0;
+}
+
+int stop_bench(const PlannerInfo& milp, const std::vector<std::string>& models,
+               const std::vector<double>& delays) {
+  MultiPolygon a;
+  a.push_back(poly({{0, 0}, {400, 0}, {400, 200}, {0, 200}}));
+  const Problem p = problem(a, {{-20, 0}, {-20, 100}, {-20, 200}}, 5.0);
+  std::printf("| model | stop after s | latency s |\n|---|---:|---:|\n");
+  for (const std::string& model : models)
+    for (double delay : delays) {
+      const nlohmann::json params = validate_params(milp, {{"max_segments", 60},
+                                                           {"max_uavs_per_milp", 3},
+                                                           {"node_limit", 10000000},
+                                                           {"time_limit_s", 60},
+                                                           {"model", model}});
+      const double l = stop_latency(milp, p, params, delay);
+      std::printf("| %s | %.1f | %s |\n", model.c_str(), delay,
+                  l < 0 ? "finished first" : std::to_string(l).substr(0, 5).c_str());
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "stop") {
+    const PlannerInfo* m = find("milp");
+    if (!m) return 1;
+    if (argc > 3) return stop_bench(*m, {argv[2]}, {std::atof(argv[3])});
+    return stop_bench(*m, {"exact", "contracted"}, {0.2, 0.5, 1.0, 2.0, 3.0});
+  }
   const double limit = argc > 1 ? std::atof(argv[1]) : 10.0;
   const std::string model = argc > 2 ? argv[2] : "auto";
   std::vector<Scenario> sc;

@@ -43,6 +43,17 @@ inline constexpr std::size_t kMaxLines = 20000;
 Lines build_lines(const MultiPolygon& free, const MultiPolygon& no_fly, double spacing, Direction dir,
                   std::optional<double> fixed, const Context& ctx);
 
+/// Neighbours of each segment: the segments of the same part on the neighbouring lines whose spans
+/// along the line overlap (their strips share a side), and the last segment of each part with the
+/// first of the next part (so that the parts follow each other as in the sweep order).
+std::vector<std::vector<int>> adjacency(const Lines& lines);
+
+/// Coverage mode: the segments with each end that lies on the area's outer boundary moved half a
+/// footprint further along its line (as the other planners' legs), unless that would come within
+/// `clearance` of a no-fly zone. Ends at no-fly zones and holes stay where they are.
+std::vector<Segment> extended_for_coverage(const Lines& lines, const MultiPolygon& area,
+                                           const MultiPolygon& no_fly, double footprint, double clearance);
+
 /// Per UAV the union of the strips of its segments (owner[s] = UAV of segment s, -1: none), clipped
 /// to `free`: exclusive, since the strips are.
 std::vector<MultiPolygon> regions(const Lines& lines, const MultiPolygon& free, const std::vector<int>& owner,

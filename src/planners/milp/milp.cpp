@@ -8,6 +8,10 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <set>
+
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/biconnected_components.hpp>
 
 #include "geometry/geometry.hpp"
 #include "planners/milp/lines.hpp"
@@ -24,6 +28,11 @@ using milp::Segment;
 
 constexpr double kPi = std::numbers::pi;
 constexpr const char* kStage = "milp";
+
+/// Past the deadline the warm starts are returned as they are; only a stop request ends the work.
+void stop_check(const Context& ctx) {
+  if (ctx.stop_requested()) ctx.check();
+}
 
 /// Degrees clockwise from north <-> radians counter-clockwise from east (the boustrophedon's convention).
 double from_bearing(double deg) { return kPi / 2 - deg * kPi / 180.0; }
@@ -43,6 +52,9 @@ struct Params {
   double nearby_penalty = 10.0;
   std::string model = "auto";
 };
+
+/// Coverage mode: extended legs end at least this far from no-fly zones (as the segments do).
+constexpr double kCoverageClearanceM = 0.5;
 
 /// `model: auto` uses the exact model up to this many pairs (waypoint pairs: segments or blocks).
 constexpr int kExactMaxPairs = 4;
@@ -97,16 +109,17 @@ std::pair<Point, Point> leg_ends(const Segment& s, bool reversed) {
   return reversed ? std::pair{s.b, s.a} : std::pair{s.a, s.b};
 }
 
-Item make_item(const std::vector<Segment>& segs, int first, int last, const Transit& transit) {
+/// One item: the segments `legs` (neighbours on consecutive lines) flown back and forth in that order.
+Item make_item(const std::vector<Segment>& segs, const std::vector<int>& legs, const Transit& transit) {
   Item it;
-  for (int s = first; s <= last; ++s) {
-    const bool rev = (s - first) % 2 == 1;
-    const auto [p, q] = leg_ends(segs[static_cast<std::size_t>(s)], rev);
+  for (std::size_t i = 0; i < legs.size(); ++i) {
+    const bool rev = i % 2 == 1;
+    const auto [p, q] = leg_ends(segs[static_cast<std::size_t>(legs[i])], rev);
     if (!it.legs.empty()) it.inner += transit(it.exit, p);
     it.inner += boustro::dist(p, q);
     if (it.legs.empty()) it.entry = p;
     it.exit = q;
-    it.legs.emplace_back(s, rev);
+    it.legs.emplace_back(legs[i], rev);
   }
   return it;
 }
@@ -281,43 +294,201 @@ Routes warm_start(const Instance& in, const Cluster& cl) {
   return best;
 }
 
-/// The items of a run of segments: one per segment, or blocks of neighbouring segments (never across
-/// parts) when there are more than `max_items`.
-std::vector<Item> items_for(const std::vector<Segment>& segs, int first, int count, int max_items,
-                            const Transit& transit) {
+/// The items of a set of segments (`members`, ascending): one per segment, or, when there are more
+/// than `max_items`, blocks cut from its chains. A chain is a run of segments on consecutive lines of
+/// one part where each overlaps only the next (a sweep cell): a block never jumps across a gap.
+std::vector<Item> items_for(const std::vector<Segment>& segs, const std::vector<std::vector<int>>& adj,
+                            const std::vector<int>& members, int max_items, const Transit& transit) {
   std::vector<Item> out;
-  if (count <= 0) return out;
-  // runs within one part
-  std::vector<std::pair<int, int>> runs;
-  for (int s = first; s < first + count; ++s)
-    if (runs.empty() || segs[static_cast<std::size_t>(s)].part != segs[static_cast<std::size_t>(s - 1)].part)
-      runs.emplace_back(s, 1);
-    else
-      ++runs.back().second;
-  const int blocks = std::max(max_items, static_cast<int>(runs.size()));
-  for (const auto& [s0, n] : runs) {
+  if (members.empty()) return out;
+  std::vector<char> mine(segs.size(), 0);
+  for (int s : members) mine[static_cast<std::size_t>(s)] = 1;
+  auto on_line = [&](int s, int part, int line) {
+    const Segment& g = segs[static_cast<std::size_t>(s)];
+    return mine[static_cast<std::size_t>(s)] && g.part == part && g.line == line;
+  };
+  std::vector<std::vector<int>> chains;
+  std::vector<int> chain_of(segs.size(), -1);
+  for (int s : members) {
+    const Segment& g = segs[static_cast<std::size_t>(s)];
+    int prev = -1, before = 0;
+    for (int t : adj[static_cast<std::size_t>(s)])
+      if (on_line(t, g.part, g.line - 1)) prev = t, ++before;
+    bool extends = false;
+    if (before == 1) {
+      int after = 0;
+      for (int u : adj[static_cast<std::size_t>(prev)])
+        if (on_line(u, g.part, g.line)) ++after;
+      extends = after == 1 &&
+                chains[static_cast<std::size_t>(chain_of[static_cast<std::size_t>(prev)])].back() == prev;
+    }
+    if (extends) {
+      chain_of[static_cast<std::size_t>(s)] = chain_of[static_cast<std::size_t>(prev)];
+    } else {
+      chain_of[static_cast<std::size_t>(s)] = static_cast<int>(chains.size());
+      chains.emplace_back();
+    }
+    chains[static_cast<std::size_t>(chain_of[static_cast<std::size_t>(s)])].push_back(s);
+  }
+  const int count = static_cast<int>(members.size());
+  const int blocks = std::max(max_items, static_cast<int>(chains.size()));
+  for (const auto& chain : chains) {
+    const int n = static_cast<int>(chain.size());
     const int b =
         count <= max_items
             ? n
             : std::clamp(static_cast<int>(std::lround(static_cast<double>(blocks) * n / count)), 1, n);
     for (int i = 0; i < b; ++i) {
-      const int lo = s0 + static_cast<int>(static_cast<long long>(n) * i / b);
-      const int hi = s0 + static_cast<int>(static_cast<long long>(n) * (i + 1) / b) - 1;
-      if (hi >= lo) out.push_back(make_item(segs, lo, hi, transit));
+      const auto lo = static_cast<std::size_t>(static_cast<long long>(n) * i / b);
+      const auto hi = static_cast<std::size_t>(static_cast<long long>(n) * (i + 1) / b);
+      if (hi > lo)
+        out.push_back(make_item(segs,
+                                std::vector<int>(chain.begin() + static_cast<std::ptrdiff_t>(lo),
+                                                 chain.begin() + static_cast<std::ptrdiff_t>(hi)),
+                                transit));
     }
   }
   return out;
+}
+
+/// Cut vertices of the graph of the segments nobody owns yet (Boost.Graph).
+std::vector<char> cut_vertices(const std::vector<std::vector<int>>& adj, const std::vector<int>& owner) {
+  using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS>;
+  std::vector<int> local(adj.size(), -1), global;
+  for (std::size_t i = 0; i < adj.size(); ++i)
+    if (owner[i] < 0) local[i] = static_cast<int>(global.size()), global.push_back(static_cast<int>(i));
+  Graph g(global.size());
+  for (int i : global)
+    for (int j : adj[static_cast<std::size_t>(i)])
+      if (i < j && owner[static_cast<std::size_t>(j)] < 0)
+        boost::add_edge(static_cast<std::size_t>(local[static_cast<std::size_t>(i)]),
+                        static_cast<std::size_t>(local[static_cast<std::size_t>(j)]), g);
+  std::vector<std::size_t> points;
+  boost::articulation_points(g, std::back_inserter(points));
+  std::vector<char> cut(adj.size(), 0);
+  for (std::size_t v : points) cut[static_cast<std::size_t>(global[v])] = 1;
+  return cut;
+}
+
+/// Connected parts of the unowned segments without `skip`, largest work first.
+std::vector<std::pair<double, std::vector<int>>> parts_without(const std::vector<std::vector<int>>& adj,
+                                                               const std::vector<int>& owner,
+                                                               const std::vector<double>& work, int skip) {
+  std::vector<std::pair<double, std::vector<int>>> out;
+  std::vector<char> seen(adj.size(), 0);
+  for (std::size_t s = 0; s < adj.size(); ++s) {
+    if (seen[s] || owner[s] >= 0 || static_cast<int>(s) == skip) continue;
+    std::pair<double, std::vector<int>> comp{0.0, {}};
+    std::vector<int> stack{static_cast<int>(s)};
+    seen[s] = 1;
+    while (!stack.empty()) {
+      const int u = stack.back();
+      stack.pop_back();
+      comp.first += work[static_cast<std::size_t>(u)];
+      comp.second.push_back(u);
+      for (int v : adj[static_cast<std::size_t>(u)])
+        if (!seen[static_cast<std::size_t>(v)] && owner[static_cast<std::size_t>(v)] < 0 && v != skip)
+          seen[static_cast<std::size_t>(v)] = 1, stack.push_back(v);
+    }
+    out.push_back(std::move(comp));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  return out;
+}
+
+/// The segments of each cluster: grown one group after the other from one end of the sweep order
+/// (`descending`: from the other end, last group first), each taking the frontier segment first in
+/// that order whose removal keeps the rest connected, so every group and the rest stay connected.
+/// Where every frontier segment holds the rest together, it is taken with the parts it cuts off (all
+/// but the largest). A group stops at the side of its share's target nearer to it and takes at least
+/// `sizes[g]` segments when there are enough. Returns the group of each segment.
+std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, const std::vector<double>& work,
+                                  const std::vector<double>& shares, const std::vector<int>& sizes,
+                                  bool descending, const Context& ctx) {
+  const int S = static_cast<int>(work.size()), C = static_cast<int>(shares.size());
+  std::vector<int> owner(static_cast<std::size_t>(S), -1);
+  const double total = std::accumulate(work.begin(), work.end(), 0.0);
+  auto key = [&](int s) { return descending ? S - 1 - s : s; };
+  int left = S, need_after = std::accumulate(sizes.begin(), sizes.end(), 0);
+  std::vector<char> cut;
+  bool cut_known = false;
+  auto is_cut = [&](int s) {
+    int degree = 0;
+    for (int t : adj[static_cast<std::size_t>(s)]) degree += owner[static_cast<std::size_t>(t)] < 0 ? 1 : 0;
+    if (degree <= 1) return false;
+    if (!cut_known) cut = cut_vertices(adj, owner), cut_known = true;
+    return cut[static_cast<std::size_t>(s)] != 0;
+  };
+  for (int step = 0; step + 1 < C; ++step) {
+    stop_check(ctx);
+    const int g = descending ? C - 1 - step : step;
+    need_after -= sizes[static_cast<std::size_t>(g)];
+    const double target = shares[static_cast<std::size_t>(g)] * total;
+    double acc = 0.0;
+    int taken = 0;
+    std::set<std::pair<int, int>> frontier;  // (key, segment)
+    while (left > 0) {
+      if (taken % 64 == 63) stop_check(ctx);
+      std::vector<int> pool;
+      if (!frontier.empty())
+        for (const auto& [k, s] : frontier) pool.push_back(s);
+      else
+        for (int k = 0; k < S; ++k)
+          if (const int s = descending ? S - 1 - k : k; owner[static_cast<std::size_t>(s)] < 0)
+            pool.push_back(s);
+      std::vector<int> take;
+      for (int s : pool)
+        if (!is_cut(s)) {
+          take = {s};
+          break;
+        }
+      if (take.empty()) {
+        take = {pool.front()};
+        const auto parts = parts_without(adj, owner, work, pool.front());
+        for (std::size_t i = 1; i < parts.size(); ++i)
+          take.insert(take.end(), parts[i].second.begin(), parts[i].second.end());
+      }
+      double amount = 0.0;
+      for (int s : take) amount += work[static_cast<std::size_t>(s)];
+      if (taken >= sizes[static_cast<std::size_t>(g)] &&
+          (acc >= target || acc + amount - target > target - acc))
+        break;
+      if (left - static_cast<int>(take.size()) < need_after) break;
+      for (int s : take) {
+        owner[static_cast<std::size_t>(s)] = g;
+        acc += work[static_cast<std::size_t>(s)];
+        ++taken;
+        --left;
+        frontier.erase({key(s), s});
+        for (int u : adj[static_cast<std::size_t>(s)])
+          if (owner[static_cast<std::size_t>(u)] < 0) frontier.insert({key(u), u});
+      }
+      cut_known = false;
+    }
+  }
+  for (auto& o : owner)
+    if (o < 0) o = descending ? 0 : C - 1;
+  return owner;
+}
+
+/// The largest difference between a group's part of the work and its share.
+double share_error(const std::vector<int>& group, const std::vector<double>& work,
+                   const std::vector<double>& shares) {
+  std::vector<double> got(shares.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t s = 0; s < group.size(); ++s)
+    got[static_cast<std::size_t>(group[s])] += work[s], total += work[s];
+  double worst = 0.0;
+  for (std::size_t g = 0; g < shares.size(); ++g)
+    worst = std::max(worst, std::abs(got[g] / std::max(total, 1e-300) - shares[g]));
+  return worst;
 }
 
 class MilpPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& p, const nlohmann::json& params,
                                 const Context& ctx) const override {
-    // past the deadline the warm starts are returned as they are; only a stop request ends the work
-    auto stop_check = [&] {
-      if (ctx.stop_requested()) ctx.check();
-    };
-    stop_check();
+    stop_check(ctx);
     ctx.report(kStage, 0.0);
     const std::size_t m = p.starts.size();
     if (m == 0) throw InputError("uavs", "at least one UAV is needed");
@@ -330,7 +501,11 @@ class MilpPlanner final : public Planner {
     Assignment out;
     out.uavs.resize(m);
     const milp::Lines lines = milp::build_lines(p.free, p.no_fly, p.spacing_m, par.direction, par.angle, ctx);
-    const auto& segs = lines.segments;
+    // coverage mode: legs past the outer boundary (the strips, adjacency and regions keep the lines' own)
+    const std::vector<Segment> segs =
+        p.mode == Mode::Coverage
+            ? milp::extended_for_coverage(lines, p.area, p.no_fly, p.footprint_m, kCoverageClearanceM)
+            : lines.segments;
     const int S = static_cast<int>(segs.size());
     ctx.report(kStage, 0.05);
     const Transit transit(p.no_fly);
@@ -370,17 +545,25 @@ class MilpPlanner final : public Planner {
       }
     std::vector<double> work;
     work.reserve(segs.size());
-    for (const auto& s : segs) work.push_back(s.length() + p.spacing_m);
+    for (const auto& s : lines.segments) work.push_back(s.length() + p.spacing_m);
     const double share_sum = std::accumulate(group_share.begin(), group_share.end(), 0.0);
     for (auto& g : group_share) g = share_sum > 0 ? g / share_sum : 1.0 / C;
-    const std::vector<int> seg_counts = split_by_share(work, group_share, group_size);
+    // each cluster's segments connected (grown from both ends of the sweep order, the nearer shares win)
+    const std::vector<std::vector<int>> adj = milp::adjacency(lines);
+    std::vector<int> group(static_cast<std::size_t>(S), 0);
+    if (C > 1) {
+      group = connected_groups(adj, work, group_share, group_size, false, ctx);
+      std::vector<int> other = connected_groups(adj, work, group_share, group_size, true, ctx);
+      if (share_error(other, work, group_share) < share_error(group, work, group_share) - 1e-12)
+        group = std::move(other);
+    }
     {
-      int at = 0;
-      for (int g = 0; g < C; ++g) {
-        const int n = seg_counts[static_cast<std::size_t>(g)];
-        clusters[static_cast<std::size_t>(g)].items = items_for(segs, at, n, par.max_segments, transit);
-        at += n;
-      }
+      std::vector<std::vector<int>> members(static_cast<std::size_t>(C));
+      for (int s = 0; s < S; ++s)
+        members[static_cast<std::size_t>(group[static_cast<std::size_t>(s)])].push_back(s);
+      for (int g = 0; g < C; ++g)
+        clusters[static_cast<std::size_t>(g)].items =
+            items_for(segs, adj, members[static_cast<std::size_t>(g)], par.max_segments, transit);
     }
 
     // one MILP per cluster
@@ -390,7 +573,7 @@ class MilpPlanner final : public Planner {
     double worst_gap = 0.0;
     std::vector<double> uav_distance(m, 0.0);
     for (int g = 0; g < C; ++g) {
-      stop_check();
+      stop_check(ctx);
       const Cluster& cl = clusters[static_cast<std::size_t>(g)];
       milp::Limits lim;
       lim.max_nodes = par.node_limit;
@@ -413,7 +596,7 @@ class MilpPlanner final : public Planner {
       } else {
         r = milp::solve(in, start, lim, ctx);
       }
-      stop_check();
+      stop_check(ctx);
       if (r.status == "stopped" || r.status == "time_limit") hit_time = true;
       if (!r.optimal) not_optimal = true;
       worst_gap = std::max(worst_gap, r.gap);

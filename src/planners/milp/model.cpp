@@ -97,7 +97,10 @@ class Handler final : public CbcEventHandler {
 struct Lp {
   std::vector<double> obj, lb, ub;
   std::vector<bool> integer;
-  CoinPackedMatrix mat{false, 0, 0};
+  // rows as triplets, made into one matrix at the end: appending rows to a CoinPackedMatrix one by one
+  // copies it again and again (seconds, without a stop check, on a 40-pair exact model)
+  std::vector<int> trow, tcol;
+  std::vector<double> tval;
   std::vector<double> rlo, rhi;
   std::vector<int> first;  ///< columns CBC branches on first
   int add(double o, double l, double h, bool is_int) {
@@ -107,11 +110,21 @@ struct Lp {
     integer.push_back(is_int);
     return static_cast<int>(obj.size()) - 1;
   }
-  void begin_rows() { mat.setDimensions(0, static_cast<int>(obj.size())); }
+  void begin_rows() {}
   void row(const CoinPackedVector& v, double lo, double hi) {
-    mat.appendRow(v);
+    const int r = static_cast<int>(rlo.size());
+    for (int e = 0; e < v.getNumElements(); ++e) {
+      trow.push_back(r);
+      tcol.push_back(v.getIndices()[e]);
+      tval.push_back(v.getElements()[e]);
+    }
     rlo.push_back(lo);
     rhi.push_back(hi);
+  }
+  [[nodiscard]] CoinPackedMatrix matrix() const {
+    CoinPackedMatrix m(false, trow.data(), tcol.data(), tval.data(), static_cast<CoinBigIndex>(tval.size()));
+    m.setDimensions(static_cast<int>(rlo.size()), static_cast<int>(obj.size()));
+    return m;
   }
 };
 
@@ -129,7 +142,7 @@ struct Arcs {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Contracted models with more binaries than this are solved without probing cuts.
+/// Models with more binaries than this are solved without probing cuts (either formulation).
 constexpr int kProbingMaxBinaries = 2000;
 
 bool uses(int m, int k, int node) { return node >= m || node == k; }
@@ -499,7 +512,7 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
 
   OsiClpSolverInterface solver;
   solver.messageHandler()->setLogLevel(0);
-  solver.loadProblem(lp.mat, lp.lb.data(), lp.ub.data(), lp.obj.data(), lp.rlo.data(), lp.rhi.data());
+  solver.loadProblem(lp.matrix(), lp.lb.data(), lp.ub.data(), lp.obj.data(), lp.rlo.data(), lp.rhi.data());
   for (int c = 0; c < res.variables; ++c)
     if (lp.integer[static_cast<std::size_t>(c)]) solver.setInteger(c);
 
@@ -525,10 +538,11 @@ Result solve(const Instance& in, const Routes& start, const Limits& lim, const C
   // 200 segments with the defaults 10.3 s with, 1.9 s without (gap 1.3 % and 2.0 %)
   CglGomory gomory;
   if (contracted) model.addCutGenerator(&gomory, -100, "Gomory");
-  // large contracted models: no probing either. Its root pass runs without any callback, so a stop
-  // waited for it: 0.8-1.1 s on a 40-pair, 3-UAV model under load, 0.28-0.35 s without it
+  // large models (contracted or exact): no probing either. Its root pass runs without any callback, so
+  // a stop waited for it: 0.8-1.1 s on a 40-pair, 3-UAV contracted model under load, 0.28-0.35 s
+  // without it
   CglProbing probing;
-  if (contracted && res.binaries > kProbingMaxBinaries) model.addCutGenerator(&probing, -100, "Probing");
+  if (res.binaries > kProbingMaxBinaries) model.addCutGenerator(&probing, -100, "Probing");
   model.setStrategy(strategy);
   // branch on who flies what first
   model.findIntegers(false);

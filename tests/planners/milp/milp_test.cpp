@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/milp/lines.hpp"
 #include "planners/milp/model.hpp"
@@ -366,6 +367,131 @@ TEST(MilpPlanner, NoLegEntersTheNoFlyZoneOfANonConvexArea) {
       EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
       EXPECT_TRUE(geometry::segment_within(p.free, leg[0], leg[1], 1e-6));
       EXPECT_GE(geometry::distance(p.no_fly, leg[0]), 0.49);
+    }
+}
+
+/// The pieces (connected parts in the segment adjacency graph) of each UAV's segments.
+std::vector<int> pieces_per_uav(const std::vector<int>& who, const milp::Lines& lines, std::size_t uavs) {
+  const auto adj = milp::adjacency(lines);
+  std::vector<int> pieces(uavs, 0);
+  std::vector<char> seen(who.size(), 0);
+  for (std::size_t s = 0; s < who.size(); ++s) {
+    if (seen[s] || who[s] < 0) continue;
+    ++pieces[static_cast<std::size_t>(who[s])];
+    std::vector<std::size_t> stack{s};
+    seen[s] = 1;
+    while (!stack.empty()) {
+      const std::size_t u = stack.back();
+      stack.pop_back();
+      for (int v : adj[u])
+        if (!seen[static_cast<std::size_t>(v)] && who[static_cast<std::size_t>(v)] == who[s])
+          seen[static_cast<std::size_t>(v)] = 1, stack.push_back(static_cast<std::size_t>(v));
+    }
+  }
+  return pieces;
+}
+
+TEST(MilpPlanner, EachUavOfANonConvexAreaGetsOneConnectedPiece) {
+  // a wide U (lines along its 300 m base cross both arms) with a no-fly zone in the base: the lines in
+  // the arms have two segments each, so a split of the sweep order gives a UAV the tops of both arms
+  MultiPolygon u;
+  u.push_back(poly({{0, 0}, {300, 0}, {300, 200}, {200, 200}, {200, 60}, {100, 60}, {100, 200}, {0, 200}}));
+  MultiPolygon nfz;
+  nfz.push_back(rect(140, 20, 160, 40));
+  for (const std::vector<Point>& starts :
+       {std::vector<Point>{{-10, -10}, {310, -10}}, std::vector<Point>{{-10, -10}, {150, -10}, {310, -10}}}) {
+    SCOPED_TRACE(starts.size());
+    const Problem p = problem(u, nfz, starts, 10.0);
+    const Assignment a = run(p);
+    const milp::Lines lines = lines_of(p);
+    std::map<int, int> per_line;
+    for (const auto& s : lines.segments) ++per_line[s.line];
+    EXPECT_GE(std::count_if(per_line.begin(), per_line.end(), [](const auto& e) { return e.second == 2; }),
+              14)
+        << "the arms' lines and the lines through the zone have two segments";
+    const auto who = flown_by(a, lines);
+    for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
+    const auto pieces = pieces_per_uav(who, lines, starts.size());
+    for (std::size_t k = 0; k < starts.size(); ++k) {
+      EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s segments are not one connected piece";
+      EXPECT_EQ(a.uavs[k].region.size(), 1u) << "UAV " << k << "'s region is not one polygon";
+      for (const auto& leg : a.uavs[k].coverage)
+        EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
+    }
+  }
+}
+
+TEST(MilpPlanner, CoverageModeExtendsLegsPastTheBoundaryButNotIntoZones) {
+  // a 200 m x 100 m field, lines east-west; a zone inside it (legs stop 0.5 m short of it) and one just
+  // outside its east side (the legs there cannot be extended without entering it)
+  Problem p = problem({rect(0, 0, 200, 100)}, {rect(80, 40, 120, 60), rect(203, 0, 230, 30)},
+                      {{-10, -10}, {210, 110}}, 10.0);
+  p.mode = Mode::Coverage;
+  const double half = 0.5 * p.footprint_m;
+  const Assignment a = run(p);
+  const milp::Lines lines = lines_of(p);
+  std::size_t legs = 0, extended = 0;
+  for (const auto& uav : a.uavs)
+    for (const auto& leg : uav.coverage) {
+      ++legs;
+      ASSERT_EQ(leg.size(), 2u);
+      EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
+      for (const Point& e : leg) {
+        EXPECT_GE(geometry::distance(p.no_fly, e), 0.49);
+        const double out = bg::distance(e, p.area);
+        if (out > 1e-6) {
+          ++extended;
+          EXPECT_NEAR(out, half, 1e-6) << "an end beyond the boundary is half a footprint out";
+        }
+      }
+      // the leg covers a whole segment: it contains one of the lines' segments
+      EXPECT_TRUE(std::any_of(lines.segments.begin(), lines.segments.end(), [&](const milp::Segment& s) {
+        return bg::distance(s.a, bg::model::segment<Point>{leg[0], leg[1]}) < 1e-6 &&
+               bg::distance(s.b, bg::model::segment<Point>{leg[0], leg[1]}) < 1e-6;
+      }));
+    }
+  EXPECT_EQ(legs, lines.segments.size());
+  // 10 lines, two ends each on the boundary, the 3 lines next to the outer zone end short on the east
+  EXPECT_EQ(extended, 2 * 10 - 3u);
+  // strict mode keeps every end inside
+  p.mode = Mode::Strict;
+  for (const auto& uav : run(p).uavs)
+    for (const auto& leg : uav.coverage)
+      for (const Point& e : leg) EXPECT_LT(bg::distance(e, p.area), 1e-6);
+}
+
+TEST(MilpRegions, ThousandsOfStripsKeepEveryBand) {
+  // a 2 km square at 2 m (1 000 lines) in 10 bands of uneven width: each region is its band, in one
+  // piece (uniting the strips one by one lost most of a band to the overlay in a plan of this size)
+  const std::vector<int> edges{0, 98, 199, 302, 400, 507, 600, 709, 800, 908, 1000};
+  // the third: the square as a mission gives it, 2 km on a side in WGS84 around (24.40 E, 40.93 N)
+  const double mx = 111320.0 * std::cos(40.93 * std::numbers::pi / 180.0), my = 110540.0;
+  GeoRing ring;
+  for (const auto& [x, y] :
+       std::vector<std::pair<double, double>>{{0, 0}, {2000, 0}, {2000, 2000}, {0, 2000}, {0, 0}})
+    ring.push_back({24.40 + x / mx, 40.93 + y / my});
+  const std::vector<GeoPolygon> geo{{ring}};
+  const MultiPolygon wgs = geometry::to_local(geo, geodesy::LocalFrame(geodesy::centroid(geo)));
+  for (const Polygon& square : {rect(0, 0, 2000, 2000), rect(-1000, -1000, 1000, 1000), wgs.front()})
+    for (const nlohmann::json& params :
+         {nlohmann::json(nullptr), nlohmann::json{{"angle_deg", 0}}, nlohmann::json{{"angle_deg", 90}}}) {
+      SCOPED_TRACE(params.dump() + " " + std::to_string(square.outer()[0].x()));
+      const Problem p = problem({square}, {}, {{0, 0}}, 2.0);
+      const milp::Lines lines = lines_of(p, params);
+      const std::size_t n = lines.segments.size();
+      ASSERT_NEAR(static_cast<double>(n), 1000.0, 10.0);
+      std::vector<int> owner(n);
+      std::vector<int> count(10, 0);
+      for (std::size_t k = 0; k + 1 < edges.size(); ++k)
+        for (std::size_t s = static_cast<std::size_t>(edges[k]) * n / 1000;
+             s < static_cast<std::size_t>(edges[k + 1]) * n / 1000; ++s)
+          owner[s] = static_cast<int>(k), ++count[k];
+      const auto regs = milp::regions(lines, p.free, owner, 10, Context{});
+      for (std::size_t k = 0; k < 10; ++k) {
+        EXPECT_EQ(regs[k].size(), 1u) << "band " << k;
+        const double want = static_cast<double>(count[k]) / static_cast<double>(n) * bg::area(p.free);
+        EXPECT_NEAR(bg::area(regs[k]), want, 2e-3 * bg::area(p.free)) << "band " << k;
+      }
     }
 }
 
