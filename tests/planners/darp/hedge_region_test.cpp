@@ -1,8 +1,9 @@
 // A field crossed by 1 m hedges at 45 degrees (bench/web/pan-zoom.mjs's field at 300 m, hedges every
 // 27 m, ds 4 m, strict, placement searched): the UAV's region (its cells clipped by the free area) was
 // written as polygons plan.json's reader refused as self-intersecting, so the plan could not be
-// exported. Seeds 1..10 all failed before (regions.cpp split no pinched ring, darp.cpp kept the clipping's
-// slivers); seeds 2 and 8 still fail (a hole of the large piece, as Boost clips it, crosses itself).
+// exported. Seeds 3, 4, 6, 8 of 1..10 failed before (regions.cpp split no pinched ring, darp.cpp kept the
+// clipping's slivers); seeds 2 and 8 fail now (a hole of the large piece, as Boost clips it, crosses
+// itself; bench/results/darp-quality.md).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
