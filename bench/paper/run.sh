@@ -7,6 +7,7 @@
 #
 # usage: bench/paper/run.sh [BUILD_DIR]      (default: build; or set UAVCOVER=/path/to/uavcover)
 # env:   DATA=bench/data/apostolidis2022  WORK=/tmp/uavcover-paper-bench  MODES="strict coverage"  ROIS="01 02 ..."
+#        PARAMS='{"extend_legs": false}'  (planner_params merged into every mission, to measure a variant)
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -17,6 +18,7 @@ data="${DATA:-$repo/bench/data/apostolidis2022}"
 work="${WORK:-${TMPDIR:-/tmp}/uavcover-paper-bench}"
 modes="${MODES:-strict coverage}"
 rois="${ROIS:-$(seq -w 1 20 | tr '\n' ' ')}"
+params="${PARAMS:-{\}}"
 out="${OUT:-$repo/bench/results/paper.md}"
 
 [[ -x "$bin" ]] || { echo "run.sh: no uavcover binary at $bin (build it, or pass BUILD_DIR / set UAVCOVER)" >&2; exit 2; }
@@ -30,8 +32,10 @@ for mode in $modes; do
     rm -rf "$dir"
     mkdir -p "$dir"
     # the mission with the mode set
-    python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); m["mode"]=sys.argv[2]; json.dump(m,open(sys.argv[3],"w"),indent=1)' \
-      "$data/$roi.json" "$mode" "$dir/mission.json"
+    python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); m["mode"]=sys.argv[2]; p=json.loads(sys.argv[4])
+if p: m["planner_params"]={**m.get("planner_params",{}),**p}
+json.dump(m,open(sys.argv[3],"w"),indent=1)' \
+      "$data/$roi.json" "$mode" "$dir/mission.json" "$params"
     printf '%-9s %-5s ' "$mode" "$roi" >&2
     if "$bin" -q plan "$dir/mission.json" --out "$dir" 2>"$dir/plan.err"; then
       if "$bin" -q evaluate "$dir/mission.json" "$dir/paths.geojson" --out "$dir" --lattice 1 --no-images \

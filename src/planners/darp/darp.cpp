@@ -1,10 +1,39 @@
 #include "planners/darp/darp.hpp"
 
+#include <algorithm>
+
 #include "planners/darp/darp_planner.hpp"
 
 namespace uavcover::planners {
 
 namespace {
+
+/// The free part of a region's cells. Clipping cells by thin zones (1 m hedges at 45 degrees) leaves
+/// slivers (vertices millimetres apart, spikes, pieces crossing themselves) that plan.json's reader
+/// refuses once written as WGS84 and read back. Vertices closer than 1 cm to the previous one go, then
+/// spikes; a piece still invalid and under 1 m^2 is dropped.
+MultiPolygon clip_region(const MultiPolygon& cells, const MultiPolygon& free) {
+  MultiPolygon clipped, out;
+  bg::intersection(cells, free, clipped);
+  auto tidy = [](Polygon::ring_type& ring) {
+    Polygon::ring_type kept;
+    for (const Point& p : ring)
+      if (kept.empty() || bg::comparable_distance(kept.back(), p) >= 1e-4) kept.push_back(p);
+    while (kept.size() > 1 && bg::comparable_distance(kept.back(), kept.front()) < 1e-4) kept.pop_back();
+    if (!kept.empty()) kept.push_back(kept.front());
+    ring = std::move(kept);
+  };
+  for (auto& poly : clipped) {
+    tidy(poly.outer());
+    for (auto& in : poly.inners()) tidy(in);
+    std::erase_if(poly.inners(), [](const auto& in) { return in.size() < 4; });
+    if (poly.outer().size() < 4) continue;
+    bg::remove_spikes(poly);
+    if (poly.outer().size() < 4 || (bg::area(poly) < 1.0 && !bg::is_valid(poly))) continue;
+    out.push_back(std::move(poly));
+  }
+  return out;
+}
 
 class DarpPlanner final : public Planner {
  public:
@@ -55,7 +84,7 @@ class DarpPlanner final : public Planner {
     for (const auto& r : res.uavs) {
       UavAssignment a;
       // mega-cells at the area's edge reach past it: the region is what of them is free area
-      if (!r.cells_outline.empty()) bg::intersection(r.cells_outline, problem.free, a.region);
+      if (!r.cells_outline.empty()) a.region = clip_region(r.cells_outline, problem.free);
       a.coverage = r.loops;
       a.share_actual = r.share_actual;
       a.diagnostics = {{"cells", r.cells}};

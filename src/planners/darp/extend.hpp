@@ -2,9 +2,10 @@
 // boundary (the partial mega-cells the grid leaves out) stays uncovered. Where a loop makes a U-turn
 // at its region's edge and the mega-cell beyond is not free, both legs of the U-turn are lengthened
 // along their own direction (the turn's two vertices move; no vertex is added, so the turn count
-// stays), as far as the swept footprint (w = 1.5 ds) needs to reach the boundary:
-//   strict mode:   never past the free area's boundary (kept grid::kClearance inside it);
-//   coverage mode: up to half a footprint (0.75 ds) past the boundary, never into a no-fly zone.
+// stays), as far as the swept footprint (w = 1.5 ds, reaching w/2 past the leg's end) needs to reach
+// the boundary straight ahead, so the leg ends w/2 inside it; a leg end already outside the area
+// (coverage mode) stays. Never into a no-fly zone (kept grid::kClearance away), and in strict mode
+// never out of the free area.
 // The moved turn stays inside the part of the non-free cell that its own cell claims: the whole cell
 // when it is that cell's only free neighbour, otherwise the triangle facing it (depth < ds / 2), so that
 // extensions from different cells (and UAVs) never meet.

@@ -49,7 +49,21 @@ MultiPolygon cells_to_polygons(int rows, int cols, const std::vector<int>& owner
       cur = pick->second;
       edges.erase(pick);
     }
-    rings.push_back(std::move(ring));
+    // a ring that passes through a corner twice (cells of one region touching there, around an
+    // enclosed part) is split there into simple rings: an outer and a hole touching at that corner
+    std::vector<V> open;
+    std::map<V, std::size_t> at;
+    for (const V& v : ring) {
+      if (auto hit = at.find(v); hit != at.end()) {
+        rings.emplace_back(open.begin() + static_cast<std::ptrdiff_t>(hit->second), open.end());
+        for (std::size_t k = hit->second + 1; k < open.size(); ++k) at.erase(open[k]);
+        open.resize(hit->second + 1);
+      } else {
+        at.emplace(v, open.size());
+        open.push_back(v);
+      }
+    }
+    rings.push_back(std::move(open));
   }
   // drop collinear vertices, map to local; counter-clockwise rings are outers, clockwise ones holes
   MultiPolygon outers;
