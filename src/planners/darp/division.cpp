@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
 constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
+constexpr int kStagnation = 100;         // ... or after this many evaluations without a better division
 /// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
 /// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
 constexpr double kClassicMaxWork = 1e5;
@@ -457,6 +458,7 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
     for (int i = 0; i < P; ++i) e += std::pow((c[i] - targets[i]) / tolerance(targets[i]), 2);
     return e;
   };
+  int last_gain = 0;  // the evaluation that last improved the best division
   auto evaluate = [&](const std::vector<double>& wt, std::vector<int>& o, std::vector<int>& c,
                       std::vector<double>& b) {
     ++out.iterations;
@@ -466,12 +468,14 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
     if (dev < out.deviation) {
       out.deviation = dev;
       out.owner = o;
+      last_gain = out.iterations;
     }
   };
   evaluate(w, owner, counts, sens);
   double err = error(counts);
   std::vector<double> wt(P), step(P);
-  while (out.deviation > kAim && out.iterations < max_iter && !(stop_early && stop_early())) {
+  while (out.deviation > kAim && out.iterations < max_iter && out.iterations - last_gain < kStagnation &&
+         !(stop_early && stop_early())) {
     // Newton step: L step = targets - counts, with the last participant's weight held (L is singular)
     const int m = P - 1;
     std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
