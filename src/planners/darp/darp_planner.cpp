@@ -183,7 +183,6 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     for (int i : participants[c]) demand[c].push_back({i, std::max(1.0, target[i] - extra[i]), scell[i]});
   // UAVs that their own component cannot feed (too small, or crowded) join the component with
   // the largest surplus, entering at its cell nearest to their start
-  const double tol_cells = tolerance(g.free_cells);
   auto expected = [&](std::vector<double>& load) {
     load.assign(U, 0.0);
     for (int i = 0; i < U; ++i) load[i] = extra[i];
@@ -197,12 +196,13 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     std::vector<double> load;
     expected(load);
     int worst = -1;
-    double wd = tol_cells;
+    double wd = 0, wn = 1.0;  // deficit in cells, and in units of the UAV's tolerance
     for (int i = 0; i < U; ++i)
-      if (target[i] - load[i] > wd) wd = target[i] - load[i], worst = i;
+      if ((target[i] - load[i]) / tolerance(target[i]) > wn)
+        wn = (target[i] - load[i]) / tolerance(target[i]), wd = target[i] - load[i], worst = i;
     if (worst < 0) break;
     int best_c = -1;
-    double best_surplus = tol_cells;
+    double best_surplus = tolerance(target[worst]);
     for (int c = 0; c < C; ++c) {
       bool in = false;
       double want = 0;
@@ -308,9 +308,12 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
       ctx.report("stc", static_cast<double>(planned) / std::max(1, C + U - 1));
     }
   }
-  double worst = 0;
-  for (int i = 0; i < U; ++i) worst = std::max(worst, std::fabs(out.uavs[i].cells - target[i]));
-  if (out.converged && worst > tolerance(g.free_cells)) {
+  double worst = 0, worst_n = 1.0;  // cells, of the UAV furthest outside its tolerance (0: none)
+  for (int i = 0; i < U; ++i) {
+    const double dev = std::fabs(out.uavs[i].cells - target[i]);
+    if (dev / tolerance(target[i]) > worst_n) worst_n = dev / tolerance(target[i]), worst = dev;
+  }
+  if (out.converged && worst > 0) {
     out.converged = false;
     out.warnings.push_back(
         fmt::format("the free space is split into {} parts that cannot be shared as "

@@ -70,7 +70,8 @@ struct Output {
 /// the free grid has more components than the free space) of the chosen placement; the search
 /// itself maximises J plus a swept-footprint coverage estimate minus a path-length term (see
 /// grid/grid.hpp, grid::Weights). Warnings: starts outside the free grid, DARP not meeting the
-/// share tolerance max(2 cells, 1 %) (converged = false, best connected division used), UAVs
+/// share tolerance (2 % of each UAV's own share, at least one cell; converged = false, best connected
+/// division used), UAVs
 /// without cells, shares that a split free space cannot honour.
 /// Progress goes to ctx; a stop request throws Cancelled; when the time is up the placement search
 /// and the division end early with their best result so far (stopped_early).

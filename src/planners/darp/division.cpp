@@ -12,15 +12,26 @@ namespace uavcover::darp {
 namespace {
 
 constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
+constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
+constexpr int kStagnation = 100;         // ... or after this many evaluations without a better division
+/// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
+/// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
+constexpr double kClassicMaxWork = 1e5;
+/// Absolute tolerance of the classic iterations' own stopping rule (cells).
+double classic_tolerance(int cells) { return std::max(2.0, 0.01 * cells); }
 
 struct Graph {
   int n = 0;
+  int cols = 0;
+  std::vector<int> cell;               // grid index of each node
   std::vector<std::array<int, 4>> nb;  // by direction: 0 right, 1 up, 2 left, 3 down; -1 none
 };
 
 Graph build_graph(const grid::Grid& g, const std::vector<int>& cells, std::vector<int>& lid) {
   Graph G;
   G.n = static_cast<int>(cells.size());
+  G.cols = g.cols;
+  G.cell = cells;
   lid.assign(static_cast<std::size_t>(g.rows) * g.cols, -1);
   for (int i = 0; i < G.n; ++i) lid[cells[i]] = i;
   G.nb.assign(G.n, {-1, -1, -1, -1});
@@ -272,29 +283,251 @@ void polish(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
   }
 }
 
-}  // namespace
+/// Additively weighted partition grown by waves: every start sends out a wave at time -w_i; a wave
+/// spreads over links only, reaching cell x at the time |x - s_i| - w_i (straight-line distance from
+/// its start, in cells), or later when it has to go around an obstacle, and a cell goes to the first
+/// wave that reaches it. Each cell is thus 4-adjacent to a cell its owner held earlier: every region
+/// is connected and holds its start, whatever the weights. Straight-line times make the borders
+/// hyperbolas, so a region's size changes smoothly with the weights (the octile or link metric has
+/// flat bisectors: whole areas change hands at once). A bucket queue of width 1/16 cell orders the
+/// cells; a time earlier than the current bucket (a wave coming round an obstacle) is the current one.
+class Waves {
+ public:
+  explicit Waves(const Graph& G, std::vector<float> px, std::vector<float> py)
+      : G_(G), px_(std::move(px)), py_(std::move(py)) {}
 
-double tolerance(std::size_t cells) { return std::max(2.0, 0.01 * static_cast<double>(cells)); }
-
-DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
-                      const std::function<void(double)>& progress) {
-  DivisionResult out;
-  std::vector<int> lid;
-  const Graph G = build_graph(g, in.cells, lid);
-  const int n = G.n;
-  const int P = static_cast<int>(in.starts.size());
-  std::vector<int> st(P);
-  for (int i = 0; i < P; ++i) st[i] = lid[in.starts[i]];
-  out.owner.assign(n, 0);
-  out.counts.assign(P, 0);
-  if (P == 0 || n == 0) return out;
-  if (P == 1) {
-    out.counts[0] = n;
-    out.converged = true;
-    out.max_deviation = std::fabs(n - in.targets[0]);
-    return out;
+  /// owner[x] (participant) for weights w; counts per participant and sens[i * P + j], the number of
+  /// cells region i takes from region j when w_i - w_j grows by one (estimated along their border).
+  void run(const std::vector<int>& st, const std::vector<double>& w, std::vector<int>& owner,
+           std::vector<int>& counts, std::vector<double>& sens) {
+    const int n = G_.n, P = static_cast<int>(st.size());
+    constexpr double width = 1.0 / 16;
+    constexpr int live = 20;  // a push lands at most 1 cell (16 buckets) ahead
+    owner.assign(n, -1);
+    best_.assign(n, std::numeric_limits<double>::infinity());
+    best_owner_.assign(n, -1);
+    buckets_.resize(live);
+    for (auto& b : buckets_) b.clear();
+    pinned_.assign(n, 0);
+    for (int s : st) pinned_[s] = 1;
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return w[a] > w[b]; });
+    const double base = -w[order[0]];
+    auto bucket_of = [&](double key) { return static_cast<long>(std::floor((key - base) / width)); };
+    auto dist = [&](int x, int y) {
+      const double dx = px_[x] - px_[y], dy = py_[x] - py_[y];
+      return std::sqrt(dx * dx + dy * dy);
+    };
+    anchor_.assign(n, -1);
+    anchor_time_.assign(n, 0.0);
+    std::size_t next_src = 0;
+    long pending = 0;
+    std::vector<Entry> work;
+    for (long b = 0; next_src < order.size() || pending > 0; ++b) {
+      if (pending == 0) b = std::max(b, bucket_of(-w[order[next_src]]));  // jump over empty time
+      auto& bucket = buckets_[static_cast<std::size_t>(b % live)];
+      while (next_src < order.size() && bucket_of(-w[order[next_src]]) <= b) {
+        const int i = order[next_src++];
+        bucket.push_back({-w[i], st[i], i});
+        anchor_[st[i]] = st[i];
+        anchor_time_[st[i]] = -w[i];
+        best_[st[i]] = -w[i];
+        best_owner_[st[i]] = i;
+        ++pending;
+      }
+      while (!bucket.empty()) {  // cells claimed in this bucket may claim more in it
+        work.swap(bucket);
+        for (const Entry& e : work) {
+          --pending;
+          const int v = e.v;
+          // settled, or superseded by a better entry (pushed later, never in a later bucket)
+          if (owner[v] >= 0 || e.key != best_[v] || e.o != best_owner_[v]) continue;
+          owner[v] = e.o;
+          for (int u : G_.nb[v]) {
+            if (u < 0 || owner[u] >= 0 || pinned_[u]) continue;
+            // straight on from v's anchor, unless that heads back toward it (the wave bends round an
+            // obstacle or another region): then v anchors the cells behind it
+            int a = anchor_[v];
+            double t = dist(u, a) + anchor_time_[a];
+            if (t < e.key) a = v, t = e.key + 1.0;
+            if (best_owner_[u] >= 0 && !(t < best_[u] || (t == best_[u] && e.o < best_owner_[u]))) continue;
+            best_[u] = t;
+            best_owner_[u] = e.o;
+            anchor_[u] = a;
+            buckets_[static_cast<std::size_t>(std::max(b, bucket_of(t)) % live)].push_back({t, u, e.o});
+            ++pending;
+          }
+          anchor_time_[v] = e.key;
+        }
+        work.clear();
+      }
+    }
+    counts.assign(P, 0);
+    sens.assign(static_cast<std::size_t>(P) * P, 0.0);
+    for (int x = 0; x < n; ++x) {
+      const int a = owner[x];
+      ++counts[a];
+      for (int dir = 0; dir < 2; ++dir) {  // right and up: each link once
+        const int y = G_.nb[x][dir];
+        if (y < 0 || owner[y] == a) continue;
+        const int b = owner[y];
+        // the border moves by dw / |u_a - u_b| along its normal (u: unit directions from the starts);
+        // one link stands for 1 / (|n_x| + |n_y|) of border length
+        const double mx = 0.5 * (px_[x] + px_[y]), my = 0.5 * (py_[x] + py_[y]);
+        double ax = mx - px_[st[a]], ay = my - py_[st[a]], bx = mx - px_[st[b]], by = my - py_[st[b]];
+        const double la = std::max(1e-9, std::hypot(ax, ay)), lb = std::max(1e-9, std::hypot(bx, by));
+        const double gx = ax / la - bx / lb, gy = ay / la - by / lb;
+        const double g = std::max(0.25, std::hypot(gx, gy));
+        const double nsum = g > 0.25 ? (std::fabs(gx) + std::fabs(gy)) / g : 1.0;
+        const double c = 1.0 / (g * std::max(1.0, nsum));
+        sens[static_cast<std::size_t>(a) * P + b] += c;
+        sens[static_cast<std::size_t>(b) * P + a] += c;
+      }
+    }
   }
 
+ private:
+  struct Entry {
+    double key;
+    int v;
+    int o;  ///< the wave's participant
+  };
+
+  const Graph& G_;
+  std::vector<float> px_, py_;       ///< cell column and row
+  std::vector<double> best_;         ///< earliest time a wave reaches the cell, so far
+  std::vector<int> best_owner_;      ///< that wave
+  std::vector<int> anchor_;          ///< the cell the wave reached u from in a straight line
+  std::vector<double> anchor_time_;  ///< time the wave reached each settled cell
+  std::vector<char> pinned_;
+  std::vector<std::vector<Entry>> buckets_;
+};
+
+/// Largest deviation from the targets, each in units of its own tolerance (<= 1: converged).
+double normalised_deviation(const std::vector<int>& counts, const std::vector<double>& targets) {
+  double worst = 0;
+  for (std::size_t i = 0; i < counts.size(); ++i)
+    worst = std::max(worst, std::fabs(counts[i] - targets[i]) / tolerance(targets[i]));
+  return worst;
+}
+
+struct Balanced {
+  std::vector<int> owner;
+  double deviation = std::numeric_limits<double>::infinity();  ///< normalised_deviation of owner
+  int iterations = 0;
+};
+
+/// Solves the augmented system [A | b] in place (Gaussian elimination, partial pivoting; the solution is
+/// left in the last column). Boost uBLAS's lu.hpp does not compile as C++20 (allocator::construct).
+bool solve(std::vector<std::vector<double>>& A) {
+  const int m = static_cast<int>(A.size());
+  for (int c = 0; c < m; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < m; ++r)
+      if (std::fabs(A[r][c]) > std::fabs(A[piv][c])) piv = r;
+    if (!(std::fabs(A[piv][c]) > 1e-12)) return false;
+    std::swap(A[c], A[piv]);
+    for (int r = 0; r < m; ++r) {
+      if (r == c || A[r][c] == 0) continue;
+      const double f = A[r][c] / A[c][c];
+      for (int k = c; k <= m; ++k) A[r][k] -= f * A[c][k];
+    }
+  }
+  for (int r = 0; r < m; ++r) A[r][m] /= A[r][r];
+  return true;
+}
+
+/// Tunes the waves' weights until every region is within its tolerance (or the iterations run out), by
+/// damped Newton steps: the Jacobian of the counts is the Laplacian of the regions' border sensitivities
+/// (Waves::run). Each step is halved until the squared normalised error drops.
+Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::vector<double>& targets,
+                       int max_iter, const std::function<bool()>& stop_early,
+                       const std::function<void(double)>& progress) {
+  const int P = static_cast<int>(st.size());
+  Balanced out;
+  std::vector<float> px(G.n), py(G.n);
+  for (int x = 0; x < G.n; ++x)
+    px[x] = static_cast<float>(G.cell[x] % G.cols), py[x] = static_cast<float>(G.cell[x] / G.cols);
+  Waves waves(G, std::move(px), std::move(py));
+  std::vector<double> w(P, 0.0), sens, trial_sens;
+  std::vector<int> owner, counts, trial_owner, trial_counts;
+  for (int i = 0; i < P; ++i) w[i] = std::sqrt(targets[i] / std::numbers::pi);  // radius of a disc
+  auto error = [&](const std::vector<int>& c) {
+    double e = 0;
+    for (int i = 0; i < P; ++i) e += std::pow((c[i] - targets[i]) / tolerance(targets[i]), 2);
+    return e;
+  };
+  int last_gain = 0;  // the evaluation that last improved the best division
+  auto evaluate = [&](const std::vector<double>& wt, std::vector<int>& o, std::vector<int>& c,
+                      std::vector<double>& b) {
+    ++out.iterations;
+    if (progress) progress(static_cast<double>(out.iterations) / max_iter);
+    waves.run(st, wt, o, c, b);
+    const double dev = normalised_deviation(c, targets);
+    if (dev < out.deviation) {
+      out.deviation = dev;
+      out.owner = o;
+      last_gain = out.iterations;
+    }
+  };
+  evaluate(w, owner, counts, sens);
+  double err = error(counts);
+  std::vector<double> wt(P), step(P);
+  while (out.deviation > kAim && out.iterations < max_iter && out.iterations - last_gain < kStagnation &&
+         !(stop_early && stop_early())) {
+    // Newton step: L step = targets - counts, with the last participant's weight held (L is singular)
+    const int m = P - 1;
+    std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
+    for (int i = 0; i < m; ++i) {
+      L[i][m] = targets[i] - counts[i];
+      double diag = 1e-6;
+      for (int j = 0; j < P; ++j) {
+        const double b = sens[static_cast<std::size_t>(i) * P + j];
+        diag += b;
+        if (j < m && j != i) L[i][j] = -b;
+      }
+      L[i][i] = diag;
+    }
+    if (!solve(L)) break;  // a region without neighbours: nothing to trade
+    for (int i = 0; i < m; ++i) step[i] = L[i][m];
+    step[m] = 0;
+    double tau = 1.0;
+    for (int halvings = 0; halvings < 8 && out.iterations < max_iter; ++halvings, tau *= 0.5) {
+      if (halvings > 0 && stop_early && stop_early()) break;
+      for (int i = 0; i < P; ++i) wt[i] = w[i] + tau * step[i];
+      evaluate(wt, trial_owner, trial_counts, trial_sens);
+      const double e = error(trial_counts);
+      if (e < err || halvings == 7) {  // no descent at all: take the smallest step and go on
+        w.swap(wt);
+        owner.swap(trial_owner);
+        counts.swap(trial_counts);
+        sens.swap(trial_sens);
+        err = e;
+        break;
+      }
+      if (out.deviation <= kAim) break;
+    }
+  }
+  return out;
+}
+
+/// Counts, deviation and convergence of out.owner.
+void finish(DivisionResult& out, const std::vector<double>& targets) {
+  std::fill(out.counts.begin(), out.counts.end(), 0);
+  for (int o : out.owner) ++out.counts[o];
+  out.max_deviation = 0;
+  for (std::size_t i = 0; i < targets.size(); ++i)
+    out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - targets[i]));
+  out.converged = normalised_deviation(out.counts, targets) <= 1.0;
+}
+
+/// The DARP iterations of Kapoutsis et al. (multiplicative correction of the evaluation matrices,
+/// connectivity matrices), then the boundary polish; for grids of up to kClassicMaxWork.
+void classic(const Graph& G, const DivisionInput& in, const std::vector<int>& st, DivisionResult& out,
+             const std::function<void(double)>& progress) {
+  const int n = G.n;
+  const int P = static_cast<int>(st.size());
   // geodesic distances from each start
   std::vector<std::vector<double>> D(P);
   for (int i = 0; i < P; ++i) {
@@ -302,7 +535,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
     for (double& v : D[i]) v += 1.0;  // keep the start's evaluation positive
   }
 
-  const double final_tol = tolerance(n);
+  const double final_tol = classic_tolerance(n);
   std::mt19937_64 rng(in.seed ^ 0xda3e39cb94b95bdbULL);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
 
@@ -315,7 +548,7 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
   // (deterministic; the boundary polish below finishes the balance)
   const double per_iter = static_cast<double>(n) * P;
   const int max_iter = static_cast<int>(
-      std::min<double>(std::max(1, in.max_iterations), std::max(50.0, 1e9 / (per_iter * attempts))));
+      std::min<double>(std::max(1, in.max_iterations), std::max(50.0, 2e8 / (per_iter * attempts))));
   const long total_iters = static_cast<long>(attempts) * max_iter;
   int stamp = 0;
 
@@ -429,12 +662,47 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
 
   out.owner = best_owner;
   if (best_dev > final_tol) polish(G, out.owner, st, in.targets, D, final_tol, 4 * n);
-  std::fill(out.counts.begin(), out.counts.end(), 0);
-  for (int x = 0; x < n; ++x) ++out.counts[out.owner[x]];
-  out.max_deviation = 0;
-  for (int i = 0; i < P; ++i)
-    out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - in.targets[i]));
-  out.converged = out.max_deviation <= final_tol;
+  out.stopped = stopped;
+  finish(out, in.targets);
+}
+
+}  // namespace
+
+double tolerance(double target) { return std::max(1.0, 0.02 * target); }
+
+DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
+                      const std::function<void(double)>& progress) {
+  DivisionResult out;
+  std::vector<int> lid;
+  const Graph G = build_graph(g, in.cells, lid);
+  const int n = G.n;
+  const int P = static_cast<int>(in.starts.size());
+  std::vector<int> st(P);
+  for (int i = 0; i < P; ++i) st[i] = lid[in.starts[i]];
+  out.owner.assign(n, 0);
+  out.counts.assign(P, 0);
+  if (P == 0 || n == 0) return out;
+  if (P == 1) {
+    out.counts[0] = n;
+    out.converged = true;
+    out.max_deviation = std::fabs(n - in.targets[0]);
+    return out;
+  }
+
+  const bool classic_first = static_cast<double>(n) * P <= kClassicMaxWork;
+  if (classic_first) {
+    classic(G, in, st, out, progress);
+    if (out.converged || out.stopped) return out;
+  }
+  // waves: each iteration is one pass over the cells, whatever the number of participants
+  const int max_iter =
+      static_cast<int>(std::min<double>(std::max(1, in.max_iterations), std::max(100.0, 2e8 / n)));
+  Balanced b = balance_waves(G, st, in.targets, max_iter, in.stop_early, progress);
+  out.iterations += b.iterations;
+  if (!classic_first || b.deviation < normalised_deviation(out.counts, in.targets)) {
+    out.owner = std::move(b.owner);
+    finish(out, in.targets);
+  }
   return out;
 }
 

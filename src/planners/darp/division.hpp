@@ -1,7 +1,9 @@
 // DARP area division on one connected component of the free grid (Kapoutsis et al. 2017, with the
 // proportional objective of Apostolidis et al. 2022 eq. 11): evaluation matrices from geodesic
 // distances, multiplicative correction toward each share, connectivity matrices C_i, a small random
-// factor, and a tolerance that relaxes over retries.
+// factor, and a tolerance that relaxes over retries. Large grids, and divisions that miss a share, are
+// balanced by additively weighted waves instead (division.cpp, Waves): connected by construction, one
+// pass over the cells per iteration whatever the number of participants.
 #pragma once
 
 #include <cstdint>
@@ -26,9 +28,10 @@ struct DivisionInput {
 struct DivisionResult {
   std::vector<int> owner;    ///< per entry of `cells`: participant index
   std::vector<int> counts;   ///< cells per participant
-  bool converged = false;    ///< within max(2 cells, 1 %) of every target
+  bool converged = false;    ///< every participant within tolerance(its target)
   int iterations = 0;        ///< in total, over all attempts
   double max_deviation = 0;  ///< max |count - target| in cells
+  bool stopped = false;      ///< stop_early() ended the search
 };
 
 /// `progress(fraction)` is called every iteration (it may throw to abort).
@@ -36,7 +39,7 @@ struct DivisionResult {
 DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
                       const std::function<void(double)>& progress = {});
 
-/// Final tolerance (cells) a division must meet to count as converged.
-double tolerance(std::size_t cells);
+/// Tolerance (cells) of a participant wanting `target` cells: 2 % of its own target, at least one cell.
+double tolerance(double target);
 
 }  // namespace uavcover::darp

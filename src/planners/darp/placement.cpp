@@ -14,6 +14,9 @@ struct Candidate {
   Score s;
 };
 
+constexpr double kPlacementWork = 2e7;
+constexpr long kMinLargeEvaluations = 64;
+
 double wrap(double v, double period) {
   v = std::fmod(v, period);
   return v < 0 ? v + period : v;
@@ -64,6 +67,11 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
   };
   Candidate best = evaluate(0, 0, 0);
   offer(best);
+  // large grids: at most about kPlacementWork cell rasterisations in all (a placement's J and coverage
+  // terms change little on a grid of many cells, and one evaluation costs a pass over all of them)
+  if (best.s.free_cells > 0)
+    budget = std::min(
+        budget, std::max<long>(kMinLargeEvaluations, static_cast<long>(kPlacementWork / best.s.free_cells)));
   if (opt.optimise && budget > 1) {
     std::mt19937_64 rng(opt.seed ^ 0x9e3779b97f4a7c15ULL);
     std::uniform_real_distribution<double> u01(0.0, 1.0);

@@ -20,8 +20,10 @@ struct Placement {
 };
 
 struct PlacementOptions {
-  int evaluations = 1500;  ///< total budget (pre-scan + annealing)
-  bool optimise = true;    ///< false: the single placement (0, 0, 0)
+  /// Total budget (pre-scan + annealing); grids of more than 2e7 / evaluations free cells get
+  /// max(64, 2e7 / free cells) instead (placement.cpp, kPlacementWork).
+  int evaluations = 1500;
+  bool optimise = true;  ///< false: the single placement (0, 0, 0)
   std::uint64_t seed = 0;
   Weights weights{};
   /// The best `rerank` distinct candidates of the search are re-ranked with the finer coverage

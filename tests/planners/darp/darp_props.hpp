@@ -106,11 +106,12 @@ inline void check_plan(const darp::Input& in, const darp::Output& out, bool expe
     EXPECT_TRUE(out.converged);
   }
   if (out.converged) {
-    const double tol = darp::tolerance(g.free_cells);
     double ssum = 0;
     for (double s : in.shares) ssum += s;
-    for (int i = 0; i < U; ++i)
-      EXPECT_LE(std::fabs(cells[i] - in.shares[i] / ssum * g.free_cells), tol + 1e-9) << "UAV " << i;
+    for (int i = 0; i < U; ++i) {
+      const double target = in.shares[i] / ssum * g.free_cells;
+      EXPECT_LE(std::fabs(cells[i] - target), darp::tolerance(target) + 1e-9) << "UAV " << i;
+    }
   } else {
     EXPECT_FALSE(out.warnings.empty());
   }
