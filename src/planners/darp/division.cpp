@@ -703,6 +703,19 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
     out.owner = std::move(b.owner);
     finish(out, in.targets);
   }
+  if (!classic_first && !out.converged && !(in.stop_early && in.stop_early())) {
+    // the waves' weights can stall on unequal shares (bench/results/darp-scale.md): the classic
+    // iterations (capped at ~2e8 cell evaluations) get their turn, and the closer division is kept
+    DivisionResult c;
+    c.owner.assign(n, 0);
+    c.counts.assign(P, 0);
+    classic(G, in, st, c, progress);
+    c.iterations += out.iterations;
+    if (normalised_deviation(c.counts, in.targets) < normalised_deviation(out.counts, in.targets))
+      out = std::move(c);
+    else
+      out.iterations = c.iterations, out.stopped = c.stopped;
+  }
   return out;
 }
 
