@@ -146,7 +146,8 @@ TEST(Dem, AHugeRasterIsReadOnlyThroughABoundedWindow) {
   LonLat sw = f.to_wgs84({-500, -500});
   double x = sw.lon, y = sw.lat;
   ct->Transform(1, &x, &y);
-  const char* opts[] = {"TILED=YES", "SPARSE_OK=TRUE", "BIGTIFF=YES", nullptr};
+  const char* opts[] = {"TILED=YES",      "BLOCKXSIZE=4096", "BLOCKYSIZE=4096",
+                        "SPARSE_OK=TRUE", "BIGTIFF=YES",     nullptr};
   GDALDataset* ds = GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
       (dir.path / "huge.tif").c_str(), 200000, 200000, 1, GDT_Float32, const_cast<char**>(opts));
   ASSERT_NE(ds, nullptr);
