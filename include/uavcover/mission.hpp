@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "uavcover/geometry.hpp"
+#include "uavcover/terrain.hpp"
 
 namespace uavcover {
 
@@ -80,6 +81,8 @@ struct Mission {
   /// (docs/sorties.md): a sortie lasts at most endurance_min * (1 - battery_reserve).
   double battery_reserve = kDefaultBatteryReserve;
   std::string source_format = "uavcover-v1";  ///< or "mcpp-optimized-darp"
+  /// Ground from a DEM (docs/photogrammetry.md): absent = flat ground, heights relative to take-off.
+  std::optional<Terrain> terrain;
 };
 
 struct ParseOptions {

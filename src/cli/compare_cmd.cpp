@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "cli/cost_options.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/progress.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
@@ -24,7 +25,7 @@ struct CompareArgs {
 };
 
 void run_compare(const CompareArgs& a) {
-  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
+  const Mission mission = read_mission(a.mission);
   usecases::CompareOptions co;
   co.planners = a.planners;
   co.evaluation.coverage.footprint_m = a.footprint_m;

@@ -8,6 +8,7 @@
 #include "cli/command.hpp"
 #include "cli/cost_options.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/validators.hpp"
 #include "io/plan_io.hpp"
 #include "uavcover/uavcover.hpp"
@@ -29,7 +30,7 @@ struct EvaluateArgs {
 };
 
 void run_evaluate(const EvaluateArgs& a) {
-  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
+  const Mission mission = read_mission(a.mission);
   const std::string text = io::read_text_file(a.paths, "PATHS");
   evaluation::EvaluateOptions opt;
   opt.coverage.footprint_m = a.footprint_m;

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
@@ -33,7 +34,7 @@ void run_export(ExportArgs& a) {
   if (!(a.opt.trajectory.dt > 0)) throw InputError("--dt", "must be positive");
   if (a.opt.trajectory.densify_m < 0) throw InputError("--densify", "must be >= 0");
   if (a.opt.trajectory.fillet_radius_m < 0) throw InputError("--fillet-radius", "must be >= 0");
-  const Plan plan = io::load_plan_dir(a.plan_dir);
+  const Plan plan = read_plan_dir(a.plan_dir);
   const std::filesystem::path out =
       a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
   std::vector<std::string> warnings;

@@ -7,6 +7,7 @@
 
 #include "cli/command.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/progress.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
@@ -35,7 +36,7 @@ struct PlanArgs {
 void run_plan(const PlanArgs& a) {
   ParseOptions po;
   po.max_cells = a.max_cells;
-  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"), po);
+  const Mission mission = read_mission(a.mission, po);
   PlanOptions opt;
   opt.seed = a.seed;
   const bool quiet = global_flags().quiet;

@@ -8,6 +8,7 @@
 #include "cli/command.hpp"
 #include "cli/cost_options.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/progress.hpp"
 #include "cli/validators.hpp"
 #include "io/plan_io.hpp"
@@ -27,7 +28,7 @@ struct StudyArgs {
 };
 
 void run_study(const StudyArgs& a) {
-  const Mission mission = parse_mission(io::read_text_file(a.mission, "MISSION"));
+  const Mission mission = read_mission(a.mission);
   usecases::StudyOptions so;
   so.counts = usecases::parse_uav_counts(a.uavs, "--uavs");
   so.seed = a.seed;

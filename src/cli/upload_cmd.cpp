@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cli/command.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "export/mission_items.hpp"
@@ -45,7 +46,7 @@ void run_upload(const UploadArgs& a) {
   opt.timeout = std::chrono::milliseconds(std::max<long>(1, std::lround(a.timeout_s * 1000.0)));
   opt.retries = a.retries;
 
-  const Plan plan = io::load_plan_dir(a.plan_dir);
+  const Plan plan = read_plan_dir(a.plan_dir);
   std::size_t index = plan.uavs.size();
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     if (plan.uavs[i].id == a.uav) index = i;

@@ -84,9 +84,9 @@ std::vector<int> fill_free(const MultiPolygon& free, const Lattice& l) {
 }
 
 /// Calls f(row, c0, c1) for the samples whose centres lie in the rectangle swept by a square of
-/// width w along a-b, extended by w/2 beyond both ends.
+/// width w along a-b, extended by ext_a before a and ext_b beyond b (w/2 each for a whole leg).
 template <typename F>
-void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f) {
+void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f, double ext_a, double ext_b) {
   const double dx = b.x() - a.x(), dy = b.y() - a.y();
   const double len = std::hypot(dx, dy);
   if (!(len > 1e-9) || !(w > 0.0)) return;
@@ -94,10 +94,10 @@ void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f) {
   const double nx = -uy, ny = ux;             // normal
   const double h = 0.5 * w;
   const std::array<Point, 4> c = {
-      Point{a.x() - ux * h + nx * h, a.y() - uy * h + ny * h},
-      Point{b.x() + ux * h + nx * h, b.y() + uy * h + ny * h},
-      Point{b.x() + ux * h - nx * h, b.y() + uy * h - ny * h},
-      Point{a.x() - ux * h - nx * h, a.y() - uy * h - ny * h},
+      Point{a.x() - ux * ext_a + nx * h, a.y() - uy * ext_a + ny * h},
+      Point{b.x() + ux * ext_b + nx * h, b.y() + uy * ext_b + ny * h},
+      Point{b.x() + ux * ext_b - nx * h, b.y() + uy * ext_b - ny * h},
+      Point{a.x() - ux * ext_a - nx * h, a.y() - uy * ext_a - ny * h},
   };
   double ymin = c[0].y(), ymax = c[0].y();
   for (const auto& p : c) ymin = std::min(ymin, p.y()), ymax = std::max(ymax, p.y());
@@ -218,12 +218,31 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
     std::fill(mine.begin(), mine.end(), 0);
     for (const auto& part : flights[u]) {
       if (part.kind == PartKind::Transit && !options.count_transit) continue;
+      const auto count = [&](int r, int c0, int c1) {
+        std::int32_t* base = mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
+        for (int c = c0; c <= c1; ++c) ++base[c];
+      };
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         if (k % 64 == 0) check();
-        rasterise_leg(l, part.local[k - 1], part.local[k], options.footprint_m, [&](int r, int c0, int c1) {
-          std::int32_t* base = mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
-          for (int c = c0; c <= c1; ++c) ++base[c];
-        });
+        const Point a = part.local[k - 1], b = part.local[k];
+        if (!options.widths) {
+          const double h = 0.5 * options.footprint_m;
+          rasterise_leg(l, a, b, options.footprint_m, count, h, h);
+          continue;
+        }
+        // footprints that change along the leg (terrain): abutting pieces, each as wide as its middle's
+        const double len = std::hypot(b.x() - a.x(), b.y() - a.y());
+        const auto pieces = static_cast<std::size_t>(
+            std::clamp(std::ceil(len / std::max(options.piece_m, 0.1)), 1.0, 10'000.0));
+        const std::vector<double> w = options.widths(u, part.kind, a, b, pieces);
+        for (std::size_t i = 0; i < pieces && i < w.size(); ++i) {
+          const double t0 = static_cast<double>(i) / static_cast<double>(pieces);
+          const double t1 = static_cast<double>(i + 1) / static_cast<double>(pieces);
+          const Point p0{a.x() + t0 * (b.x() - a.x()), a.y() + t0 * (b.y() - a.y())};
+          const Point p1{a.x() + t1 * (b.x() - a.x()), a.y() + t1 * (b.y() - a.y())};
+          rasterise_leg(l, p0, p1, w[i], count, i == 0 ? 0.5 * w[i] : 0.0,
+                        i + 1 == pieces ? 0.5 * w[i] : 0.0);
+        }
       }
     }
     check();

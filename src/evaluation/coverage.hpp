@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "uavcover/context.hpp"
@@ -17,6 +18,12 @@ struct CoverageOptions {
   std::size_t max_samples = 20'000'000;
   bool count_transit = false;        ///< transit legs scan too
   const Context* context = nullptr;  ///< checked for stops (throws Cancelled / TimeLimitReached)
+  /// Footprints that change along the legs (terrain, docs/photogrammetry.md): the widths of the `pieces`
+  /// equal pieces of UAV `uav`'s leg a-b (a part of kind `kind`), each swept as its own rectangle (the
+  /// leg's ends extended by half their width). Empty: footprint_m everywhere.
+  std::function<std::vector<double>(std::size_t uav, PartKind kind, Point a, Point b, std::size_t pieces)>
+      widths;
+  double piece_m = 2.0;  ///< length of the pieces when `widths` is set
 };
 
 struct CoverageStats {

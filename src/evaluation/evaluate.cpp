@@ -7,6 +7,7 @@
 
 #include "geometry/geometry.hpp"
 #include "json/strict.hpp"
+#include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::evaluation {
@@ -73,6 +74,36 @@ Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>&
   return ev;
 }
 
+std::vector<double> heights_above_ground(const Plan& plan, std::size_t uav, Point a, Point b,
+                                         std::size_t pieces) {
+  const HeightGrid* ground = terrain::grid(plan.mission);
+  std::vector<double> out;
+  if (ground == nullptr || pieces == 0) return out;
+  const geodesy::LocalFrame frame(plan.origin);
+  const double agl = plan.mission.altitude_m;
+  const double len = std::hypot(b.x() - a.x(), b.y() - a.y());
+  std::vector<terrain::Sample> wps;  // follow mode: the waypoints along the leg, flown at agl above them
+  if (plan.mission.terrain->follow())
+    wps = terrain::follow_points(*ground, frame, a, b, plan.mission.terrain->tolerance_m);
+  const double flat = terrain::home_ground(plan.mission, uav) + agl;
+  std::size_t seg = 0;
+  for (std::size_t i = 0; i < pieces; ++i) {
+    const double t = (static_cast<double>(i) + 0.5) / static_cast<double>(pieces);
+    const Point p{a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y())};
+    double flight = flat;
+    if (wps.size() >= 2) {
+      const double s = t * len;
+      while (seg + 2 < wps.size() && wps[seg + 1].s < s) ++seg;
+      const auto& w0 = wps[seg];
+      const auto& w1 = wps[seg + 1];
+      const double f = w1.s > w0.s ? std::clamp((s - w0.s) / (w1.s - w0.s), 0.0, 1.0) : 0.0;
+      flight = agl + w0.ground + f * (w1.ground - w0.ground);
+    }
+    out.push_back(flight - ground->at(frame.to_wgs84(p)));
+  }
+  return out;
+}
+
 Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const geodesy::LocalFrame frame(plan.origin);
   const MultiPolygon free = free_area(plan.mission, frame);
@@ -86,7 +117,28 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   }
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
-  Evaluation ev = evaluate_flights(free, flights, uavs, w, options);
+  EvaluateOptions opt = options;
+  std::optional<Evaluation::TerrainFootprints> tf;
+  if (terrain::grid(plan.mission) != nullptr) {
+    // each piece of a coverage leg as wide as the camera sees from its height above the ground there
+    const double agl = plan.mission.altitude_m;
+    opt.coverage.piece_m = std::max(1.0, std::min(terrain::grid(plan.mission)->step_m, w / 4.0));
+    opt.coverage.widths = [&plan, &tf, w, agl](std::size_t u, PartKind kind, Point a, Point b,
+                                               std::size_t n) {
+      if (kind != PartKind::Coverage) return std::vector<double>(n, w);
+      std::vector<double> ws = heights_above_ground(plan, u, a, b, n);
+      for (double& h : ws) {
+        if (!tf) tf = Evaluation::TerrainFootprints{1e300, -1e300, 1e300, -1e300};
+        tf->height_min_m = std::min(tf->height_min_m, h), tf->height_max_m = std::max(tf->height_max_m, h);
+        h = std::max(0.0, w * h / agl);  // a leg into the ground sees nothing
+        tf->footprint_min_m = std::min(tf->footprint_min_m, h),
+        tf->footprint_max_m = std::max(tf->footprint_max_m, h);
+      }
+      return ws;
+    };
+  }
+  Evaluation ev = evaluate_flights(free, flights, uavs, w, opt);
+  ev.terrain = tf;
   // with sorties (docs/sorties.md), a UAV needs one battery per sortie; UAVs without them (a leg longer
   // than one battery) keep eq. 16
   bool with_sorties = false;
@@ -150,12 +202,22 @@ json to_json(const CostResult& c) {
               {"uavs", std::move(uavs)}};
 }
 
+namespace {
+json terrain_json(const Evaluation::TerrainFootprints& t) {
+  return {{"footprint_min_m", t.footprint_min_m},
+          {"footprint_max_m", t.footprint_max_m},
+          {"height_above_ground_min_m", t.height_min_m},
+          {"height_above_ground_max_m", t.height_max_m}};
+}
+}  // namespace
+
 json to_json(const Evaluation& e) {
   json cov = to_json(e.coverage, e.footprint_m);
   for (std::size_t i = 0; i < e.uav_ids.size() && i < cov["uavs"].size(); ++i)
     cov["uavs"][i]["id"] = e.uav_ids[i];
   json j{{"coverage", std::move(cov)}, {"cost", to_json(e.cost)}};
   if (e.images) j["images"] = photo::to_json(*e.images);
+  if (e.terrain) j["terrain_footprints"] = terrain_json(*e.terrain);
   return j;
 }
 
@@ -194,6 +256,7 @@ json evaluation_json(const Evaluation& e) {
   }
   j["uavs"] = std::move(uavs);
   if (e.images) j["images"] = photo::to_json(*e.images);
+  if (e.terrain) j["terrain_footprints"] = terrain_json(*e.terrain);
   return j;
 }
 

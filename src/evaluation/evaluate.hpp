@@ -29,6 +29,13 @@ struct Evaluation {
   CostResult cost;
   std::vector<std::string> uav_ids;
   std::optional<photo::Estimate> images;  ///< the camera's trigger plan (evaluate_plan, with a camera)
+  /// With a DEM (evaluate_plan): each coverage footprint sized by the height above the ground under it,
+  /// w = footprint_m * height / mission altitude; the extremes over all coverage legs.
+  struct TerrainFootprints {
+    double footprint_min_m = 0.0, footprint_max_m = 0.0;
+    double height_min_m = 0.0, height_max_m = 0.0;  ///< flight height above ground
+  };
+  std::optional<TerrainFootprints> terrain;
 };
 
 /// Footprint width w: mission.footprint_m, else 2*h*tan(HFOV/2) from the camera, else 1.5*ds.
@@ -53,7 +60,14 @@ Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>&
                             const std::vector<Uav>& uavs, double footprint_m,
                             const EvaluateOptions& options = {});
 
-/// Coverage + cost of a plan (coverage parts and in/out transit legs).
+/// Flight heights above the ground along UAV `uav`'s coverage leg a-b (local metres) of `plan`, at the
+/// middles of `pieces` equal pieces: in follow mode between the waypoints terrain following puts there,
+/// in off mode at the mission altitude above the take-off's ground. Needs the plan's DEM.
+std::vector<double> heights_above_ground(const Plan& plan, std::size_t uav, Point a, Point b,
+                                         std::size_t pieces);
+
+/// Coverage + cost of a plan (coverage parts and in/out transit legs). With a DEM, every coverage
+/// footprint is sized by the height above the ground under it (Evaluation::terrain).
 Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options = {});
 
 nlohmann::json to_json(const CoverageStats& stats);

@@ -14,6 +14,7 @@
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
 #include "sorties/sorties.hpp"
+#include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -76,9 +77,12 @@ struct CameraAt {
   double leg_trigger_m = 0.0;  ///< a leg starts here, shot every this many metres (distance capture)
   int photos = 0;              ///< single images taken here (leg ends; hover captures)
   double hold_s = 0.0;         ///< hover before shooting
+  std::size_t leg_end = 0;     ///< where a leg starts: the waypoint where its shooting stops
+  double inside_leg_m = 0.0;   ///< a waypoint inside a leg (terrain following): the leg's trigger distance
 };
 std::vector<CameraAt> camera_actions(const std::vector<MissionItem>& items) {
   std::vector<CameraAt> out;
+  std::size_t open = 0;  // the waypoint whose leg is being shot, + 1 (0 = none)
   for (const auto& it : items) {
     if (it.command == kNavWaypoint) {
       out.push_back({});
@@ -87,10 +91,18 @@ std::vector<CameraAt> camera_actions(const std::vector<MissionItem>& items) {
     }
     if (out.empty()) continue;
     if (it.command == kDoSetCamTriggDist) {
-      if (it.param1 > 0)
+      if (it.param1 > 0) {
         out.back().leg_trigger_m = it.param1;  // its immediate image is the distance shooting's first
-      else if (it.param3 > 0)
-        ++out.back().photos;
+        open = out.size();
+      } else {
+        if (it.param3 > 0) ++out.back().photos;
+        if (open > 0) {
+          out[open - 1].leg_end = out.size() - 1;
+          for (std::size_t k = open; k + 1 < out.size(); ++k)
+            out[k].inside_leg_m = out[open - 1].leg_trigger_m;
+        }
+        open = 0;
+      }
     } else if (it.command == kImageStartCapture) {
       ++out.back().photos;
     }
@@ -120,6 +132,18 @@ double speed_within(const Plan& plan, std::size_t index, double max_mps, const c
   warn(opt, fmt::format("uav '{}': speed {} m/s clamped to {} m/s, the most {} accepts",
                         plan.uavs.at(index).id, v, max_mps, consumer));
   return max_mps;
+}
+
+/// The items with heights above take-off, for the consumers that take those (DJI WPML relativeToStartPoint,
+/// Litchi altitudemode 0): with a DEM, the AMSL altitudes minus the DEM's ground at take-off.
+std::vector<MissionItem> above_takeoff(const Plan& plan, std::size_t index, std::vector<MissionItem> items) {
+  const double g = terrain::home_ground(plan.mission, index);
+  for (auto& it : items)
+    if (it.frame == kFrameGlobal) {
+      it.alt = static_cast<float>(static_cast<double>(it.alt) - g);
+      it.frame = kFrameGlobalRelativeAlt;
+    }
+  return items;
 }
 
 /// Refuses waypoint heights above a consumer's maximum (clamping an altitude would break separation).
@@ -255,7 +279,7 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
       j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4),
                      it.lat,          it.lon,          it.alt};
       j["Altitude"] = it.alt;
-      j["AltitudeMode"] = 1;  // relative to home
+      j["AltitudeMode"] = it.frame == kFrameGlobal ? 2 : 1;  // QGC AltMode: 2 absolute (AMSL), 1 relative
       j["AMSLAltAboveTerrain"] = nullptr;
     } else {
       j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4), 0, 0, 0};
@@ -297,10 +321,10 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
            {{"version", 2},
             {"firmwareType", opt.qgc_firmware_type},
             {"vehicleType", opt.qgc_vehicle_type},
-            {"globalPlanAltitudeMode", 1},
+            {"globalPlanAltitudeMode", terrain::grid(plan.mission) != nullptr ? 2 : 1},
             {"cruiseSpeed", uav.speed_mps},
             {"hoverSpeed", uav.speed_mps},
-            {"plannedHomePosition", {home.lat, home.lon, 0}},
+            {"plannedHomePosition", {home.lat, home.lon, terrain::home_ground(plan.mission, index)}},
             {"items", jitems}}},
           {"geoFence", {{"version", 2}, {"circles", json::array()}, {"polygons", polygons}}},
           {"rallyPoints", {{"version", 2}, {"points", json::array()}}}};
@@ -314,8 +338,9 @@ std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& o
                           uav.id, uav.speed_mps, limits::kArduPilotMaxSpeed));
   const LonLat home = uav.start_resolved;
   std::string out = "QGC WPL 110\n";
-  // row 0: home, absolute frame, ground level (0 m: the home's elevation is not known here)
-  out += fmt::format("0\t1\t0\t16\t0\t0\t0\t0\t{:.8f}\t{:.8f}\t0\t1\n", home.lat, home.lon);
+  // row 0: home, absolute frame, ground level (0 m without a DEM: the home's elevation is not known then)
+  out += fmt::format("0\t1\t0\t16\t0\t0\t0\t0\t{:.8f}\t{:.8f}\t{}\t1\n", home.lat, home.lon,
+                     num(terrain::home_ground(plan.mission, index)));
   int seq = 1;
   for (const auto& it : items) {
     out += fmt::format("{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t{:.8f}\t{:.8f}\t{}\t{}\n", seq++, it.frame, it.command,
@@ -349,9 +374,12 @@ std::string kml_polygon_placemark(const GeoPolygon& poly, const std::string& nam
 }  // namespace
 
 std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const std::string& mode = opt.kml_altitude_mode;
-  if (mode != "clampToGround" && mode != "relativeToGround" && mode != "absolute")
+  if (opt.kml_altitude_mode != "clampToGround" && opt.kml_altitude_mode != "relativeToGround" &&
+      opt.kml_altitude_mode != "absolute")
     throw InputError("kml_altitude_mode", "must be clampToGround, relativeToGround or absolute");
+  // with a DEM the heights are above mean sea level: the path is drawn "absolute" whatever the option
+  const bool amsl = terrain::grid(plan.mission) != nullptr;
+  const std::string mode = amsl ? "absolute" : opt.kml_altitude_mode;
   const AltitudeOptions altitudes =
       resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
   const auto items = mission_items(plan, index, altitudes);
@@ -362,11 +390,11 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   s += "  <Document>\n    <name>" +
        xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) + "</name>\n";
   s += "    <description>" +
-       xml_escape(
-           fmt::format("uav {}: mission altitude {} m ({}), transition altitude {} m, heights relative to "
-                       "take-off",
-                       up.id, num(plan.mission.altitude_m), plan.mission.altitude_source,
-                       num(transition_altitude(altitudes, index, plan.mission.altitude_m)))) +
+       xml_escape(fmt::format("uav {}: mission altitude {} m ({}), transition altitude {} m, heights {}",
+                              up.id, num(plan.mission.altitude_m), plan.mission.altitude_source,
+                              num(transition_altitude(altitudes, index, plan.mission.altitude_m)),
+                              amsl ? "above mean sea level (terrain.dem), transit over its highest ground"
+                                   : "relative to take-off")) +
        "</description>\n";
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";
@@ -377,13 +405,14 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
     s += kml_polygon_placemark(plan.mission.area[k], fmt::format("area {}", k), "area");
   for (std::size_t k = 0; k < plan.mission.no_fly_zones.size(); ++k)
     s += kml_polygon_placemark(plan.mission.no_fly_zones[k], fmt::format("no-fly zone {}", k), "nfz");
-  std::string coords = coord(home.lon) + "," + coord(home.lat) + ",0";
+  std::string coords =
+      coord(home.lon) + "," + coord(home.lat) + "," + num(terrain::home_ground(plan.mission, index));
   for (const auto& it : items)
     if (has_position(it)) coords += fmt::format(" {},{},{}", coord(it.lon), coord(it.lat), num(it.alt));
   s += "    <Placemark>\n      <name>" + xml_escape(up.id) +
        " path</name>\n      <styleUrl>#path</styleUrl>\n";
-  s += "      <LineString>\n        <tessellate>0</tessellate>\n        <altitudeMode>" +
-       xml_escape(opt.kml_altitude_mode) + "</altitudeMode>\n        <coordinates>" + coords +
+  s += "      <LineString>\n        <tessellate>0</tessellate>\n        <altitudeMode>" + xml_escape(mode) +
+       "</altitudeMode>\n        <coordinates>" + coords +
        "</coordinates>\n      </LineString>\n    </Placemark>\n";
   s += "  </Document>\n</kml>\n";
   return s;
@@ -423,13 +452,14 @@ std::string file_suffix(const std::string& id) {
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const AltitudeOptions altitudes =
       resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
-  const auto items = mission_items(plan, index, altitudes);
+  const auto items = above_takeoff(plan, index, mission_items(plan, index, altitudes));
   const auto wps = flown_waypoints(items);
   const UavPlan& up = plan.uavs.at(index);
   check_heights(plan, index, wps, limits::kDjiMaxHeight, "DJI WPML");
   const double speed = speed_within(plan, index, limits::kDjiMaxSpeed, "DJI WPML", opt);
   const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
-  const double transit_alt = transition_altitude(altitudes, index, plan.mission.altitude_m);
+  const double transit_alt =
+      flight_transit_altitude(plan, altitudes, index) - terrain::home_ground(plan.mission, index);
   const int payload = opt.dji_payload_enum >= 0 ? opt.dji_payload_enum
                                                 : builtin_payload(opt.dji_drone_enum, opt.dji_drone_sub_enum);
   if (payload < 0)
@@ -517,7 +547,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
     }
     if (c.leg_trigger_m > 0 && k + 1 < wps.size())
       out += action_group(
-          k, k + 1, group++,
+          k, std::max(k + 1, c.leg_end), group++,
           fmt::format("            <wpml:actionTriggerType>multipleDistance</wpml:actionTriggerType>\n"
                       "            <wpml:actionTriggerParam>{}</wpml:actionTriggerParam>\n",
                       num(c.leg_trigger_m)),
@@ -618,7 +648,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
 }
 
 std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = mission_items(plan, index, opt.altitude);
+  const auto items = above_takeoff(plan, index, mission_items(plan, index, opt.altitude));
   const auto wps = flown_waypoints(items);
   check_heights(plan, index, wps, limits::kLitchiMaxAltitude, "Litchi");
   const double speed = speed_within(plan, index, limits::kLitchiMaxSpeed, "Litchi", opt);
@@ -645,8 +675,10 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
     }
     for (int p = 0; p < c.photos && actions < 15; ++p, ++actions) out += ",1,0";
     for (; actions < 15; ++actions) out += ",-1,0";
-    out +=
-        fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed), c.leg_trigger_m > 0 ? num(c.leg_trigger_m) : "-1");
+    out += fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed),
+                       c.leg_trigger_m > 0  ? num(c.leg_trigger_m)
+                       : c.inside_leg_m > 0 ? num(c.inside_leg_m)
+                                            : "-1");
     return out;
   };
   // missions of at most 99 waypoints; each next one starts where the previous one ended

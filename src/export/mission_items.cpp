@@ -11,6 +11,7 @@
 
 #include "geodesy/local_frame.hpp"
 #include "photo/photo.hpp"
+#include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -70,10 +71,11 @@ namespace {
 
 constexpr float kKeepHeading = std::numeric_limits<float>::quiet_NaN();
 
-MissionItem position_item(std::uint16_t command, LonLat p, double alt, std::string role) {
+MissionItem position_item(std::uint16_t command, LonLat p, double alt, std::string role,
+                          std::uint8_t frame = kFrameGlobalRelativeAlt) {
   MissionItem it;
   it.command = command;
-  it.frame = kFrameGlobalRelativeAlt;
+  it.frame = frame;
   it.lat = p.lat;
   it.lon = p.lon;
   it.alt = static_cast<float>(alt);
@@ -100,6 +102,12 @@ bool same_place(LonLat a, LonLat b) {
 
 }  // namespace
 
+double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index) {
+  const double rel = transition_altitude(resolved, index, plan.mission.altitude_m);
+  const HeightGrid* ground = terrain::grid(plan.mission);
+  return ground != nullptr ? ground->max_m + rel : rel;
+}
+
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& options) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
@@ -107,8 +115,20 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   const UavPlan& up = plan.uavs[index];
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;
-  const double transit_alt = transition_altitude(opt, index, mission_alt);
   const LonLat home = uav.start_resolved;
+  // with a DEM (docs/photogrammetry.md): altitudes above mean sea level (MAV_FRAME_GLOBAL); transit at the
+  // UAV's transition altitude above the highest ground of the mission's extent; coverage at the camera's
+  // height above the ground under each waypoint (follow) or above the ground at take-off (off)
+  const HeightGrid* ground = terrain::grid(plan.mission);
+  const bool follow = ground != nullptr && plan.mission.terrain->follow();
+  const double tolerance = follow ? plan.mission.terrain->tolerance_m : 0.0;
+  const double home_ground = ground != nullptr ? ground->at(home) : 0.0;
+  const std::uint8_t alt_frame = ground != nullptr ? kFrameGlobal : kFrameGlobalRelativeAlt;
+  const double transit_alt = flight_transit_altitude(plan, opt, index);
+  auto cover_alt = [&](LonLat p) { return follow ? ground->at(p) + mission_alt : home_ground + mission_alt; };
+  auto waypoint_at = [&](LonLat p, double alt, std::string role) {
+    return position_item(kNavWaypoint, p, alt, std::move(role), alt_frame);
+  };
   const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
   const bool hover = camera && plan.mission.camera->capture == "hover";
   const double trigger = camera ? *plan.mission.trigger_distance_m : 0.0;
@@ -116,7 +136,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
 
   std::vector<MissionItem> items;
   // take-off: climb straight to the transition altitude above home
-  items.push_back(position_item(kNavTakeoff, home, transit_alt, "takeoff"));
+  items.push_back(position_item(kNavTakeoff, home, transit_alt, "takeoff", alt_frame));
   // MAV_CMD_DO_CHANGE_SPEED: param1 1 = ground speed, param2 speed, param3 -1 = throttle unchanged
   items.push_back(
       command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
@@ -144,23 +164,23 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
     const std::size_t first_new = items.size();
     if (part.kind == PartKind::Transit) {
       if (!high) {  // climb on the spot before leaving the region
-        items.push_back(position_item(kNavWaypoint, here, transit_alt, "transition"));
+        items.push_back(waypoint_at(here, transit_alt, "transition"));
         high = true;
       }
       for (std::size_t k = 0; k < part.wgs84.size(); ++k) {
         if (k == 0 && same_place(part.wgs84[k], here)) continue;
-        items.push_back(position_item(kNavWaypoint, part.wgs84[k], transit_alt, "transit"));
+        items.push_back(waypoint_at(part.wgs84[k], transit_alt, "transit"));
         here = part.wgs84[k];
       }
     } else {
       const LonLat entry = part.wgs84.front();
       if (high && !same_place(entry, here)) {  // reach the point above the entry first
-        items.push_back(position_item(kNavWaypoint, entry, transit_alt, "transit"));
+        items.push_back(waypoint_at(entry, transit_alt, "transit"));
         here = entry;
       }
       // the first coverage waypoint is the descent to mission altitude
       high = false;
-      items.push_back(position_item(kNavWaypoint, entry, mission_alt, "coverage"));
+      items.push_back(waypoint_at(entry, cover_alt(entry), "coverage"));
       items.back().waypoint = waypoint++;
       // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
       const bool local = part.local.size() == part.wgs84.size();
@@ -170,17 +190,38 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
                                                       part.local[k].y() - part.local[k - 1].y()),
                                            trigger) > 1;
         if (leg && !hover) trigg(trigger);
+        // between the leg's ends: hover-and-capture stops and, following the terrain, the points where the
+        // ground departs from the straight line by more than the tolerance, in order along the leg
+        struct Stop {
+          double s;
+          Point p;
+          bool capture;
+        };
+        std::vector<Stop> stops;
         if (leg && hover) {
           items.back().param1 = static_cast<float>(photo::kHoverHoldS);  // hold at the leg's start, shoot
           capture();
           const std::vector<Point> shots = photo::leg_shots(part.local[k - 1], part.local[k], trigger);
-          for (std::size_t s = 1; s + 1 < shots.size(); ++s) {
-            items.push_back(position_item(kNavWaypoint, frame.to_wgs84(shots[s]), mission_alt, "capture"));
+          for (std::size_t s = 1; s + 1 < shots.size(); ++s)
+            stops.push_back(
+                {std::hypot(shots[s].x() - part.local[k - 1].x(), shots[s].y() - part.local[k - 1].y()),
+                 shots[s], true});
+        }
+        if (follow && local) {
+          const auto pts =
+              terrain::follow_points(*ground, frame, part.local[k - 1], part.local[k], tolerance);
+          for (std::size_t s = 1; s + 1 < pts.size(); ++s) stops.push_back({pts[s].s, pts[s].p, false});
+        }
+        std::stable_sort(stops.begin(), stops.end(), [](const Stop& a, const Stop& b) { return a.s < b.s; });
+        for (const Stop& st : stops) {
+          const LonLat g = frame.to_wgs84(st.p);
+          items.push_back(waypoint_at(g, cover_alt(g), st.capture ? "capture" : "terrain"));
+          if (st.capture) {
             items.back().param1 = static_cast<float>(photo::kHoverHoldS);
             capture();
           }
         }
-        items.push_back(position_item(kNavWaypoint, part.wgs84[k], mission_alt, "coverage"));
+        items.push_back(waypoint_at(part.wgs84[k], cover_alt(part.wgs84[k]), "coverage"));
         items.back().waypoint = waypoint++;
         if (leg && !hover) trigg(0.0);
         if (leg && hover) {
@@ -191,17 +232,54 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       here = part.wgs84.back();
     }
     for (std::size_t k = first_new; k < items.size(); ++k)
-      if (items[k].role == "transit" || items[k].role == "coverage" || items[k].role == "capture")
+      if (items[k].role == "transit" || items[k].role == "coverage" || items[k].role == "capture" ||
+          items[k].role == "terrain")
         items[k].part = static_cast<int>(pi);
   }
-  if (!high) items.push_back(position_item(kNavWaypoint, here, transit_alt, "transition"));
-  if (!same_place(here, home)) items.push_back(position_item(kNavWaypoint, home, transit_alt, "transit"));
+  if (!high) items.push_back(waypoint_at(here, transit_alt, "transition"));
+  if (!same_place(here, home)) items.push_back(waypoint_at(home, transit_alt, "transit"));
   if (opt.land_instead_of_rtl) {
-    items.push_back(position_item(kNavLand, home, 0.0, "land"));
+    items.push_back(position_item(kNavLand, home, home_ground, "land", alt_frame));
   } else {
     items.push_back(command_item(kNavReturnToLaunch, 0, 0, 0, 0, "rtl"));
   }
   return items;
+}
+
+std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
+  const HeightGrid* ground = terrain::grid(plan.mission);
+  if (ground == nullptr || index >= plan.uavs.size()) return std::nullopt;
+  const auto items = mission_items(plan, index, opt);
+  const geodesy::LocalFrame frame(plan.origin);
+  std::vector<const MissionItem*> wps;
+  for (const auto& it : items)
+    if (it.command == kNavWaypoint) wps.push_back(&it);
+  std::optional<LegProfile> best;
+  for (std::size_t i = 0; i < wps.size(); ++i) {
+    if (wps[i]->role != "coverage") continue;
+    // the leg: up to the next coverage waypoint of the same part, through terrain and capture points
+    std::size_t j = i + 1;
+    while (j < wps.size() && (wps[j]->role == "terrain" || wps[j]->role == "capture")) ++j;
+    if (j >= wps.size() || wps[j]->role != "coverage" || wps[j]->part != wps[i]->part) continue;
+    LegProfile lp;
+    lp.uav = plan.uavs[index].id;
+    lp.first_waypoint = wps[i]->waypoint;
+    lp.altitude_m = plan.mission.altitude_m;
+    lp.tolerance_m = plan.mission.terrain->follow() ? plan.mission.terrain->tolerance_m : 0.0;
+    const Point a = frame.to_local({wps[i]->lon, wps[i]->lat});
+    const Point b = frame.to_local({wps[j]->lon, wps[j]->lat});
+    for (std::size_t k = i; k <= j; ++k) {
+      const Point p = frame.to_local({wps[k]->lon, wps[k]->lat});
+      lp.flight.emplace_back(std::hypot(p.x() - a.x(), p.y() - a.y()), static_cast<double>(wps[k]->alt));
+      lp.terrain_waypoints += wps[k]->role == "terrain" ? 1 : 0;
+    }
+    for (const auto& s : terrain::profile(*ground, frame, a, b)) lp.ground.emplace_back(s.s, s.ground);
+    lp.length_m = lp.flight.back().first;
+    if (!best || lp.terrain_waypoints > best->terrain_waypoints ||
+        (lp.terrain_waypoints == best->terrain_waypoints && lp.length_m > best->length_m))
+      best = std::move(lp);
+  }
+  return best;
 }
 
 }  // namespace uavcover::exporting

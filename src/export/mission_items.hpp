@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uavcover/plan.hpp"
@@ -34,10 +36,11 @@ struct MissionItem {
   /// as "no yaw set"). Every format writes it so: null in .plan, NaN in .waypoints, the CSV and MAVLink.
   float param1 = 0, param2 = 0, param3 = 0, param4 = 0;
   double lat = 0, lon = 0;  ///< degrees (0 for commands without a position)
-  float alt = 0;            ///< metres, relative to home in frame 3
+  float alt = 0;            ///< metres, relative to home in frame 3, above mean sea level in frame 0
   bool autocontinue = true;
   /// "takeoff", "transition", "coverage", "transit", "speed", "gimbal", "camera" (a trigger command),
-  /// "capture" (a hover-and-capture stop between coverage waypoints), "rtl", "land"
+  /// "capture" (a hover-and-capture stop between coverage waypoints), "terrain" (a waypoint inside a
+  /// coverage leg where terrain following changes the height), "rtl", "land"
   std::string role;
   int part = -1;  ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
   /// On "coverage" items: the index of the coverage waypoint among the UAV's coverage waypoints (the
@@ -69,8 +72,33 @@ double transition_altitude(const AltitudeOptions& opt, std::size_t index, double
 AltitudeOptions resolve_altitudes(const AltitudeOptions& opt, std::size_t uav_count,
                                   double mission_altitude_m, std::vector<std::string>* warnings = nullptr);
 
+/// UAV `index`'s transit altitude with `resolved` options: its transition altitude, relative to take-off;
+/// with a DEM (Mission::terrain), above mean sea level: the transition altitude over the highest ground
+/// of the mission's extent (HeightGrid::max_m), so that every transit leg clears the ground under it by
+/// at least the transition altitude and the UAVs stay apart by the step.
+double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index);
+
 /// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item), with the
-/// transition altitudes of resolve_altitudes() for the plan's UAVs.
+/// transition altitudes of resolve_altitudes() for the plan's UAVs. With a DEM every altitude is above
+/// mean sea level (frame 0, MAV_FRAME_GLOBAL); in follow mode each coverage waypoint flies at the
+/// mission altitude above the ground under it, and "terrain" waypoints inside the coverage legs keep
+/// the height above ground within terrain.tolerance_m between them (docs/photogrammetry.md).
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
+
+/// Ground and flight heights along one coverage leg (the picture of docs/terrain-profile.png).
+struct LegProfile {
+  std::string uav;
+  int first_waypoint = -1;  ///< the leg's first coverage waypoint (UavPlan's global index)
+  double length_m = 0.0;
+  std::vector<std::pair<double, double>> ground;  ///< (distance from the leg's start m, ground m AMSL)
+  std::vector<std::pair<double, double>> flight;  ///< (distance, altitude m AMSL) of the waypoints flown
+  int terrain_waypoints = 0;                      ///< waypoints terrain following added inside the leg
+  double altitude_m = 0.0;                        ///< the camera's height above ground
+  double tolerance_m = 0.0;                       ///< terrain.tolerance_m (0 when not following)
+};
+
+/// The profile of UAV `index`'s coverage leg with the most terrain waypoints (ties: the longer), from
+/// its mission items; std::nullopt without a DEM or without coverage.
+std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
 
 }  // namespace uavcover::exporting

@@ -1,5 +1,7 @@
 #include "export/separation.hpp"
 
+#include "terrain/terrain.hpp"
+
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -92,15 +94,19 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
   const geodesy::LocalFrame frame(plan.origin);
   for (std::size_t u = 0; u < n; ++u) {
     const auto items = mission_items(plan, u, opt);
+    // below the transit altitude: with a DEM (AMSL heights) anything under the UAV's transit altitude
+    const double low_limit = terrain::grid(plan.mission) != nullptr
+                                 ? flight_transit_altitude(plan, opt, u) - 1e-3
+                                 : mission_alt + 1e-3;
     const MissionItem* prev = nullptr;
     for (const auto& it : items) {
       const bool positioned =
           it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
       if (!positioned) continue;
       if (prev != nullptr) {
-        const bool low = std::min(prev->alt, it.alt) <= mission_alt + 1e-3;
-        const bool coverage_leg =
-            prev->role == "coverage" && it.role == "coverage" && prev->part == it.part && it.part >= 0;
+        const bool low = std::min(prev->alt, it.alt) <= low_limit;
+        auto in_leg = [](const MissionItem* m) { return m->role == "coverage" || m->role == "terrain"; };
+        const bool coverage_leg = in_leg(prev) && in_leg(&it) && prev->part == it.part && it.part >= 0;
         if (low && !coverage_leg && it.command != kNavLand) {
           const Point a = frame.to_local({prev->lon, prev->lat});
           const Point b = frame.to_local({it.lon, it.lat});

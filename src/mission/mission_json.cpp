@@ -103,6 +103,9 @@ json to_json(const Mission& m) {
   j["seed"] = m.seed;
   // written when not the default, so that missions without it keep their JSON unchanged
   if (m.battery_reserve != kDefaultBatteryReserve) j["battery_reserve"] = m.battery_reserve;
+  if (m.terrain)
+    j["terrain"] = {
+        {"dem", m.terrain->dem}, {"mode", m.terrain->mode}, {"tolerance_m", m.terrain->tolerance_m}};
   return j;
 }
 

@@ -269,6 +269,7 @@ struct Raw {
   std::uint64_t seed = 1;
   double battery_reserve = kDefaultBatteryReserve;
   std::string format = "uavcover-v1";
+  std::optional<Terrain> terrain;
 };
 
 Camera parse_camera(const json& j) {
@@ -326,6 +327,28 @@ Camera parse_camera(const json& j) {
   if (j.contains("image_size_mb"))
     c.image_size_mb = in_range(j["image_size_mb"], "camera.image_size_mb", 1e-3, 1e4);
   return c;
+}
+
+// The terrain block: a DEM file name (read later by io::load_terrain), the mode and the tolerance.
+Terrain parse_terrain(const json& j) {
+  if (!j.is_object()) throw InputError("terrain", std::string("expected an object, got ") + type_name(j));
+  reject_unknown(j, {"dem", "mode", "tolerance_m"}, "terrain.");
+  if (!j.contains("dem")) throw InputError("terrain.dem", "missing: name the GeoTIFF elevation model");
+  Terrain t;
+  t.dem = str(j["dem"], "terrain.dem");
+  if (t.dem.empty() || t.dem.size() > 4096)
+    throw InputError("terrain.dem", "must name a file (1 to 4096 bytes)");
+  if (t.dem.find('\0') != std::string::npos)
+    throw InputError("terrain.dem", "must not contain NUL characters");
+  if (j.contains("mode")) {
+    const json& m = j["mode"];
+    if (!m.is_string() || (m != "follow" && m != "off"))
+      throw InputError("terrain.mode", "must be \"follow\" or \"off\", got " + m.dump());
+    t.mode = m.get<std::string>();
+  }
+  if (j.contains("tolerance_m"))
+    t.tolerance_m = in_range(j["tolerance_m"], "terrain.tolerance_m", 0.1, 100.0);
+  return t;
 }
 
 void parse_uavs(const json& j, Raw& raw) {
@@ -443,7 +466,7 @@ Raw parse_v1(const json& j) {
   Raw raw;
   reject_unknown(j,
                  {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
-                  "planner", "planner_params", "seed", "battery_reserve", "version", "$schema"},
+                  "planner", "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -469,6 +492,7 @@ Raw parse_v1(const json& j) {
   if (j.contains("camera")) raw.camera = parse_camera(j["camera"]);
   if (!raw.spacing && !raw.camera) throw InputError("spacing_m", "missing: give spacing_m or a camera block");
   if (j.contains("altitude_m")) raw.altitude = in_range(j["altitude_m"], "altitude_m", 1.0, 10000.0);
+  if (j.contains("terrain")) raw.terrain = parse_terrain(j["terrain"]);
   if (!j.contains("uavs")) throw InputError("uavs", "missing");
   parse_uavs(j["uavs"], raw);
   if (j.contains("mode")) {
@@ -584,6 +608,7 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.planner_params = planners::validate_params(planners::require(raw.planner), raw.planner_params);
   m.seed = raw.seed;
   m.battery_reserve = raw.battery_reserve;
+  m.terrain = raw.terrain;
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});
     for (std::size_t r = 1; r < np.poly.size(); ++r) {

@@ -471,6 +471,24 @@ void draw_heatmap(cairo_t* cr, const evaluation::CoverageResult& cov, int width,
   scale_bar(cr, v, margin, height - margin - 5, (width - legend_w) * 0.25);
 }
 
+/// The left and bottom axes of a chart, with the x label centred at `xlabel_y` and the y label turned
+/// upright at `ylabel_x`.
+void axes(cairo_t* cr, double left, double top, double right, double bottom, const std::string& xlabel,
+          double xlabel_y, const std::string& ylabel, double ylabel_x) {
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_set_line_width(cr, 1);
+  cairo_move_to(cr, left, top);
+  cairo_line_to(cr, left, bottom);
+  cairo_line_to(cr, right, bottom);
+  cairo_stroke(cr);
+  text(cr, 0.5 * (left + right), xlabel_y, xlabel, 14, 0.5);
+  cairo_save(cr);
+  cairo_translate(cr, ylabel_x, 0.5 * (top + bottom));
+  cairo_rotate(cr, -std::numbers::pi / 2);
+  text(cr, 0, 0, ylabel, 14, 0.5);
+  cairo_restore(cr);
+}
+
 void draw_histogram(cairo_t* cr, const evaluation::CoverageStats& st, int width, int height,
                     const std::string& title) {
   const double margin = 40;
@@ -503,17 +521,7 @@ void draw_histogram(cairo_t* cr, const evaluation::CoverageStats& st, int width,
     text(cr, x + slot * 0.35, bottom + 20, std::to_string(k), 13, 0.5);
     if (v > 0) text(cr, x + slot * 0.35, bottom - h - 6, fmt::format("{:.3f}", v), 12, 0.5);
   }
-  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  cairo_move_to(cr, left, top);
-  cairo_line_to(cr, left, bottom);
-  cairo_line_to(cr, right, bottom);
-  cairo_stroke(cr);
-  text(cr, 0.5 * (left + right), height - margin + 5, "number of scans", 14, 0.5);
-  cairo_save(cr);
-  cairo_translate(cr, margin - 10, 0.5 * (top + bottom));
-  cairo_rotate(cr, -std::numbers::pi / 2);
-  text(cr, 0, 0, "share of samples", 14, 0.5);
-  cairo_restore(cr);
+  axes(cr, left, top, right, bottom, "number of scans", height - margin + 5, "share of samples", margin - 10);
   text(cr, right, margin, fmt::format("PoC {:.2f}%  PoOC {:.2f}%", 100 * st.poc, 100 * st.pooc), 14, 1.0);
 }
 
@@ -572,17 +580,7 @@ void draw_chart(cairo_t* cr, const std::vector<int>& xs, const std::vector<Serie
       cairo_fill(cr);
     }
   }
-  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  cairo_set_line_width(cr, 1);
-  cairo_move_to(cr, left, top);
-  cairo_line_to(cr, left, bottom);
-  cairo_line_to(cr, right, bottom);
-  cairo_stroke(cr);
-  cairo_save(cr);
-  cairo_translate(cr, left - 52, 0.5 * (top + bottom));
-  cairo_rotate(cr, -std::numbers::pi / 2);
-  text(cr, 0, 0, ylabel, 14, 0.5);
-  cairo_restore(cr);
+  axes(cr, left, top, right, bottom, "", bottom, ylabel, left - 52);  // the caller labels the x axis
   // legend, top right
   double ly = top + 14;
   for (const auto& s : series) {
@@ -618,7 +616,101 @@ void draw_study(cairo_t* cr, const std::vector<StudyPoint>& pts, int width, int 
   text(cr, 0.5 * (left + right), height - margin + 15, "number of UAVs", 14, 0.5);
 }
 
+void draw_profile(cairo_t* cr, const exporting::LegProfile& lp, int width, int height) {
+  const double margin = 40;
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  text(cr, margin, margin,
+       fmt::format("Terrain following: uav {}, coverage leg from waypoint {} ({:.0f} m)", lp.uav,
+                   lp.first_waypoint, lp.length_m),
+       20, 0.0, true);
+  const double left = margin + 70, right = width - margin - 20, top = margin + 40,
+               bottom = height - margin - 40;
+  double lo = 1e300, hi = -1e300;
+  for (const auto& [s, g] : lp.ground)
+    lo = std::min(lo, g), hi = std::max(hi, g + lp.altitude_m + lp.tolerance_m);
+  for (const auto& [s, z] : lp.flight) lo = std::min(lo, z), hi = std::max(hi, z);
+  if (!(hi > lo)) hi = lo + 1;
+  const double step = nice_step(hi - lo, 6);
+  lo = step * std::floor(lo / step) - step;
+  hi = step * std::ceil(hi / step);
+  const double len = std::max(lp.length_m, 1e-6);
+  auto px = [&](double s) { return left + (right - left) * s / len; };
+  auto py = [&](double z) { return bottom - (bottom - top) * (z - lo) / (hi - lo); };
+  cairo_set_line_width(cr, 1);
+  for (double z = lo; z <= hi + 1e-9; z += step) {
+    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+    cairo_move_to(cr, left, py(z));
+    cairo_line_to(cr, right, py(z));
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    text(cr, left - 8, py(z), fmt::format("{:g}", z), 12, 1.0, false, 0.5);
+  }
+  const double sstep = nice_step(len, 8);
+  for (double s = 0; s <= len + 1e-9; s += sstep)
+    text(cr, px(s), bottom + 18, fmt::format("{:g}", s), 12, 0.5);
+  if (lp.ground.empty()) return;
+  // ground, filled
+  cairo_move_to(cr, px(lp.ground.front().first), py(lo));
+  for (const auto& [s, g] : lp.ground) cairo_line_to(cr, px(s), py(g));
+  cairo_line_to(cr, px(lp.ground.back().first), py(lo));
+  cairo_close_path(cr);
+  cairo_set_source_rgb(cr, 0.72, 0.6, 0.42);
+  cairo_fill(cr);
+  // the band the camera should fly in: ground + altitude +- tolerance
+  if (lp.tolerance_m > 0) {
+    for (std::size_t k = 0; k < lp.ground.size(); ++k)
+      (k == 0 ? cairo_move_to : cairo_line_to)(cr, px(lp.ground[k].first),
+                                               py(lp.ground[k].second + lp.altitude_m + lp.tolerance_m));
+    for (std::size_t k = lp.ground.size(); k-- > 0;)
+      cairo_line_to(cr, px(lp.ground[k].first), py(lp.ground[k].second + lp.altitude_m - lp.tolerance_m));
+    cairo_close_path(cr);
+    cairo_set_source_rgba(cr, 0.17, 0.63, 0.17, 0.3);
+    cairo_fill(cr);
+  }
+  // ground + altitude, dashed
+  const double dash[] = {6.0, 4.0};
+  cairo_set_dash(cr, dash, 2, 0);
+  cairo_set_source_rgb(cr, 0.17, 0.5, 0.17);
+  cairo_set_line_width(cr, 1.5);
+  for (std::size_t k = 0; k < lp.ground.size(); ++k)
+    (k == 0 ? cairo_move_to : cairo_line_to)(cr, px(lp.ground[k].first),
+                                             py(lp.ground[k].second + lp.altitude_m));
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+  // the flight: straight between the waypoints, which are marked
+  cairo_set_source_rgb(cr, 0.12, 0.47, 0.71);
+  cairo_set_line_width(cr, 2.5);
+  for (std::size_t k = 0; k < lp.flight.size(); ++k)
+    (k == 0 ? cairo_move_to : cairo_line_to)(cr, px(lp.flight[k].first), py(lp.flight[k].second));
+  cairo_stroke(cr);
+  for (const auto& [s, z] : lp.flight) {
+    cairo_arc(cr, px(s), py(z), 4, 0, 2 * std::numbers::pi);
+    cairo_fill(cr);
+  }
+  axes(cr, left, top, right, bottom, "distance along the leg (m)", height - margin + 15,
+       "height above mean sea level (m)", left - 55);
+  // legend
+  double ly = top + 16;
+  auto entry = [&](Rgb c, const std::string& label) {
+    set(cr, c);
+    cairo_rectangle(cr, right - 330, ly - 10, 22, 10);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    text(cr, right - 300, ly, label, 13);
+    ly += 20;
+  };
+  entry({0.12, 0.47, 0.71},
+        fmt::format("flight ({} waypoints, {} added for terrain)", lp.flight.size(), lp.terrain_waypoints));
+  entry({0.17, 0.5, 0.17}, fmt::format("ground + {:g} m (camera altitude)", lp.altitude_m));
+  if (lp.tolerance_m > 0) entry({0.55, 0.8, 0.55}, fmt::format("tolerance +-{:g} m", lp.tolerance_m));
+  entry({0.72, 0.6, 0.42}, "ground (DEM, bilinear)");
+}
+
 }  // namespace
+
+Artifact terrain_profile_png(const exporting::LegProfile& profile, std::string name, int width, int height) {
+  return png(std::move(name), width, height, [&](cairo_t* cr) { draw_profile(cr, profile, width, height); });
+}
 
 Rgb uav_colour(std::size_t i) {
   static const Rgb palette[] = {

@@ -207,7 +207,14 @@ Mission resolve_mission(const nlohmann::json& document, store::Store& store) {
   };
   const nlohmann::json resolved = usecases::resolve_catalog_refs(document, lookup(store::CatalogKind::Uav),
                                                                  lookup(store::CatalogKind::Camera));
-  return parse_mission(resolved.dump());
+  Mission mission = parse_mission(resolved.dump());
+  // a DEM named by a mission would be a path on the server's disk chosen by a client: refused (the server
+  // reads no elevation models; terrain-following plans are made with the command line, docs/api.md)
+  if (mission.terrain)
+    throw InputError("terrain.dem",
+                     "the server does not read elevation models named in a mission; plan "
+                     "terrain-following missions with `uavcover plan`");
+  return mission;
 }
 
 store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store) {

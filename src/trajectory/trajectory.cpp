@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "geodesy/local_frame.hpp"
+#include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::trajectory {
@@ -218,12 +219,16 @@ std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
   const auto items = exporting::mission_items(plan, index, altitudes);
   const geodesy::LocalFrame frame(plan.origin);
   const Point home = frame.to_local(plan.mission.uavs.at(index).start_resolved);
+  // heights above take-off: with a DEM the items are above mean sea level, less the ground at take-off
+  const double home_ground = terrain::home_ground(plan.mission, index);
   std::vector<Vec3> pts{{home.x(), home.y(), 0.0}};
   for (const auto& it : items) {
     if (it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
         it.command == exporting::kNavLand) {
       const Point p = frame.to_local({it.lon, it.lat});
-      pts.push_back({p.x(), p.y(), static_cast<double>(it.alt)});
+      const double z =
+          static_cast<double>(it.alt) - (it.frame == exporting::kFrameGlobal ? home_ground : 0.0);
+      pts.push_back({p.x(), p.y(), z});
     }
   }
   // return to launch: back above home at the current altitude, then down to the ground

@@ -6,6 +6,7 @@
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
 #include "render/render.hpp"
+#include "terrain/terrain.hpp"
 #include "trajectory/trajectory.hpp"
 #include "uavcover/error.hpp"
 
@@ -44,6 +45,24 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     out.total_time_min = ev.cost.total_time_min;
     out.cost_eur = ev.cost.flight_cost_eur;
   }
+  // with a DEM: what was read, and (with pictures) the profile of the leg terrain following changes most
+  std::optional<exporting::LegProfile> profile;
+  if (const HeightGrid* ground = terrain::grid(plan.mission)) {
+    extra["terrain"] = {{"dem", ground->source},
+                        {"mode", plan.mission.terrain->mode},
+                        {"tolerance_m", plan.mission.terrain->tolerance_m},
+                        {"grid_step_m", ground->step_m},
+                        {"highest_ground_m", ground->max_m}};
+    if (options.images)
+      for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+        try {
+          auto lp = exporting::leg_profile(plan, i);
+          if (lp && (!profile || lp->terrain_waypoints > profile->terrain_waypoints)) profile = std::move(lp);
+        } catch (const InputError&) {
+          // altitudes the export refuses: no profile (the export says why)
+        }
+      }
+  }
   out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
   out.artifacts.push_back({"plan.json", "application/json", io::plan_json(plan, extra).dump(1) + "\n"});
   out.evaluation = std::move(extra);
@@ -51,6 +70,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     ctx.report("pictures", 0.0);
     out.artifacts.push_back(render::plan_png(plan));
     out.artifacts.push_back(render::plan_svg(plan));
+    if (profile) out.artifacts.push_back(render::terrain_profile_png(*profile));
     if (options.evaluate) {
       out.artifacts.push_back(render::heatmap_png(ev.coverage, &ev.free));
       out.artifacts.push_back(render::histogram_png(ev.coverage.total));

@@ -501,3 +501,39 @@ TEST(MissionParse, GridLimitMessagesStaySane) {
     EXPECT_NE(w.find("use a spacing of at least 1 m"), std::string::npos) << w;
   }
 }
+
+TEST(MissionParse, TerrainBlock) {
+  json j = base();
+  j["terrain"] = {{"dem", "dem/srtm.tif"}};
+  const auto m = parse_mission(j.dump());
+  ASSERT_TRUE(m.terrain.has_value());
+  EXPECT_EQ(m.terrain->dem, "dem/srtm.tif");
+  EXPECT_EQ(m.terrain->mode, "follow");  // defaults
+  EXPECT_EQ(m.terrain->tolerance_m, 1.0);
+  EXPECT_EQ(m.terrain->grid, nullptr);  // parsing reads no file
+  // written back and read again unchanged
+  const auto again = parse_mission(uavcover::mission_to_json(m));
+  ASSERT_TRUE(again.terrain.has_value());
+  EXPECT_EQ(again.terrain->dem, "dem/srtm.tif");
+  EXPECT_EQ(again.terrain->mode, "follow");
+  // without the block, none
+  EXPECT_FALSE(parse_mission(base().dump()).terrain.has_value());
+  EXPECT_EQ(json::parse(uavcover::mission_to_json(parse_mission(base().dump()))).count("terrain"), 0u);
+
+  j["terrain"] = {{"dem", "a.tif"}, {"mode", "off"}, {"tolerance_m", 0.5}};
+  EXPECT_EQ(parse_mission(j.dump()).terrain->mode, "off");
+  j["terrain"] = {{"mode", "follow"}};
+  expect_error(j, "terrain.dem", "missing");
+  j["terrain"] = {{"dem", ""}};
+  expect_error(j, "terrain.dem", "must name a file");
+  j["terrain"] = {{"dem", 5}};
+  expect_error(j, "terrain.dem", "expected a string");
+  j["terrain"] = {{"dem", "a.tif"}, {"mode", "hover"}};
+  expect_error(j, "terrain.mode", "\"follow\" or \"off\"");
+  j["terrain"] = {{"dem", "a.tif"}, {"tolerance_m", 0}};
+  expect_error(j, "terrain.tolerance_m", "must be in [0.1, 100]");
+  j["terrain"] = {{"dem", "a.tif"}, {"tol", 1}};
+  expect_error(j, "terrain.tol", "unknown field");
+  j["terrain"] = "a.tif";
+  expect_error(j, "terrain", "expected an object");
+}

@@ -1,0 +1,282 @@
+// Terrain following in the exports (docs/photogrammetry.md): over a GDAL-written hill every coverage
+// leg keeps the camera's height above the ground within terrain.tolerance_m, transit clears the highest
+// ground, and each format carries AMSL (or take-off-relative) heights from the same items.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "export/export.hpp"
+#include "export/mission_items.hpp"
+#include "io/dem.hpp"
+#include "support/files.hpp"
+#include "support/terrain_mission.hpp"
+#include "uavcover/uavcover.hpp"
+
+namespace uavcover {
+namespace {
+
+using exporting::MissionItem;
+using testdem::Hill;
+using testdem::kOrigin;
+using testdem::TempDir;
+
+const Hill kHill{200, 60, 60, 0, 0};
+
+Plan hill_plan(const TempDir& dir, const std::string& mode = "follow", double tolerance = 1.0,
+               int epsg = 4326) {
+  testdem::DemSpec spec;
+  spec.epsg = epsg;
+  testdem::write_hill(dir.path / "hill.tif", geodesy::LocalFrame(kOrigin), kHill, spec);
+  Mission m = parse_mission(testdem::mission_text("hill.tif", mode, tolerance));
+  io::load_terrain(m, dir.path);
+  return plan(m);
+}
+
+bool positioned(const MissionItem& it) {
+  return it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
+         it.command == exporting::kNavLand;
+}
+bool in_leg(const MissionItem& it) {
+  return it.role == "coverage" || it.role == "terrain" || it.role == "capture";
+}
+
+struct Segment {
+  const MissionItem* a;
+  const MissionItem* b;
+};
+// consecutive positioned items; coverage legs are those between two leg items of one part
+std::vector<Segment> segments(const std::vector<MissionItem>& items, bool legs) {
+  std::vector<Segment> out;
+  const MissionItem* prev = nullptr;
+  for (const auto& it : items) {
+    if (!positioned(it)) continue;
+    if (prev != nullptr) {
+      const bool leg = in_leg(*prev) && in_leg(it) && prev->part == it.part && it.part >= 0;
+      if (leg == legs) out.push_back({prev, &it});
+    }
+    prev = &it;
+  }
+  return out;
+}
+
+// height above the ground along every coverage leg, sampled every 0.5 m: grid ground and the true hill
+void check_follow(const Plan& p, double tolerance) {
+  const HeightGrid& g = *p.mission.terrain->grid;
+  const geodesy::LocalFrame f(p.origin);
+  const geodesy::LocalFrame hill_frame(kOrigin);
+  int terrain_points = 0;
+  for (std::size_t u = 0; u < p.uavs.size(); ++u) {
+    const auto items = exporting::mission_items(p, u);
+    for (const auto& it : items) {
+      if (positioned(it)) EXPECT_EQ(it.frame, exporting::kFrameGlobal);
+      terrain_points += it.role == "terrain" ? 1 : 0;
+      if (it.role == "coverage" ||
+          it.role == "terrain")  // every waypoint at the camera's height above ground
+        EXPECT_NEAR(it.alt - g.at({it.lon, it.lat}), 40.0, 1e-3);
+    }
+    const auto legs = segments(items, true);
+    ASSERT_FALSE(legs.empty());
+    for (const auto& [a, b] : legs) {
+      const Point pa = f.to_local({a->lon, a->lat}), pb = f.to_local({b->lon, b->lat});
+      const int n = std::max(2, static_cast<int>(std::hypot(pb.x() - pa.x(), pb.y() - pa.y()) / 0.5));
+      for (int k = 0; k <= n; ++k) {
+        const double t = static_cast<double>(k) / n;
+        const LonLat q = f.to_wgs84({pa.x() + t * (pb.x() - pa.x()), pa.y() + t * (pb.y() - pa.y())});
+        const double flight = a->alt + t * (b->alt - a->alt);
+        EXPECT_LE(std::fabs(flight - g.at(q) - 40.0), tolerance) << "leg point " << q.lon << ", " << q.lat;
+        const Point h = hill_frame.to_local(q);  // against the true hill: plus the DEM's bilinear error
+        EXPECT_LE(std::fabs(flight - kHill(h.x(), h.y()) - 40.0), tolerance + 0.5);
+      }
+    }
+  }
+  EXPECT_GT(terrain_points, 0) << "the hill needs waypoints inside the legs";
+}
+
+TEST(Terrain, FollowKeepsTheHeightAboveGroundWithinTheTolerance) {
+  TempDir dir("terrain_follow");
+  const Plan p = hill_plan(dir, "follow", 1.0);
+  check_follow(p, 1.0);
+}
+
+TEST(Terrain, FollowOverAProjectedDemAndATighterTolerance) {
+  TempDir dir("terrain_utm");
+  const Plan tight = hill_plan(dir, "follow", 0.25, 32632);
+  check_follow(tight, 0.25);
+  const Plan loose = hill_plan(dir, "follow", 4.0, 32632);
+  check_follow(loose, 4.0);
+  auto count = [](const Plan& p) {
+    std::size_t n = 0;
+    for (std::size_t u = 0; u < p.uavs.size(); ++u)
+      for (const auto& it : exporting::mission_items(p, u)) n += it.role == "terrain" ? 1 : 0;
+    return n;
+  };
+  EXPECT_GT(count(tight), count(loose));
+}
+
+TEST(Terrain, TransitClearsTheHighestGroundUnderItByTheTransitionAltitude) {
+  TempDir dir("terrain_transit");
+  const Plan p = hill_plan(dir, "follow");
+  const HeightGrid& g = *p.mission.terrain->grid;
+  const geodesy::LocalFrame f(p.origin);
+  const exporting::AltitudeOptions alt =
+      exporting::resolve_altitudes({}, p.uavs.size(), p.mission.altitude_m);
+  std::vector<double> transit;
+  for (std::size_t u = 0; u < p.uavs.size(); ++u) {
+    const auto items = exporting::mission_items(p, u);
+    EXPECT_NEAR(items.front().alt, kHill.base + kHill.peak + exporting::transition_altitude(alt, u, 40.0),
+                0.6);
+    transit.push_back(items.front().alt);
+    int checked = 0;
+    for (const auto& [a, b] : segments(items, false)) {
+      if (a->role == "land" || b->role == "land") continue;
+      // the leg's lower end, against the highest ground under the leg (sampled every 0.5 m)
+      const Point pa = f.to_local({a->lon, a->lat}), pb = f.to_local({b->lon, b->lat});
+      const int n = std::max(2, static_cast<int>(std::hypot(pb.x() - pa.x(), pb.y() - pa.y()) / 0.5));
+      double top = -1e9;
+      for (int k = 0; k <= n; ++k) {
+        const double t = static_cast<double>(k) / n;
+        top =
+            std::max(top, g.at(f.to_wgs84({pa.x() + t * (pb.x() - pa.x()), pa.y() + t * (pb.y() - pa.y())})));
+      }
+      const bool descent = in_leg(*b) || in_leg(*a);  // the vertical descent to / climb from a leg
+      if (descent) continue;
+      EXPECT_GE(std::min(a->alt, b->alt) - top, exporting::transition_altitude(alt, u, 40.0) - 1e-3);
+      ++checked;
+    }
+    EXPECT_GT(checked, 0);
+  }
+  // the UAVs keep the step between their transit altitudes
+  ASSERT_EQ(transit.size(), 2u);
+  EXPECT_NEAR(transit[1] - transit[0], alt.transition_step_m, 1e-3);
+}
+
+TEST(Terrain, ExportsCarryAbsoluteOrTakeOffRelativeHeights) {
+  TempDir dir("terrain_exports");
+  const Plan p = hill_plan(dir, "follow");
+  const double home = p.mission.terrain->grid->at(p.mission.uavs[0].start_resolved);
+  const auto items = exporting::mission_items(p, 0);
+  std::vector<double> amsl;
+  for (const auto& it : items)
+    if (it.command == exporting::kNavWaypoint) amsl.push_back(it.alt);
+
+  const auto qgc = exporting::qgc_plan(p, 0);
+  EXPECT_EQ(qgc["mission"]["globalPlanAltitudeMode"], 2);
+  EXPECT_NEAR(qgc["mission"]["plannedHomePosition"][2].get<double>(), home, 1e-6);
+  for (const auto& j : qgc["mission"]["items"])
+    if (j.contains("AltitudeMode")) {
+      EXPECT_EQ(j["AltitudeMode"], 2);  // QGroundControl AltitudeModeAbsolute
+      EXPECT_EQ(j["frame"], 0);         // MAV_FRAME_GLOBAL
+    }
+
+  std::istringstream wpl(exporting::wpl_text(p, 0));
+  std::string line;
+  std::getline(wpl, line);  // QGC WPL 110
+  std::getline(wpl, line);  // home
+  std::vector<std::string> cols;
+  {
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, '\t');) cols.push_back(c);
+  }
+  ASSERT_EQ(cols.size(), 12u);
+  EXPECT_NEAR(std::stod(cols[10]), home, 1e-3);
+  while (std::getline(wpl, line)) {
+    std::istringstream row(line);
+    std::vector<std::string> c;
+    for (std::string s; std::getline(row, s, '\t');) c.push_back(s);
+    if (c.at(3) == "16") EXPECT_EQ(c.at(2), "0");  // waypoints in MAV_FRAME_GLOBAL
+  }
+
+  // DJI and Litchi: heights above take-off = AMSL - the DEM's ground at take-off, waypoint by waypoint
+  const auto dji = exporting::dji_wpml(p, 0);
+  const std::string& wl = dji.at("wpmz/waylines.wpml");
+  std::vector<double> dji_h;
+  const std::regex h_re("<wpml:executeHeight>([-0-9.e]+)</wpml:executeHeight>");
+  for (auto it = std::sregex_iterator(wl.begin(), wl.end(), h_re); it != std::sregex_iterator(); ++it)
+    dji_h.push_back(std::stod((*it)[1]));
+  ASSERT_EQ(dji_h.size(), amsl.size());
+  for (std::size_t k = 0; k < amsl.size(); ++k) EXPECT_NEAR(dji_h[k], amsl[k] - home, 1e-3);
+  const auto litchi = exporting::litchi_csv(p, 0);
+  std::istringstream csv(litchi.at(0));
+  std::getline(csv, line);  // header
+  std::size_t k = 0;
+  while (std::getline(csv, line) && k < amsl.size()) {
+    std::istringstream row(line);
+    std::vector<std::string> c;
+    for (std::string s; std::getline(row, s, ',');) c.push_back(s);
+    EXPECT_NEAR(std::stod(c.at(2)), amsl[k++] - home, 1e-3);
+  }
+  EXPECT_EQ(k, std::min<std::size_t>(amsl.size(), 99));
+
+  // everything is exported, separation holds with AMSL heights
+  EXPECT_NO_THROW(exporting::export_artifacts(p, {"qgc,wpl,kml,dji,litchi,csv"}));
+}
+
+TEST(Terrain, OffModeFliesFlatAboveTakeOffWithSafeTransit) {
+  TempDir dir("terrain_off");
+  const Plan p = hill_plan(dir, "off");
+  const double home = p.mission.terrain->grid->at(p.mission.uavs[0].start_resolved);
+  for (const auto& it : exporting::mission_items(p, 0)) {
+    EXPECT_NE(it.role, "terrain");
+    if (it.role == "coverage") EXPECT_NEAR(it.alt, home + 40.0, 1e-3);
+  }
+}
+
+TEST(Terrain, WithoutADemHeightsStayRelativeToTakeOff) {
+  Mission m = parse_mission(testdem::mission_text("unused.tif"));
+  m.terrain.reset();
+  const Plan p = plan(m);
+  for (const auto& it : exporting::mission_items(p, 0)) {
+    if (positioned(it)) EXPECT_EQ(it.frame, exporting::kFrameGlobalRelativeAlt);
+    EXPECT_NE(it.role, "terrain");
+    if (it.role == "coverage") EXPECT_FLOAT_EQ(it.alt, 40.0f);
+  }
+  // a terrain block whose DEM was never read is refused, not flown flat
+  Mission unread = parse_mission(testdem::mission_text("unused.tif"));
+  Plan q = p;
+  q.mission.terrain = unread.terrain;
+  try {
+    (void)exporting::mission_items(q, 0);
+    ADD_FAILURE() << "not refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "terrain.dem");
+  }
+}
+
+int run(const std::string& cmd) {
+  const int st = std::system(cmd.c_str());
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+TEST(Terrain, CommandLinePlansExportsAndRefusesBadDems) {
+  TempDir dir("terrain_cli");
+  testdem::write_hill(dir.path / "hill.tif", geodesy::LocalFrame(kOrigin), kHill);
+  std::ofstream(dir.path / "mission.json") << testdem::mission_text("hill.tif");  // relative to the mission
+  const std::string cli = UAVCOVER_CLI;
+  const auto plan_dir = dir.path / "plan";
+  ASSERT_EQ(run("cd / && " + cli + " -q plan " + (dir.path / "mission.json").string() + " --out " +
+                plan_dir.string() + " --export qgc"),
+            0);
+  const auto pj = nlohmann::json::parse(testing::slurp(plan_dir / "plan.json"));
+  EXPECT_EQ(pj["mission"]["terrain"]["dem"], (dir.path / "hill.tif").string());
+  EXPECT_TRUE(pj.contains("terrain"));
+  EXPECT_TRUE(std::filesystem::exists(plan_dir / "terrain-profile.png"));
+  const auto qgc = nlohmann::json::parse(testing::slurp(plan_dir / "export" / "a.plan"));
+  EXPECT_EQ(qgc["mission"]["globalPlanAltitudeMode"], 2);
+  // `export` reads the DEM again from plan.json's absolute name
+  ASSERT_EQ(
+      run(cli + " -q export " + plan_dir.string() + " --format wpl --out " + (dir.path / "out").string()), 0);
+  // bad DEM: exit 2 naming terrain.dem
+  std::ofstream(dir.path / "bad.tif") << "not a tiff";
+  std::ofstream(dir.path / "bad.json") << testdem::mission_text("bad.tif");
+  const auto err = dir.path / "err.txt";
+  EXPECT_EQ(run(cli + " -q plan " + (dir.path / "bad.json").string() + " --out " +
+                (dir.path / "p2").string() + " 2>" + err.string()),
+            2);
+  EXPECT_NE(testing::slurp(err).find("terrain.dem"), std::string::npos) << testing::slurp(err);
+}
+
+}  // namespace
+}  // namespace uavcover
