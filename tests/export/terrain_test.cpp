@@ -71,11 +71,14 @@ void check_follow(const Plan& p, double tolerance) {
   for (std::size_t u = 0; u < p.uavs.size(); ++u) {
     const auto items = exporting::mission_items(p, u);
     for (const auto& it : items) {
-      if (positioned(it)) EXPECT_EQ(it.frame, exporting::kFrameGlobal);
+      if (positioned(it)) {
+        EXPECT_EQ(it.frame, exporting::kFrameGlobal);
+      }
       terrain_points += it.role == "terrain" ? 1 : 0;
       if (it.role == "coverage" ||
-          it.role == "terrain")  // every waypoint at the camera's height above ground
+          it.role == "terrain") {  // every waypoint at the camera's height above ground
         EXPECT_NEAR(it.alt - g.at({it.lon, it.lat}), 40.0, 1e-3);
+      }
     }
     const auto legs = segments(items, true);
     ASSERT_FALSE(legs.empty());
@@ -186,7 +189,9 @@ TEST(Terrain, ExportsCarryAbsoluteOrTakeOffRelativeHeights) {
     std::istringstream row(line);
     std::vector<std::string> c;
     for (std::string s; std::getline(row, s, '\t');) c.push_back(s);
-    if (c.at(3) == "16") EXPECT_EQ(c.at(2), "0");  // waypoints in MAV_FRAME_GLOBAL
+    if (c.at(3) == "16") {  // waypoints in MAV_FRAME_GLOBAL
+      EXPECT_EQ(c.at(2), "0");
+    }
   }
 
   // DJI and Litchi: heights above take-off = AMSL - the DEM's ground at take-off, waypoint by waypoint
@@ -220,7 +225,9 @@ TEST(Terrain, OffModeFliesFlatAboveTakeOffWithSafeTransit) {
   const double home = p.mission.terrain->grid->at(p.mission.uavs[0].start_resolved);
   for (const auto& it : exporting::mission_items(p, 0)) {
     EXPECT_NE(it.role, "terrain");
-    if (it.role == "coverage") EXPECT_NEAR(it.alt, home + 40.0, 1e-3);
+    if (it.role == "coverage") {
+      EXPECT_NEAR(it.alt, home + 40.0, 1e-3);
+    }
   }
 }
 
@@ -229,9 +236,13 @@ TEST(Terrain, WithoutADemHeightsStayRelativeToTakeOff) {
   m.terrain.reset();
   const Plan p = plan(m);
   for (const auto& it : exporting::mission_items(p, 0)) {
-    if (positioned(it)) EXPECT_EQ(it.frame, exporting::kFrameGlobalRelativeAlt);
+    if (positioned(it)) {
+      EXPECT_EQ(it.frame, exporting::kFrameGlobalRelativeAlt);
+    }
     EXPECT_NE(it.role, "terrain");
-    if (it.role == "coverage") EXPECT_FLOAT_EQ(it.alt, 40.0f);
+    if (it.role == "coverage") {
+      EXPECT_FLOAT_EQ(it.alt, 40.0f);
+    }
   }
   // a terrain block whose DEM was never read is refused, not flown flat
   Mission unread = parse_mission(testdem::mission_text("unused.tif"));

@@ -531,7 +531,7 @@ TEST(MissionParse, TerrainBlock) {
   j["terrain"] = {{"dem", "a.tif"}, {"mode", "hover"}};
   expect_error(j, "terrain.mode", "\"follow\" or \"off\"");
   j["terrain"] = {{"dem", "a.tif"}, {"tolerance_m", 0}};
-  expect_error(j, "terrain.tolerance_m", "must be in [0.1, 100]");
+  expect_error(j, "terrain.tolerance_m", "must be in [0.1, 100.0]");
   j["terrain"] = {{"dem", "a.tif"}, {"tol", 1}};
   expect_error(j, "terrain.tol", "unknown field");
   j["terrain"] = "a.tif";
