@@ -1,7 +1,7 @@
 // The facade's plan(): one pipeline for every planner.
 //   mission -> local frame and free space -> starts (given or drawn from the seed)
 //   -> the planner (registry) -> transit legs routed around no-fly zones -> WGS84 -> metrics,
-//   regions, transition altitudes -> battery sorties.
+//   regions, transition altitudes -> battery sorties (the planner's own boundaries when it gives them).
 #include <fmt/format.h>
 
 #include <chrono>
@@ -133,7 +133,10 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // one router for every transit leg: the no-fly zones' R-tree and visibility nodes are built once
   const geometry::Router router(lm.no_fly);
   std::size_t legs_total = 0, legs_done = 0;
-  for (const auto& r : res.uavs) legs_total += r.coverage.size() + 1;
+  for (const auto& r : res.uavs) legs_total += r.coverage.size() + r.sortie_starts.size() + 1;
+  // the planner's sortie boundaries, as indices among each UAV's (non-empty) coverage parts
+  sorties::Options sortie_options;
+  sortie_options.sortie_starts.resize(out.mission.uavs.size());
   double region_total = 0.0;
   for (const auto& r : res.uavs) region_total += bg::area(r.region);
   for (std::size_t i = 0; i < out.mission.uavs.size(); ++i) {
@@ -160,8 +163,28 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
       here = target;
       ctx.report("transit", static_cast<double>(legs_done) / static_cast<double>(legs_total));
     };
-    for (const auto& cov : r.coverage) {
+    const auto& starts = r.sortie_starts;
+    for (std::size_t k = 0; k < starts.size(); ++k)
+      if (starts[k] >= r.coverage.size() || (k == 0 ? starts[k] != 0 : starts[k] <= starts[k - 1]))
+        throw OperationError(
+            fmt::format("planner \"{}\" gave UAV {} sortie starts that are not increasing "
+                        "coverage indices from 0",
+                        info->name, u.id));
+    std::size_t next_start = 0, parts_done = 0;
+    bool begins = false;
+    for (std::size_t c = 0; c < r.coverage.size(); ++c) {
+      const auto& cov = r.coverage[c];
+      if (next_start < starts.size() && starts[next_start] == c) {
+        ++next_start;
+        begins = true;
+      }
       if (cov.empty()) continue;
+      if (begins) {  // a sortie of the planner's begins: back to the start first
+        if (parts_done > 0) transit_to(problem.starts[i]);
+        sortie_options.sortie_starts[i].push_back(parts_done);
+        begins = false;
+      }
+      ++parts_done;
       transit_to(cov.front());
       up.parts.push_back(make_part(PartKind::Coverage, cov));
       up.coverage_length_m += geometry::length(cov);
@@ -175,7 +198,8 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // battery sorties for every planner (docs/sorties.md)
   ctx.report("sorties", 0.0);
   // a UAV with a leg longer than one battery keeps no sorties, with a warning (docs/sorties.md)
-  sorties::fill_sorties(out, {}, &out.warnings, &router, &ctx);
+  // (the planner's own boundaries where it gives them)
+  sorties::fill_sorties(out, sortie_options, &out.warnings, &router, &ctx);
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -43,6 +43,15 @@ struct UavAssignment {
   /// Coverage parts in flight order, each a polyline of turning waypoints (a closed loop repeats its
   /// first vertex). The engine joins them with transit legs routed around the no-fly zones.
   std::vector<std::vector<Point>> coverage;
+  /// Battery sorties chosen by the planner (optional): the indices into `coverage` of the parts that
+  /// begin a new sortie, strictly increasing, the first 0 (e.g. {0, 1, 2} for three routes that each
+  /// start and end at the UAV's start). Each sortie flies out from the start, covers its parts in
+  /// order (joined by transit legs) and returns to the start; the engine's path returns to the start
+  /// between sorties too. Every sortie must fit one battery under the time model (eq. 15) with the
+  /// mission's battery_reserve, or the UAV gets no sorties and the plan a warning, as for cut sorties.
+  /// Empty: the engine cuts the coverage into sorties from the UAV's endurance (docs/sorties.md).
+  /// Empty coverage parts count: a sortie that begins at one begins at the next non-empty part.
+  std::vector<std::size_t> sortie_starts;
   /// The share the planner achieved by its own measure; empty: the engine uses region areas.
   std::optional<double> share_actual;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< opaque to everything downstream

@@ -185,7 +185,61 @@ double budget_min(const Plan& plan, std::size_t index, const Options& options) {
 
 namespace {
 
-std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr) {
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr);
+
+/// The refusal of a flight that does not fit one battery (`what`: the leg or sortie).
+InputError over_budget(const Layout& L, double budget, const std::string& what, double need_min) {
+  return InputError(
+      fmt::format("uavs[{}].endurance_min", L.index),
+      fmt::format("UAV \"{}\": {} with the transit out and back needs {:.2f} min, more than one "
+                  "battery allows ({:.2f} min: endurance {} min less the {:.0f} % reserve); give a "
+                  "longer endurance or a smaller reserve",
+                  L.up.id, what, need_min, budget, L.uav.endurance_min,
+                  100.0 * (1.0 - budget / L.uav.endurance_min)));
+}
+
+/// The sorties given by the planner: one per entry of `starts` (indices of coverage parts that begin
+/// a sortie), each from its part's first waypoint to the waypoint before the next sortie's, checked
+/// against the budget.
+std::vector<Sortie> given(const Layout& L, const std::vector<std::size_t>& starts, double budget,
+                          const Context* ctx = nullptr) {
+  const std::string field = fmt::format("sortie_starts[{}]", L.index);
+  const std::size_t parts = L.cov_parts.size();
+  if (starts.front() != 0) throw InputError(field, fmt::format("must begin with 0, got {}", starts.front()));
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    if (starts[k] >= parts)
+      throw InputError(fmt::format("{}[{}]", field, k),
+                       fmt::format("UAV \"{}\" has {} coverage parts, got {}", L.up.id, parts, starts[k]));
+    if (k > 0 && starts[k] <= starts[k - 1])
+      throw InputError(fmt::format("{}[{}]", field, k), "must be strictly increasing");
+  }
+  std::vector<std::size_t> first(parts + 1, L.n());  // coverage part -> its first waypoint
+  for (std::size_t g = L.n(); g-- > 0;) first[L.wp_cov[g]] = g;
+  std::vector<Sortie> out;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    if (ctx != nullptr && ctx->stop_requested()) throw Cancelled();
+    const std::size_t a = first[starts[k]];
+    const std::size_t b = (k + 1 < starts.size() ? first[starts[k + 1]] : L.n()) - 1;
+    Sortie s = L.build(a, b);
+    if (s.duration_min > budget * (1.0 + kEps))
+      throw over_budget(L, budget,
+                        fmt::format("sortie {} given by the planner (waypoints {} to {})", k, a, b),
+                        s.duration_min);
+    s.index = static_cast<int>(k);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+/// The planner's sorties of UAV `index` when `options` has them, else the cut from the endurance.
+std::vector<Sortie> sorties_of(const Layout& L, const Options& options, double budget,
+                               const Context* ctx = nullptr) {
+  if (L.index < options.sortie_starts.size() && !options.sortie_starts[L.index].empty() && L.n() > 0)
+    return given(L, options.sortie_starts[L.index], budget, ctx);
+  return cut(L, budget, ctx);
+}
+
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx) {
   std::vector<Sortie> out;
   const std::size_t n = L.n();
   if (n == 0) return out;
@@ -196,13 +250,7 @@ std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nul
     const double out_len = L.out_len(a);
     const std::size_t bmin = L.ends_part(a) ? a : a + 1;
     if (const double need = L.cost(out_len, a, bmin); need > limit)
-      throw InputError(
-          fmt::format("uavs[{}].endurance_min", L.index),
-          fmt::format("UAV \"{}\": the coverage leg from waypoint {} to {} with the transit out and back "
-                      "needs {:.2f} min, more than one battery allows ({:.2f} min: endurance {} min less the "
-                      "{:.0f} % reserve); give a longer endurance or a smaller reserve",
-                      L.up.id, a, bmin, need, budget, L.uav.endurance_min,
-                      100.0 * (1.0 - budget / L.uav.endurance_min)));
+      throw over_budget(L, budget, fmt::format("the coverage leg from waypoint {} to {}", a, bmin), need);
     // the time of a sortie a..b grows with b (the return from b is at most the leg to b+1 shorter than
     // from b+1): the last b that fits, by bisection. First with the straight return (a lower bound, no
     // routing: many no-fly zones make routes costly), then with routed returns below that bound.
@@ -236,7 +284,7 @@ std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nul
 std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Options& options) {
   const Geo geo(plan);
   const Layout L(plan, index, geo);
-  return cut(L, budget_min(plan, index, options));
+  return sorties_of(L, options, budget_min(plan, index, options));
 }
 
 void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* warnings,
@@ -247,7 +295,7 @@ void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* 
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const Layout L(plan, i, geo);
     try {
-      plan.uavs[i].sorties = cut(L, budget_min(plan, i, options), ctx);
+      plan.uavs[i].sorties = sorties_of(L, options, budget_min(plan, i, options), ctx);
       if (ctx != nullptr)
         ctx->report("sorties", static_cast<double>(i + 1) / static_cast<double>(plan.uavs.size()));
     } catch (const InputError& e) {

@@ -19,6 +19,13 @@ namespace uavcover::sorties {
 struct Options {
   /// Share of the endurance kept in reserve, in [0, 0.9]; empty = the mission's battery_reserve.
   std::optional<double> reserve;
+  /// Sortie boundaries chosen by the planner (planners::UavAssignment::sortie_starts), per UAV in the
+  /// plan's order; a missing or empty entry: that UAV's sorties are cut from its endurance. An entry
+  /// lists the indices of the UAV's coverage parts (its PathParts of kind Coverage, counted in flight
+  /// order) that begin a sortie: strictly increasing, the first 0. Each sortie then flies out from
+  /// take-off, covers its parts with the plan's transits between them, and returns; it must fit one
+  /// battery like a cut sortie.
+  std::vector<std::vector<std::size_t>> sortie_starts;
 };
 
 /// Where global coverage waypoint g of a UAV lies: parts[part].local[vertex].
@@ -33,8 +40,10 @@ std::vector<WaypointRef> coverage_waypoints(const UavPlan& uav);
 /// The battery budget of UAV `index` in minutes: endurance_min * (1 - reserve).
 double budget_min(const Plan& plan, std::size_t index, const Options& options = {});
 
-/// The sorties of UAV `index` (empty when it has no coverage). Throws InputError naming the UAV when one
-/// coverage leg with the transit out and back does not fit one battery.
+/// The sorties of UAV `index` (empty when it has no coverage): the planner's boundaries when `options`
+/// has them for this UAV, else cut from its endurance. Throws InputError naming the UAV when one
+/// coverage leg with the transit out and back, or one sortie given by the planner, does not fit one
+/// battery, and naming `sortie_starts[index]` when the boundaries are not valid.
 std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Options& options = {});
 
 /// Fills every UAV's sorties (plan() calls it for every planner). A UAV with a leg that does not fit

@@ -210,6 +210,112 @@ TEST(Sorties, ALegTooLongForOneBatteryNamesTheUav) {
   }
 }
 
+/// `base` with UAV i's coverage part split before the given vertices into coverage parts, each joined
+/// to the next by the straight transit between the neighbouring vertices (the same path).
+Plan split_coverage(const Plan& base, std::size_t i, std::vector<std::size_t> cuts) {
+  Plan p = base;
+  auto& parts = p.uavs.at(i).parts;
+  const auto it = std::find_if(parts.begin(), parts.end(),
+                               [](const PathPart& q) { return q.kind == PartKind::Coverage; });
+  if (it == parts.end()) throw std::runtime_error("no coverage part");
+  const PathPart cov = *it;
+  cuts.push_back(cov.local.size());
+  std::vector<PathPart> pieces;
+  std::size_t from = 0;
+  for (const std::size_t to : cuts) {
+    pieces.push_back(
+        {PartKind::Coverage,
+         {cov.local.begin() + static_cast<long>(from), cov.local.begin() + static_cast<long>(to)},
+         {cov.wgs84.begin() + static_cast<long>(from), cov.wgs84.begin() + static_cast<long>(to)}});
+    if (to < cov.local.size())
+      pieces.push_back(
+          {PartKind::Transit, {cov.local[to - 1], cov.local[to]}, {cov.wgs84[to - 1], cov.wgs84[to]}});
+    from = to;
+  }
+  parts.erase(it);
+  parts.insert(parts.begin() + (it - parts.begin()), pieces.begin(), pieces.end());
+  return p;
+}
+
+TEST(Sorties, PlannerGivenBoundariesAreHonouredAndChecked) {
+  // bravo (18.4 min continuous) in three coverage parts of about a third of its waypoints each
+  const std::size_t bravo = 1;
+  const std::size_t n = olive_grove().uavs[bravo].turns;
+  ASSERT_GE(n, 9u);
+  Plan p = split_coverage(olive_grove(), bravo, {n / 3, 2 * n / 3});
+  // an endurance at which one part per sortie fits and parts 0 and 1 together do not
+  sorties::Options given;
+  given.sortie_starts = {{}, {0, 1, 2}};  // alpha: none given; charlie: missing
+  sorties::Options too_long;
+  too_long.sortie_starts = {{}, {0, 2}};
+  Plan roomy = p;
+  for (auto& u : roomy.mission.uavs) u.endurance_min = 100.0;
+  double longest = 0.0;
+  for (const auto& s : sorties::cut_sorties(roomy, bravo, given)) longest = std::max(longest, s.duration_min);
+  const double budget = longest * 1.02;
+  ASSERT_GT(sorties::cut_sorties(roomy, bravo, too_long)[0].duration_min, budget)
+      << "the test needs parts 0 and 1 together to exceed one battery";
+  for (auto& u : p.mission.uavs) u.endurance_min = budget / (1.0 - p.mission.battery_reserve);
+  const auto wps = sorties::coverage_waypoints(p.uavs[bravo]);
+  ASSERT_EQ(wps.size(), n);
+
+  // by endurance alone, bravo (18.4 min) needs several sorties too
+  sorties::Options cut_opt;
+  const auto cut = sorties::cut_sorties(p, bravo, cut_opt);
+  ASSERT_GE(cut.size(), 2u);
+
+  // given: one sortie per part, from take-off and back, covering exactly that part
+  Plan q = p;
+  sorties::fill_sorties(q, given);
+  ASSERT_EQ(q.uavs[bravo].sorties.size(), 3u);
+  const std::vector<int> first{0, static_cast<int>(n / 3), static_cast<int>(2 * n / 3)};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Sortie& s = q.uavs[bravo].sorties[k];
+    EXPECT_EQ(s.first_waypoint, first[k]);
+    EXPECT_EQ(s.last_waypoint, k + 1 < 3 ? first[k + 1] - 1 : static_cast<int>(n) - 1);
+    int coverage_parts = 0;
+    for (const auto& part : s.parts) coverage_parts += part.kind == PartKind::Coverage ? 1 : 0;
+    EXPECT_EQ(coverage_parts, 1);
+  }
+  for (std::size_t i = 0; i < q.uavs.size(); ++i) expect_valid_sorties(q, i);
+  // the other UAVs are cut from their endurance as without boundaries
+  for (const std::size_t i : {std::size_t{0}, std::size_t{2}})
+    EXPECT_EQ(q.uavs[i].sorties.size(), sorties::cut_sorties(p, i).size());
+  // cut_sorties honours them too
+  EXPECT_EQ(sorties::cut_sorties(p, bravo, given).size(), 3u);
+
+  // a boundary that makes a sortie longer than one battery: parts 0 and 1 together
+  Plan r = p;
+  try {
+    (void)sorties::cut_sorties(p, bravo, too_long);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "uavs[1].endurance_min");
+    EXPECT_NE(std::string(e.what()).find("\"bravo\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("given by the planner"), std::string::npos) << e.what();
+  }
+  // as the engine calls it: that UAV keeps no sorties and the plan a warning, the others theirs
+  std::vector<std::string> warnings;
+  sorties::fill_sorties(r, too_long, &warnings);
+  EXPECT_TRUE(r.uavs[bravo].sorties.empty());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("no battery sorties"), std::string::npos) << warnings[0];
+  expect_valid_sorties(r, 0);
+  expect_valid_sorties(r, 2);
+
+  // boundaries that are not increasing coverage-part indices from 0 are refused by name
+  for (const auto& bad : std::vector<std::vector<std::size_t>>{{1, 2}, {0, 0}, {0, 2, 1}, {0, 3}}) {
+    sorties::Options o;
+    o.sortie_starts = {{}, bad};
+    try {
+      (void)sorties::cut_sorties(p, bravo, o);
+      ADD_FAILURE() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.field()).rfind("sortie_starts[1]", 0), 0u) << e.field();
+    }
+  }
+}
+
 TEST(Sorties, MissionBatteryReserveIsValidatedAndKept) {
   const std::string base =
       testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json");

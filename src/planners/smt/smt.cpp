@@ -199,6 +199,8 @@ class SmtPlanner final : public Planner {
       UavAssignment a;
       nlohmann::json sorties = nlohmann::json::array();
       for (const auto& r : routes) {
+        // each route is one sortie from home and back (the engine adds the legs)
+        a.sortie_starts.push_back(a.coverage.size());
         a.coverage.push_back(smt::walk_polyline(lat, r.walk, false));  // entry to exit
         sorties.push_back({{"time_s", r.time_s},
                            {"length_m", r.length_m},

@@ -7,16 +7,19 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <map>
 #include <queue>
 #include <set>
 
+#include "engine/local_mission.hpp"
 #include "evaluation/cost.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
 #include "planners/smt/cover.hpp"
 #include "planners/smt/lattice.hpp"
 #include "planners/smt/schedule.hpp"
+#include "support/files.hpp"
 #include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -102,18 +105,20 @@ long long brute_force(const smt::Subgraph& g) {
   return -1;
 }
 
+/// Whether q lies on a segment (or is the single point) of one of the paths.
+bool on_path(Point q, const std::vector<std::vector<Point>>& paths) {
+  for (const auto& part : paths)
+    for (std::size_t k = 0; k < part.size(); ++k)
+      if (k == 0 ? bg::distance(q, part[0]) < 1e-6
+                 : bg::distance(q, bg::model::segment<Point>(part[k - 1], part[k])) < 1e-6)
+        return true;
+  return false;
+}
+
 /// Lattice nodes that lie on no segment of the paths.
 int off_path(const smt::Lattice& lat, const std::vector<std::vector<Point>>& paths) {
-  int off = 0;
-  for (const Point& q : lat.pos) {
-    bool on = false;
-    for (const auto& part : paths)
-      for (std::size_t k = 0; k < part.size() && !on; ++k)
-        on = k == 0 ? bg::distance(q, part[0]) < 1e-6
-                    : bg::distance(q, bg::model::segment<Point>(part[k - 1], part[k])) < 1e-6;
-    off += on ? 0 : 1;
-  }
-  return off;
+  return static_cast<int>(
+      std::count_if(lat.pos.begin(), lat.pos.end(), [&](const Point& q) { return !on_path(q, paths); }));
 }
 
 smt::Subgraph grid_graph(int w, int h, const std::set<int>& removed = {}) {
@@ -451,6 +456,80 @@ TEST(SmtRoutes, StripSubgraphsAreTwoLinesWideAlongTheLongerExtent) {
   for (int c : seen) EXPECT_EQ(c, 1);
   const Assignment a = run(p, {{"subgraph_shape", "strip"}, {"max_flight_time_s", 600}});
   EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
+}
+
+TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
+  // the thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, a 300-s limit, one UAV whose home
+  // is the field's south-west corner (bench/smt/run.sh, row "1 UAV, home SW corner")
+  auto j = nlohmann::json::parse(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
+                                                          "mondinelli2025" / "rectangle_3uav.json"));
+  j["planner"] = "smt";
+  j["planner_params"] = {{"max_flight_time_s", 300}};
+  nlohmann::json uav = j["uavs"][0];
+  uav["start"] = j["area"]["coordinates"][0][0];
+  j["uavs"] = nlohmann::json::array();
+  j["uavs"].push_back(uav);
+  const Plan p = uavcover::plan(parse_mission(j.dump()));
+  ASSERT_EQ(p.uavs.size(), 1u);
+  const UavPlan& up = p.uavs[0];
+  const Uav& u = p.mission.uavs[0];
+  for (const auto& w : p.warnings) EXPECT_EQ(w.find("no battery sorties"), std::string::npos) << w;
+
+  // as many sorties as routes, each flying one route
+  const auto routes = p.diagnostics.at("route_count").get<std::size_t>();
+  EXPECT_GE(routes, 2u) << "300 s cannot hold the whole field";
+  ASSERT_EQ(up.sorties.size(), routes);
+  ASSERT_EQ(up.diagnostics.at("routes").get<std::size_t>(), routes);
+
+  const engine::LocalMission lm = engine::to_local(p.mission);
+  const Point home = lm.frame.to_local(u.start_resolved);
+  double sortie_length = 0.0;
+  std::vector<std::vector<std::vector<Point>>> covered;  // per sortie, its coverage polylines
+  for (std::size_t k = 0; k < up.sorties.size(); ++k) {
+    SCOPED_TRACE("sortie " + std::to_string(k));
+    const Sortie& s = up.sorties[k];
+    // from home and back to it
+    ASSERT_FALSE(s.parts.empty());
+    EXPECT_LT(bg::distance(s.parts.front().local.front(), home), 0.01);
+    EXPECT_LT(bg::distance(s.parts.back().local.back(), home), 0.01);
+    // the project's time model (eq. 15) over the whole flight, within the planner's limit
+    std::vector<std::vector<Point>> cov;
+    double len = 0.0;
+    for (const auto& part : s.parts) {
+      len += geometry::length(part.local);
+      if (part.kind == PartKind::Coverage) cov.push_back(part.local);
+    }
+    ASSERT_EQ(cov.size(), 1u) << "one route per sortie";
+    EXPECT_NEAR(s.length_m, len, 1e-6);
+    EXPECT_EQ(s.turns, static_cast<int>(cov[0].size()));
+    const double t = evaluation::flight_duration_min(len, s.turns, u) * 60.0;
+    EXPECT_NEAR(s.duration_min * 60.0, t, 1e-6);
+    EXPECT_LE(t, 300.0 + 1e-6);
+    // the route the planner reported
+    EXPECT_NEAR(s.length_m, up.diagnostics.at("sorties")[k].at("length_m").get<double>(), 1e-3);
+    sortie_length += s.length_m;
+    covered.push_back(std::move(cov));
+  }
+  // the plan's path returns home between routes: it is the sorties one after the other
+  EXPECT_NEAR(up.length_m, sortie_length, 1e-3);
+
+  // every lattice node lies on the coverage of exactly one sortie
+  Problem pr;
+  pr.area = lm.area;
+  pr.no_fly = lm.no_fly;
+  pr.free = lm.free;
+  pr.starts = {home};
+  pr.shares = {1.0};
+  pr.uavs = p.mission.uavs;
+  pr.spacing_m = p.mission.spacing_m;
+  pr.footprint_m = 1.5 * pr.spacing_m;
+  const smt::Lattice lat = smt::build_lattice(pr, false, 20000);
+  EXPECT_EQ(lat.size(), 200);
+  for (const Point& q : lat.pos) {
+    int on = 0;
+    for (const auto& cov : covered) on += on_path(q, cov) ? 1 : 0;
+    EXPECT_EQ(on, 1) << "node " << q.x() << " " << q.y();
+  }
 }
 
 }  // namespace
