@@ -539,6 +539,13 @@ TEST(MilpPlanner, CutSegmentsGiveEachUavOfABranchingAreaItsShareInOneConnectedPi
     for (std::size_t i = 0; i < legs.segments.size(); ++i)
       total += legs.segments[i].length(), mine[static_cast<std::size_t>(who[i])] += legs.segments[i].length();
     const auto pieces = pieces_per_uav(who, legs, p.starts.size());
+    std::string got;
+    for (std::size_t k = 0; k < p.starts.size(); ++k)
+      got += (k ? " / " : "") + std::to_string(mine[k] / total);
+    ::testing::Test::RecordProperty(
+        "shares_" + std::to_string(p.starts.size()) + "_uavs_first_" + std::to_string(p.shares[0]),
+        got + " (" + std::to_string(legs.segments.size()) + " legs, " +
+            std::to_string(legs.segments.size() - lines.segments.size()) + " cuts)");
     for (std::size_t k = 0; k < p.starts.size(); ++k) {
       EXPECT_NEAR(mine[k] / total, p.shares[k], 0.03) << "UAV " << k;
       EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s legs are not one connected piece";
