@@ -278,6 +278,11 @@ std::vector<std::vector<int>> adjacency(const Lines& lines) {
       }
     }
     const auto [lo, hi] = span(segs[s]);
+    // the two pieces of a cut segment touch end to end on their line
+    if (s > cur_begin && std::abs(span(segs[s - 1]).second - lo) < 1e-6) {
+      adj[s].push_back(static_cast<int>(s - 1));
+      adj[s - 1].push_back(static_cast<int>(s));
+    }
     for (std::size_t t = prev_begin; t < prev_end; ++t) {
       const auto [tlo, thi] = span(segs[t]);
       if (std::max(lo, tlo) < std::min(hi, thi)) {

@@ -35,6 +35,11 @@ struct Lines {
   std::vector<Segment> segments;  ///< part by part, line by line, low to high along each line
 };
 
+/// Where a segment is cut between two clusters, each of the two legs ends this far short of the cut
+/// (the pieces themselves touch, so the regions do): two UAVs never fly to the same point, and their
+/// paths do not touch.
+inline constexpr double kCutGapM = 0.05;
+
 /// The most lines over the whole area (beyond: the spacing is too small for this planner).
 inline constexpr std::size_t kMaxLines = 20000;
 
@@ -45,7 +50,8 @@ Lines build_lines(const MultiPolygon& free, const MultiPolygon& no_fly, double s
 
 /// Neighbours of each segment: the segments of the same part on the neighbouring lines whose spans
 /// along the line overlap (their strips share a side), and the last segment of each part with the
-/// first of the next part (so that the parts follow each other as in the sweep order).
+/// first of the next part (so that the parts follow each other as in the sweep order). The two pieces
+/// of a cut segment (neighbours on one line that touch end to end) are neighbours too.
 std::vector<std::vector<int>> adjacency(const Lines& lines);
 
 /// Coverage mode: the segments with each end that lies on the area's outer boundary moved half a

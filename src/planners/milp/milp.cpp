@@ -396,28 +396,138 @@ std::vector<std::pair<double, std::vector<int>>> parts_without(const std::vector
   return out;
 }
 
+/// Segments and the group (cluster) of each, from `connected_groups`.
+struct Grouping {
+  std::vector<Segment> segments;  ///< part by part, line by line, low to high (cut segments included)
+  std::vector<int> group;
+};
+
 /// The segments of each cluster: grown one group after the other from one end of the sweep order
 /// (`descending`: from the other end, last group first), each taking the frontier segment first in
 /// that order whose removal keeps the rest connected, so every group and the rest stay connected.
 /// Where every frontier segment holds the rest together, it is taken with the parts it cuts off (all
-/// but the largest). A group stops at the side of its share's target nearer to it and takes at least
-/// `sizes[g]` segments when there are enough. Returns the group of each segment.
-std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, const std::vector<double>& work,
-                                  const std::vector<double>& shares, const std::vector<int>& sizes,
-                                  bool descending, const Context& ctx) {
-  const int S = static_cast<int>(work.size()), C = static_cast<int>(shares.size());
+/// but the largest). Where a take would overshoot the group's share of the line length, a frontier
+/// segment is cut instead: the piece at its end next to the group goes to the group, as long as the
+/// share needs (or as the rest's connectivity allows), the other piece stays with the rest; both
+/// pieces are at least `min_piece` long. A group takes at least `sizes[g]` segments when there are
+/// enough. Returns the segments (with the cuts) and the group of each.
+Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& shares,
+                          const std::vector<int>& sizes, bool descending, double min_piece,
+                          const Context& ctx) {
+  std::vector<Segment> segs = lines.segments;
+  std::vector<std::vector<int>> adj = milp::adjacency(lines);
+  const int S = static_cast<int>(segs.size()), C = static_cast<int>(shares.size());
+  auto frame = [&](int s) -> const boustro::Frame& {
+    return lines.parts[static_cast<std::size_t>(segs[static_cast<std::size_t>(s)].part)].frame;
+  };
+  // each segment's span along its line (frame Y) and its work (length: the scanned area per width)
+  std::vector<double> lo, hi, work;
+  for (int s = 0; s < S; ++s) {
+    const double y0 = frame(s).to(segs[static_cast<std::size_t>(s)].a).y();
+    const double y1 = frame(s).to(segs[static_cast<std::size_t>(s)].b).y();
+    lo.push_back(std::min(y0, y1));
+    hi.push_back(std::max(y0, y1));
+    work.push_back(hi.back() - lo.back());
+  }
   std::vector<int> owner(static_cast<std::size_t>(S), -1);
   const double total = std::accumulate(work.begin(), work.end(), 0.0);
   auto key = [&](int s) { return descending ? S - 1 - s : s; };
+  auto at = [](auto& v, int i) -> auto& { return v[static_cast<std::size_t>(i)]; };
+  // whether segment t is a neighbour of the span [a, b] on the line of segment s
+  auto touches = [&](int t, int s, double a, double b) {
+    const Segment &gt = at(segs, t), &gs = at(segs, s);
+    if (gt.part != gs.part) return true;  // the link between parts
+    if (gt.line == gs.line) return std::abs(at(hi, t) - a) < 1e-6 || std::abs(b - at(lo, t)) < 1e-6;
+    return std::abs(gt.line - gs.line) == 1 && std::max(at(lo, t), a) < std::min(at(hi, t), b) - 1e-9;
+  };
+  // whether the unowned segments stay connected with segment s shortened to [a, b]
+  auto rest_connected = [&](int s, double a, double b) {
+    std::vector<char> seen(adj.size(), 0);
+    std::vector<int> stack{s};
+    at(seen, s) = 1;
+    std::size_t reached = 0, unowned = 0;
+    for (int o : owner) unowned += o < 0 ? 1 : 0;
+    while (!stack.empty()) {
+      const int u = stack.back();
+      stack.pop_back();
+      ++reached;
+      for (int v : at(adj, u)) {
+        if (at(seen, v) || at(owner, v) >= 0) continue;
+        if ((u == s && !touches(v, s, a, b)) || (v == s && !touches(u, s, a, b))) continue;
+        at(seen, v) = 1;
+        stack.push_back(v);
+      }
+    }
+    return reached == unowned;
+  };
+  // the longest piece (at most `need`) group g can cut from segment s: {length, piece at the high end}
+  auto best_cut = [&](int s, int g, double need) {
+    std::pair<double, bool> best{0.0, false};
+    const double len = at(work, s);
+    if (len < 2.0 * min_piece) return best;
+    for (const bool high : {true, false}) {
+      std::vector<double> cand{std::clamp(need, min_piece, len - min_piece)};
+      for (int t : at(adj, s))  // where the rest keeps (just) its overlap with a neighbour
+        if (at(owner, t) < 0)
+          cand.push_back(high ? at(hi, s) - at(lo, t) - min_piece : at(hi, t) - min_piece - at(lo, s));
+      for (double a : cand) {
+        if (!(a >= min_piece - 1e-9 && a <= std::min(need, len - min_piece) + 1e-9) || a <= best.first)
+          continue;
+        const double c = high ? at(hi, s) - a : at(lo, s) + a;
+        const double alo = high ? c : at(lo, s), ahi = high ? at(hi, s) : c;
+        const auto& n = at(adj, s);
+        if (!std::any_of(n.begin(), n.end(),
+                         [&](int t) { return at(owner, t) == g && touches(t, s, alo, ahi); }))
+          continue;
+        if (!rest_connected(s, high ? at(lo, s) : c, high ? c : at(hi, s))) continue;
+        best = {a, high};
+      }
+    }
+    return best;
+  };
+  // cuts segment s: its piece of length `a` at one end (the high one or the low one) becomes a new segment
+  auto cut_segment = [&](int s, double a, bool high) {
+    const int n = static_cast<int>(segs.size());
+    const boustro::Frame& f = frame(s);
+    const double x = f.to(at(segs, s).a).x(), c = high ? at(hi, s) - a : at(lo, s) + a;
+    Segment piece = at(segs, s);
+    const double plo = high ? c : at(lo, s), phi = high ? at(hi, s) : c;
+    piece.a = f.from(Point{x, plo});
+    piece.b = f.from(Point{x, phi});
+    Segment& rest = at(segs, s);
+    if (high)
+      rest.b = piece.a;
+    else
+      rest.a = piece.b;
+    segs.push_back(piece);
+    const double rlo = high ? at(lo, s) : c, rhi = high ? c : at(hi, s);
+    lo.push_back(plo);
+    hi.push_back(phi);
+    work.push_back(a);
+    owner.push_back(-1);
+    adj.emplace_back();
+    const std::vector<int> old = at(adj, s);
+    at(adj, s).clear();
+    at(lo, s) = rlo, at(hi, s) = rhi, at(work, s) = rhi - rlo;
+    for (int t : old) {
+      auto& back = at(adj, t);
+      std::erase(back, s);
+      if (touches(t, s, rlo, rhi)) at(adj, s).push_back(t), back.push_back(s);
+      if (touches(t, s, plo, phi)) at(adj, n).push_back(t), back.push_back(n);
+    }
+    at(adj, s).push_back(n);
+    at(adj, n).push_back(s);
+    return n;
+  };
   int left = S, need_after = std::accumulate(sizes.begin(), sizes.end(), 0);
   std::vector<char> cut;
   bool cut_known = false;
   auto is_cut = [&](int s) {
     int degree = 0;
-    for (int t : adj[static_cast<std::size_t>(s)]) degree += owner[static_cast<std::size_t>(t)] < 0 ? 1 : 0;
+    for (int t : at(adj, s)) degree += at(owner, t) < 0 ? 1 : 0;
     if (degree <= 1) return false;
     if (!cut_known) cut = cut_vertices(adj, owner), cut_known = true;
-    return cut[static_cast<std::size_t>(s)] != 0;
+    return at(cut, s) != 0;
   };
   for (int step = 0; step + 1 < C; ++step) {
     stop_check(ctx);
@@ -427,6 +537,14 @@ std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, cons
     double acc = 0.0;
     int taken = 0;
     std::set<std::pair<int, int>> frontier;  // (key, segment)
+    auto own = [&](int s) {
+      at(owner, s) = g;
+      acc += at(work, s);
+      ++taken;
+      frontier.erase({key(s), s});
+      for (int u : at(adj, s))
+        if (at(owner, u) < 0) frontier.insert({key(u), u});
+    };
     while (left > 0) {
       if (taken % 64 == 63) stop_check(ctx);
       std::vector<int> pool;
@@ -434,8 +552,7 @@ std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, cons
         for (const auto& [k, s] : frontier) pool.push_back(s);
       else
         for (int k = 0; k < S; ++k)
-          if (const int s = descending ? S - 1 - k : k; owner[static_cast<std::size_t>(s)] < 0)
-            pool.push_back(s);
+          if (const int s = descending ? S - 1 - k : k; at(owner, s) < 0) pool.push_back(s);
       std::vector<int> take;
       for (int s : pool)
         if (!is_cut(s)) {
@@ -449,26 +566,43 @@ std::vector<int> connected_groups(const std::vector<std::vector<int>>& adj, cons
           take.insert(take.end(), parts[i].second.begin(), parts[i].second.end());
       }
       double amount = 0.0;
-      for (int s : take) amount += work[static_cast<std::size_t>(s)];
+      for (int s : take) amount += at(work, s);
+      if (taken > 0 && acc + amount > target + 1e-9 && target - acc >= min_piece) {
+        // a cut of one of the first frontier segments (a bounded number of tries)
+        std::tuple<double, int, bool> best{0.0, -1, false};
+        for (std::size_t i = 0; i < pool.size() && i < 16; ++i) {
+          const auto [a, high] = best_cut(pool[i], g, target - acc);
+          if (a > std::get<0>(best) + 1e-9) best = {a, pool[i], high};
+        }
+        if (std::get<1>(best) >= 0) {
+          own(cut_segment(std::get<1>(best), std::get<0>(best), std::get<2>(best)));
+          cut_known = false;
+          continue;
+        }
+      }
       if (taken >= sizes[static_cast<std::size_t>(g)] &&
-          (acc >= target || acc + amount - target > target - acc))
+          (acc >= target - 1e-9 || acc + amount - target > target - acc))
         break;
       if (left - static_cast<int>(take.size()) < need_after) break;
       for (int s : take) {
-        owner[static_cast<std::size_t>(s)] = g;
-        acc += work[static_cast<std::size_t>(s)];
-        ++taken;
+        own(s);
         --left;
-        frontier.erase({key(s), s});
-        for (int u : adj[static_cast<std::size_t>(s)])
-          if (owner[static_cast<std::size_t>(u)] < 0) frontier.insert({key(u), u});
       }
       cut_known = false;
     }
   }
   for (auto& o : owner)
     if (o < 0) o = descending ? 0 : C - 1;
-  return owner;
+  // back to the sweep order: part by part, line by line, low to high
+  std::vector<int> order(segs.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    return std::tuple(at(segs, x).part, at(segs, x).line, at(lo, x)) <
+           std::tuple(at(segs, y).part, at(segs, y).line, at(lo, y));
+  });
+  Grouping out;
+  for (int s : order) out.segments.push_back(at(segs, s)), out.group.push_back(at(owner, s));
+  return out;
 }
 
 /// The largest difference between a group's part of the work and its share.
@@ -500,13 +634,15 @@ class MilpPlanner final : public Planner {
 
     Assignment out;
     out.uavs.resize(m);
-    const milp::Lines lines = milp::build_lines(p.free, p.no_fly, p.spacing_m, par.direction, par.angle, ctx);
+    milp::Lines lines = milp::build_lines(p.free, p.no_fly, p.spacing_m, par.direction, par.angle, ctx);
     // coverage mode: legs past the outer boundary (the strips, adjacency and regions keep the lines' own)
-    const std::vector<Segment> segs =
-        p.mode == Mode::Coverage
-            ? milp::extended_for_coverage(lines, p.area, p.no_fly, p.footprint_m, kCoverageClearanceM)
-            : lines.segments;
-    const int S = static_cast<int>(segs.size());
+    auto legs_of = [&](const milp::Lines& l) {
+      return p.mode == Mode::Coverage
+                 ? milp::extended_for_coverage(l, p.area, p.no_fly, p.footprint_m, kCoverageClearanceM)
+                 : l.segments;
+    };
+    std::vector<Segment> segs = legs_of(lines);
+    int S = static_cast<int>(segs.size());
     ctx.report(kStage, 0.05);
     const Transit transit(p.no_fly);
     const auto t_lines = std::chrono::steady_clock::now();
@@ -543,20 +679,40 @@ class MilpPlanner final : public Planner {
         group_share[static_cast<std::size_t>(g)] += p.shares[static_cast<std::size_t>(k)];
         ++group_size[static_cast<std::size_t>(g)];
       }
-    std::vector<double> work;
-    work.reserve(segs.size());
-    for (const auto& s : lines.segments) work.push_back(s.length() + p.spacing_m);
     const double share_sum = std::accumulate(group_share.begin(), group_share.end(), 0.0);
     for (auto& g : group_share) g = share_sum > 0 ? g / share_sum : 1.0 / C;
-    // each cluster's segments connected (grown from both ends of the sweep order, the nearer shares win)
-    const std::vector<std::vector<int>> adj = milp::adjacency(lines);
+    // each cluster's segments connected (grown from both ends of the sweep order, the nearer shares of
+    // the line length win), the segments at the ends of each cluster cut where its share is met
     std::vector<int> group(static_cast<std::size_t>(S), 0);
     if (C > 1) {
-      group = connected_groups(adj, work, group_share, group_size, false, ctx);
-      std::vector<int> other = connected_groups(adj, work, group_share, group_size, true, ctx);
-      if (share_error(other, work, group_share) < share_error(group, work, group_share) - 1e-12)
-        group = std::move(other);
+      auto error = [&](const Grouping& gr) {
+        std::vector<double> len;
+        for (const auto& s : gr.segments) len.push_back(s.length());
+        return share_error(gr.group, len, group_share);
+      };
+      Grouping best = connected_groups(lines, group_share, group_size, false, p.spacing_m, ctx);
+      Grouping other = connected_groups(lines, group_share, group_size, true, p.spacing_m, ctx);
+      if (error(other) < error(best) - 1e-12) best = std::move(other);
+      lines.segments = std::move(best.segments);
+      group = std::move(best.group);
+      segs = legs_of(lines);
+      S = static_cast<int>(segs.size());
+      // legs end milp::kCutGapM short of a cut (the pieces of a cut segment touch on their line)
+      for (int s = 1; s < S; ++s) {
+        const Segment &lo = lines.segments[static_cast<std::size_t>(s - 1)],
+                      &hi = lines.segments[static_cast<std::size_t>(s)];
+        if (lo.part != hi.part || lo.line != hi.line || boustro::dist(lo.b, hi.a) > 1e-6) continue;
+        auto pull = [](Point& end, Point other) {
+          const double d = boustro::dist(end, other);
+          if (d > 4.0 * milp::kCutGapM)
+            end = Point{end.x() + (other.x() - end.x()) * milp::kCutGapM / d,
+                        end.y() + (other.y() - end.y()) * milp::kCutGapM / d};
+        };
+        pull(segs[static_cast<std::size_t>(s - 1)].b, segs[static_cast<std::size_t>(s - 1)].a);
+        pull(segs[static_cast<std::size_t>(s)].a, segs[static_cast<std::size_t>(s)].b);
+      }
     }
+    const std::vector<std::vector<int>> adj = milp::adjacency(lines);
     {
       std::vector<std::vector<int>> members(static_cast<std::size_t>(C));
       for (int s = 0; s < S; ++s)

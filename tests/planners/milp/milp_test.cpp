@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
@@ -69,27 +70,41 @@ milp::Lines lines_of(const Problem& p, const nlohmann::json& params = nullptr) {
                            fixed, Context{});
 }
 
-bool same(Point a, Point b) { return boustro::dist(a, b) < 1e-9; }
-
-/// Per segment the UAV flying it end to end (-1: none); fails the test when a leg is not a segment or
-/// a segment is flown twice.
+/// Per segment the UAV flying it end to end (-1: none; -2: several, each a piece of it, the pieces
+/// of a segment cut between UAVs); fails the test when a leg is not on a segment, or the legs on a
+/// segment overlap or leave a gap.
 std::vector<int> flown_by(const Assignment& a, const milp::Lines& lines) {
   std::vector<int> who(lines.segments.size(), -1);
+  std::vector<double> flown(lines.segments.size(), 0.0);
+  std::vector<std::vector<std::pair<double, double>>> spans(lines.segments.size());
   for (std::size_t k = 0; k < a.uavs.size(); ++k)
     for (const auto& leg : a.uavs[k].coverage) {
       EXPECT_EQ(leg.size(), 2u) << "a leg is one straight segment";
       if (leg.size() != 2) continue;
       bool found = false;
-      for (std::size_t s = 0; s < lines.segments.size(); ++s) {
+      for (std::size_t s = 0; s < lines.segments.size() && !found; ++s) {
         const auto& seg = lines.segments[s];
-        if ((same(leg[0], seg.a) && same(leg[1], seg.b)) || (same(leg[0], seg.b) && same(leg[1], seg.a))) {
-          EXPECT_EQ(who[s], -1) << "segment " << s << " flown twice";
-          who[s] = static_cast<int>(k);
-          found = true;
-        }
+        const bg::model::segment<Point> line{seg.a, seg.b};
+        if (bg::distance(leg[0], line) > 1e-6 || bg::distance(leg[1], line) > 1e-6) continue;
+        found = true;
+        who[s] = who[s] == -1 || who[s] == static_cast<int>(k) ? static_cast<int>(k) : -2;
+        flown[s] += boustro::dist(leg[0], leg[1]);
+        const double t0 = boustro::dist(seg.a, leg[0]), t1 = boustro::dist(seg.a, leg[1]);
+        spans[s].emplace_back(std::min(t0, t1), std::max(t0, t1));
       }
-      EXPECT_TRUE(found) << "a leg that is not a whole line segment";
+      EXPECT_TRUE(found) << "a leg that is not on a line segment";
     }
+  for (std::size_t s = 0; s < lines.segments.size(); ++s) {
+    if (who[s] == -1) continue;
+    // the pieces of a cut segment: legs end to end but for the gap at each cut
+    const double cuts = static_cast<double>(spans[s].size() - 1);
+    EXPECT_NEAR(flown[s] + 2.0 * milp::kCutGapM * cuts, lines.segments[s].length(), 1e-6)
+        << "segment " << s << ": a gap or an overlap";
+    std::sort(spans[s].begin(), spans[s].end());
+    for (std::size_t i = 1; i < spans[s].size(); ++i)
+      EXPECT_NEAR(spans[s][i].first - spans[s][i - 1].second, 2.0 * milp::kCutGapM, 1e-6)
+          << "segment " << s << ": overlap or gap at a cut";
+  }
   return who;
 }
 
@@ -276,7 +291,7 @@ TEST(MilpPlanner, EveryLineIsFlownEndToEndByExactlyOneUav) {
   const milp::Lines lines = lines_of(p);
   ASSERT_EQ(lines.segments.size(), 8u) << "legs along the 300 m side, 25 m apart across 200 m";
   const auto who = flown_by(a, lines);
-  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
+  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_NE(who[s], -1) << "segment " << s << " not flown";
   for (const auto& u : a.uavs) {
     EXPECT_FALSE(u.coverage.empty()) << "constraint (6): every UAV flies";
     EXPECT_FALSE(u.region.empty());
@@ -332,7 +347,7 @@ TEST(MilpPlanner, ThreeAreasWithTwoUavs) {
   const milp::Lines lines = lines_of(p);
   ASSERT_EQ(lines.parts.size(), 3u);
   const auto who = flown_by(a, lines);
-  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
+  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_NE(who[s], -1) << "segment " << s << " not flown";
   double total = 0.0;
   for (const auto& u : a.uavs) {
     EXPECT_FALSE(u.coverage.empty());
@@ -357,7 +372,7 @@ TEST(MilpPlanner, NoLegEntersTheNoFlyZoneOfANonConvexArea) {
   const Assignment a = run(p);
   const milp::Lines lines = lines_of(p);
   const auto who = flown_by(a, lines);
-  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
+  for (std::size_t s = 0; s < who.size(); ++s) EXPECT_NE(who[s], -1) << "segment " << s << " not flown";
   std::map<std::pair<int, int>, int> per_line;
   for (const auto& s : lines.segments) ++per_line[{s.part, s.line}];
   EXPECT_TRUE(std::any_of(per_line.begin(), per_line.end(), [](const auto& e) { return e.second > 1; }))
@@ -391,6 +406,58 @@ std::vector<int> pieces_per_uav(const std::vector<int>& who, const milp::Lines& 
   return pieces;
 }
 
+/// The legs of `a` as segments on the lines of `lines` (found by their position across the lines),
+/// sorted part by part, line by line, low to high, with the gaps at cuts closed: each UAV's legs, cut
+/// segments included. Fails the test for a leg off every line.
+std::pair<milp::Lines, std::vector<int>> legs_as_segments(const Assignment& a, const milp::Lines& lines) {
+  milp::Lines out;
+  out.parts = lines.parts;
+  std::vector<std::pair<milp::Segment, int>> legs;
+  for (std::size_t k = 0; k < a.uavs.size(); ++k)
+    for (const auto& leg : a.uavs[k].coverage) {
+      bool found = false;
+      for (std::size_t c = 0; c < lines.parts.size() && !found; ++c) {
+        const auto& f = lines.parts[c].frame;
+        const Point p = f.to(leg[0]), q = f.to(leg[1]);
+        if (std::abs(p.x() - q.x()) > 1e-6) continue;
+        for (std::size_t l = 0; l < lines.parts[c].xs.size() && !found; ++l)
+          if (std::abs(p.x() - lines.parts[c].xs[l]) < 1e-6) {
+            milp::Segment s;
+            s.a = p.y() < q.y() ? leg[0] : leg[1];
+            s.b = p.y() < q.y() ? leg[1] : leg[0];
+            s.part = static_cast<int>(c);
+            s.line = static_cast<int>(l);
+            legs.emplace_back(s, static_cast<int>(k));
+            found = true;
+          }
+      }
+      EXPECT_TRUE(found) << "a leg off the sweep lines";
+    }
+  auto lo = [&](const milp::Segment& s) {
+    return out.parts[static_cast<std::size_t>(s.part)].frame.to(s.a).y();
+  };
+  std::sort(legs.begin(), legs.end(), [&](const auto& x, const auto& y) {
+    return std::tuple(x.first.part, x.first.line, lo(x.first)) <
+           std::tuple(y.first.part, y.first.line, lo(y.first));
+  });
+  std::vector<int> who;
+  for (const auto& [s, k] : legs) {
+    // a cut: the legs on both sides of it end milp::kCutGapM short of it; closed here
+    if (!out.segments.empty() && out.segments.back().part == s.part && out.segments.back().line == s.line &&
+        std::abs(boustro::dist(out.segments.back().b, s.a) - 2.0 * milp::kCutGapM) < 1e-6) {
+      const Point mid{0.5 * (s.a.x() + out.segments.back().b.x()),
+                      0.5 * (s.a.y() + out.segments.back().b.y())};
+      out.segments.back().b = mid;
+      out.segments.push_back(s);
+      out.segments.back().a = mid;
+    } else {
+      out.segments.push_back(s);
+    }
+    who.push_back(k);
+  }
+  return {out, who};
+}
+
 TEST(MilpPlanner, EachUavOfANonConvexAreaGetsOneConnectedPiece) {
   // a wide U (lines along its 300 m base cross both arms) with a no-fly zone in the base: the lines in
   // the arms have two segments each, so a split of the sweep order gives a UAV the tops of both arms
@@ -410,13 +477,86 @@ TEST(MilpPlanner, EachUavOfANonConvexAreaGetsOneConnectedPiece) {
               14)
         << "the arms' lines and the lines through the zone have two segments";
     const auto who = flown_by(a, lines);
-    for (std::size_t s = 0; s < who.size(); ++s) EXPECT_GE(who[s], 0) << "segment " << s << " not flown";
-    const auto pieces = pieces_per_uav(who, lines, starts.size());
+    for (std::size_t s = 0; s < who.size(); ++s) EXPECT_NE(who[s], -1) << "segment " << s << " not flown";
+    const auto [legs, leg_uav] = legs_as_segments(a, lines);
+    const auto pieces = pieces_per_uav(leg_uav, legs, starts.size());
     for (std::size_t k = 0; k < starts.size(); ++k) {
-      EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s segments are not one connected piece";
+      EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s legs are not one connected piece";
       EXPECT_EQ(a.uavs[k].region.size(), 1u) << "UAV " << k << "'s region is not one polygon";
       for (const auto& leg : a.uavs[k].coverage)
         EXPECT_FALSE(geometry::segment_enters(p.no_fly, leg[0], leg[1], 0.0));
+    }
+  }
+}
+
+TEST(MilpPlanner, CutSegmentsGiveEachUavOfABranchingAreaItsShareInOneConnectedPiece) {
+  // the U of EachUavOfANonConvexAreaGetsOneConnectedPiece: whole segments miss the shares by up to an
+  // arm; cutting the boundary segments of each piece where its share is met lands within 3 %
+  MultiPolygon u;
+  u.push_back(poly({{0, 0}, {300, 0}, {300, 200}, {200, 200}, {200, 60}, {100, 60}, {100, 200}, {0, 200}}));
+  MultiPolygon nfz;
+  nfz.push_back(rect(140, 20, 160, 40));
+  const double spacing = 10.0;
+  struct Case {
+    std::vector<Point> starts;
+    std::vector<double> shares;
+  };
+  const std::vector<Case> cases{{{{-10, -10}, {310, -10}}, {}},
+                                {{{-10, -10}, {150, -10}, {310, -10}}, {}},
+                                {{{-10, -10}, {150, -10}, {310, -10}}, {0.2, 0.3, 0.5}},
+                                {{{-10, -10}, {150, -10}, {310, -10}}, {0.5, 0.3, 0.2}}};
+  for (const auto& cs : cases) {
+    const Problem p = problem(u, nfz, cs.starts, spacing, cs.shares);
+    SCOPED_TRACE(::testing::Message() << p.starts.size() << " UAVs, first share " << p.shares[0]);
+    const Assignment a = run(p);
+    const milp::Lines lines = lines_of(p);
+    const auto [legs, who] = legs_as_segments(a, lines);
+    // every line covered exactly once: the legs on a line lie in its free segments, do not overlap and
+    // add up to its free length
+    std::map<int, double> free_len, flown_len;
+    for (const auto& s : lines.segments) free_len[s.line] += s.length();
+    for (std::size_t i = 0; i < legs.segments.size(); ++i) {
+      const auto& s = legs.segments[i];
+      flown_len[s.line] += s.length();
+      EXPECT_GE(s.length(), spacing - 1e-6) << "a sliver on line " << s.line;
+      EXPECT_TRUE(std::any_of(lines.segments.begin(), lines.segments.end(),
+                              [&](const milp::Segment& f) {
+                                return f.line == s.line &&
+                                       bg::distance(s.a, bg::model::segment<Point>{f.a, f.b}) < 1e-6 &&
+                                       bg::distance(s.b, bg::model::segment<Point>{f.a, f.b}) < 1e-6;
+                              }))
+          << "a leg outside the free segments of line " << s.line;
+      if (i > 0 && legs.segments[i - 1].line == s.line) {
+        const auto& f = legs.parts[static_cast<std::size_t>(s.part)].frame;
+        EXPECT_LE(f.to(legs.segments[i - 1].b).y(), f.to(s.a).y() + 1e-6) << "overlap on line " << s.line;
+      }
+    }
+    for (const auto& [l, len] : free_len) EXPECT_NEAR(flown_len[l], len, 1e-6) << "line " << l;
+    EXPECT_EQ(flown_len.size(), free_len.size());
+    // shares of the scanned length (the swath area), each UAV one connected piece in its own region
+    double total = 0.0;
+    std::vector<double> mine(p.starts.size(), 0.0);
+    for (std::size_t i = 0; i < legs.segments.size(); ++i)
+      total += legs.segments[i].length(), mine[static_cast<std::size_t>(who[i])] += legs.segments[i].length();
+    const auto pieces = pieces_per_uav(who, legs, p.starts.size());
+    std::string got;
+    for (std::size_t k = 0; k < p.starts.size(); ++k)
+      got += (k ? " / " : "") + std::to_string(mine[k] / total);
+    ::testing::Test::RecordProperty(
+        "shares_" + std::to_string(p.starts.size()) + "_uavs_first_" + std::to_string(p.shares[0]),
+        got + " (" + std::to_string(legs.segments.size()) + " legs, " +
+            std::to_string(legs.segments.size() - lines.segments.size()) + " cuts)");
+    for (std::size_t k = 0; k < p.starts.size(); ++k) {
+      EXPECT_NEAR(mine[k] / total, p.shares[k], 0.03) << "UAV " << k;
+      EXPECT_EQ(pieces[k], 1) << "UAV " << k << "'s legs are not one connected piece";
+      EXPECT_EQ(a.uavs[k].region.size(), 1u) << "UAV " << k << "'s region is not one polygon";
+      for (const auto& leg : a.uavs[k].coverage)
+        EXPECT_TRUE(geometry::segment_within(a.uavs[k].region, leg[0], leg[1], 1e-6)) << "UAV " << k;
+      for (std::size_t j = k + 1; j < p.starts.size(); ++j) {
+        MultiPolygon both;
+        bg::intersection(a.uavs[k].region, a.uavs[j].region, both);
+        EXPECT_LT(bg::area(both), 1e-3) << "regions " << k << " and " << j << " overlap";
+      }
     }
   }
 }
@@ -509,12 +649,12 @@ TEST(MilpPlanner, TheTimeLimitReturnsTheBestAssignmentWithItsGap) {
   EXPECT_FALSE(a.warnings.empty());
   // the incumbent is a whole plan
   const auto who = flown_by(a, lines_of(p));
-  for (int w : who) EXPECT_GE(w, 0);
+  for (int w : who) EXPECT_NE(w, -1);
   // the same through the context's budget
   const Context ctx = Context{}.with_time_limit(std::chrono::milliseconds(100));
   const Assignment b = run(p, {{"max_segments", 60}, {"max_uavs_per_milp", 3}}, ctx);
   EXPECT_FALSE(b.complete);
-  for (int w : flown_by(b, lines_of(p))) EXPECT_GE(w, 0);
+  for (int w : flown_by(b, lines_of(p))) EXPECT_NE(w, -1);
 }
 
 TEST(MilpPlanner, AStopDuringTheSearchEndsCbcWithCancelled) {
@@ -550,7 +690,7 @@ TEST(MilpPlanner, LargeInstancesAreClusteredByShare) {
   const milp::Lines lines = lines_of(p);
   ASSERT_EQ(lines.segments.size(), 200u);
   const auto who = flown_by(a, lines);
-  for (int w : who) EXPECT_GE(w, 0);
+  for (int w : who) EXPECT_NE(w, -1);
   EXPECT_EQ(a.diagnostics.at("clusters").size(), 5u);
   double total = 0.0;
   for (const auto& u : a.uavs) total += bg::area(u.region);
@@ -582,7 +722,7 @@ TEST(MilpPlanner, AutoChoosesTheModelBySizeAndBothGiveTheSameOptimum) {
     }
     // every line flown end to end by one UAV, every UAV flying
     const milp::Lines lines = lines_of(*p);
-    for (int w : flown_by(c, lines)) EXPECT_GE(w, 0);
+    for (int w : flown_by(c, lines)) EXPECT_NE(w, -1);
     for (const auto& u : c.uavs) EXPECT_FALSE(u.coverage.empty());
   }
 }
