@@ -168,6 +168,11 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
                                  const CoverageOptions& options) {
   if (!(options.footprint_m > 0.0) || !std::isfinite(options.footprint_m))
     throw InputError("footprint_m", "the coverage footprint must be a positive number of metres");
+  if (!options.uav_footprint_m.empty() && options.uav_footprint_m.size() != flights.size())
+    throw InputError("footprint_m", "one footprint per flight is needed");
+  for (const double w : options.uav_footprint_m)
+    if (!(w > 0.0) || !std::isfinite(w))
+      throw InputError("footprint_m", "every UAV's coverage footprint must be a positive number of metres");
   if (options.lattice_m < 0.0 || !std::isfinite(options.lattice_m))
     throw InputError("lattice_m", "the lattice spacing must be >= 0 (0 = adaptive)");
   CoverageResult res;
@@ -177,6 +182,8 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
 
   // lengths and turns do not depend on the lattice
   for (std::size_t u = 0; u < flights.size(); ++u) {
+    res.uavs[u].footprint_m =
+        options.uav_footprint_m.empty() ? options.footprint_m : options.uav_footprint_m[u];
     auto& st = res.uavs[u].stats;
     for (const auto& part : flights[u]) {
       st.length_m += polyline_length(part.local);
@@ -220,10 +227,12 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
       if (part.kind == PartKind::Transit && !options.count_transit) continue;
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         if (k % 64 == 0) check();
-        rasterise_leg(l, part.local[k - 1], part.local[k], options.footprint_m, [&](int r, int c0, int c1) {
-          std::int32_t* base = mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
-          for (int c = c0; c <= c1; ++c) ++base[c];
-        });
+        rasterise_leg(l, part.local[k - 1], part.local[k], res.uavs[u].footprint_m,
+                      [&](int r, int c0, int c1) {
+                        std::int32_t* base =
+                            mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
+                        for (int c = c0; c <= c1; ++c) ++base[c];
+                      });
       }
     }
     check();

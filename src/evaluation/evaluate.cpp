@@ -27,6 +27,12 @@ double footprint_for(const Mission& m) {
   return 1.5 * m.spacing_m;
 }
 
+double footprint_for(const Mission& m, std::size_t uav) {
+  if (uav < m.uavs.size() && m.uavs[uav].camera_geometry && m.uavs[uav].camera_geometry->footprint_m > 0.0)
+    return m.uavs[uav].camera_geometry->footprint_m;
+  return footprint_for(m);
+}
+
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame) {
   const MultiPolygon area = geometry::unite(geometry::to_local(mission.area, frame));
   const MultiPolygon nfz = geometry::unite(geometry::to_local(mission.no_fly_zones, frame));
@@ -86,7 +92,17 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   }
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
-  Evaluation ev = evaluate_flights(free, flights, uavs, w, options);
+  EvaluateOptions own = options;
+  if (!(options.coverage.footprint_m > 0.0) && own.coverage.uav_footprint_m.empty()) {
+    // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
+    bool differs = false;
+    for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+      own.coverage.uav_footprint_m.push_back(footprint_for(plan.mission, i));
+      differs = differs || own.coverage.uav_footprint_m.back() != w;
+    }
+    if (!differs) own.coverage.uav_footprint_m.clear();
+  }
+  Evaluation ev = evaluate_flights(free, flights, uavs, w, own);
   // with sorties (docs/sorties.md), a UAV needs one battery per sortie; UAVs without them (a leg longer
   // than one battery) keep eq. 16
   bool with_sorties = false;
@@ -127,6 +143,7 @@ json to_json(const CoverageResult& c, double footprint_m) {
   for (const auto& u : c.uavs) {
     json ju = to_json(u.stats);
     ju["area_share"] = u.area_share;
+    ju["footprint_m"] = u.footprint_m;
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
@@ -186,6 +203,7 @@ json evaluation_json(const Evaluation& e) {
     json ju = to_json(u.stats);
     ju["id"] = i < e.uav_ids.size() ? e.uav_ids[i] : "uav-" + std::to_string(i + 1);
     ju["area_share"] = u.area_share;
+    ju["footprint_m"] = u.footprint_m;
     if (i < c.uavs.size()) {
       ju["flight_duration_min"] = c.uavs[i].flight_duration_min;
       ju["batteries"] = c.uavs[i].batteries;
