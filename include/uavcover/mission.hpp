@@ -35,6 +35,16 @@ struct Camera {
   double image_size_mb = 8.0;                    ///< storage per image, for the estimate
 };
 
+/// What a camera block gives on the ground (parse_mission derives it for the mission's camera and for
+/// each UAV's own camera, with the same formulas: docs/mission-format.md).
+struct CameraGeometry {
+  double footprint_m = 0.0;              ///< footprint width across the flight direction
+  double along_track_footprint_m = 0.0;  ///< footprint along the flight direction
+  double spacing_m = 0.0;                ///< line spacing its overlap asks for
+  double trigger_distance_m = 0.0;       ///< along-track footprint * (1 - front_overlap)
+  std::optional<double> gsd_m;           ///< ground sample distance (QGC camera convention)
+};
+
 /// Defaults for optional per-UAV fields (documented in docs/mission-format.md).
 struct UavDefaults {
   static constexpr double speed_mps = 5.0;
@@ -54,6 +64,10 @@ struct Uav {
   double endurance_min = UavDefaults::endurance_min;
   double turn_c1 = UavDefaults::turn_c1;
   double turn_c2 = UavDefaults::turn_c2;
+  /// Heterogeneous cameras: this UAV's own camera (same block as the mission's, same altitude);
+  /// empty: the mission's camera. `camera_geometry` is derived from it by parse_mission.
+  std::optional<Camera> camera;
+  std::optional<CameraGeometry> camera_geometry;
 };
 
 inline constexpr double kDefaultBatteryReserve = 0.2;

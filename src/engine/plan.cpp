@@ -102,6 +102,12 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     u.start_resolved = u.start ? *u.start : lm.frame.to_wgs84(s);
     problem.starts.push_back(s);
     problem.shares.push_back(u.share);
+    planners::UavFootprint f;
+    f.width_m = evaluation::footprint_for(out.mission, problem.uav_footprints.size());
+    f.along_m = u.camera_geometry ? u.camera_geometry->along_track_footprint_m
+                                  : out.mission.along_track_footprint_m.value_or(f.width_m);
+    f.own_camera = u.camera.has_value();
+    problem.uav_footprints.push_back(f);
   }
   problem.uavs = out.mission.uavs;
 

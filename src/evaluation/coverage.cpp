@@ -168,6 +168,11 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
                                  const CoverageOptions& options) {
   if (!(options.footprint_m > 0.0) || !std::isfinite(options.footprint_m))
     throw InputError("footprint_m", "the coverage footprint must be a positive number of metres");
+  if (!options.uav_footprint_m.empty() && options.uav_footprint_m.size() != flights.size())
+    throw InputError("footprint_m", "one footprint per flight is needed");
+  for (const double w : options.uav_footprint_m)
+    if (!(w > 0.0) || !std::isfinite(w))
+      throw InputError("footprint_m", "every UAV's coverage footprint must be a positive number of metres");
   if (options.lattice_m < 0.0 || !std::isfinite(options.lattice_m))
     throw InputError("lattice_m", "the lattice spacing must be >= 0 (0 = adaptive)");
   CoverageResult res;
@@ -177,6 +182,8 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
 
   // lengths and turns do not depend on the lattice
   for (std::size_t u = 0; u < flights.size(); ++u) {
+    res.uavs[u].footprint_m =
+        options.uav_footprint_m.empty() ? options.footprint_m : options.uav_footprint_m[u];
     auto& st = res.uavs[u].stats;
     for (const auto& part : flights[u]) {
       st.length_m += polyline_length(part.local);
@@ -226,8 +233,8 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
         if (k % 64 == 0) check();
         const Point a = part.local[k - 1], b = part.local[k];
         if (!options.widths) {
-          const double h = 0.5 * options.footprint_m;
-          rasterise_leg(l, a, b, options.footprint_m, count, h, h);
+          const double w = res.uavs[u].footprint_m;
+          rasterise_leg(l, a, b, w, count, 0.5 * w, 0.5 * w);
           continue;
         }
         // footprints that change along the leg (terrain): abutting pieces, each as wide as its middle's

@@ -14,7 +14,9 @@ namespace uavcover::evaluation {
 
 struct CoverageOptions {
   double footprint_m = 0.0;  ///< w; required (> 0)
-  double lattice_m = 0.0;    ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
+  /// Heterogeneous cameras: one w per flight (that UAV's own footprint); empty: footprint_m for all.
+  std::vector<double> uav_footprint_m;
+  double lattice_m = 0.0;  ///< sample spacing; 0 = adaptive (about 0.25-4 m^2 per sample)
   std::size_t max_samples = 20'000'000;
   bool count_transit = false;        ///< transit legs scan too
   const Context* context = nullptr;  ///< checked for stops (throws Cancelled / TimeLimitReached)
@@ -39,8 +41,9 @@ struct CoverageStats {
 };
 
 struct UavCoverage {
-  CoverageStats stats;      ///< coverage by this UAV's legs alone (shares of the whole free area)
-  double area_share = 0.0;  ///< share of the scanned samples this UAV scans (shared ones split equally)
+  CoverageStats stats;       ///< coverage by this UAV's legs alone (shares of the whole free area)
+  double area_share = 0.0;   ///< share of the scanned samples this UAV scans (shared ones split equally)
+  double footprint_m = 0.0;  ///< the w its legs were swept with
 };
 
 struct CoverageResult {

@@ -28,6 +28,12 @@ double footprint_for(const Mission& m) {
   return 1.5 * m.spacing_m;
 }
 
+double footprint_for(const Mission& m, std::size_t uav) {
+  if (uav < m.uavs.size() && m.uavs[uav].camera_geometry && m.uavs[uav].camera_geometry->footprint_m > 0.0)
+    return m.uavs[uav].camera_geometry->footprint_m;
+  return footprint_for(m);
+}
+
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame) {
   const MultiPolygon area = geometry::unite(geometry::to_local(mission.area, frame));
   const MultiPolygon nfz = geometry::unite(geometry::to_local(mission.no_fly_zones, frame));
@@ -118,19 +124,29 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
   EvaluateOptions opt = options;
+  if (!(options.coverage.footprint_m > 0.0) && opt.coverage.uav_footprint_m.empty()) {
+    // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
+    bool differs = false;
+    for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+      opt.coverage.uav_footprint_m.push_back(footprint_for(plan.mission, i));
+      differs = differs || opt.coverage.uav_footprint_m.back() != w;
+    }
+    if (!differs) opt.coverage.uav_footprint_m.clear();
+  }
   std::optional<Evaluation::TerrainFootprints> tf;
   if (terrain::grid(plan.mission) != nullptr) {
-    // each piece of a coverage leg as wide as the camera sees from its height above the ground there
+    // each piece of a coverage leg as wide as the UAV's camera sees from its height above the ground there
     const double agl = plan.mission.altitude_m;
     opt.coverage.piece_m = std::max(1.0, std::min(terrain::grid(plan.mission)->step_m, w / 4.0));
-    opt.coverage.widths = [&plan, &tf, w, agl](std::size_t u, PartKind kind, Point a, Point b,
-                                               std::size_t n) {
-      if (kind != PartKind::Coverage) return std::vector<double>(n, w);
+    opt.coverage.widths = [&plan, &tf, w, agl, own = opt.coverage.uav_footprint_m](
+                              std::size_t u, PartKind kind, Point a, Point b, std::size_t n) {
+      const double wu = u < own.size() ? own[u] : w;
+      if (kind != PartKind::Coverage) return std::vector<double>(n, wu);
       std::vector<double> ws = heights_above_ground(plan, u, a, b, n);
       for (double& h : ws) {
         if (!tf) tf = Evaluation::TerrainFootprints{1e300, -1e300, 1e300, -1e300};
         tf->height_min_m = std::min(tf->height_min_m, h), tf->height_max_m = std::max(tf->height_max_m, h);
-        h = std::max(0.0, w * h / agl);  // a leg into the ground sees nothing
+        h = std::max(0.0, wu * h / agl);  // a leg into the ground sees nothing
         tf->footprint_min_m = std::min(tf->footprint_min_m, h),
         tf->footprint_max_m = std::max(tf->footprint_max_m, h);
       }
@@ -179,6 +195,7 @@ json to_json(const CoverageResult& c, double footprint_m) {
   for (const auto& u : c.uavs) {
     json ju = to_json(u.stats);
     ju["area_share"] = u.area_share;
+    ju["footprint_m"] = u.footprint_m;
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
@@ -248,6 +265,7 @@ json evaluation_json(const Evaluation& e) {
     json ju = to_json(u.stats);
     ju["id"] = i < e.uav_ids.size() ? e.uav_ids[i] : "uav-" + std::to_string(i + 1);
     ju["area_share"] = u.area_share;
+    ju["footprint_m"] = u.footprint_m;
     if (i < c.uavs.size()) {
       ju["flight_duration_min"] = c.uavs[i].flight_duration_min;
       ju["batteries"] = c.uavs[i].batteries;

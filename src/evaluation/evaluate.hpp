@@ -40,6 +40,8 @@ struct Evaluation {
 
 /// Footprint width w: mission.footprint_m, else 2*h*tan(HFOV/2) from the camera, else 1.5*ds.
 double footprint_for(const Mission& mission);
+/// Footprint width of UAV `uav` (heterogeneous cameras): its own camera's, else footprint_for(mission).
+double footprint_for(const Mission& mission, std::size_t uav);
 
 /// Free area (area - no-fly zones) of the mission in the local frame centred at `origin`.
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame);

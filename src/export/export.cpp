@@ -420,6 +420,12 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
 
 namespace {
 
+/// The gimbal pitch of the camera UAV `index` carries: its own (uavs[i].camera), else the mission's.
+double gimbal_pitch_of(const Plan& plan, std::size_t index) {
+  const Uav* u = index < plan.mission.uavs.size() ? &plan.mission.uavs[index] : nullptr;
+  return u != nullptr && u->camera ? u->camera->gimbal_pitch_deg : plan.mission.camera->gimbal_pitch_deg;
+}
+
 /// wpml:payloadEnumValue of the camera a DJI drone comes with (DJI WPML common elements), -1 if none.
 int builtin_payload(int drone, int sub) {
   switch (drone) {
@@ -554,7 +560,7 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
           action(0, take_photo));
     return out;
   };
-  const double pitch = camera ? plan.mission.camera->gimbal_pitch_deg : -90.0;
+  const double pitch = camera ? gimbal_pitch_of(plan, index) : -90.0;
 
   std::string tpl = header + "    <wpml:author>uavcover</wpml:author>\n" + mission_config;
   // heights are relative to the take-off point (heightMode relativeToStartPoint), whose ellipsoid height
@@ -654,7 +660,7 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
   const double speed = speed_within(plan, index, limits::kLitchiMaxSpeed, "Litchi", opt);
   const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
   const std::vector<CameraAt> shots = camera_actions(items);
-  const double pitch = camera ? plan.mission.camera->gimbal_pitch_deg : -90.0;
+  const double pitch = camera ? gimbal_pitch_of(plan, index) : -90.0;
   std::string header =
       "latitude,longitude,altitude(m),heading(deg),curvesize(m),rotationdir,gimbalmode,gimbalpitchangle";
   for (int k = 1; k <= 15; ++k) header += fmt::format(",actiontype{},actionparam{}", k, k);

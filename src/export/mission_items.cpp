@@ -129,9 +129,13 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   auto waypoint_at = [&](LonLat p, double alt, std::string role) {
     return position_item(kNavWaypoint, p, alt, std::move(role), alt_frame);
   };
-  const bool camera = plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value();
-  const bool hover = camera && plan.mission.camera->capture == "hover";
-  const double trigger = camera ? *plan.mission.trigger_distance_m : 0.0;
+  // heterogeneous cameras: a UAV with its own camera (uavs[i].camera) shoots with it
+  const bool own = uav.camera.has_value() && uav.camera_geometry.has_value();
+  const bool camera = own || (plan.mission.camera.has_value() && plan.mission.trigger_distance_m.has_value());
+  const Camera* cam = own ? &*uav.camera : (camera ? &*plan.mission.camera : nullptr);
+  const bool hover = camera && cam->capture == "hover";
+  const double trigger =
+      own ? uav.camera_geometry->trigger_distance_m : (camera ? *plan.mission.trigger_distance_m : 0.0);
   const geodesy::LocalFrame frame(plan.origin);
 
   std::vector<MissionItem> items;
@@ -144,8 +148,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
     // MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW: param1 pitch, param2 yaw (0: ahead, follow mode), param3/4
     // rates unset (NaN), param5 flags 0, param7 gimbal device 0 (all). PX4 >= 1.13 and ArduPilot >= 4.3
     // run it in missions; it replaces the deprecated MAV_CMD_DO_MOUNT_CONTROL.
-    items.push_back(command_item(kDoGimbalManagerPitchyaw,
-                                 static_cast<float>(plan.mission.camera->gimbal_pitch_deg), 0.0f,
+    items.push_back(command_item(kDoGimbalManagerPitchyaw, static_cast<float>(cam->gimbal_pitch_deg), 0.0f,
                                  kKeepHeading, kKeepHeading, "gimbal"));
   }
   // MAV_CMD_IMAGE_START_CAPTURE: param1 camera 0 (all), param2 interval 0, param3 one image, param4 0

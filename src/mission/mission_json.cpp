@@ -48,6 +48,32 @@ json geo_polygon_json(const GeoPolygon& poly) {
   return {{"type", "Polygon"}, {"coordinates", std::move(rings)}};
 }
 
+namespace {
+
+// A camera block (the mission's or a UAV's own).
+json camera_json(const Camera& c) {
+  json cj = {{"altitude_m", c.altitude_m}};
+  if (c.hfov_deg) cj["hfov_deg"] = *c.hfov_deg;
+  if (c.overlap) cj["overlap"] = *c.overlap;
+  if (c.sensor_width_mm) cj["sensor_width_mm"] = *c.sensor_width_mm;
+  if (c.focal_length_mm) cj["focal_length_mm"] = *c.focal_length_mm;
+  if (c.image_width_px) cj["image_width_px"] = *c.image_width_px;
+  if (c.side_overlap) cj["side_overlap"] = *c.side_overlap;
+  // photogrammetry fields: written when given or not the default, so old documents round-trip unchanged
+  const Camera defaults;
+  if (c.front_overlap != defaults.front_overlap) cj["front_overlap"] = c.front_overlap;
+  if (c.vfov_deg) cj["vfov_deg"] = *c.vfov_deg;
+  if (c.sensor_height_mm) cj["sensor_height_mm"] = *c.sensor_height_mm;
+  if (c.image_height_px) cj["image_height_px"] = *c.image_height_px;
+  if (c.min_trigger_interval_s) cj["min_trigger_interval_s"] = *c.min_trigger_interval_s;
+  if (c.gimbal_pitch_deg != defaults.gimbal_pitch_deg) cj["gimbal_pitch_deg"] = c.gimbal_pitch_deg;
+  if (c.capture != defaults.capture) cj["capture"] = c.capture;
+  if (c.image_size_mb != defaults.image_size_mb) cj["image_size_mb"] = c.image_size_mb;
+  return cj;
+}
+
+}  // namespace
+
 json to_json(const Mission& m) {
   json area;
   if (m.area.size() == 1) {
@@ -61,25 +87,7 @@ json to_json(const Mission& m) {
   for (const auto& p : m.no_fly_zones) nfz.push_back(geo_polygon_json(p));
   json j = {{"version", 1}, {"name", m.name}, {"area", std::move(area)}, {"no_fly_zones", std::move(nfz)}};
   if (m.camera) {
-    const Camera& c = *m.camera;
-    json cj = {{"altitude_m", c.altitude_m}};
-    if (c.hfov_deg) cj["hfov_deg"] = *c.hfov_deg;
-    if (c.overlap) cj["overlap"] = *c.overlap;
-    if (c.sensor_width_mm) cj["sensor_width_mm"] = *c.sensor_width_mm;
-    if (c.focal_length_mm) cj["focal_length_mm"] = *c.focal_length_mm;
-    if (c.image_width_px) cj["image_width_px"] = *c.image_width_px;
-    if (c.side_overlap) cj["side_overlap"] = *c.side_overlap;
-    // photogrammetry fields: written when given or not the default, so old documents round-trip unchanged
-    const Camera defaults;
-    if (c.front_overlap != defaults.front_overlap) cj["front_overlap"] = c.front_overlap;
-    if (c.vfov_deg) cj["vfov_deg"] = *c.vfov_deg;
-    if (c.sensor_height_mm) cj["sensor_height_mm"] = *c.sensor_height_mm;
-    if (c.image_height_px) cj["image_height_px"] = *c.image_height_px;
-    if (c.min_trigger_interval_s) cj["min_trigger_interval_s"] = *c.min_trigger_interval_s;
-    if (c.gimbal_pitch_deg != defaults.gimbal_pitch_deg) cj["gimbal_pitch_deg"] = c.gimbal_pitch_deg;
-    if (c.capture != defaults.capture) cj["capture"] = c.capture;
-    if (c.image_size_mb != defaults.image_size_mb) cj["image_size_mb"] = c.image_size_mb;
-    j["camera"] = std::move(cj);
+    j["camera"] = camera_json(*m.camera);
   } else {
     j["spacing_m"] = m.spacing_m;
     if (m.altitude_source == "altitude_m") j["altitude_m"] = m.altitude_m;
@@ -94,6 +102,7 @@ json to_json(const Mission& m) {
                {"turn_c1", u.turn_c1},
                {"turn_c2", u.turn_c2}};
     if (u.start) ju["start"] = {u.start->lon, u.start->lat};
+    if (u.camera) ju["camera"] = camera_json(*u.camera);
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);

@@ -272,60 +272,62 @@ struct Raw {
   std::optional<Terrain> terrain;
 };
 
-Camera parse_camera(const json& j) {
-  if (!j.is_object()) throw InputError("camera", "expected an object");
+// A camera block at `field` ("camera", or "uavs[i].camera" for a UAV's own).
+Camera parse_camera(const json& j, const std::string& field) {
+  if (!j.is_object()) throw InputError(field, "expected an object");
   reject_unknown(j,
                  {"altitude_m", "hfov_deg", "overlap", "sensor_width_mm", "focal_length_mm", "image_width_px",
                   "side_overlap", "front_overlap", "vfov_deg", "sensor_height_mm", "image_height_px",
                   "min_trigger_interval_s", "gimbal_pitch_deg", "capture", "image_size_mb"},
-                 "camera.");
-  if (!j.contains("altitude_m")) throw InputError("camera.altitude_m", "missing");
+                 field + ".");
+  if (!j.contains("altitude_m")) throw InputError(field + ".altitude_m", "missing");
   Camera c;
-  c.altitude_m = positive(j["altitude_m"], "camera.altitude_m");
+  c.altitude_m = positive(j["altitude_m"], field + ".altitude_m");
   const bool fov = j.contains("hfov_deg") || j.contains("overlap") || j.contains("vfov_deg");
   const bool qgc = j.contains("sensor_width_mm") || j.contains("focal_length_mm") ||
                    j.contains("image_width_px") || j.contains("side_overlap") ||
                    j.contains("sensor_height_mm") || j.contains("image_height_px");
   if (fov == qgc)
-    throw InputError("camera",
+    throw InputError(field,
                      "give either hfov_deg and overlap, or sensor_width_mm, focal_length_mm, "
                      "image_width_px and side_overlap");
   auto need = [&](const char* k) -> const json& {
-    if (!j.contains(k)) throw InputError(std::string("camera.") + k, "missing");
+    if (!j.contains(k)) throw InputError(field + "." + k, "missing");
     return j[k];
   };
   if (fov) {
-    c.hfov_deg = number(need("hfov_deg"), "camera.hfov_deg");
-    if (*c.hfov_deg <= 0 || *c.hfov_deg >= 180) throw InputError("camera.hfov_deg", "must be in (0, 180)");
-    c.overlap = in_range(need("overlap"), "camera.overlap", 0.0, 1.0, true);
+    c.hfov_deg = number(need("hfov_deg"), field + ".hfov_deg");
+    if (*c.hfov_deg <= 0 || *c.hfov_deg >= 180) throw InputError(field + ".hfov_deg", "must be in (0, 180)");
+    c.overlap = in_range(need("overlap"), field + ".overlap", 0.0, 1.0, true);
     if (j.contains("vfov_deg")) {
-      c.vfov_deg = number(j["vfov_deg"], "camera.vfov_deg");
-      if (*c.vfov_deg <= 0 || *c.vfov_deg >= 180) throw InputError("camera.vfov_deg", "must be in (0, 180)");
+      c.vfov_deg = number(j["vfov_deg"], field + ".vfov_deg");
+      if (*c.vfov_deg <= 0 || *c.vfov_deg >= 180)
+        throw InputError(field + ".vfov_deg", "must be in (0, 180)");
     }
   } else {
-    c.sensor_width_mm = positive(need("sensor_width_mm"), "camera.sensor_width_mm");
-    c.focal_length_mm = positive(need("focal_length_mm"), "camera.focal_length_mm");
-    c.image_width_px = positive(need("image_width_px"), "camera.image_width_px");
-    c.side_overlap = in_range(need("side_overlap"), "camera.side_overlap", 0.0, 1.0, true);
+    c.sensor_width_mm = positive(need("sensor_width_mm"), field + ".sensor_width_mm");
+    c.focal_length_mm = positive(need("focal_length_mm"), field + ".focal_length_mm");
+    c.image_width_px = positive(need("image_width_px"), field + ".image_width_px");
+    c.side_overlap = in_range(need("side_overlap"), field + ".side_overlap", 0.0, 1.0, true);
     if (j.contains("sensor_height_mm"))
-      c.sensor_height_mm = positive(j["sensor_height_mm"], "camera.sensor_height_mm");
+      c.sensor_height_mm = positive(j["sensor_height_mm"], field + ".sensor_height_mm");
     if (j.contains("image_height_px"))
-      c.image_height_px = positive(j["image_height_px"], "camera.image_height_px");
+      c.image_height_px = positive(j["image_height_px"], field + ".image_height_px");
   }
   if (j.contains("front_overlap"))
-    c.front_overlap = in_range(j["front_overlap"], "camera.front_overlap", 0.0, 0.95);
+    c.front_overlap = in_range(j["front_overlap"], field + ".front_overlap", 0.0, 0.95);
   if (j.contains("min_trigger_interval_s"))
-    c.min_trigger_interval_s = positive(j["min_trigger_interval_s"], "camera.min_trigger_interval_s");
+    c.min_trigger_interval_s = positive(j["min_trigger_interval_s"], field + ".min_trigger_interval_s");
   if (j.contains("gimbal_pitch_deg"))
-    c.gimbal_pitch_deg = in_range(j["gimbal_pitch_deg"], "camera.gimbal_pitch_deg", -90.0, 0.0);
+    c.gimbal_pitch_deg = in_range(j["gimbal_pitch_deg"], field + ".gimbal_pitch_deg", -90.0, 0.0);
   if (j.contains("capture")) {
     const json& cap = j["capture"];
     if (!cap.is_string() || (cap != "distance" && cap != "hover"))
-      throw InputError("camera.capture", "must be \"distance\" or \"hover\", got " + cap.dump());
+      throw InputError(field + ".capture", "must be \"distance\" or \"hover\", got " + cap.dump());
     c.capture = cap.get<std::string>();
   }
   if (j.contains("image_size_mb"))
-    c.image_size_mb = in_range(j["image_size_mb"], "camera.image_size_mb", 1e-3, 1e4);
+    c.image_size_mb = in_range(j["image_size_mb"], field + ".image_size_mb", 1e-3, 1e4);
   return c;
 }
 
@@ -351,6 +353,36 @@ Terrain parse_terrain(const json& j) {
   return t;
 }
 
+// The ground geometry of camera `c` at `field` (paper eq. 14, or QGroundControl's formulas).
+CameraGeometry camera_geometry(const Camera& c, const std::string& field) {
+  CameraGeometry g;
+  if (c.hfov_deg) {
+    const double t = std::tan(*c.hfov_deg * std::numbers::pi / 360.0);
+    g.footprint_m = 2.0 * c.altitude_m * t;
+    g.spacing_m = (2.0 - *c.overlap) * c.altitude_m * t;  // paper eq. 14
+    g.along_track_footprint_m = c.vfov_deg
+                                    ? 2.0 * c.altitude_m * std::tan(*c.vfov_deg * std::numbers::pi / 360.0)
+                                    : g.footprint_m * kDefaultAspect;
+  } else {
+    g.gsd_m = c.altitude_m * *c.sensor_width_mm / (*c.focal_length_mm * *c.image_width_px);
+    g.footprint_m = *c.image_width_px * *g.gsd_m;
+    g.spacing_m = g.footprint_m * (1.0 - *c.side_overlap);
+    // QGroundControl: image height * GSD, or the sensor height's ground extent
+    if (c.image_height_px)
+      g.along_track_footprint_m = *c.image_height_px * *g.gsd_m;
+    else if (c.sensor_height_mm)
+      g.along_track_footprint_m = c.altitude_m * *c.sensor_height_mm / *c.focal_length_mm;
+    else
+      g.along_track_footprint_m = g.footprint_m * kDefaultAspect;
+  }
+  g.trigger_distance_m = g.along_track_footprint_m * (1.0 - c.front_overlap);
+  if (!(g.trigger_distance_m > 0) || !std::isfinite(g.trigger_distance_m))
+    throw InputError(field + ".front_overlap", "gives a non-positive trigger distance");
+  if (!(g.spacing_m > 0) || !std::isfinite(g.spacing_m))
+    throw InputError(field, "gives a non-positive line spacing");
+  return g;
+}
+
 void parse_uavs(const json& j, Raw& raw) {
   if (j.is_number_integer() || j.is_number_unsigned()) {
     const auto n = j.get<long long>();
@@ -374,9 +406,10 @@ void parse_uavs(const json& j, Raw& raw) {
     const std::string f = idx("uavs", i);
     const json& ju = j[i];
     if (!ju.is_object()) throw InputError(f, std::string("expected an object, got ") + type_name(ju));
-    reject_unknown(
-        ju, {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1", "turn_c2"},
-        f + ".");
+    reject_unknown(ju,
+                   {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1",
+                    "turn_c2", "camera"},
+                   f + ".");
     Uav u;
     u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
     check_id(u.id, f + ".id");
@@ -399,6 +432,10 @@ void parse_uavs(const json& j, Raw& raw) {
       u.endurance_min = in_range(ju["endurance_min"], f + ".endurance_min", 0.1, 10000.0);
     if (ju.contains("turn_c1")) u.turn_c1 = in_range(ju["turn_c1"], f + ".turn_c1", 0.0, 1000.0);
     if (ju.contains("turn_c2")) u.turn_c2 = in_range(ju["turn_c2"], f + ".turn_c2", 1e-6, 1000.0);
+    if (ju.contains("camera")) {
+      u.camera = parse_camera(ju["camera"], f + ".camera");
+      u.camera_geometry = camera_geometry(*u.camera, f + ".camera");
+    }
     raw.uavs.push_back(u);
     raw.shares.push_back(share);
   }
@@ -489,7 +526,7 @@ Raw parse_v1(const json& j) {
   if (j.contains("spacing_m") && j.contains("camera"))
     throw InputError("spacing_m", "give either spacing_m or camera, not both");
   if (j.contains("spacing_m")) raw.spacing = positive(j["spacing_m"], "spacing_m");
-  if (j.contains("camera")) raw.camera = parse_camera(j["camera"]);
+  if (j.contains("camera")) raw.camera = parse_camera(j["camera"], "camera");
   if (!raw.spacing && !raw.camera) throw InputError("spacing_m", "missing: give spacing_m or a camera block");
   if (j.contains("altitude_m")) raw.altitude = in_range(j["altitude_m"], "altitude_m", 1.0, 10000.0);
   if (j.contains("terrain")) raw.terrain = parse_terrain(j["terrain"]);
@@ -638,32 +675,14 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
     m.camera = c;
     m.altitude_m = c.altitude_m;
     m.altitude_source = "camera";
-    if (c.hfov_deg) {
-      const double t = std::tan(*c.hfov_deg * std::numbers::pi / 360.0);
-      m.footprint_m = 2.0 * c.altitude_m * t;
-      m.spacing_m = (2.0 - *c.overlap) * c.altitude_m * t;  // paper eq. 14
-      m.along_track_footprint_m = c.vfov_deg
-                                      ? 2.0 * c.altitude_m * std::tan(*c.vfov_deg * std::numbers::pi / 360.0)
-                                      : *m.footprint_m * kDefaultAspect;
-    } else {
-      m.gsd_m = c.altitude_m * *c.sensor_width_mm / (*c.focal_length_mm * *c.image_width_px);
-      m.footprint_m = *c.image_width_px * *m.gsd_m;
-      m.spacing_m = *m.footprint_m * (1.0 - *c.side_overlap);
-      // QGroundControl: image height * GSD, or the sensor height's ground extent
-      if (c.image_height_px)
-        m.along_track_footprint_m = *c.image_height_px * *m.gsd_m;
-      else if (c.sensor_height_mm)
-        m.along_track_footprint_m = c.altitude_m * *c.sensor_height_mm / *c.focal_length_mm;
-      else
-        m.along_track_footprint_m = *m.footprint_m * kDefaultAspect;
-    }
-    m.trigger_distance_m = *m.along_track_footprint_m * (1.0 - c.front_overlap);
-    if (!(*m.trigger_distance_m > 0) || !std::isfinite(*m.trigger_distance_m))
-      throw InputError("camera.front_overlap", "gives a non-positive trigger distance");
+    const CameraGeometry g = camera_geometry(c, "camera");
+    m.footprint_m = g.footprint_m;
+    m.along_track_footprint_m = g.along_track_footprint_m;
+    m.spacing_m = g.spacing_m;
+    m.trigger_distance_m = g.trigger_distance_m;
+    m.gsd_m = g.gsd_m;
     if (raw.altitude && std::fabs(*raw.altitude - c.altitude_m) > 1e-9)
       throw InputError("altitude_m", "differs from camera.altitude_m; give the altitude once");
-    if (!(m.spacing_m > 0) || !std::isfinite(m.spacing_m))
-      throw InputError("camera", "gives a non-positive line spacing");
   } else {
     m.spacing_m = *raw.spacing;
     if (raw.altitude) {
@@ -710,19 +729,37 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
       u.start_resolved = *u.start;
     }
   }
-  // the camera must be able to shoot at the trigger interval each UAV's speed gives
-  if (m.camera && m.camera->min_trigger_interval_s && m.trigger_distance_m) {
-    const double fastest = *m.trigger_distance_m / *m.camera->min_trigger_interval_s;
-    for (std::size_t i = 0; i < raw.uavs.size(); ++i)
-      if (raw.uavs[i].speed_mps > fastest * (1 + 1e-9))
-        throw InputError(
-            idx("uavs", i) + ".speed_mps",
-            fmt::format("at {:.3g} m/s the camera would shoot every {:.3g} s ({:.3g} m apart), faster "
-                        "than camera.min_trigger_interval_s {:.3g} s; fly at most {:.3g} m/s, or "
-                        "lower camera.front_overlap",
-                        raw.uavs[i].speed_mps, *m.trigger_distance_m / raw.uavs[i].speed_mps,
-                        *m.trigger_distance_m, *m.camera->min_trigger_interval_s,
-                        std::floor(fastest * 1000) / 1000));
+  // a UAV's own camera (heterogeneous cameras): the mission's camera is the others' default, and every
+  // UAV flies the mission's altitude (the exports and the transition altitudes use it)
+  for (std::size_t i = 0; i < raw.uavs.size(); ++i) {
+    const Uav& u = raw.uavs[i];
+    if (!u.camera) continue;
+    if (!m.camera)
+      throw InputError(
+          idx("uavs", i) + ".camera",
+          "needs the mission's camera block (the default of the other UAVs) instead of spacing_m");
+    if (std::fabs(u.camera->altitude_m - m.camera->altitude_m) > 1e-9)
+      throw InputError(idx("uavs", i) + ".camera.altitude_m",
+                       "must equal camera.altitude_m (" + json(m.camera->altitude_m).dump() +
+                           "): every UAV flies the mission's altitude");
+  }
+  // each camera must be able to shoot at the trigger interval its UAV's speed gives
+  for (std::size_t i = 0; i < raw.uavs.size(); ++i) {
+    const Uav& u = raw.uavs[i];
+    const Camera* cam = u.camera ? &*u.camera : (m.camera ? &*m.camera : nullptr);
+    const std::optional<double> trigger =
+        u.camera_geometry ? u.camera_geometry->trigger_distance_m : m.trigger_distance_m;
+    if (cam == nullptr || !cam->min_trigger_interval_s || !trigger) continue;
+    const std::string cam_field = u.camera ? idx("uavs", i) + ".camera" : std::string("camera");
+    const double fastest = *trigger / *cam->min_trigger_interval_s;
+    if (u.speed_mps > fastest * (1 + 1e-9))
+      throw InputError(
+          idx("uavs", i) + ".speed_mps",
+          fmt::format("at {:.3g} m/s the camera would shoot every {:.3g} s ({:.3g} m apart), faster "
+                      "than {}.min_trigger_interval_s {:.3g} s; fly at most {:.3g} m/s, or "
+                      "lower {}.front_overlap",
+                      u.speed_mps, *trigger / u.speed_mps, *trigger, cam_field, *cam->min_trigger_interval_s,
+                      std::floor(fastest * 1000) / 1000, cam_field));
   }
   m.uavs = raw.uavs;
   return m;

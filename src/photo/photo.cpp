@@ -44,33 +44,41 @@ std::optional<Estimate> estimate(const Plan& plan) {
   e.gsd_m = m.gsd_m;
   e.gimbal_pitch_deg = cam.gimbal_pitch_deg;
   e.side_overlap = 1.0 - m.spacing_m / e.footprint_across_m;
-  double leg_length = 0.0;
-  int gaps = 0;  // intervals between consecutive shots of a leg
+  double along_fraction = 0.0;  // sum of leg length / the shooting camera's along-track footprint
+  int gaps = 0;                 // intervals between consecutive shots of a leg
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     const UavPlan& up = plan.uavs[i];
+    // heterogeneous cameras: a UAV with its own camera shoots at its own trigger distance
+    const Uav* mu = i < m.uavs.size() ? &m.uavs[i] : nullptr;
+    const bool own = mu != nullptr && mu->camera && mu->camera_geometry;
+    const Camera& c = own ? *mu->camera : cam;
+    const double trigger = own ? mu->camera_geometry->trigger_distance_m : e.trigger_distance_m;
+    const double along = own ? mu->camera_geometry->along_track_footprint_m : e.footprint_along_m;
     UavImages u;
     u.id = up.id;
+    u.trigger_distance_m = trigger;
+    u.footprint_across_m = own ? mu->camera_geometry->footprint_m : e.footprint_across_m;
     for (const PathPart& part : up.parts) {
       if (part.kind != PartKind::Coverage) continue;
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         const double len = dist(part.local[k - 1], part.local[k]);
         if (len <= kMinLeg) continue;
-        const int n = leg_images(len, e.trigger_distance_m);
+        const int n = leg_images(len, trigger);
         ++u.legs;
         u.images += n;
-        leg_length += len;
+        along_fraction += len / along;
         gaps += n - 1;
       }
     }
-    const double speed = i < m.uavs.size() ? m.uavs[i].speed_mps : 0.0;
-    u.trigger_interval_s = speed > 0 ? e.trigger_distance_m / speed : 0.0;
-    u.hover_time_s = cam.capture == "hover" ? u.images * kHoverHoldS : 0.0;
-    u.storage_mb = u.images * cam.image_size_mb;
+    const double speed = mu != nullptr ? mu->speed_mps : 0.0;
+    u.trigger_interval_s = speed > 0 ? trigger / speed : 0.0;
+    u.hover_time_s = c.capture == "hover" ? u.images * kHoverHoldS : 0.0;
+    u.storage_mb = u.images * c.image_size_mb;
     e.images += u.images;
     e.storage_mb += u.storage_mb;
     e.uavs.push_back(std::move(u));
   }
-  e.front_overlap = gaps > 0 ? 1.0 - (leg_length / gaps) / e.footprint_along_m : cam.front_overlap;
+  e.front_overlap = gaps > 0 ? 1.0 - along_fraction / gaps : cam.front_overlap;
   return e;
 }
 
@@ -80,6 +88,8 @@ nlohmann::json to_json(const Estimate& e) {
     uavs.push_back({{"id", u.id},
                     {"legs", u.legs},
                     {"images", u.images},
+                    {"trigger_distance_m", u.trigger_distance_m},
+                    {"footprint_across_m", u.footprint_across_m},
                     {"trigger_interval_s", u.trigger_interval_s},
                     {"hover_time_s", u.hover_time_s},
                     {"storage_mb", u.storage_mb}});

@@ -33,6 +33,8 @@ struct UavImages {
   std::string id;
   int legs = 0;
   int images = 0;
+  double trigger_distance_m = 0.0;  ///< its camera's (uavs[i].camera, else the mission's)
+  double footprint_across_m = 0.0;  ///< its camera's across-track footprint
   double trigger_interval_s = 0.0;  ///< trigger distance / the UAV's speed
   double hover_time_s = 0.0;        ///< "hover" capture: images * kHoverHoldS (0 otherwise)
   double storage_mb = 0.0;
@@ -44,8 +46,9 @@ struct Estimate {
   double footprint_across_m = 0.0;  ///< across the flight direction
   double footprint_along_m = 0.0;   ///< along it
   std::optional<double> gsd_m;      ///< QGroundControl camera convention only
-  double side_overlap = 0.0;        ///< achieved: 1 - spacing / across-track footprint
-  double front_overlap = 0.0;       ///< achieved: 1 - mean distance between shots / along-track footprint
+  double side_overlap = 0.0;        ///< achieved: 1 - spacing / the mission camera's across-track footprint
+  double front_overlap =
+      0.0;  ///< achieved: 1 - mean (distance between shots / its camera's along-track footprint)
   double gimbal_pitch_deg = -90.0;
   int images = 0;
   double storage_mb = 0.0;

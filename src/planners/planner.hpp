@@ -19,6 +19,14 @@
 
 namespace uavcover::planners {
 
+/// One UAV's sensor on the ground (heterogeneous cameras, docs/mission-format.md): its own camera's, or
+/// the mission's. Every UAV flies the mission's altitude.
+struct UavFootprint {
+  double width_m = 0.0;     ///< footprint across the flight direction (Problem::footprint_m by default)
+  double along_m = 0.0;     ///< footprint along it (the camera's; width_m without a camera)
+  bool own_camera = false;  ///< the UAV has its own camera (uavs[i].camera)
+};
+
 /// The mission in the local ENU frame (metres, origin at the area's centroid).
 struct Problem {
   MultiPolygon area;             ///< union of the area polygons (holes kept)
@@ -31,6 +39,8 @@ struct Problem {
   double footprint_m = 0.0;      ///< sensor footprint width on the ground (1.5 ds without a camera)
   double altitude_m = 0.0;       ///< mission altitude
   std::optional<Camera> camera;  ///< the mission's camera, if it has one (footprint_m derives from it)
+  /// One per UAV: its own footprint. Planners that plan every UAV at spacing_m may ignore it.
+  std::vector<UavFootprint> uav_footprints;
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };

@@ -143,3 +143,42 @@ TEST(EvaluatePlan, LatticeSharesFollowTheDivision) {
   for (const auto& u : ev.cost.uavs) longest = std::max(longest, u.flight_duration_min);
   EXPECT_DOUBLE_EQ(ev.cost.flight_time_min, longest);
 }
+
+TEST(EvaluatePlan, AUavWithASmallerCameraSeesLessOfTheSamePath) {
+  // a 1 km x 0.8 km field, the mission's camera 40 m across (hfov 90 deg at 20 m), two UAVs
+  nlohmann::json j = nlohmann::json::parse(R"({
+    "area": {"type": "Polygon", "coordinates": [[[22.90, 40.60], [22.912, 40.60], [22.912, 40.607], [22.90, 40.607], [22.90, 40.60]]]},
+    "camera": {"altitude_m": 20, "hfov_deg": 90, "overlap": 0.5},
+    "uavs": [{"id": "a", "start": [22.901, 40.601]}, {"id": "b", "start": [22.911, 40.606]}],
+    "mode": "coverage", "seed": 3})");
+  const Plan same_cameras = plan(parse_mission(j.dump()));
+  // the same paths, flown by a b whose own camera sees 20 m across (hfov 53.13 deg at 20 m)
+  j["uavs"][1]["camera"] = {
+      {"altitude_m", 20}, {"hfov_deg", 2 * std::atan(0.5) * 180 / M_PI}, {"overlap", 0.5}};
+  Plan smaller_b = same_cameras;
+  smaller_b.mission = parse_mission(j.dump());
+  ASSERT_NEAR(evaluation::footprint_for(smaller_b.mission, 1), 20.0, 1e-9);
+  ASSERT_NEAR(evaluation::footprint_for(smaller_b.mission, 0), 40.0, 1e-9);
+
+  const auto before = evaluation::evaluate_plan(same_cameras);
+  const auto after = evaluation::evaluate_plan(smaller_b);
+  ASSERT_EQ(after.coverage.uavs.size(), 2u);
+  EXPECT_DOUBLE_EQ(after.coverage.uavs[0].footprint_m, 40.0);
+  EXPECT_DOUBLE_EQ(after.coverage.uavs[1].footprint_m, 20.0);
+  EXPECT_DOUBLE_EQ(after.coverage.uavs[0].stats.poc, before.coverage.uavs[0].stats.poc) << "a is unchanged";
+  // b's lines are 30 m apart (the mission's spacing): a 20 m footprint leaves gaps between them
+  EXPECT_LT(after.coverage.uavs[1].stats.poc, 0.9 * before.coverage.uavs[1].stats.poc);
+  EXPECT_LT(after.coverage.total.poc, before.coverage.total.poc);
+  EXPECT_EQ(evaluation::to_json(after)["coverage"]["uavs"][1]["footprint_m"].get<double>(), 20.0);
+  // a --footprint override sweeps one w for every UAV
+  evaluation::EvaluateOptions one;
+  one.coverage.footprint_m = 40.0;
+  EXPECT_DOUBLE_EQ(evaluation::evaluate_plan(smaller_b, one).coverage.uavs[1].stats.poc,
+                   before.coverage.uavs[1].stats.poc);
+  // photo estimate: b shoots at its own camera's trigger distance, so more images on the same legs
+  ASSERT_TRUE(after.images && before.images);
+  EXPECT_DOUBLE_EQ(after.images->uavs[1].trigger_distance_m,
+                   smaller_b.mission.uavs[1].camera_geometry->trigger_distance_m);
+  EXPECT_EQ(after.images->uavs[0].images, before.images->uavs[0].images);
+  EXPECT_GT(after.images->uavs[1].images, before.images->uavs[1].images);
+}

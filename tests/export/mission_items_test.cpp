@@ -108,6 +108,34 @@ TEST(MissionItems, CameraTriggersAtStartAndEndOfEachLeg) {
   EXPECT_EQ(items[cams.back() + 1].role, "transition");
 }
 
+TEST(MissionItems, AUavWithItsOwnCameraTriggersAtItsOwnDistance) {
+  Plan plan = fixture::two_uav_plan(true);
+  const float mission_d = static_cast<float>(*plan.mission.trigger_distance_m);
+  Camera own = *plan.mission.camera;
+  own.capture = "distance";
+  own.gimbal_pitch_deg = -60.0;
+  plan.mission.uavs[1].camera = own;
+  CameraGeometry g;
+  g.trigger_distance_m = 0.5 * *plan.mission.trigger_distance_m;
+  g.footprint_m = 0.5 * *plan.mission.footprint_m;
+  g.along_track_footprint_m = 0.5 * *plan.mission.along_track_footprint_m;
+  plan.mission.uavs[1].camera_geometry = g;
+  auto distances = [](const std::vector<MissionItem>& items) {
+    std::vector<float> d;
+    for (const auto& it : items)
+      if (it.command == kDoSetCamTriggDist && it.param1 > 0.0f) d.push_back(it.param1);
+    return d;
+  };
+  for (const float d : distances(mission_items(plan, 0))) EXPECT_FLOAT_EQ(d, mission_d);
+  const auto items = mission_items(plan, 1);
+  const auto own_d = distances(items);
+  ASSERT_FALSE(own_d.empty());
+  for (const float d : own_d) EXPECT_FLOAT_EQ(d, static_cast<float>(g.trigger_distance_m));
+  const auto gimbal = with_role(items, "gimbal");
+  ASSERT_EQ(gimbal.size(), 1u);
+  EXPECT_FLOAT_EQ(gimbal[0].param1, -60.0f);
+}
+
 TEST(MissionItems, LandInsteadOfRtl) {
   const Plan plan = fixture::two_uav_plan();
   AltitudeOptions opt;

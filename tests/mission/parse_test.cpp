@@ -537,3 +537,66 @@ TEST(MissionParse, TerrainBlock) {
   j["terrain"] = "a.tif";
   expect_error(j, "terrain", "expected an object");
 }
+
+TEST(MissionParse, UavCameraGivesThatUavItsOwnFootprint) {
+  auto j = base();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 40}, {"hfov_deg", 90}, {"overlap", 0.5}};
+  j["uavs"][1]["camera"] = {{"altitude_m", 40},       {"sensor_width_mm", 6.4}, {"focal_length_mm", 8},
+                            {"image_width_px", 4000}, {"side_overlap", 0.3},    {"capture", "hover"}};
+  const auto m = parse_mission(j.dump());
+  EXPECT_FALSE(m.uavs[0].camera.has_value()) << "the mission's camera is the default";
+  EXPECT_FALSE(m.uavs[0].camera_geometry.has_value());
+  ASSERT_TRUE(m.uavs[1].camera_geometry.has_value());
+  // QGroundControl: GSD = h * sensor width / (focal length * image width); footprint = width * GSD
+  EXPECT_NEAR(*m.uavs[1].camera_geometry->gsd_m, 40 * 6.4 / (8 * 4000.0), 1e-12);
+  EXPECT_NEAR(m.uavs[1].camera_geometry->footprint_m, 40 * 6.4 / 8, 1e-9);
+  EXPECT_NEAR(m.uavs[1].camera_geometry->spacing_m, 40 * 6.4 / 8 * 0.7, 1e-9);
+  EXPECT_NEAR(*m.footprint_m, 80.0, 1e-9) << "the mission's footprint is its own camera's";
+  // round trip: the UAV's camera is written with it, the others' stays absent
+  const json out = json::parse(uavcover::mission_to_json(m));
+  EXPECT_FALSE(out["uavs"][0].contains("camera"));
+  ASSERT_TRUE(out["uavs"][1].contains("camera"));
+  EXPECT_EQ(out["uavs"][1]["camera"]["capture"], "hover");
+  const auto again = parse_mission(out.dump());
+  ASSERT_TRUE(again.uavs[1].camera_geometry.has_value());
+  EXPECT_DOUBLE_EQ(again.uavs[1].camera_geometry->footprint_m, m.uavs[1].camera_geometry->footprint_m);
+  EXPECT_EQ(again.uavs[1].camera->capture, "hover");
+  EXPECT_FALSE(again.uavs[0].camera.has_value());
+  // a mission without UAV cameras writes none
+  const json plain = json::parse(uavcover::mission_to_json(parse_mission(base().dump())));
+  for (const auto& u : plain["uavs"]) EXPECT_FALSE(u.contains("camera"));
+}
+
+TEST(MissionParse, UavCameraRefusalsNameTheUavsField) {
+  auto j = base();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 40}, {"hfov_deg", 90}, {"overlap", 0.5}};
+  auto with = [&](const json& cam) {
+    auto k = j;
+    k["uavs"][1]["camera"] = cam;
+    return k;
+  };
+  expect_error(with({{"altitude_m", 40}, {"hfov_deg", 190}, {"overlap", 0.5}}), "uavs[1].camera.hfov_deg",
+               "(0, 180)");
+  expect_error(with({{"altitude_m", 40}, {"hfov_deg", 60}}), "uavs[1].camera.overlap", "missing");
+  expect_error(with({{"hfov_deg", 60}, {"overlap", 0.5}}), "uavs[1].camera.altitude_m", "missing");
+  expect_error(with({{"altitude_m", 40}, {"hfov_deg", 60}, {"overlap", 0.5}, {"zoom", 2}}),
+               "uavs[1].camera.zoom", "unknown field");
+  expect_error(with({{"altitude_m", 40}, {"hfov_deg", 60}, {"overlap", 0.5}, {"sensor_width_mm", 6}}),
+               "uavs[1].camera", "give either");
+  expect_error(with("wide"), "uavs[1].camera", "expected an object");
+  expect_error(with({{"altitude_m", 40}, {"hfov_deg", 60}, {"overlap", 0.5}, {"front_overlap", 0.99}}),
+               "uavs[1].camera.front_overlap", "0.95");
+  // every UAV flies the mission's altitude
+  expect_error(with({{"altitude_m", 30}, {"hfov_deg", 60}, {"overlap", 0.5}}), "uavs[1].camera.altitude_m",
+               "must equal camera.altitude_m");
+  // the UAV's own camera limits its own speed
+  auto fast = with({{"altitude_m", 40}, {"hfov_deg", 60}, {"overlap", 0.5}, {"min_trigger_interval_s", 10}});
+  fast["uavs"][1]["speed_mps"] = 5;
+  expect_error(fast, "uavs[1].speed_mps", "uavs[1].camera.min_trigger_interval_s");
+  // a UAV camera needs the mission's camera as the others' default
+  auto spacing = base();
+  spacing["uavs"][1]["camera"] = {{"altitude_m", 40}, {"hfov_deg", 60}, {"overlap", 0.5}};
+  expect_error(spacing, "uavs[1].camera", "needs the mission's camera");
+}

@@ -41,11 +41,13 @@ json to_json(const PathStats& s) {
           {"angle_histogram_30deg", s.angle_bins}};
 }
 
-/// The footprint that sizes the triangles: the camera's (with the gimbal pitch), else a square of ds.
-Footprint footprint_of(const Problem& p, const json& params, std::vector<std::string>& warnings) {
+/// The footprint that sizes the triangles: the camera's of width `width_m` (with the gimbal pitch), else
+/// a square of ds.
+Footprint footprint_of(const Problem& p, double width_m, const json& params,
+                       std::vector<std::string>& warnings) {
   const double pitch = params.value("gimbal_pitch_deg", 0.0);
   const bool has_vfov = params.contains("vfov_deg") && params["vfov_deg"].is_number();
-  if (!p.camera || !(p.footprint_m > 0.0) || !(p.altitude_m > 0.0)) {
+  if (!p.camera || !(width_m > 0.0) || !(p.altitude_m > 0.0)) {
     if (pitch != 0.0 || has_vfov)
       warnings.push_back(
           "planner_params: gimbal_pitch_deg and vfov_deg need a camera; triangles are sized by spacing_m");
@@ -55,41 +57,9 @@ Footprint footprint_of(const Problem& p, const json& params, std::vector<std::st
         params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0;
     return square_footprint(by_footprint ? p.footprint_m : p.spacing_m);
   }
-  const double hfov = 2.0 * std::atan(p.footprint_m / (2.0 * p.altitude_m)) * 180.0 / std::numbers::pi;
+  const double hfov = 2.0 * std::atan(width_m / (2.0 * p.altitude_m)) * 180.0 / std::numbers::pi;
   const double vfov = has_vfov ? params["vfov_deg"].get<double>() : hfov;
   return camera_footprint(p.altitude_m, hfov, vfov, pitch);
-}
-
-/// planner_params.uav_footprint_m: one ground footprint width (m) per UAV in the mission's order,
-/// comma-separated ("30,30,15"); empty: every UAV flies the mission's footprint. Bounded: one number
-/// per UAV, each in [1, 10000] m.
-std::vector<double> uav_footprints(const json& params, std::size_t n) {
-  constexpr const char* kField = "planner_params.uav_footprint_m";
-  std::vector<double> out;
-  const std::string text = params.value("uav_footprint_m", std::string());
-  if (text.empty()) return out;
-  if (text.size() > 32 * n + 64) throw InputError(kField, "must hold one number per UAV");
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t end = std::min(text.find(',', pos), text.size());
-    const std::string item = text.substr(pos, end - pos);
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && item[used] == ' ') ++used;
-    if (used == 0 || used != item.size() || !std::isfinite(v) || v < 1.0 || v > 10000.0)
-      throw InputError(kField, "\"" + item + "\" is not a footprint width in metres between 1 and 10000");
-    out.push_back(v);
-    pos = end + 1;
-  }
-  if (out.size() != n)
-    throw InputError(
-        kField, "gives " + std::to_string(out.size()) + " footprints for " + std::to_string(n) + " UAVs");
-  return out;
 }
 
 class SpiralPlanner final : public Planner {
@@ -108,24 +78,33 @@ class SpiralPlanner final : public Planner {
     ctx.report(kStage, 0.0);
 
     // 1. FoV-sized triangles (§IV eq. 1-8)
-    const Footprint fp = footprint_of(p, params, out.warnings);
+    const Footprint fp = footprint_of(p, p.footprint_m, params, out.warnings);
     if (!(fp.side_m > 0.0) || !std::isfinite(fp.side_m))
       throw InputError("camera", "gives no positive footprint for the spiral mesh");
-    // heterogeneous cameras: each UAV's W_d scales with its footprint width against the mission's
-    // (footprint_m with a camera, spacing_m without); the shared mesh uses the team's largest (the paper)
-    const std::vector<double> widths = uav_footprints(params, n);
-    const bool by_footprint =
-        p.camera || (params.value("size_by", std::string("spacing")) == "footprint" && p.footprint_m > 0.0);
-    const double reference_m = by_footprint && p.footprint_m > 0.0 ? p.footprint_m : p.spacing_m;
+    // heterogeneous cameras (uavs[i].camera): each UAV's W_d from its own footprint at the mission's
+    // altitude; the shared mesh uses the team's largest (the paper), smaller ones re-mesh their sub-area
+    if (!p.uav_footprints.empty() && p.uav_footprints.size() != n)
+      throw InputError("uavs", "one footprint per UAV is needed");
     std::vector<double> side(n, fp.side_m);
-    for (std::size_t k = 0; k < widths.size(); ++k) side[k] = fp.side_m * widths[k] / reference_m;
+    std::size_t smallest_at = 0;
+    for (std::size_t k = 0; k < p.uav_footprints.size(); ++k) {
+      if (p.uav_footprints[k].own_camera) {
+        std::vector<std::string> ignored;  // the same warnings as the mission's footprint
+        side[k] = footprint_of(p, p.uav_footprints[k].width_m, params, ignored).side_m;
+        if (!(side[k] > 0.0) || !std::isfinite(side[k]))
+          throw InputError("uavs[" + std::to_string(k) + "].camera",
+                           "gives no positive footprint for the spiral mesh");
+      }
+      if (side[k] < side[smallest_at]) smallest_at = k;
+    }
     const double team_side = *std::max_element(side.begin(), side.end());
-    const double smallest = *std::min_element(side.begin(), side.end());
+    const double smallest = side[smallest_at];
     // an equilateral triangle of side W_d covers sqrt(3)/4 W_d^2; refined meshes hold about 1.5x more;
     // bounded at the smallest W_d, as if one UAV re-meshed the whole area
     const double estimate = 1.5 * free_area / (std::sqrt(3.0) / 4.0 * smallest * smallest);
     if (estimate > static_cast<double>(kMaxTriangles))
-      throw InputError(widths.empty() ? "spacing_m" : "planner_params.uav_footprint_m",
+      throw InputError(smallest < fp.side_m ? "uavs[" + std::to_string(smallest_at) + "].camera"
+                                            : std::string("spacing_m"),
                        "the spiral mesh would need about " +
                            std::to_string(static_cast<long long>(estimate)) + " triangles (at most " +
                            std::to_string(kMaxTriangles) + "); use a larger spacing or a smaller area");
@@ -294,12 +273,6 @@ PlannerInfo spiral_planner_info() {
              "without a camera: spacing (the footprint side is ds, the issue's rule) or "
              "footprint (the mission's footprint width, 1.5 ds, which the evaluator sweeps: "
              "larger triangles, a shorter path)"));
-  info.params.push_back(
-      param("uav_footprint_m", ParamSpec::Type::String, "", std::nullopt, std::nullopt,
-            "heterogeneous cameras: one ground footprint width (m) per UAV in the mission's order, "
-            "comma-separated (\"30,30,15\"); the mesh uses the largest, and each UAV with a smaller one "
-            "re-meshes its sub-area at its own triangle side (scaled from the mission's footprint_m, or "
-            "spacing_m without a camera); empty: the mission's footprint for all"));
   info.params.push_back(number("gimbal_pitch_deg", 0.0, 0.0, 80.0,
                                "camera pitch forward from nadir (the footprint becomes a trapezoid)"));
   info.supports = Capabilities{true, true, true, true, true, false};

@@ -352,11 +352,15 @@ TEST(SpiralPlanner, PathsStayInsideTheirRegionsAndCoverEveryTriangle) {
 }
 
 TEST(SpiralPlanner, ASmallerFootprintGetsSmallerTrianglesInItsOwnSubArea) {
-  // ds 20 m without a camera: W_d = 17.32 m; UAV b flies a 10 m footprint: W_d = 8.66 m in its sub-area
+  // a 20 m camera footprint looking down: W_d = 17.32 m; UAV b's own camera sees 10 m: W_d = 8.66 m in
+  // its sub-area
   const MultiPolygon free = l_with_hole();
-  const Problem pr = problem_of(free, {{10, 10}, {590, 10}}, {0.5, 0.5}, 20.0);
-  const Assignment a =
-      require("spiral").create()->plan(pr, params({{"uav_footprint_m", "20, 10"}}), Context{});
+  Problem pr = problem_of(free, {{10, 10}, {590, 10}}, {0.5, 0.5}, 15.0);
+  pr.camera = Camera{};
+  pr.altitude_m = 20.0;
+  pr.footprint_m = 20.0;
+  pr.uav_footprints = {UavFootprint{20.0, 20.0, false}, UavFootprint{10.0, 10.0, true}};
+  const Assignment a = require("spiral").create()->plan(pr, params(), Context{});
   ASSERT_EQ(a.uavs.size(), 2u);
   const auto& da = a.uavs[0].diagnostics;
   const auto& db = a.uavs[1].diagnostics;
@@ -422,16 +426,6 @@ TEST(SpiralPlanner, BadParametersAreRefusedByName) {
   refused({{"lloyd_method", "fast"}}, "planner_params.lloyd_method");
   refused({{"size_by", "camera"}}, "planner_params.size_by");
   refused({{"smooth_reversal_deg", 180}}, "planner_params.smooth_reversal_deg");
-  // per-UAV footprints: numbers in [1, 10000] m, one per UAV (checked when planning)
-  for (const char* bad : {"20", "20,x", "20,0.5", "20,,10", "20,10,5", "20,nan"}) {
-    const Problem two = problem_of(comb(), {{10, 10}, {490, 10}}, {0.5, 0.5}, 20.0);
-    try {
-      (void)require("spiral").create()->plan(two, params({{"uav_footprint_m", bad}}), Context{});
-      ADD_FAILURE() << "uav_footprint_m \"" << bad << "\" accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("planner_params.uav_footprint_m"), std::string::npos) << e.what();
-    }
-  }
   // a pitch whose footprint reaches the horizon, with a camera
   Problem pr = problem_of(comb(), {{10, 10}}, {1.0}, 20.0);
   pr.camera = Camera{};
@@ -463,6 +457,45 @@ TEST(SpiralPlanner, TheEvaluatorSeesAtLeast995PercentOfARegion) {
     for (const auto& u : pl.uavs) length[i] += u.coverage_length_m;
   }
   EXPECT_LT(length[1], 0.8 * length[0]) << "larger triangles give a shorter path";
+}
+
+TEST(SpiralPlanner, AUavWithItsOwnSmallerCameraMeshesItsSubAreaAtItsOwnSide) {
+  // a 600 x 400 m rectangle; the mission's camera sees 20 m across at 20 m (tan(hfov/2) = 1/2), UAV b's
+  // own camera 10 m (tan(hfov/2) = 1/4): W_d 17.32 m for a, 8.66 m for b in its own sub-area
+  const double hfov_20 = 2.0 * std::atan(0.5) / kDeg, hfov_10 = 2.0 * std::atan(0.25) / kDeg;
+  const double dlon = 600.0 / (111'320.0 * std::cos(40.0 * kDeg)), dlat = 400.0 / 110'574.0;
+  nlohmann::json j = {
+      {"area",
+       {{"type", "Polygon"},
+        {"coordinates",
+         {{{23.0, 40.0}, {23.0 + dlon, 40.0}, {23.0 + dlon, 40.0 + dlat}, {23.0, 40.0 + dlat}}}}}},
+      {"camera", {{"altitude_m", 20.0}, {"hfov_deg", hfov_20}, {"overlap", 0.2}}},
+      {"uavs",
+       {{{"id", "a"}, {"start", {23.0, 40.0}}},
+        {{"id", "b"},
+         {"start", {23.0 + dlon, 40.0 + dlat}},
+         {"camera", {{"altitude_m", 20.0}, {"hfov_deg", hfov_10}, {"overlap", 0.2}}}}}},
+      {"planner", "spiral"}};
+  const Mission m = parse_mission(j.dump());
+  ASSERT_TRUE(m.uavs[1].camera_geometry);
+  EXPECT_NEAR(m.uavs[1].camera_geometry->footprint_m, 10.0, 1e-9);
+  const Plan pl = plan(m);
+  ASSERT_EQ(pl.uavs.size(), 2u);
+  const auto& da = pl.uavs[0].diagnostics;
+  const auto& db = pl.uavs[1].diagnostics;
+  EXPECT_FALSE(da["own_mesh"].get<bool>());
+  EXPECT_NEAR(da["triangle_side_m"].get<double>(), std::sqrt(3.0) * 10.0, 1e-6);
+  ASSERT_TRUE(db["own_mesh"].get<bool>());
+  const double side_b = std::sqrt(3.0) * 5.0;
+  EXPECT_NEAR(db["triangle_side_m"].get<double>(), side_b, 1e-6);
+  EXPECT_LE(db["mesh"]["max_edge_m"].get<double>(), side_b * (1.0 + 1e-9))
+      << "no edge of b's sub-area longer than its own W_d";
+  EXPECT_GT(db["triangles"].get<double>(), 3.0 * da["triangles"].get<double>());
+  // the evaluator sweeps each UAV's own footprint: b's smaller triangles keep its sub-area seen
+  const auto ev = evaluation::evaluate_plan(pl);
+  EXPECT_NEAR(ev.coverage.uavs[1].footprint_m, 10.0, 1e-9);
+  EXPECT_NEAR(ev.coverage.uavs[0].footprint_m, 20.0, 1e-9);
+  EXPECT_GE(ev.coverage.total.poc, 0.995);
 }
 
 #endif  // UAVCOVER_HAS_SPIRAL
