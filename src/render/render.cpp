@@ -100,6 +100,20 @@ double nice_step(double range, int n) {
   return 10 * p;
 }
 
+/// A chart's horizontal grid: a light line and a label left of the axis at every `step` from lo to hi.
+void y_grid(cairo_t* cr, double left, double right, double lo, double hi, double step,
+            const std::function<double(double)>& py) {
+  cairo_set_line_width(cr, 1);
+  for (double y = lo; y <= hi + 1e-9; y += step) {
+    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+    cairo_move_to(cr, left, py(y));
+    cairo_line_to(cr, right, py(y));
+    cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    text(cr, left - 8, py(y), fmt::format("{:g}", y), 12, 1.0, false, 0.5);
+  }
+}
+
 struct View {
   double scale = 1.0, ox = 0.0, oy = 0.0;  // pixel = (ox + scale*x, oy - scale*y)
   [[nodiscard]] double px(double x) const { return ox + scale * x; }
@@ -543,15 +557,7 @@ void draw_chart(cairo_t* cr, const std::vector<int>& xs, const std::vector<Serie
   if (xmax == xmin) xmax = xmin + 1;
   auto px = [&](double x) { return left + (right - left) * (x - xmin) / (xmax - xmin); };
   auto py = [&](double y) { return bottom - (bottom - top) * y / ymax; };
-  cairo_set_line_width(cr, 1);
-  for (double y = 0; y <= ymax + 1e-9; y += step) {
-    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
-    cairo_move_to(cr, left, py(y));
-    cairo_line_to(cr, right, py(y));
-    cairo_stroke(cr);
-    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    text(cr, left - 8, py(y), fmt::format("{:g}", y), 12, 1.0, false, 0.5);
-  }
+  y_grid(cr, left, right, 0.0, ymax, step, py);
   for (int x : xs) text(cr, px(x), bottom + 18, std::to_string(x), 12, 0.5);
   if (recommended > 0) {
     const double dash[] = {5.0, 4.0};
@@ -636,15 +642,7 @@ void draw_profile(cairo_t* cr, const exporting::LegProfile& lp, int width, int h
   const double len = std::max(lp.length_m, 1e-6);
   auto px = [&](double s) { return left + (right - left) * s / len; };
   auto py = [&](double z) { return bottom - (bottom - top) * (z - lo) / (hi - lo); };
-  cairo_set_line_width(cr, 1);
-  for (double z = lo; z <= hi + 1e-9; z += step) {
-    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
-    cairo_move_to(cr, left, py(z));
-    cairo_line_to(cr, right, py(z));
-    cairo_stroke(cr);
-    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    text(cr, left - 8, py(z), fmt::format("{:g}", z), 12, 1.0, false, 0.5);
-  }
+  y_grid(cr, left, right, lo, hi, step, py);
   const double sstep = nice_step(len, 8);
   for (double s = 0; s <= len + 1e-9; s += sstep)
     text(cr, px(s), bottom + 18, fmt::format("{:g}", s), 12, 0.5);
