@@ -711,10 +711,12 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
     c.counts.assign(P, 0);
     classic(G, in, st, c, progress);
     c.iterations += out.iterations;
-    if (normalised_deviation(c.counts, in.targets) < normalised_deviation(out.counts, in.targets))
+    if (normalised_deviation(c.counts, in.targets) < normalised_deviation(out.counts, in.targets)) {
       out = std::move(c);
-    else
-      out.iterations = c.iterations, out.stopped = c.stopped;
+    } else {
+      out.iterations = c.iterations;
+      out.stopped = c.stopped;
+    }
   }
   return out;
 }
