@@ -32,19 +32,8 @@ python3 "$here/coastline.py" "$work/coastline.json" spiral 20
 "$bin" -q plan "$work/coastline.json" -o "$work/coastline-spiral" --no-images --no-evaluate
 
 # 3. speed: squares of side 1, 3.16 and 10 km at ds 20 m
-square() {  # side_m lloyd method out.json
-  python3 - "$1" "$2" "$3" "$4" <<'PY'
-import json, math, sys
-side, lloyd, method, out = float(sys.argv[1]), int(sys.argv[2]), sys.argv[3], sys.argv[4]
-lon0, lat0 = 24.40, 40.93
-mx, my = 111320.0 * math.cos(math.radians(lat0)), 110540.0
-h = side / 2
-ring = [[lon0 + x / mx, lat0 + y / my] for x, y in [(-h, -h), (h, -h), (h, h), (-h, h), (-h, -h)]]
-json.dump({"name": f"square {side:.0f} m", "area": {"type": "Polygon", "coordinates": [ring]}, "spacing_m": 20,
-           "planner": "spiral", "planner_params": {"lloyd_iterations": lloyd, "lloyd_method": method},
-           "uavs": [{"id": "a", "share": 0.3, "start": ring[0]}, {"id": "b", "share": 0.4, "start": ring[1]},
-                    {"id": "c", "share": 0.3, "start": ring[2]}], "seed": 1}, open(out, "w"))
-PY
+square() {  # side_m lloyd method out.json (bench/spiral/square.py)
+  python3 "$here/square.py" "$1" "$2" "$3" "$4"
 }
 mkdir -p "$work/speed"
 runs=""

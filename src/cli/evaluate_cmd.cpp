@@ -48,13 +48,14 @@ void run_evaluate(const EvaluateArgs& a) {
   std::cout << fmt::format("{} — {} UAV(s), footprint {:.1f} m, lattice {:.2f} m ({} samples)\n",
                            mission.name, ev.uav_ids.size(), ev.footprint_m, ev.coverage.lattice_m,
                            ev.coverage.samples);
-  std::cout << fmt::format("{:<12} {:>7} {:>7} {:>6} {:>9} {:>6} {:>8}\n", "uav", "share", "PoC%", "turns",
-                           "length_km", "bat", "min");
+  std::cout << fmt::format("{:<12} {:>7} {:>7} {:>6} {:>9} {:>6} {:>8} {:>6}\n", "uav", "share", "PoC%",
+                           "turns", "length_km", "bat", "min", "w_m");
   for (std::size_t i = 0; i < ev.uav_ids.size(); ++i) {
     const auto& u = ev.coverage.uavs[i];
-    std::cout << fmt::format("{:<12} {:>7.3f} {:>7.2f} {:>6} {:>9.3f} {:>6} {:>8.2f}\n", ev.uav_ids[i],
-                             u.area_share, 100 * u.stats.poc, u.stats.turns, u.stats.length_m / 1000,
-                             c.uavs[i].batteries, c.uavs[i].flight_duration_min);
+    std::cout << fmt::format("{:<12} {:>7.3f} {:>7.2f} {:>6} {:>9.3f} {:>6} {:>8.2f} {:>6.1f}\n",
+                             ev.uav_ids[i], u.area_share, 100 * u.stats.poc, u.stats.turns,
+                             u.stats.length_m / 1000, c.uavs[i].batteries, c.uavs[i].flight_duration_min,
+                             u.footprint_m);
   }
   std::cout << fmt::format(
       "PoC {:.2f}%  PoOC {:.2f}%  max scans {}  turns {} ({:.3f}/1000 m²)  length {:.3f} km ({:.1f} m/1000 "
@@ -89,7 +90,8 @@ const bool registered = CommandRegistry::add(30, [](CLI::App& app) {
       ->force_callback()  // the default (the current folder) is checked too
       ->check(output_folder());
   cmd->add_option("--footprint", a->footprint_m,
-                  "Footprint width w in metres (default: camera, else 1.5 x spacing)")
+                  "Footprint width w in metres for every UAV (default: each UAV's own camera, "
+                  "uavs[i].camera, else the mission's camera, else 1.5 x spacing)")
       ->check(number_in(0, 10'000, true));
   cmd->add_option("--lattice", a->lattice_m, "Sample spacing in metres (default: adaptive, 0.5-2 m)")
       ->check(number_in(0, 1'000, true));

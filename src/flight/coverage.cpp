@@ -55,10 +55,16 @@ FlownCoverage flown_coverage(const Plan& plan, const evaluation::Evaluation& pla
   const double altitude = plan.mission.altitude_m;
   FlownCoverage out;
 
-  // each track's runs in the coverage band, as the evaluator's coverage parts
+  // each track's runs in the coverage band, as the evaluator's coverage parts, swept with the footprint
+  // the plan's evaluation gave that UAV (its own camera's, else the mission's)
   std::vector<evaluation::Flight> flights;
+  std::vector<double> widths;
   for (const auto& [uav, samples] : tracks) {
     ctx.check();
+    double w = planned.footprint_m;
+    for (std::size_t i = 0; i < plan.uavs.size() && i < planned.coverage.uavs.size(); ++i)
+      if (plan.uavs[i].id == uav) w = planned.coverage.uavs[i].footprint_m;
+    widths.push_back(w);
     evaluation::Flight flight;
     Polyline run;
     auto close_run = [&] {
@@ -81,11 +87,12 @@ FlownCoverage flown_coverage(const Plan& plan, const evaluation::Evaluation& pla
     flights.push_back(std::move(flight));
   }
 
-  // the plan's lattice for the tracks: the same free area, footprint and options
+  // the plan's lattice for the tracks: the same free area, footprints and options
   out.planned_poc = planned.coverage.total.poc;
   evaluation::CoverageOptions co;
   co.context = &ctx;
   co.footprint_m = planned.footprint_m;
+  co.uav_footprint_m = std::move(widths);
   out.coverage = evaluation::evaluate_coverage(planned.free, flights, co);
   out.flown_poc = out.coverage.total.poc;
   out.flown_pooc = out.coverage.total.pooc;

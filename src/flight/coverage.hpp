@@ -38,7 +38,8 @@ struct FlownCoverage {
 
 /// Flown coverage of `tracks`: each UAV's samples in the coverage band (altitude within kCoverageBandM
 /// of plan.mission.altitude_m) form polylines, broken where the track leaves the band, and the
-/// evaluator sweeps the mission's footprint along them over the free area, on the same lattice as the
+/// evaluator sweeps that UAV's footprint along them (the width the plan's evaluation gave it: its own
+/// camera's, uavs[i].camera, else the mission's) over the free area, on the same lattice as the
 /// plan's evaluation. Samples are joined in order; straight runs are simplified (0.25 m) first.
 /// InputError naming "tracks[i].uav" (not a UAV of the plan), "tracks[i].samples[k]" (not a finite
 /// position) or "tracks" (more than kMaxTrackSamples). ctx: stops (Cancelled).

@@ -1,7 +1,7 @@
 // Reassignment of a failed UAV's remaining coverage (docs/flights.md, "Reassignment"): the failed UAV's
 // region minus the footprint its coverage swept up to the last reached waypoint (the evaluator's square
-// footprint, Boost.Geometry buffer and difference), re-planned as a sub-mission with the mission's
-// planner over the helpers, cut into battery sorties by plan(), exported as mission items at each
+// footprint of its own camera, Boost.Geometry buffer and difference), re-planned as a sub-mission with the
+// mission's planner over the helpers, cut into battery sorties by plan(), exported as mission items at each
 // helper's own transition altitude of the full plan.
 #include "flight/reassign.hpp"
 
@@ -166,9 +166,13 @@ std::vector<PathPart> in_frame(std::vector<PathPart> parts, const geodesy::Local
 /// of it, so a remainder made of strips one or two cells wide would lose its edges (measured on the
 /// olive grove: 53 % of bravo's remainder covered when planned as it is). A path within w/2 of the
 /// remainder still scans it, so the remainder is grown by w/2 (round joins), within the mission's free
-/// area: 94 % covered there.
-MultiPolygon planned_area(const Plan& plan, const MultiPolygon& rest, const geodesy::LocalFrame& frame) {
-  const double grow = evaluation::footprint_for(plan.mission) / 2.0;
+/// area: 94 % covered there. With heterogeneous cameras w is the largest helper's own footprint, so that
+/// the widest-seeing helper's paths reach the edges too.
+MultiPolygon planned_area(const Plan& plan, const std::vector<Helper>& helpers, const MultiPolygon& rest,
+                          const geodesy::LocalFrame& frame) {
+  double w = 0.0;
+  for (const auto& h : helpers) w = std::max(w, evaluation::footprint_for(plan.mission, h.index));
+  const double grow = w / 2.0;
   MultiPolygon grown;
   bg::buffer(rest, grown, bg::strategy::buffer::distance_symmetric<double>(grow),
              bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_round(16),
@@ -190,7 +194,8 @@ MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reach
   check_last_reached(up, n, last_reached);
   MultiPolygon rest;
   if (last_reached >= n - 1) return rest;  // everything flown
-  const double w = evaluation::footprint_for(plan.mission);
+  // what it scanned: its own camera's footprint (uavs[failed].camera), else the mission's
+  const double w = evaluation::footprint_for(plan.mission, failed);
   const MmMultiPolygon swept = swept_area(flown_legs(up, wps, last_reached), w, ctx);
   if (swept.empty()) {
     rest = up.region_local;
@@ -238,7 +243,8 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
   out.area_m2 = std::abs(bg::area(rest));
 
   // the sub-mission: the remainder, the same no-fly zones, sensor, planner and seed, over the helpers
-  const MultiPolygon planned = planned_area(plan, rest, frame);
+  // (each with its own camera, uavs[i].camera, which plan() passes to the planner and the evaluator)
+  const MultiPolygon planned = planned_area(plan, helpers, rest, frame);
   Mission sub = plan.mission;
   sub.name = plan.mission.name + " (reassigned from " + up.id + ")";
   sub.area = to_geo(planned, frame);

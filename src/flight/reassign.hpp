@@ -40,22 +40,24 @@ struct Reassignment {
   std::string failed_uav;
   int last_reached = -1;                 ///< the failed UAV's last reached coverage waypoint (global)
   std::vector<int> remaining_waypoints;  ///< its coverage waypoints not flown (global indices)
-  /// The remainder (WGS84). The sub-mission plans it grown by half a footprint within the free area,
-  /// so that the planners' grids reach its edges (docs/flights.md).
+  /// The remainder (WGS84). The sub-mission plans it grown by half the largest helper's footprint
+  /// within the free area, so that the planners' grids reach its edges (docs/flights.md).
   std::vector<GeoPolygon> area;
   double area_m2 = 0.0;
   std::vector<ReassignedWork> work;  ///< one per helper that got some
   std::vector<std::string> warnings;
 };
 
-/// The failed UAV's region (local metres) minus the evaluator's footprint swept along its coverage
-/// legs up to waypoint `last_reached`, without pieces smaller than one footprint square. Empty when
-/// `last_reached` is its last waypoint. InputError naming "failed" or "last_reached" when out of range.
+/// The failed UAV's region (local metres) minus the evaluator's footprint of that UAV
+/// (evaluation::footprint_for(plan.mission, failed): its own camera's, else the mission's) swept along
+/// its coverage legs up to waypoint `last_reached`, without pieces smaller than one footprint square. Empty
+/// when `last_reached` is its last waypoint. InputError naming "failed" or "last_reached" when out of range.
 MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reached, const Context& ctx = {});
 
 /// The remainder of UAV `failed` after it reached coverage waypoint `last_reached` (-1: none): its
 /// region minus the footprint swept along its coverage up to that waypoint, re-planned with
-/// plan.mission's planner and seed over `helpers` (shares by remaining battery), cut into sorties.
+/// plan.mission's planner and seed over `helpers` (shares by remaining battery, each with its own
+/// camera), cut into sorties.
 /// New missions start with a full battery (they are uploaded after the helper's current sortie lands);
 /// battery_fraction sets the shares. InputError naming "failed", "last_reached", "helpers",
 /// "helpers[i].index" (out of range, the failed UAV, twice), "helpers[i].battery_fraction" (outside

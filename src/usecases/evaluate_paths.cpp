@@ -29,19 +29,23 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
   const auto paths = evaluation::parse_paths_geojson(geojson, frame);
   PathsEvaluation out;
   out.uavs = match_uavs(mission, paths.uav_ids);
+  // the evaluated paths drawn like a plan (no regions: other tools do not give them); its mission names
+  // the matched UAVs, so that each flight is swept with its UAV's own camera
+  Plan& shown = out.shown;
+  shown.mission = mission;
+  shown.origin = frame.origin();
+  shown.mission.uavs = out.uavs;
+
   evaluation::EvaluateOptions opt = options;
   opt.coverage.context = &ctx;
   const double w =
       opt.coverage.footprint_m > 0.0 ? opt.coverage.footprint_m : evaluation::footprint_for(mission);
+  if (!(opt.coverage.footprint_m > 0.0) && opt.coverage.uav_footprint_m.empty())
+    for (std::size_t i = 0; i < out.uavs.size(); ++i)
+      opt.coverage.uav_footprint_m.push_back(evaluation::footprint_for(shown.mission, i));
   const MultiPolygon free = evaluation::free_area(mission, frame);
   out.evaluation = evaluation::evaluate_flights(free, paths.flights, out.uavs, w, opt);
-
-  // the evaluated paths drawn like a plan (no regions: other tools do not give them)
-  Plan& shown = out.shown;
-  shown.mission = mission;
-  shown.origin = frame.origin();
   shown.free_area_m2 = out.evaluation.coverage.total.area_m2;
-  shown.mission.uavs = out.uavs;
   for (std::size_t i = 0; i < paths.flights.size(); ++i) {
     UavPlan up;
     up.id = paths.uav_ids[i];

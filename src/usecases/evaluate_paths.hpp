@@ -24,8 +24,10 @@ struct PathsEvaluation {
 /// else the mission's first UAV.
 std::vector<Uav> match_uavs(const Mission& mission, const std::vector<std::string>& ids);
 
-/// Parses the GeoJSON paths, matches them to the mission's UAVs and evaluates them. `footprint_m`
-/// 0 = the mission's footprint (camera, else 1.5 ds).
+/// Parses the GeoJSON paths, matches them to the mission's UAVs and evaluates them, each flight swept
+/// with its UAV's footprint (evaluation::footprint_for(mission, uav): its own camera, else the
+/// mission's camera, else 1.5 ds). options.coverage.footprint_m > 0 (`--footprint`) sweeps that one
+/// width for every flight.
 PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
                                const evaluation::EvaluateOptions& options, const Context& ctx = {});
 

@@ -108,6 +108,25 @@ TEST(FlownCoverage, OnlyTheCoverageBandScans) {
   EXPECT_EQ(flight::flown_coverage(p, {}).flown_poc, 0.0);
 }
 
+TEST(FlownCoverage, AUavWithASmallerOwnCameraScansLessOfTheSameTrack) {
+  // bravo's own camera sees 25 m across, the mission's 74.5 m: the same tracks scan less
+  const Plan& p = olive_grove();
+  const Plan own = testing::olive_grove_with_own_camera(1, 25.0);
+  const auto tracks = tracks_of(p, p.mission.altitude_m);
+  const auto before = flight::flown_coverage(p, tracks);
+  const auto after = flight::flown_coverage(own, tracks);
+  ASSERT_EQ(after.coverage.uavs.size(), 3u);
+  EXPECT_NEAR(after.coverage.uavs[1].footprint_m, 25.0, 1e-9);
+  EXPECT_EQ(after.coverage.uavs[0].footprint_m, before.coverage.uavs[0].footprint_m);
+  EXPECT_EQ(after.coverage.uavs[0].stats.poc, before.coverage.uavs[0].stats.poc) << "alpha is unchanged";
+  EXPECT_LT(after.coverage.uavs[1].stats.poc, 0.8 * before.coverage.uavs[1].stats.poc);
+  EXPECT_LT(after.flown_poc, before.flown_poc);
+  // the evaluator sweeps the plan's own paths the same way: flying the plan still gives its PoC
+  EXPECT_NEAR(after.planned_poc, evaluation::evaluate_plan(own).coverage.total.poc, 1e-12);
+  EXPECT_LT(after.planned_poc, before.planned_poc);
+  EXPECT_NEAR(after.flown_poc, after.planned_poc, 0.005);
+}
+
 std::uint32_t be32(const std::string& s, std::size_t at) {
   std::uint32_t v = 0;
   for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(s[at + k]);

@@ -44,12 +44,16 @@ evaluation::Flight flown_prefix(const Plan& p, std::size_t i, int lr) {
   return out;
 }
 
-/// Distance from p to the boundary of `mp` (its rings).
+/// Distance from p to the boundary of `mp` (its rings, as lines: to a ring itself Boost.Geometry's
+/// distance is areal, 0 inside it).
 double boundary_distance(const MultiPolygon& mp, Point p) {
   double d = std::numeric_limits<double>::infinity();
+  auto to_ring = [&](const auto& ring) {
+    d = std::min(d, static_cast<double>(bg::distance(p, Polyline(ring.begin(), ring.end()))));
+  };
   for (const auto& poly : mp) {
-    d = std::min(d, static_cast<double>(bg::distance(p, poly.outer())));
-    for (const auto& in : poly.inners()) d = std::min(d, static_cast<double>(bg::distance(p, in)));
+    to_ring(poly.outer());
+    for (const auto& in : poly.inners()) to_ring(in);
   }
   return d;
 }
@@ -130,6 +134,39 @@ TEST(Remainder, RemainingWaypointsLieInOrNearIt) {
       EXPECT_LE(worst, w) << p.uavs[i].id << " last_reached " << lr;
     }
   }
+}
+
+TEST(Remainder, IsSweptWithTheFailedUavsOwnCamera) {
+  // bravo's own camera sees 25 m across, the mission's 74.5 m: halfway, it has scanned less, and the
+  // remainder is what the evaluator leaves unscanned with bravo's own footprint
+  const Plan& p = olive_grove();
+  const Plan own = testing::olive_grove_with_own_camera(1, 25.0);
+  const double w = evaluation::footprint_for(own.mission, 1);
+  ASSERT_NEAR(w, 25.0, 1e-9);
+  const int lr = waypoint_count(p, 1) / 2;
+  const MultiPolygon mission_rest = flight::remainder_area(p, 1, lr);
+  const MultiPolygon rest = flight::remainder_area(own, 1, lr);
+  EXPECT_GT(bg::area(rest), bg::area(mission_rest) + 1000.0);
+  // other UAVs keep the mission's camera
+  EXPECT_NEAR(bg::area(flight::remainder_area(own, 2, lr)), bg::area(flight::remainder_area(p, 2, lr)), 1e-6);
+  evaluation::CoverageOptions co;
+  co.lattice_m = 2.0;
+  int scanned_deep_inside = 0, scanned_by_mission_camera_deep_inside = 0;
+  for (const double width : {w, evaluation::footprint_for(p.mission)}) {
+    co.footprint_m = width;
+    const auto cov = evaluation::evaluate_coverage(p.uavs[1].region_local, {flown_prefix(p, 1, lr)}, co);
+    for (int r = 0; r < cov.lattice_rows; ++r)
+      for (int c = 0; c < cov.lattice_cols; ++c) {
+        const int k = cov.scans[static_cast<std::size_t>(r) * static_cast<std::size_t>(cov.lattice_cols) +
+                                static_cast<std::size_t>(c)];
+        const Point q(cov.lattice_origin.x() + c * cov.lattice_m, cov.lattice_origin.y() + r * cov.lattice_m);
+        if (k > 0 && bg::within(q, rest) && boundary_distance(rest, q) > cov.lattice_m)
+          ++(width == w ? scanned_deep_inside : scanned_by_mission_camera_deep_inside);
+      }
+  }
+  // nothing bravo's own camera scanned is re-planned; much of what the mission's camera would have is
+  EXPECT_EQ(scanned_deep_inside, 0);
+  EXPECT_GT(scanned_by_mission_camera_deep_inside, 1000);
 }
 
 /// Bravo fails halfway; alpha (half a battery left) and charlie (full) help.
@@ -217,6 +254,31 @@ TEST(Reassign, HelpersCoverTheRemainderInsideItAndOutOfTheZones) {
   co.footprint_m = w;
   const auto cov = evaluation::evaluate_coverage(rest, flights, co);
   EXPECT_GE(cov.total.poc, 0.9);  // 0.943 measured (the whole plan's PoC is 0.961)
+}
+
+TEST(Reassign, TheAreaPlannedIsGrownByTheHelpersOwnFootprint) {
+  // charlie alone helps, with its own camera 25 m across (the mission's: 74.5 m): its paths keep
+  // within half its own footprint of the remainder, not half the mission's
+  const Plan own = testing::olive_grove_with_own_camera(2, 25.0);
+  const double w = evaluation::footprint_for(own.mission, 2);
+  const int lr = waypoint_count(own, 1) / 2;
+  const auto r = flight::reassign(own, 1, lr, {{2, 1.0}});
+  const auto mission_r = flight::reassign(olive_grove(), 1, lr, {{2, 1.0}});
+  // bravo's own remainder does not depend on charlie's camera
+  EXPECT_NEAR(r.area_m2, mission_r.area_m2, 1e-6 * r.area_m2);
+  const MultiPolygon rest = local_area(own, r);
+  // the farthest coverage waypoint of the (one) helper's work from the remainder
+  auto farthest = [&rest](const flight::Reassignment& x) {
+    double d = 0.0;
+    EXPECT_EQ(x.work.size(), 1u);
+    for (const auto& wk : x.work)
+      for (const auto& part : wk.parts)
+        if (part.kind == PartKind::Coverage)
+          for (const Point& q : part.local) d = std::max(d, geometry::distance(rest, q));
+    return d;
+  };
+  EXPECT_LE(farthest(r), w / 2 + 0.01);
+  EXPECT_GT(farthest(mission_r), w / 2 + 0.01) << "with the mission's footprint the paths reach farther out";
 }
 
 TEST(Reassign, HelpersCoverMostOfTheRemainderWhereverTheUavFails) {

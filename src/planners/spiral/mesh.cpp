@@ -272,6 +272,13 @@ Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Cont
     // CGAL's global optimiser, one step per call (no convergence test, nothing frozen) so that a stop
     // lands between steps. Super-linear: each step keeps its largest moves in a sorted std::list of
     // n/100 entries searched linearly per vertex, and re-inserts each vertex with an unhinted locate.
+    // A step cannot be interrupted, so the mesh is bounded to keep one step short (kMaxCgalLloydTriangles).
+    if (options.lloyd_iterations > 0 && mesh.triangles.size() > kMaxCgalLloydTriangles)
+      throw InputError("planner_params.lloyd_method",
+                       "\"cgal\" runs uninterruptible Lloyd steps and is limited to " +
+                           std::to_string(kMaxCgalLloydTriangles) + " triangles; this mesh has " +
+                           std::to_string(mesh.triangles.size()) +
+                           "; use \"local\" (the default), a larger spacing or lloyd_iterations 0");
     for (int i = 0; i < options.lloyd_iterations; ++i) {
       ctx.report("spiral", 0.05 + 0.35 * i / options.lloyd_iterations);
       ctx.check();

@@ -30,6 +30,13 @@ struct Mesh {
 /// Voronoi cell) applied on the triangulation by flips (linear per step).
 enum class LloydMethod { Local, Cgal };
 
+/// CGAL's lloyd_optimize_mesh_2 cannot be interrupted inside a step (no callback; its `time_limit` is
+/// wall-clock, so a result would depend on the machine's load), and a step is super-linear: one step
+/// took 0.10-0.13 s CPU on 16 800 triangles, 0.19 s on 20 200, 0.25 s on 24 300, 0.26-0.32 s on 28 500
+/// and 0.72 s on 43 000 (docs/planners/spiral.md). `lloyd_method: cgal` is refused above this many
+/// triangles, so that a stop lands within about 0.2 s CPU; `local` has no such bound.
+inline constexpr std::size_t kMaxCgalLloydTriangles = 20'000;
+
 struct MeshOptions {
   double max_edge_m = 0.0;    ///< refinement bound on every triangle edge (W_d)
   int lloyd_iterations = 10;  ///< Lloyd steps after refinement (0: none)
@@ -47,7 +54,9 @@ struct MeshReport {
 
 /// Meshes `free` (corrected polygons). Honours ctx.check() during refinement, between Lloyd steps and
 /// (local method) every 1024 vertices inside a step; reports progress "spiral" 0.05-0.4 per Lloyd step.
-/// Throws InputError("spacing_m", ...) when the mesh would exceed options.max_triangles.
+/// Throws InputError("spacing_m", ...) when the mesh would exceed options.max_triangles, and
+/// InputError("planner_params.lloyd_method", ...) when CGAL's Lloyd would run on more than
+/// kMaxCgalLloydTriangles triangles (checked on the refined mesh, before any Lloyd step).
 Mesh build_mesh(const MultiPolygon& free, const MeshOptions& options, const Context& ctx, MeshReport& report);
 
 /// Angle statistics of a mesh.

@@ -180,6 +180,35 @@ TEST(SpiralMesh, AStopDuringLloydEndsTheMeshing) {
   EXPECT_EQ(reports, 1) << "no Lloyd step after the stop";
 }
 
+TEST(SpiralMesh, CgalLloydIsRefusedOnMeshesWhoseStepsCannotBeStoppedInTime) {
+  // CGAL's lloyd_optimize_mesh_2 cannot be stopped inside a step: above kMaxCgalLloydTriangles the
+  // refined mesh is refused before any step, naming the parameter
+  const double side = 4.0;
+  // without Lloyd steps there is nothing to interrupt: CGAL's path meshes any size
+  const Mesh big = mesh_of(l_with_hole(), side, 0, nullptr, LloydMethod::Cgal);
+  ASSERT_GT(big.triangles.size(), kMaxCgalLloydTriangles);
+  std::string field;
+  try {
+    (void)mesh_of(l_with_hole(), side, 1, nullptr, LloydMethod::Cgal);
+  } catch (const InputError& e) {
+    field = e.field();
+    EXPECT_NE(std::string(e.what()).find("local"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(field, "planner_params.lloyd_method");
+  // below the bound CGAL's steps run
+  MeshReport small;
+  (void)mesh_of(l_with_hole(), 17.32, 1, &small, LloydMethod::Cgal);
+  EXPECT_LE(small.triangles_before_lloyd, kMaxCgalLloydTriangles);
+  // and through the planner, on the same area
+  const Problem pr = problem_of(l_with_hole(), {{10, 10}}, {1.0}, side / std::sqrt(3.0) * 2.0 / 1.5);
+  try {
+    (void)require("spiral").create()->plan(pr, params({{"lloyd_method", "cgal"}}), Context{});
+    ADD_FAILURE() << "cgal accepted on a large mesh";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "planner_params.lloyd_method") << e.what();
+  }
+}
+
 namespace {
 /// Triangles of `uav` reachable from `from` over shared edges inside the sub-area.
 std::size_t reachable(const Mesh& m, const std::vector<int>& owner, int uav, int from) {
