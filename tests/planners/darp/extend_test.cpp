@@ -48,6 +48,17 @@ double poc(const darp::Input& in, const darp::Output& out) {
   return evaluation::evaluate_coverage(in.free, flights, opt).total.poc;
 }
 
+/// Every segment of `loop` keeps grid::kClearance from the no-fly zones; strict: never out of the area.
+void expect_clear(const darp::Input& in, const std::vector<Point>& loop, std::size_t uav) {
+  for (std::size_t k = 1; k < loop.size(); ++k) {
+    EXPECT_GE(bg::distance(Seg(loop[k - 1], loop[k]), in.no_fly), grid::kClearance - 1e-9);
+    if (in.mode == Mode::Strict) {
+      EXPECT_TRUE(geometry::segment_within(in.free, loop[k - 1], loop[k], 0.02))
+          << "UAV " << uav << " leaves the area";
+    }
+  }
+}
+
 class Extension : public ::testing::TestWithParam<std::tuple<int, int>> {};
 
 TEST_P(Extension, KeepsThePropertiesAndTheTurnsAndCoversMore) {
@@ -81,14 +92,7 @@ TEST_P(Extension, KeepsThePropertiesAndTheTurnsAndCoversMore) {
                     along_out < 1e-6 * bg::distance(n, a[k]) * std::hypot(ux, uy) + 1e-9)
             << "UAV " << i << " vertex " << k << " leaves its legs' lines";
       }
-      // never into a no-fly zone, with the clearance; strict: never out of the area
-      for (std::size_t k = 1; k < b.size(); ++k) {
-        EXPECT_GE(bg::distance(Seg(b[k - 1], b[k]), in.no_fly), grid::kClearance - 1e-9);
-        if (mode == Mode::Strict) {
-          EXPECT_TRUE(geometry::segment_within(in.free, b[k - 1], b[k], 0.02))
-              << "UAV " << i << " leaves the area";
-        }
-      }
+      expect_clear(in, b, i);
     }
   }
   EXPECT_GT(moved, 0) << "a field with slanted edges has U-turns to extend";
@@ -137,13 +141,7 @@ TEST_P(Shift, KeepsThePropertiesAndTheTurnsAndCoversMore) {
         // at most 0.45 ds across each of its two legs
         EXPECT_LE(d, 0.45 * in.ds * std::sqrt(2.0) + 1e-9) << "UAV " << i << " vertex " << k;
       }
-      for (std::size_t k = 1; k < b.size(); ++k) {
-        EXPECT_GE(bg::distance(Seg(b[k - 1], b[k]), in.no_fly), grid::kClearance - 1e-9);
-        if (mode == Mode::Strict) {
-          EXPECT_TRUE(geometry::segment_within(in.free, b[k - 1], b[k], 0.02))
-              << "UAV " << i << " leaves the area";
-        }
-      }
+      expect_clear(in, b, i);
     }
   }
   if (mode == Mode::Strict) {
