@@ -238,6 +238,7 @@ int LegExtender::shift(const std::vector<std::vector<Point>*>& loops) const {
         const double t = lo + (hi - lo) * s / n;
         const int c = std::clamp(static_cast<int>(std::floor(t / dn)), 0, (horiz ? g_.cols : g_.rows) - 1);
         outer = horiz ? !is_free(r_out, c) : !is_free(c, r_out);  // nothing free beyond the leg
+        if (!outer) break;
         const Point p =
             horiz ? g_.q_to_local(g_.x0 + t, g_.y0 + across) : g_.q_to_local(g_.x0 + across, g_.y0 + t);
         if (!bg::within(p, free_)) continue;
