@@ -53,6 +53,7 @@ class DarpPlanner final : public Planner {
     opt.placement_evaluations = params.at("placement_evaluations").get<int>();
     opt.optimise_placement = params.at("optimise_placement").get<bool>();
     opt.extend_legs = params.at("extend_legs").get<bool>();
+    opt.shift_legs = params.at("shift_legs").get<bool>();
     const darp::Output res = darp::run(in, opt, ctx);
 
     Assignment out;
@@ -128,6 +129,14 @@ PlannerInfo darp_planner_info() {
        "lengthen the loops' U-turns at the area's edge toward the boundary (strict: up to it; coverage: up "
        "to "
        "half a footprint past it; never into a no-fly zone)"},
+      {"shift_legs",
+       T::Boolean,
+       true,
+       {},
+       {},
+       {},
+       "move the legs along the area's edge outward, up to 0.45 spacing, until their swath reaches the "
+       "boundary (strict: staying inside; never into a no-fly zone)"},
   };
   info.supports = {.shares = true,
                    .no_fly_zones = true,

@@ -29,6 +29,7 @@ struct Options {
   int placement_evaluations = 1500;  ///< grid placement budget (annealing steps in total)
   bool optimise_placement = true;
   bool extend_legs = true;  ///< lengthen U-turns at the region's edge toward the boundary (extend.hpp)
+  bool shift_legs = true;   ///< move legs along the region's outer edge outward (LegExtender::shift)
 };
 
 struct Input {

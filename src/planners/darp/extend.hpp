@@ -9,6 +9,8 @@
 // The moved turn stays inside the part of the non-free cell that its own cell claims: the whole cell
 // when it is that cell's only free neighbour, otherwise the triangle facing it (depth < ds / 2), so that
 // extensions from different cells (and UAVs) never meet.
+// Legs that run along the region's outer edge (issue 16, "shift") move outward across their own direction
+// instead (shift()): an edge parallel to the legs is out of reach of any U-turn.
 #pragma once
 
 #include <memory>
@@ -29,6 +31,15 @@ class LegExtender {
   /// Extends the U-turns of one closed loop (last == first, local frame) in place; returns how many
   /// turns moved.
   int extend(std::vector<Point>& loop) const;
+
+  /// Shifts the legs that run along a region's outer edge outward, across their own direction: a leg on
+  /// the outer sub-cell lane of its mega-cells with no free cell beyond moves by up to 0.45 ds (it stays
+  /// in its own mega-cell, and its swath still meets the inner lane's) until its swath (w/2 = 0.75 ds to
+  /// either side) reaches the boundary beside it. Both of its vertices move, so its neighbours only get
+  /// longer or shorter: no vertex is added. The same limits as extend() (no-fly zones, strict mode), and
+  /// every moved segment keeps 0.05 ds from every other segment of `loops` (all UAVs' loops, closed,
+  /// local frame). Returns how many legs moved.
+  int shift(const std::vector<std::vector<Point>*>& loops) const;
 
  private:
   struct Index;
