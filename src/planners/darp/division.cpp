@@ -13,7 +13,9 @@ namespace {
 
 constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
 constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
-constexpr int kStagnation = 100;         // ... or after this many evaluations without a better division
+constexpr int kStagnation = 100;
+/// Trust region: no weight moves by more than this fraction of a mean region's radius per step.
+constexpr double kMaxStep = 0.3;  // ... or after this many evaluations without a better division
 /// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
 /// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
 constexpr double kClassicMaxWork = 1e5;
@@ -522,6 +524,16 @@ void finish(DivisionResult& out, const std::vector<double>& targets) {
   out.converged = normalised_deviation(out.counts, targets) <= 1.0;
 }
 
+/// Keeps in `a` the division closer to the targets (normalised deviation; `a` on ties), `b` being a
+/// later attempt on the same cells: iterations add up, and the later attempt's stop flag counts.
+void keep_closer(DivisionResult& a, DivisionResult&& b, const std::vector<double>& targets) {
+  const int iterations = a.iterations + b.iterations;
+  const bool stopped = b.stopped;
+  if (normalised_deviation(b.counts, targets) < normalised_deviation(a.counts, targets)) a = std::move(b);
+  a.iterations = iterations;
+  a.stopped = stopped;
+}
+
 /// The DARP iterations of Kapoutsis et al. (multiplicative correction of the evaluation matrices,
 /// connectivity matrices), then the boundary polish; for grids of up to kClassicMaxWork.
 void classic(const Graph& G, const DivisionInput& in, const std::vector<int>& st, DivisionResult& out,
@@ -698,25 +710,24 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
   const int max_iter =
       static_cast<int>(std::min<double>(std::max(1, in.max_iterations), std::max(100.0, 2e8 / n)));
   Balanced b = balance_waves(G, st, in.targets, max_iter, in.stop_early, progress);
-  out.iterations += b.iterations;
-  if (!classic_first || b.deviation < normalised_deviation(out.counts, in.targets)) {
-    out.owner = std::move(b.owner);
-    finish(out, in.targets);
+  DivisionResult waves;
+  waves.owner = std::move(b.owner);
+  waves.counts.assign(P, 0);
+  waves.iterations = b.iterations;
+  finish(waves, in.targets);
+  if (classic_first) {
+    keep_closer(out, std::move(waves), in.targets);
+    return out;
   }
-  if (!classic_first && !out.converged && !(in.stop_early && in.stop_early())) {
+  out = std::move(waves);
+  if (!out.converged && !(in.stop_early && in.stop_early())) {
     // the waves' weights can stall on unequal shares (bench/results/darp-scale.md): the classic
     // iterations (capped at ~2e8 cell evaluations) get their turn, and the closer division is kept
     DivisionResult c;
     c.owner.assign(n, 0);
     c.counts.assign(P, 0);
     classic(G, in, st, c, progress);
-    c.iterations += out.iterations;
-    if (normalised_deviation(c.counts, in.targets) < normalised_deviation(out.counts, in.targets)) {
-      out = std::move(c);
-    } else {
-      out.iterations = c.iterations;
-      out.stopped = c.stopped;
-    }
+    keep_closer(out, std::move(c), in.targets);
   }
   return out;
 }
