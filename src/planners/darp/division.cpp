@@ -13,9 +13,8 @@ namespace {
 
 constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
 constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
-constexpr int kStagnation = 100;
-/// Trust region: no weight moves by more than this fraction of a mean region's radius per step.
-constexpr double kMaxStep = 0.3;  // ... or after this many evaluations without a better division
+constexpr int kStagnation = 20;          // ... or after this many evaluations without a better division
+constexpr int kRebalanceRounds = 40;     // flow rounds of the border balance after the waves
 /// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
 /// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
 constexpr double kClassicMaxWork = 1e5;
@@ -514,6 +513,112 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
   return out;
 }
 
+/// Moves border cells from regions over their targets to regions under them, as a flow on the graph
+/// of adjacent regions (potentials phi from L phi = counts - targets, L the Laplacian weighted by the
+/// border links; region a hands w_ab (phi_a - phi_b) cells to b), for up to `rounds` rounds or until
+/// every region is within its tolerance. Each region keeps a spanning tree rooted at its start; only a
+/// leaf of it changes hands, and it hangs below the neighbour it joins, so every region stays connected
+/// and keeps its start. O(cells) memory and time per round.
+void rebalance(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
+               const std::vector<double>& targets, int rounds, const std::function<bool()>& stop_early) {
+  const int n = G.n, P = static_cast<int>(st.size());
+  std::vector<int> parent(n, -1), kids(n, 0), depth(n, 0), counts(P, 0), queue;
+  std::vector<char> is_start(n, 0);
+  for (int s : st) is_start[s] = 1;
+  for (int x = 0; x < n; ++x) ++counts[owner[x]];
+  for (int round = 0; round < rounds && normalised_deviation(counts, targets) > 1.0; ++round) {
+    if (stop_early && stop_early()) return;
+    // spanning trees: BFS from every start inside its own region
+    std::fill(parent.begin(), parent.end(), -1);
+    std::fill(kids.begin(), kids.end(), 0);
+    queue.assign(st.begin(), st.end());
+    for (int s : st) parent[s] = s, depth[s] = 0;
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const int u = queue[h];
+      for (int v : G.nb[u])
+        if (v >= 0 && parent[v] < 0 && owner[v] == owner[u]) {
+          parent[v] = u, depth[v] = depth[u] + 1, ++kids[u];
+          queue.push_back(v);
+        }
+    }
+    // hangs x's children below other cells of x's region that are no deeper than x (so not below x);
+    // true when x ends up a leaf. Depth grows along every tree edge, before and after.
+    auto free_leaf = [&](int x) {
+      for (int c : G.nb[x]) {
+        if (kids[x] == 0) break;
+        if (c < 0 || parent[c] != x || owner[c] != owner[x]) continue;
+        for (int z : G.nb[c])
+          if (z >= 0 && z != x && owner[z] == owner[x] && depth[z] <= depth[x]) {
+            parent[c] = z, ++kids[z], --kids[x], depth[c] = depth[z] + 1;
+            break;
+          }
+      }
+      return kids[x] == 0;
+    };
+    // border links per pair of regions, and the cells along each border
+    std::vector<double> links(static_cast<std::size_t>(P) * P, 0.0);
+    std::vector<std::vector<int>> border(static_cast<std::size_t>(P) * P);
+    for (int x = 0; x < n; ++x)
+      for (int v : G.nb[x])
+        if (v >= 0 && owner[v] != owner[x]) {
+          const std::size_t ab = static_cast<std::size_t>(owner[x]) * P + owner[v];
+          links[ab] += 1;
+          if (border[ab].empty() || border[ab].back() != x) border[ab].push_back(x);
+        }
+    const int m = P - 1;
+    std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | excess]
+    for (int i = 0; i < m; ++i) {
+      L[i][m] = counts[i] - targets[i];
+      double diag = 1e-9;
+      for (int j = 0; j < P; ++j) {
+        diag += links[static_cast<std::size_t>(i) * P + j];
+        if (j < m && j != i) L[i][j] = -links[static_cast<std::size_t>(i) * P + j];
+      }
+      L[i][i] = diag;
+    }
+    if (!solve(L)) return;
+    std::vector<double> phi(P, 0.0);
+    for (int i = 0; i < m; ++i) phi[i] = L[i][m];
+    // highest potential first: a region receives its inflow before it hands on its outflow
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return phi[a] > phi[b]; });
+    int moved = 0;
+    for (int a : order)
+      for (int b : order) {
+        const std::size_t ab = static_cast<std::size_t>(a) * P + b;
+        int want = static_cast<int>(std::lround(links[ab] * (phi[a] - phi[b])));
+        if (a == b || want <= 0) continue;
+        // b grows into a from their border, breadth first, taking leaves of a's tree only
+        std::vector<int> q = border[ab], deferred;
+        for (bool progress = true; want > 0 && progress;) {
+          progress = false;
+          for (std::size_t h = 0; h < q.size() && want > 0; ++h) {
+            const int x = q[h];
+            if (owner[x] != a) continue;
+            int y = -1;
+            for (int v : G.nb[x])
+              if (v >= 0 && owner[v] == b) y = v;
+            if (y < 0) continue;
+            if (is_start[x] || (kids[x] > 0 && !free_leaf(x))) {
+              deferred.push_back(x);
+              continue;
+            }
+            --kids[parent[x]];
+            owner[x] = b, parent[x] = y, ++kids[y], depth[x] = depth[y] + 1;
+            --counts[a], ++counts[b], --want, ++moved;
+            progress = true;
+            for (int v : G.nb[x])
+              if (v >= 0 && owner[v] == a) q.push_back(v);
+          }
+          q.swap(deferred);
+          deferred.clear();
+        }
+      }
+    if (moved == 0) return;
+  }
+}
+
 /// Counts, deviation and convergence of out.owner.
 void finish(DivisionResult& out, const std::vector<double>& targets) {
   std::fill(out.counts.begin(), out.counts.end(), 0);
@@ -715,6 +820,10 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
   waves.counts.assign(P, 0);
   waves.iterations = b.iterations;
   finish(waves, in.targets);
+  if (!waves.converged) {
+    rebalance(G, waves.owner, st, in.targets, kRebalanceRounds, in.stop_early);
+    finish(waves, in.targets);
+  }
   if (classic_first) {
     keep_closer(out, std::move(waves), in.targets);
     return out;
