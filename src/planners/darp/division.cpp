@@ -439,6 +439,27 @@ bool solve(std::vector<std::vector<double>>& A) {
   return true;
 }
 
+/// Solves L x = rhs for the Laplacian L of the symmetric P x P weights W (row-major), the last
+/// participant's x held at 0 (L is singular); false when L is (a region without neighbours).
+bool solve_laplacian(const std::vector<double>& W, const std::vector<double>& rhs, std::vector<double>& x) {
+  const int P = static_cast<int>(rhs.size()), m = P - 1;
+  std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
+  for (int i = 0; i < m; ++i) {
+    L[i][m] = rhs[i];
+    double diag = 1e-6;
+    for (int j = 0; j < P; ++j) {
+      const double b = W[static_cast<std::size_t>(i) * P + j];
+      diag += b;
+      if (j < m && j != i) L[i][j] = -b;
+    }
+    L[i][i] = diag;
+  }
+  if (!solve(L)) return false;
+  x.assign(P, 0.0);
+  for (int i = 0; i < m; ++i) x[i] = L[i][m];
+  return true;
+}
+
 /// Tunes the waves' weights until every region is within its tolerance (or the iterations run out), by
 /// damped Newton steps: the Jacobian of the counts is the Laplacian of the regions' border sensitivities
 /// (Waves::run). Each step is halved until the squared normalised error drops.
@@ -477,22 +498,10 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
   std::vector<double> wt(P), step(P);
   while (out.deviation > kAim && out.iterations < max_iter && out.iterations - last_gain < kStagnation &&
          !(stop_early && stop_early())) {
-    // Newton step: L step = targets - counts, with the last participant's weight held (L is singular)
-    const int m = P - 1;
-    std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
-    for (int i = 0; i < m; ++i) {
-      L[i][m] = targets[i] - counts[i];
-      double diag = 1e-6;
-      for (int j = 0; j < P; ++j) {
-        const double b = sens[static_cast<std::size_t>(i) * P + j];
-        diag += b;
-        if (j < m && j != i) L[i][j] = -b;
-      }
-      L[i][i] = diag;
-    }
-    if (!solve(L)) break;  // a region without neighbours: nothing to trade
-    for (int i = 0; i < m; ++i) step[i] = L[i][m];
-    step[m] = 0;
+    // Newton step: L step = targets - counts
+    std::vector<double> rhs(P);
+    for (int i = 0; i < P; ++i) rhs[i] = targets[i] - counts[i];
+    if (!solve_laplacian(sens, rhs, step)) break;  // a region without neighbours: nothing to trade
     double tau = 1.0;
     for (int halvings = 0; halvings < 8 && out.iterations < max_iter; ++halvings, tau *= 0.5) {
       if (halvings > 0 && stop_early && stop_early()) break;
@@ -565,20 +574,9 @@ void rebalance(const Graph& G, std::vector<int>& owner, const std::vector<int>& 
           links[ab] += 1;
           if (border[ab].empty() || border[ab].back() != x) border[ab].push_back(x);
         }
-    const int m = P - 1;
-    std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | excess]
-    for (int i = 0; i < m; ++i) {
-      L[i][m] = counts[i] - targets[i];
-      double diag = 1e-9;
-      for (int j = 0; j < P; ++j) {
-        diag += links[static_cast<std::size_t>(i) * P + j];
-        if (j < m && j != i) L[i][j] = -links[static_cast<std::size_t>(i) * P + j];
-      }
-      L[i][i] = diag;
-    }
-    if (!solve(L)) return;
-    std::vector<double> phi(P, 0.0);
-    for (int i = 0; i < m; ++i) phi[i] = L[i][m];
+    std::vector<double> excess(P), phi;
+    for (int i = 0; i < P; ++i) excess[i] = counts[i] - targets[i];
+    if (!solve_laplacian(links, excess, phi)) return;
     // highest potential first: a region receives its inflow before it hands on its outflow
     std::vector<int> order(P);
     for (int i = 0; i < P; ++i) order[i] = i;
