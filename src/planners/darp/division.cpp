@@ -13,7 +13,8 @@ namespace {
 
 constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis et al.)
 constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
-constexpr int kStagnation = 100;         // ... or after this many evaluations without a better division
+constexpr int kStagnation = 20;          // ... or after this many evaluations without a better division
+constexpr int kRebalanceRounds = 40;     // flow rounds of the border balance after the waves
 /// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
 /// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
 constexpr double kClassicMaxWork = 1e5;
@@ -438,6 +439,27 @@ bool solve(std::vector<std::vector<double>>& A) {
   return true;
 }
 
+/// Solves L x = rhs for the Laplacian L of the symmetric P x P weights W (row-major), the last
+/// participant's x held at 0 (L is singular); false when L is (a region without neighbours).
+bool solve_laplacian(const std::vector<double>& W, const std::vector<double>& rhs, std::vector<double>& x) {
+  const int P = static_cast<int>(rhs.size()), m = P - 1;
+  std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
+  for (int i = 0; i < m; ++i) {
+    L[i][m] = rhs[i];
+    double diag = 1e-6;
+    for (int j = 0; j < P; ++j) {
+      const double b = W[static_cast<std::size_t>(i) * P + j];
+      diag += b;
+      if (j < m && j != i) L[i][j] = -b;
+    }
+    L[i][i] = diag;
+  }
+  if (!solve(L)) return false;
+  x.assign(P, 0.0);
+  for (int i = 0; i < m; ++i) x[i] = L[i][m];
+  return true;
+}
+
 /// Tunes the waves' weights until every region is within its tolerance (or the iterations run out), by
 /// damped Newton steps: the Jacobian of the counts is the Laplacian of the regions' border sensitivities
 /// (Waves::run). Each step is halved until the squared normalised error drops.
@@ -476,22 +498,10 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
   std::vector<double> wt(P), step(P);
   while (out.deviation > kAim && out.iterations < max_iter && out.iterations - last_gain < kStagnation &&
          !(stop_early && stop_early())) {
-    // Newton step: L step = targets - counts, with the last participant's weight held (L is singular)
-    const int m = P - 1;
-    std::vector<std::vector<double>> L(m, std::vector<double>(m + 1, 0.0));  // [L | rhs]
-    for (int i = 0; i < m; ++i) {
-      L[i][m] = targets[i] - counts[i];
-      double diag = 1e-6;
-      for (int j = 0; j < P; ++j) {
-        const double b = sens[static_cast<std::size_t>(i) * P + j];
-        diag += b;
-        if (j < m && j != i) L[i][j] = -b;
-      }
-      L[i][i] = diag;
-    }
-    if (!solve(L)) break;  // a region without neighbours: nothing to trade
-    for (int i = 0; i < m; ++i) step[i] = L[i][m];
-    step[m] = 0;
+    // Newton step: L step = targets - counts
+    std::vector<double> rhs(P);
+    for (int i = 0; i < P; ++i) rhs[i] = targets[i] - counts[i];
+    if (!solve_laplacian(sens, rhs, step)) break;  // a region without neighbours: nothing to trade
     double tau = 1.0;
     for (int halvings = 0; halvings < 8 && out.iterations < max_iter; ++halvings, tau *= 0.5) {
       if (halvings > 0 && stop_early && stop_early()) break;
@@ -512,6 +522,101 @@ Balanced balance_waves(const Graph& G, const std::vector<int>& st, const std::ve
   return out;
 }
 
+/// Moves border cells from regions over their targets to regions under them, as a flow on the graph
+/// of adjacent regions (potentials phi from L phi = counts - targets, L the Laplacian weighted by the
+/// border links; region a hands w_ab (phi_a - phi_b) cells to b), for up to `rounds` rounds or until
+/// every region is within its tolerance. Each region keeps a spanning tree rooted at its start; only a
+/// leaf of it changes hands, and it hangs below the neighbour it joins, so every region stays connected
+/// and keeps its start. O(cells) memory and time per round.
+void rebalance(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
+               const std::vector<double>& targets, int rounds, const std::function<bool()>& stop_early) {
+  const int n = G.n, P = static_cast<int>(st.size());
+  std::vector<int> parent(n, -1), kids(n, 0), depth(n, 0), counts(P, 0), queue;
+  std::vector<char> is_start(n, 0);
+  for (int s : st) is_start[s] = 1;
+  for (int x = 0; x < n; ++x) ++counts[owner[x]];
+  for (int round = 0; round < rounds && normalised_deviation(counts, targets) > 1.0; ++round) {
+    if (stop_early && stop_early()) return;
+    // spanning trees: BFS from every start inside its own region
+    std::fill(parent.begin(), parent.end(), -1);
+    std::fill(kids.begin(), kids.end(), 0);
+    queue.assign(st.begin(), st.end());
+    for (int s : st) parent[s] = s, depth[s] = 0;
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const int u = queue[h];
+      for (int v : G.nb[u])
+        if (v >= 0 && parent[v] < 0 && owner[v] == owner[u]) {
+          parent[v] = u, depth[v] = depth[u] + 1, ++kids[u];
+          queue.push_back(v);
+        }
+    }
+    // hangs x's children below other cells of x's region that are no deeper than x (so not below x);
+    // true when x ends up a leaf. Depth grows along every tree edge, before and after.
+    auto free_leaf = [&](int x) {
+      for (int c : G.nb[x]) {
+        if (kids[x] == 0) break;
+        if (c < 0 || parent[c] != x || owner[c] != owner[x]) continue;
+        for (int z : G.nb[c])
+          if (z >= 0 && z != x && owner[z] == owner[x] && depth[z] <= depth[x]) {
+            parent[c] = z, ++kids[z], --kids[x], depth[c] = depth[z] + 1;
+            break;
+          }
+      }
+      return kids[x] == 0;
+    };
+    // border links per pair of regions, and the cells along each border
+    std::vector<double> links(static_cast<std::size_t>(P) * P, 0.0);
+    std::vector<std::vector<int>> border(static_cast<std::size_t>(P) * P);
+    for (int x = 0; x < n; ++x)
+      for (int v : G.nb[x])
+        if (v >= 0 && owner[v] != owner[x]) {
+          const std::size_t ab = static_cast<std::size_t>(owner[x]) * P + owner[v];
+          links[ab] += 1;
+          if (border[ab].empty() || border[ab].back() != x) border[ab].push_back(x);
+        }
+    std::vector<double> excess(P), phi;
+    for (int i = 0; i < P; ++i) excess[i] = counts[i] - targets[i];
+    if (!solve_laplacian(links, excess, phi)) return;
+    // highest potential first: a region receives its inflow before it hands on its outflow
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return phi[a] > phi[b]; });
+    int moved = 0;
+    for (int a : order)
+      for (int b : order) {
+        const std::size_t ab = static_cast<std::size_t>(a) * P + b;
+        int want = static_cast<int>(std::lround(links[ab] * (phi[a] - phi[b])));
+        if (a == b || want <= 0) continue;
+        // b grows into a from their border, breadth first, taking leaves of a's tree only
+        std::vector<int> q = border[ab], deferred;
+        for (bool progress = true; want > 0 && progress;) {
+          progress = false;
+          for (std::size_t h = 0; h < q.size() && want > 0; ++h) {
+            const int x = q[h];
+            if (owner[x] != a) continue;
+            int y = -1;
+            for (int v : G.nb[x])
+              if (v >= 0 && owner[v] == b) y = v;
+            if (y < 0) continue;
+            if (is_start[x] || (kids[x] > 0 && !free_leaf(x))) {
+              deferred.push_back(x);
+              continue;
+            }
+            --kids[parent[x]];
+            owner[x] = b, parent[x] = y, ++kids[y], depth[x] = depth[y] + 1;
+            --counts[a], ++counts[b], --want, ++moved;
+            progress = true;
+            for (int v : G.nb[x])
+              if (v >= 0 && owner[v] == a) q.push_back(v);
+          }
+          q.swap(deferred);
+          deferred.clear();
+        }
+      }
+    if (moved == 0) return;
+  }
+}
+
 /// Counts, deviation and convergence of out.owner.
 void finish(DivisionResult& out, const std::vector<double>& targets) {
   std::fill(out.counts.begin(), out.counts.end(), 0);
@@ -520,6 +625,16 @@ void finish(DivisionResult& out, const std::vector<double>& targets) {
   for (std::size_t i = 0; i < targets.size(); ++i)
     out.max_deviation = std::max(out.max_deviation, std::fabs(out.counts[i] - targets[i]));
   out.converged = normalised_deviation(out.counts, targets) <= 1.0;
+}
+
+/// Keeps in `a` the division closer to the targets (normalised deviation; `a` on ties), `b` being a
+/// later attempt on the same cells: iterations add up, and the later attempt's stop flag counts.
+void keep_closer(DivisionResult& a, DivisionResult&& b, const std::vector<double>& targets) {
+  const int iterations = a.iterations + b.iterations;
+  const bool stopped = b.stopped;
+  if (normalised_deviation(b.counts, targets) < normalised_deviation(a.counts, targets)) a = std::move(b);
+  a.iterations = iterations;
+  a.stopped = stopped;
 }
 
 /// The DARP iterations of Kapoutsis et al. (multiplicative correction of the evaluation matrices,
@@ -698,25 +813,28 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
   const int max_iter =
       static_cast<int>(std::min<double>(std::max(1, in.max_iterations), std::max(100.0, 2e8 / n)));
   Balanced b = balance_waves(G, st, in.targets, max_iter, in.stop_early, progress);
-  out.iterations += b.iterations;
-  if (!classic_first || b.deviation < normalised_deviation(out.counts, in.targets)) {
-    out.owner = std::move(b.owner);
-    finish(out, in.targets);
+  DivisionResult waves;
+  waves.owner = std::move(b.owner);
+  waves.counts.assign(P, 0);
+  waves.iterations = b.iterations;
+  finish(waves, in.targets);
+  if (!waves.converged) {
+    rebalance(G, waves.owner, st, in.targets, kRebalanceRounds, in.stop_early);
+    finish(waves, in.targets);
   }
-  if (!classic_first && !out.converged && !(in.stop_early && in.stop_early())) {
+  if (classic_first) {
+    keep_closer(out, std::move(waves), in.targets);
+    return out;
+  }
+  out = std::move(waves);
+  if (!out.converged && !(in.stop_early && in.stop_early())) {
     // the waves' weights can stall on unequal shares (bench/results/darp-scale.md): the classic
     // iterations (capped at ~2e8 cell evaluations) get their turn, and the closer division is kept
     DivisionResult c;
     c.owner.assign(n, 0);
     c.counts.assign(P, 0);
     classic(G, in, st, c, progress);
-    c.iterations += out.iterations;
-    if (normalised_deviation(c.counts, in.targets) < normalised_deviation(out.counts, in.targets)) {
-      out = std::move(c);
-    } else {
-      out.iterations = c.iterations;
-      out.stopped = c.stopped;
-    }
+    keep_closer(out, std::move(c), in.targets);
   }
   return out;
 }

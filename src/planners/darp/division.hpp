@@ -3,7 +3,9 @@
 // distances, multiplicative correction toward each share, connectivity matrices C_i, a small random
 // factor, and a tolerance that relaxes over retries. Large grids, and divisions that miss a share, are
 // balanced by additively weighted waves instead (division.cpp, Waves): connected by construction, one
-// pass over the cells per iteration whatever the number of participants.
+// pass over the cells per iteration whatever the number of participants; a border rebalance (a flow on
+// the graph of adjacent regions, moving leaves of per-region spanning trees) then brings every region
+// to its share where the waves' weights stall (unequal shares).
 #pragma once
 
 #include <cstdint>
