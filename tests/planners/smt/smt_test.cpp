@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <queue>
 #include <set>
@@ -423,6 +424,38 @@ TEST(SmtCover, ATurnPenaltyNeverGivesMoreTurnsThanTheLengthOptimum) {
     fewer += b.turns < a.turns ? 1 : 0;
   }
   EXPECT_GT(fewer, 0) << "the penalty removed turns somewhere";
+}
+
+TEST(SmtCover, AResourceBudgetIsDeterministicAndALargerOneNeverWorse) {
+  // a 4 x 5 tile with a turn penalty (the search z3 does not finish quickly); no wall clock involved
+  const Problem p = problem(mp({rect(0, 0, 40, 50)}), {}, {Point{-5, -5}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 1000);
+  std::vector<int> nodes(static_cast<std::size_t>(lat.size()));
+  for (int v = 0; v < lat.size(); ++v) nodes[static_cast<std::size_t>(v)] = v;
+  const smt::Subgraph g = smt::subgraph(lat, nodes);
+  smt::CoverOptions o;
+  o.timeout_s = 600.0;
+  o.turn_penalty = 1000;
+  long long previous = std::numeric_limits<long long>::max(), first = -1;
+  unsigned long long spent = 0;
+  for (const unsigned long long budget : {20000ULL, 100000ULL, 500000ULL}) {
+    SCOPED_TRACE("budget " + std::to_string(budget));
+    o.resource_budget = budget;
+    const smt::CoverResult a = smt::solve_cover(g, o, nullptr);
+    const smt::CoverResult b = smt::solve_cover(g, o, nullptr);
+    EXPECT_EQ(a.walk, b.walk);
+    EXPECT_EQ(a.resources, b.resources);
+    EXPECT_EQ(a.checks, b.checks);
+    EXPECT_FALSE(a.timed_out);
+    EXPECT_TRUE(a.optimal || a.budget_out);
+    EXPECT_GE(a.resources, spent);
+    EXPECT_LE(a.objective, previous) << "the larger budget repeats the smaller one's checks, then goes on";
+    previous = a.objective;
+    if (first < 0) first = a.objective;
+    spent = a.resources;
+    EXPECT_EQ(std::set<int>(a.walk.begin(), a.walk.end()).size(), static_cast<std::size_t>(g.n));
+  }
+  EXPECT_LT(previous, first) << "the budget is what ends the search: more of it finds a better walk";
 }
 
 TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithNoMoreTurnPairs) {
