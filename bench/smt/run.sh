@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # SMT planner benchmark (issue 15): the thesis rectangle of Table 5.3 (bench/data/mondinelli2025) with
 # POPCORN's 5-minute flight-time limit, and the 20 regions of bench/data/apostolidis2022 (1 UAV, ds 40 m,
-# coverage mode) under a 25-minute limit, each with `uavcover compare --planners smt,darp` (one evaluator)
-# plus `uavcover plan` for the smt plan's route diagnostics. Writes bench/results/smt.md.
+# coverage mode) under a 25-minute limit (the whole battery: the missions' battery_reserve is set to 0,
+# so that the engine's battery sorties, endurance x (1 - battery_reserve), hold the 25-minute routes),
+# each with `uavcover compare --planners smt,darp` (one evaluator) plus `uavcover plan` for the smt
+# plan's route diagnostics. Writes bench/results/smt.md.
 # usage: bench/smt/run.sh [BUILD_DIR]    env: ROIS="01 02" MODE=coverage ROI_PARAMS='{"max_flight_time_s":1500}' RECT=1
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -54,7 +56,7 @@ fi
 for n in $rois; do
   roi="roi$(printf %02d "$((10#$n))")"
   variant "$roi" "$data/apostolidis2022/$roi.json" \
-    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"planner_params\"]=json.loads(__import__(\"os\").environ[\"ROI_PARAMS\"])"
+    "m[\"planner\"]=\"smt\"; m[\"mode\"]=\"$mode\"; m[\"battery_reserve\"]=0; m[\"planner_params\"]=json.loads(__import__(\"os\").environ[\"ROI_PARAMS\"])"
   run "$roi"
 done
 

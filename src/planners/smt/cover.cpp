@@ -249,6 +249,8 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
     const CoverResult inner = solve_cover(light, options, interrupter);
     out.checks += inner.checks;
     out.cuts += inner.cuts;
+    out.resources += inner.resources;  // the tile's budget is shared by both searches
+    out.timed_out = inner.timed_out;
     const long long objective = inner.length + penalty * walk_turn_pairs(g, inner.walk);
     if (!inner.fallback && objective < out.objective) {
       out.walk = inner.walk;
@@ -379,6 +381,16 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
         }
       }
 
+    // the resource budget left for this context's checks (z3's rlimit count is cumulative per context)
+    const unsigned long long spent_before = out.resources;
+    auto spent = [&] {
+      const z3::stats st = s.statistics();
+      for (unsigned i = 0; i < st.size(); ++i)
+        if (st.key(i) == "rlimit count")
+          return static_cast<unsigned long long>(st.is_uint(i) ? st.uint_value(i) : st.double_value(i));
+      return 0ULL;
+    };
+
     std::vector<int> use(g.edges.size(), 0), label;
     // One bound: check, cut the model's subtours, check again until a connected model (1), unsat (0) or
     // no answer in the budget (-1). The bound and the cuts stay in the solver's current scope.
@@ -389,11 +401,26 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
       s.add(z3::pble(terms, coeffs.data(),
                      static_cast<int>(std::min<long long>(bound, std::numeric_limits<int>::max()))));
       for (int round = 0; round < options.max_cut_rounds; ++round) {
+        if (interrupter && interrupter->interrupted()) return -1;
+        // the deterministic budget first: a check gets the smaller of its own rlimit and what is left
+        unsigned long long limit = options.rlimit > 0 ? options.rlimit : 0ULL;
+        if (options.resource_budget > 0) {
+          if (out.resources >= options.resource_budget) {
+            out.budget_out = true;
+            return -1;
+          }
+          const unsigned long long left = options.resource_budget - out.resources;
+          limit = limit > 0 ? std::min(limit, left) : left;
+        }
+        limit = std::min<unsigned long long>(limit, std::numeric_limits<unsigned>::max());
         const double left = options.timeout_s - std::chrono::duration<double>(Clock::now() - t0).count();
-        if (left <= 0.0 || (interrupter && interrupter->interrupted())) return -1;
+        if (left <= 0.0) {
+          out.timed_out = true;
+          return -1;
+        }
         z3::params p(c);
         p.set("timeout", static_cast<unsigned>(std::max(1.0, std::min(left * 1000.0, 4.0e9))));
-        if (options.rlimit > 0) p.set("rlimit", options.rlimit);
+        if (limit > 0) p.set("rlimit", static_cast<unsigned>(limit));
         p.set("random_seed", options.seed);
         s.set(p);
         ++out.checks;
@@ -403,8 +430,18 @@ CoverResult solve_cover(const Subgraph& g, const CoverOptions& options, Interrup
         } catch (const z3::exception&) {  // interrupted or out of resources
           r = z3::unknown;
         }
+        out.resources = spent_before + spent();
         if (r == z3::unsat) return 0;
-        if (r != z3::sat) return -1;
+        if (r != z3::sat) {
+          // which budget ended the check: the wall clock (load-dependent), or else the resources
+          const double after = options.timeout_s - std::chrono::duration<double>(Clock::now() - t0).count();
+          if (interrupter && interrupter->interrupted()) return -1;
+          if (after <= 0.0 || s.reason_unknown().find("timeout") != std::string::npos)
+            out.timed_out = true;
+          else
+            out.budget_out = true;
+          return -1;
+        }
         const z3::model m = s.get_model();
         for (std::size_t e = 0; e < g.edges.size(); ++e)
           use[e] = (m.eval(once[e], true).is_true() ? 1 : 0) + (m.eval(twice[e], true).is_true() ? 1 : 0);

@@ -34,9 +34,12 @@ struct Subgraph {
 };
 
 struct CoverOptions {
-  int bound_offset = 1;      ///< each tightening asks for a walk shorter by this many shortest edges
-  double timeout_s = 2.0;    ///< wall-clock budget of the subproblem (all its z3 checks)
-  unsigned rlimit = 0;       ///< z3 resource limit per check (0: none); deterministic, unlike time
+  int bound_offset = 1;  ///< each tightening asks for a walk shorter by this many shortest edges
+  /// wall-clock safety net of the subproblem (all its z3 checks); a search it ends depends on the machine
+  double timeout_s = 2.0;
+  unsigned rlimit = 0;  ///< z3 resource limit (rlimit) per check (0: none); deterministic, unlike time
+  /// z3 resource units (rlimit) for all checks of the subproblem together (0: none); deterministic
+  unsigned long long resource_budget = 0;
   unsigned seed = 0;         ///< z3 random seeds
   int max_cut_rounds = 200;  ///< subtour-cut rounds per bound before giving up on that bound
   int turn_penalty = 0;  ///< objective cost of one turning pair of used edges (weight units); 0: length only
@@ -55,6 +58,9 @@ struct CoverResult {
   int turns = 0;                      ///< turning pairs (Subgraph::turns) among the edges `walk` uses
   long long objective = 0;            ///< length + turn_penalty * turns of `walk`
   std::vector<long long> objectives;  ///< objective of every connected model, in the order found
+  unsigned long long resources = 0;   ///< z3 resource units (rlimit count) spent by the checks
+  bool budget_out = false;  ///< the resource budget (or a check's rlimit) ended the search: deterministic
+  bool timed_out = false;   ///< `timeout_s` ended the search: the result depends on the machine's load
 };
 
 /// Interrupts running z3 checks from another thread (a stop request, the plan's deadline).

@@ -290,21 +290,79 @@ Walk flight_order(const Lattice& lat, const Walk& walk, int entry, Point home) {
   return out;
 }
 
-RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
-                     const LegFn& leg) {
-  const Walk path = flight_order(lat, walk, entry, home);
+RouteCost path_cost(const Lattice& lat, const Walk& path, Point home, const Uav& uav, const LegFn& leg) {
   if (path.empty()) return {};
-  std::vector<Point> flight = leg(home, lat.pos[static_cast<std::size_t>(path.front())]);
+  const std::vector<Point> out_leg = leg(home, lat.pos[static_cast<std::size_t>(path.front())]);
+  const std::vector<Point> cover = walk_polyline(lat, path, false);
+  const std::vector<Point> back_leg = leg(lat.pos[static_cast<std::size_t>(path.back())], home);
+  std::vector<Point> flight;
   auto append = [&](const std::vector<Point>& pts) {
     for (const Point& p : pts)
       if (flight.empty() || dist2(flight.back(), p) > 1e-12) flight.push_back(p);
   };
-  append(walk_polyline(lat, path, false));
-  append(leg(lat.pos[static_cast<std::size_t>(path.back())], home));
+  append(out_leg);
+  append(cover);
+  append(back_leg);
   RouteCost out;
   out.length_m = geometry::length(flight);
-  out.turns = geometry::count_turns(flight);
+  out.turns =
+      static_cast<int>(cover.size()) + geometry::count_turns(out_leg) + geometry::count_turns(back_leg);
   out.time_s = evaluation::flight_duration_min(out.length_m, out.turns, uav) * 60.0;
+  return out;
+}
+
+RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
+                     const LegFn& leg) {
+  return path_cost(lat, flight_order(lat, walk, entry, home), home, uav, leg);
+}
+
+std::vector<Route> split_route(const Lattice& lat, const Route& route, Point home, const Uav& uav,
+                               double max_time_s, const LegFn& leg) {
+  const Walk& path = route.walk;
+  std::vector<char> visited(lat.pos.size(), 0);
+  std::vector<Route> out;
+  std::size_t i = 0;
+  auto skip_visited = [&] {
+    while (i < path.size() && visited[static_cast<std::size_t>(path[i])]) ++i;
+  };
+  for (skip_visited(); i < path.size(); skip_visited()) {
+    // the longest piece path[i..j] within the limit, then its trailing revisits dropped
+    Walk piece{path[i]};
+    RouteCost cost = path_cost(lat, piece, home, uav, leg);
+    if (cost.time_s > max_time_s) {
+      const Point q = lat.pos[static_cast<std::size_t>(path[i])];
+      throw InputError(
+          "planner_params.max_flight_time_s",
+          fmt::format("must be at least {:.1f} s: the lattice node at ({:.1f}, {:.1f}) m takes that "
+                      "long from home and back (limit {:.1f} s)",
+                      cost.time_s, q.x(), q.y(), max_time_s));
+    }
+    std::size_t j = i + 1;
+    for (; j < path.size(); ++j) {
+      piece.push_back(path[j]);
+      const RouteCost c = path_cost(lat, piece, home, uav, leg);
+      if (c.time_s > max_time_s) {
+        piece.pop_back();
+        break;
+      }
+      cost = c;
+    }
+    while (piece.size() > 1 && (visited[static_cast<std::size_t>(piece.back())] ||
+                                std::count(piece.begin(), piece.end(), piece.back()) > 1)) {
+      piece.pop_back();
+      cost = path_cost(lat, piece, home, uav, leg);
+    }
+    for (int v : piece) visited[static_cast<std::size_t>(v)] = 1;
+    i = j;
+    Route r;
+    r.walk = std::move(piece);
+    r.entry = r.walk.front();
+    r.time_s = cost.time_s;
+    r.length_m = cost.length_m;
+    r.turns = cost.turns;
+    r.walks = 1;
+    out.push_back(std::move(r));
+  }
   return out;
 }
 
@@ -376,7 +434,7 @@ int nearest(const Lattice& lat, const Walk& w, Point home) {
 }  // namespace
 
 std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Point home, const Uav& uav,
-                          double max_time_s, const LegFn& leg, int* over_limit,
+                          double max_time_s, const LegFn& leg, int* split,
                           const std::function<void()>& check) {
   std::vector<int> walk_of(lat.pos.size(), -1);
   std::vector<double> home_d(walks.size());
@@ -390,7 +448,7 @@ std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Po
            (home_d[static_cast<std::size_t>(a)] == home_d[static_cast<std::size_t>(b)] && a < b);
   };
   std::vector<Route> routes;
-  if (over_limit) *over_limit = 0;
+  if (split) *split = 0;
   for (;;) {
     int first = -1;
     for (std::size_t w = 0; w < walks.size(); ++w)
@@ -402,7 +460,13 @@ std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Po
     route.entry = nearest(lat, route.walk, home);
     route.walks = 1;
     RouteCost cost = route_cost(lat, route.walk, route.entry, home, uav, leg);
-    if (cost.time_s > max_time_s && over_limit) ++*over_limit;
+    if (cost.time_s > max_time_s) {  // too long alone: flown in pieces, none spliced into
+      if (split) ++*split;
+      route.walk = flight_order(lat, route.walk, route.entry, home);
+      for (auto& piece : split_route(lat, route, home, uav, max_time_s, leg))
+        routes.push_back(std::move(piece));
+      continue;
+    }
     std::vector<char> rejected(walks.size(), 0);
     for (bool grown = true; grown;) {
       grown = false;

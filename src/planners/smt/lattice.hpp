@@ -56,11 +56,13 @@ Subgraph subgraph(const Lattice& lat, const std::vector<int>& nodes);
 using Walk = std::vector<int>;
 
 struct Route {
-  Walk walk;            ///< in flight order (flight_order): from `entry` to the exit
-  int entry = 0;        ///< the route's node nearest the home point
+  /// in flight order from `entry` to the exit: a closed walk flown open (flight_order), or, for a piece
+  /// of a walk too long for one route (split_route), an open path
+  Walk walk;
+  int entry = 0;        ///< the route's first node (its node nearest home, unless a piece)
   double time_s = 0;    ///< modelled flight time home -> entry -> walk -> exit -> home
   double length_m = 0;  ///< the same flight's length
-  int turns = 0;        ///< its turns
+  int turns = 0;        ///< the turns the time model charges (path_cost)
   int walks = 0;        ///< subgraph walks stitched into it
 };
 
@@ -70,24 +72,37 @@ struct Route {
 /// home instead.
 Walk flight_order(const Lattice& lat, const Walk& walk, int entry, Point home);
 
-/// Flight time in seconds (eq. 15, with turns) and length of a route flown from `home` and back:
-/// home -> entry -> the walk in flight order -> exit -> home; `leg(a, b)` returns the transit polyline
-/// between two points (around no-fly zones).
+/// Flight time in seconds (eq. 15, with turns) and length of a flight from `home` over an open path of
+/// lattice nodes and back: home -> path[0] -> ... -> path.back() -> home; `leg(a, b)` returns the
+/// transit polyline between two points (around no-fly zones). Turns: every vertex of the path's
+/// polyline (collinear ones dropped), as the engine counts a sortie's turns (sorties.cpp), plus the
+/// bends of the two legs around no-fly zones, so that both the engine's sortie time and the flight's
+/// geometric turns are within `time_s`.
 struct RouteCost {
   double time_s = 0, length_m = 0;
   int turns = 0;
 };
 using LegFn = std::function<std::vector<Point>(Point, Point)>;
+RouteCost path_cost(const Lattice& lat, const Walk& path, Point home, const Uav& uav, const LegFn& leg);
+
+/// path_cost of a closed walk flown from `entry` in flight_order.
 RouteCost route_cost(const Lattice& lat, const Walk& walk, int entry, Point home, const Uav& uav,
                      const LegFn& leg);
+
+/// Cuts a route whose flight exceeds `max_time_s` into consecutive pieces of its path, each flown from
+/// home and back within the limit (greedy: each piece as long as the limit allows; nodes an earlier
+/// piece visited are not flown again at a piece's ends). Throws InputError
+/// ("planner_params.max_flight_time_s") when one node alone cannot be reached and left within it.
+std::vector<Route> split_route(const Lattice& lat, const Route& route, Point home, const Uav& uav,
+                               double max_time_s, const LegFn& leg);
 
 /// Tree stitching: starting from the walk nearest `home`, grows a route by splicing in adjacent walks
 /// (a zero-cost exchange of two parallel edges where there is one, else a detour over one lattice
 /// edge), nearest to home first, while the route's flight time stays within `max_time_s`; then starts
-/// the next route at the nearest walk left. A walk that alone exceeds the limit is still a route
-/// (`over_limit` counts them).
+/// the next route at the nearest walk left. A walk that alone exceeds the limit is cut into pieces
+/// (split_route; `split` counts such walks), so every route is within the limit.
 std::vector<Route> stitch(const Lattice& lat, const std::vector<Walk>& walks, Point home, const Uav& uav,
-                          double max_time_s, const LegFn& leg, int* over_limit,
+                          double max_time_s, const LegFn& leg, int* split,
                           const std::function<void()>& check = {});
 
 /// The polyline of a walk from its first node (`closed`: back to it; else to its last node),

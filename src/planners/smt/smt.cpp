@@ -43,6 +43,7 @@ Options read(const nlohmann::json& p) {
   o.cover.bound_offset = p.at("sat_bound_offset").get<int>();
   o.cover.timeout_s = p.at("timeout_s").get<double>();
   o.cover.rlimit = static_cast<unsigned>(p.at("resource_limit").get<long long>());
+  o.cover.resource_budget = static_cast<unsigned long long>(p.at("resource_budget").get<long long>());
   o.tree_stitch = p.at("stitch").get<std::string>() == "tree";
   if (!p.at("max_flight_time_s").is_null()) o.max_flight_time_s = p.at("max_flight_time_s").get<double>();
   o.endurance_reserve = p.at("endurance_reserve").get<double>();
@@ -191,8 +192,13 @@ class SmtPlanner final : public Planner {
           r.walk = smt::flight_order(lat, w, r.entry, problem.starts[u]);
           const auto c = smt::route_cost(lat, w, r.entry, problem.starts[u], uav, leg);
           r.time_s = c.time_s, r.length_m = c.length_m, r.turns = c.turns, r.walks = 1;
-          if (r.time_s > limit) ++over;
-          routes.push_back(std::move(r));
+          if (r.time_s <= limit) {
+            routes.push_back(std::move(r));
+            continue;
+          }
+          ++over;  // too long alone: flown in pieces, each within the limit
+          for (auto& piece : smt::split_route(lat, r, problem.starts[u], uav, limit, leg))
+            routes.push_back(std::move(piece));
         }
       }
       over_limit_total += over;
@@ -239,14 +245,18 @@ class SmtPlanner final : public Planner {
     }
     if (over_limit_total > 0)
       out.warnings.push_back(
-          fmt::format("{} route(s) exceed the flight-time limit on their own (one subgraph's walk plus the "
-                      "legs from home); "
-                      "lower planner_params.subgraph_size or raise planner_params.max_flight_time_s",
+          fmt::format("{} subgraph walk(s) exceed the flight-time limit on their own (with the legs from and "
+                      "back to home), so each is flown as several routes within it; lower "
+                      "planner_params.subgraph_size or raise planner_params.max_flight_time_s for fewer",
                       over_limit_total));
 
     long long first_total = 0, best_total = 0;
-    int optimal = 0, fallback = 0, checks = 0, cuts = 0, turns = 0;
+    int optimal = 0, fallback = 0, checks = 0, cuts = 0, turns = 0, timed_out = 0, budget_out = 0;
+    unsigned long long resources = 0;
     for (const auto& c : covers) {
+      timed_out += c.timed_out && !c.optimal ? 1 : 0;
+      budget_out += c.budget_out && !c.optimal ? 1 : 0;
+      resources += c.resources;
       first_total += c.first_length >= 0 ? c.first_length : c.length;
       best_total += c.length;
       optimal += c.optimal ? 1 : 0;
@@ -255,6 +265,11 @@ class SmtPlanner final : public Planner {
       cuts += c.cuts;
       turns += c.turns;
     }
+    if (timed_out > 0)
+      out.warnings.push_back(fmt::format(
+          "{} subgraph search(es) ended at planner_params.timeout_s before their resource budget: the plan "
+          "depends on the machine's load; raise timeout_s or lower resource_budget",
+          timed_out));
     const double unit = lat.ds / 1000.0;
     int edges = 0;
     for (const auto& a : lat.adj) edges += static_cast<int>(a.size());
@@ -270,12 +285,16 @@ class SmtPlanner final : public Planner {
                          {"fallback", fallback},
                          {"checks", checks},
                          {"cuts", cuts},
+                         {"resources", resources},
+                         {"budget_out", budget_out},
+                         {"timed_out", timed_out},
                          {"first_model_length_m", static_cast<double>(first_total) * unit},
                          {"length_m", static_cast<double>(best_total) * unit},
                          {"turn_pairs", turns},
                          {"turn_penalty_m", opt.turn_penalty_m},
                          {"threads", nthreads}}},
                        {"route_count", route_times.size()},
+                       {"split_walks", over_limit_total},
                        {"routes", std::move(routes_json)}};
     if (opt.wall_clock_s) {
       const int m = smt::min_uavs(route_times, *opt.wall_clock_s);
@@ -314,11 +333,12 @@ PlannerInfo smt_planner_info() {
        "each tightening asks z3 for a walk shorter by this many lattice steps"},
       {"timeout_s",
        T::Number,
-       5.0,
+       60.0,
        0.01,
        3600.0,
        {},
-       "wall-clock budget of one subproblem (all its z3 checks)"},
+       "wall-clock safety net of one subproblem (all its z3 checks); a search it ends depends on the "
+       "machine's load (diagnostics subgraphs.timed_out, a warning)"},
       {"resource_limit",
        T::Integer,
        2000000,
@@ -326,6 +346,14 @@ PlannerInfo smt_planner_info() {
        4e9,
        {},
        "z3 resource limit (rlimit) per check; deterministic, unlike timeout_s; 0: none"},
+      {"resource_budget",
+       T::Integer,
+       20000000,
+       0.0,
+       1e12,
+       {},
+       "z3 resource units (rlimit) for all checks of one subproblem together; deterministic, unlike "
+       "timeout_s; 0: none"},
       {"stitch",
        T::String,
        "tree",

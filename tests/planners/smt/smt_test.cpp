@@ -3,11 +3,13 @@
 // covered), the routes (each within the flight-time limit, more of them as the limit shrinks), no-fly
 // zones, and parameters refused by name.
 #ifdef UAVCOVER_HAS_SMT
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <queue>
 #include <set>
@@ -234,10 +236,15 @@ TEST(SmtRoutes, EveryRouteStaysWithinTheLimitAndShorterLimitsNeedMoreRoutes) {
       std::vector<Point> cycle{p.starts[0]};
       cycle.insert(cycle.end(), part.begin(), part.end());
       cycle.push_back(p.starts[0]);
+      // eq. 15 with the turns the engine charges a sortie (every coverage vertex; straight legs here)
       const double t =
-          evaluation::flight_duration_min(geometry::length(cycle), geometry::count_turns(cycle), p.uavs[0]) *
+          evaluation::flight_duration_min(geometry::length(cycle), static_cast<int>(part.size()), p.uavs[0]) *
           60.0;
       EXPECT_NEAR(routes[i].at("time_s").get<double>(), t, 1e-6);
+      // and never less than with the flight's geometric turns
+      EXPECT_GE(t + 1e-9, evaluation::flight_duration_min(geometry::length(cycle),
+                                                          geometry::count_turns(cycle), p.uavs[0]) *
+                              60.0);
     }
     EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
   }
@@ -419,6 +426,38 @@ TEST(SmtCover, ATurnPenaltyNeverGivesMoreTurnsThanTheLengthOptimum) {
   EXPECT_GT(fewer, 0) << "the penalty removed turns somewhere";
 }
 
+TEST(SmtCover, AResourceBudgetIsDeterministicAndALargerOneNeverWorse) {
+  // a 4 x 5 tile with a turn penalty (the search z3 does not finish quickly); no wall clock involved
+  const Problem p = problem(mp({rect(0, 0, 40, 50)}), {}, {Point{-5, -5}}, 10.0);
+  const smt::Lattice lat = smt::build_lattice(p, false, 1000);
+  std::vector<int> nodes(static_cast<std::size_t>(lat.size()));
+  for (int v = 0; v < lat.size(); ++v) nodes[static_cast<std::size_t>(v)] = v;
+  const smt::Subgraph g = smt::subgraph(lat, nodes);
+  smt::CoverOptions o;
+  o.timeout_s = 600.0;
+  o.turn_penalty = 1000;
+  long long previous = std::numeric_limits<long long>::max(), first = -1;
+  unsigned long long spent = 0;
+  for (const unsigned long long budget : {20000ULL, 100000ULL, 500000ULL}) {
+    SCOPED_TRACE("budget " + std::to_string(budget));
+    o.resource_budget = budget;
+    const smt::CoverResult a = smt::solve_cover(g, o, nullptr);
+    const smt::CoverResult b = smt::solve_cover(g, o, nullptr);
+    EXPECT_EQ(a.walk, b.walk);
+    EXPECT_EQ(a.resources, b.resources);
+    EXPECT_EQ(a.checks, b.checks);
+    EXPECT_FALSE(a.timed_out);
+    EXPECT_TRUE(a.optimal || a.budget_out);
+    EXPECT_GE(a.resources, spent);
+    EXPECT_LE(a.objective, previous) << "the larger budget repeats the smaller one's checks, then goes on";
+    previous = a.objective;
+    if (first < 0) first = a.objective;
+    spent = a.resources;
+    EXPECT_EQ(std::set<int>(a.walk.begin(), a.walk.end()).size(), static_cast<std::size_t>(g.n));
+  }
+  EXPECT_LT(previous, first) << "the budget is what ends the search: more of it finds a better walk";
+}
+
 TEST(SmtRoutes, ATurnPenaltyKeepsTheCoverValidWithNoMoreTurnPairs) {
   // (the routes' flown turns also depend on how the walks are stitched: not compared)
   const Problem p = problem(mp({rect(0, 0, 80, 40)}), {}, {Point{-10, -10}}, 10.0);
@@ -458,18 +497,170 @@ TEST(SmtRoutes, StripSubgraphsAreTwoLinesWideAlongTheLongerExtent) {
   EXPECT_EQ(off_path(lat, a.uavs[0].coverage), 0) << "the routes pass every lattice node";
 }
 
-TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
-  // the thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, a 300-s limit, one UAV whose home
-  // is the field's south-west corner (bench/smt/run.sh, row "1 UAV, home SW corner")
+/// The thesis rectangle (Table 5.3): 200 m x 100 m, ds 10 m, 3 m/s, one UAV; home at the field's
+/// south-west corner, or (`centre`) at its centre (bench/smt/run.sh, rows rect1 and rect1c).
+nlohmann::json rectangle_mission(const nlohmann::json& params, bool centre = false) {
   auto j = nlohmann::json::parse(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
                                                           "mondinelli2025" / "rectangle_3uav.json"));
   j["planner"] = "smt";
-  j["planner_params"] = {{"max_flight_time_s", 300}};
+  j["planner_params"] = params;
   nlohmann::json uav = j["uavs"][0];
-  uav["start"] = j["area"]["coordinates"][0][0];
+  const auto& c = j["area"]["coordinates"][0];
+  uav["start"] = c[0];
+  if (centre)
+    uav["start"] = {(c[0][0].get<double>() + c[2][0].get<double>()) / 2,
+                    (c[0][1].get<double>() + c[2][1].get<double>()) / 2};
   j["uavs"] = nlohmann::json::array();
   j["uavs"].push_back(uav);
-  const Plan p = uavcover::plan(parse_mission(j.dump()));
+  return j;
+}
+
+/// The plan's lattice problem in local metres (as the planner sees it), for the lattice checks.
+Problem local_problem(const Plan& p) {
+  const engine::LocalMission lm = engine::to_local(p.mission);
+  Problem pr;
+  pr.area = lm.area;
+  pr.no_fly = lm.no_fly;
+  pr.free = lm.free;
+  for (const auto& u : p.mission.uavs) pr.starts.push_back(lm.frame.to_local(u.start_resolved));
+  pr.shares.assign(pr.starts.size(), 1.0 / static_cast<double>(pr.starts.size()));
+  pr.uavs = p.mission.uavs;
+  pr.spacing_m = p.mission.spacing_m;
+  pr.footprint_m = 1.5 * pr.spacing_m;
+  return pr;
+}
+
+/// Every vertex of every path part, WGS84 and local, as hexadecimal floats: equal strings are
+/// byte-identical paths.
+std::string path_bytes(const Plan& p) {
+  std::string out;
+  for (const auto& u : p.uavs)
+    for (const auto& part : u.parts) {
+      out += part.kind == PartKind::Coverage ? "C" : "T";
+      for (const auto& q : part.wgs84) out += fmt::format("{:a},{:a};", q.lon, q.lat);
+      for (const auto& q : part.local) out += fmt::format("{:a},{:a};", q.x(), q.y());
+      out += "\n";
+    }
+  return out;
+}
+
+TEST(SmtDeterminism, TheResourceBudgetGivesByteIdenticalPathsTwiceAndOnOneOrTwoThreads) {
+  // square tiles with a turn penalty: the searches z3 cannot finish quickly (they used to end at a
+  // wall-clock timeout, so turns varied run to run); a small rlimit per check keeps the test fast
+  nlohmann::json params{
+      {"max_flight_time_s", 300}, {"turn_penalty_m", 10}, {"resource_limit", 150000}, {"threads", 1}};
+  std::vector<std::string> paths;
+  for (const int threads : {1, 2, 2}) {
+    params["threads"] = threads;
+    const Plan p = uavcover::plan(parse_mission(rectangle_mission(params).dump()));
+    const auto& subs = p.diagnostics.at("subgraphs");
+    EXPECT_EQ(subs.at("threads").get<int>(), threads);
+    EXPECT_EQ(subs.at("timed_out").get<int>(), 0) << "the wall clock ended no search";
+    EXPECT_GT(subs.at("budget_out").get<int>(), 0)
+        << "the resource budget, not optimality, ends some searches";
+    EXPECT_LT(subs.at("optimal").get<int>(), subs.at("count").get<int>());
+    paths.push_back(path_bytes(p));
+    EXPECT_FALSE(paths.back().empty());
+  }
+  EXPECT_EQ(paths[0], paths[1]) << "one thread against two";
+  EXPECT_EQ(paths[1], paths[2]) << "the same mission planned twice";
+}
+
+TEST(SmtParams, TheResourceBudgetIsValidatedByName) {
+  const Problem p = problem(mp({rect(0, 0, 40, 40)}), {}, {Point{-5, -5}}, 10.0);
+  for (const auto& bad :
+       {nlohmann::json(-1), nlohmann::json(0.5), nlohmann::json("many"), nlohmann::json(2e12)})
+    try {
+      run(p, {{"resource_budget", bad}});
+      ADD_FAILURE() << "accepted " << bad.dump();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "planner_params.resource_budget") << bad.dump();
+    }
+}
+
+TEST(SmtRoutes, AWalkLongerThanTheLimitIsFlownInPiecesEachWithinIt) {
+  // tiles of about 48 nodes (a walk of 480 m or more: 160 s at 3 m/s, plus its turns and legs) under a
+  // 160-s limit (the farthest node is 147 s from home and back): no subgraph walk fits one route, so
+  // each is cut into pieces flown from home and back
+  const double limit = 160.0;
+  const Plan p = uavcover::plan(
+      parse_mission(rectangle_mission({{"max_flight_time_s", limit}, {"subgraph_size", 48}}).dump()));
+  ASSERT_EQ(p.uavs.size(), 1u);
+  EXPECT_GT(p.diagnostics.at("split_walks").get<int>(), 0);
+  const Uav& u = p.mission.uavs[0];
+  const Problem pr = local_problem(p);
+  const Point home = pr.starts[0];
+  const auto& routes = p.diagnostics.at("routes");
+  const UavPlan& up = p.uavs[0];
+  ASSERT_EQ(up.sorties.size(), routes.size());
+  std::vector<std::vector<Point>> coverage;
+  for (std::size_t k = 0; k < up.sorties.size(); ++k) {
+    SCOPED_TRACE("route " + std::to_string(k));
+    std::vector<Point> cov;
+    for (const auto& part : up.sorties[k].parts)
+      if (part.kind == PartKind::Coverage) cov = part.local;
+    ASSERT_FALSE(cov.empty());
+    // the flight home -> route -> home by the mission's time model (eq. 15 with turns), with the turns
+    // counted both ways: every coverage vertex (the engine's sorties) and the flight's geometric turns
+    std::vector<Point> cycle{home};
+    cycle.insert(cycle.end(), cov.begin(), cov.end());
+    cycle.push_back(home);
+    const double len = geometry::length(cycle);
+    const int turns = std::max(static_cast<int>(cov.size()), geometry::count_turns(cycle));
+    EXPECT_LE(evaluation::flight_duration_min(len, turns, u) * 60.0, limit + 1e-6);
+    EXPECT_LE(up.sorties[k].duration_min * 60.0, limit + 1e-6);
+    EXPECT_LE(routes[k].at("time_s").get<double>(), limit + 1e-9);
+    coverage.push_back(std::move(cov));
+  }
+  EXPECT_EQ(off_path(smt::build_lattice(pr, false, 20000), coverage), 0) << "every lattice node is flown";
+}
+
+TEST(SmtRoutes, ALimitTooShortForOneNodeIsRefusedByName) {
+  // home 300 m from the field: no node can be reached and left within 60 s at 3 m/s
+  const Problem p = problem(mp({rect(0, 0, 40, 40)}), {}, {Point{-300, -5}}, 10.0);
+  try {
+    run(p, {{"max_flight_time_s", 60}});
+    ADD_FAILURE() << "planned";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "planner_params.max_flight_time_s");
+  }
+}
+
+TEST(SmtRoutes, ThreeStripRoutesOnTheThesisRectangleReachTheOpenPathLowerBound) {
+  // 200 lattice nodes (one per 10 m cell). A route is an open path from its entry to its exit: over m
+  // distinct nodes at least m - 1 steps of ds, so 3 routes over 200 nodes need at least
+  // (200 - 3) x 10 = 1970 m of coverage (2000 m as closed cycles). POPCORN's 520 + 720 + 720 = 1960 m
+  // (thesis Table 5.1) is below that: its lattice had fewer nodes (docs/planners/smt.md).
+  const Plan p = uavcover::plan(parse_mission(
+      rectangle_mission({{"max_flight_time_s", 300}, {"subgraph_shape", "strip"}}, true).dump()));
+  ASSERT_EQ(p.uavs.size(), 1u);
+  const UavPlan& up = p.uavs[0];
+  const Problem pr = local_problem(p);
+  const smt::Lattice lat = smt::build_lattice(pr, false, 20000);
+  ASSERT_EQ(lat.size(), 200);
+  const auto routes = p.diagnostics.at("route_count").get<std::size_t>();
+  ASSERT_EQ(routes, 3u);
+  ASSERT_EQ(up.sorties.size(), routes);
+  std::vector<std::vector<Point>> coverage;
+  double length = 0.0;
+  for (const auto& part : up.parts)
+    if (part.kind == PartKind::Coverage) {
+      length += geometry::length(part.local);
+      coverage.push_back(part.local);
+    }
+  ASSERT_EQ(coverage.size(), routes);
+  EXPECT_NEAR(up.coverage_length_m, length, 1e-6);
+  EXPECT_NEAR(length, static_cast<double>(lat.size() - static_cast<int>(routes)) * lat.ds, 1e-6);
+  for (const Point& q : lat.pos) {
+    int on = 0;
+    for (const auto& cov : coverage) on += on_path(q, {cov}) ? 1 : 0;
+    EXPECT_EQ(on, 1) << "node " << q.x() << " " << q.y();
+  }
+}
+
+TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
+  // the thesis rectangle (Table 5.3): a 300-s limit, home at the field's south-west corner
+  const Plan p = uavcover::plan(parse_mission(rectangle_mission({{"max_flight_time_s", 300}}).dump()));
   ASSERT_EQ(p.uavs.size(), 1u);
   const UavPlan& up = p.uavs[0];
   const Uav& u = p.mission.uavs[0];
@@ -514,16 +705,7 @@ TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
   EXPECT_NEAR(up.length_m, sortie_length, 1e-3);
 
   // every lattice node lies on the coverage of exactly one sortie
-  Problem pr;
-  pr.area = lm.area;
-  pr.no_fly = lm.no_fly;
-  pr.free = lm.free;
-  pr.starts = {home};
-  pr.shares = {1.0};
-  pr.uavs = p.mission.uavs;
-  pr.spacing_m = p.mission.spacing_m;
-  pr.footprint_m = 1.5 * pr.spacing_m;
-  const smt::Lattice lat = smt::build_lattice(pr, false, 20000);
+  const smt::Lattice lat = smt::build_lattice(local_problem(p), false, 20000);
   EXPECT_EQ(lat.size(), 200);
   for (const Point& q : lat.pos) {
     int on = 0;
