@@ -9,13 +9,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <set>
 #include <string_view>
 
 #include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
+#include "geometry/millimetres.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -66,43 +66,12 @@ MultiLinestring flown_legs(const UavPlan& up, const std::vector<sorties::Waypoin
   return legs;
 }
 
-// Boost.Geometry 1.74's overlay on doubles without its rescaling (BOOST_GEOMETRY_NO_ROBUSTNESS, which
-// the core is built with) loses whole polygons when footprint rectangles overlap along collinear edges,
-// as the legs of a sweep do (measured on the olive grove: a union of 8 legs' rectangles came out
-// empty). On integer coordinates its predicates are exact, so the swept area and the difference are
-// computed on millimetres.
-using MmPoint = bg::model::d2::point_xy<std::int64_t>;
-using MmPolygon = bg::model::polygon<MmPoint>;
-using MmMultiPolygon = bg::model::multi_polygon<MmPolygon>;
-constexpr double kMmPerM = 1000.0;
-
-MmPoint to_mm(Point p) { return {std::llround(p.x() * kMmPerM), std::llround(p.y() * kMmPerM)}; }
-Point from_mm(MmPoint p) {
-  return {static_cast<double>(p.x()) / kMmPerM, static_cast<double>(p.y()) / kMmPerM};
-}
-
-/// The polygons with every point converted by `f` (e.g. metres to millimetres), corrected.
-template <class To, class From, class F>
-To convert(const From& mp, F f) {
-  To out;
-  for (const auto& poly : mp) {
-    auto& q = out.emplace_back();
-    for (const auto& p : poly.outer()) q.outer().push_back(f(p));
-    for (const auto& inner : poly.inners()) {
-      auto& ring = q.inners().emplace_back();
-      for (const auto& p : inner) ring.push_back(f(p));
-    }
-  }
-  bg::correct(out);
-  return out;
-}
-
-MmMultiPolygon to_mm(const MultiPolygon& mp) {
-  return convert<MmMultiPolygon>(mp, [](Point p) { return to_mm(p); });
-}
-MultiPolygon from_mm(const MmMultiPolygon& mp) {
-  return convert<MultiPolygon>(mp, [](MmPoint p) { return from_mm(p); });
-}
+// The swept area and the difference are computed on integer millimetres (geometry/millimetres.hpp):
+// Boost.Geometry 1.74's union on doubles lost whole footprint rectangles.
+using geometry::from_mm;
+using geometry::MmMultiPolygon;
+using geometry::MmPolygon;
+using geometry::to_mm;
 
 /// Union of polygons [lo, hi), halves first (each polygon takes part in O(log n) unions).
 MmMultiPolygon unite_mm(const std::vector<MmPolygon>& polys, std::size_t lo, std::size_t hi,
@@ -178,9 +147,7 @@ MultiPolygon planned_area(const Plan& plan, const std::vector<Helper>& helpers, 
              bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_round(16),
              bg::strategy::buffer::end_flat(), bg::strategy::buffer::point_square());
   if (!(bg::area(grown) >= bg::area(rest))) return rest;  // a failed buffer: the remainder as it is
-  MmMultiPolygon clipped;
-  bg::intersection(to_mm(grown), to_mm(evaluation::free_area(plan.mission, frame)), clipped);
-  return from_mm(clipped);
+  return geometry::intersection_mm(grown, evaluation::free_area(plan.mission, frame));
 }
 
 }  // namespace

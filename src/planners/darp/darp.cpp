@@ -2,36 +2,21 @@
 
 #include <algorithm>
 
+#include "geometry/millimetres.hpp"
 #include "planners/darp/darp_planner.hpp"
 
 namespace uavcover::planners {
 
 namespace {
 
-/// The free part of a region's cells. Clipping cells by thin zones (1 m hedges at 45 degrees) leaves
-/// slivers (vertices millimetres apart, spikes, pieces crossing themselves) that plan.json's reader
-/// refuses once written as WGS84 and read back. Vertices closer than 1 cm to the previous one go, then
-/// spikes; a piece still invalid and under 1 m^2 is dropped.
+/// The free part of a region's cells. Clipped on doubles by thin zones at a slant (1 m hedges at 45
+/// degrees), Boost left slivers and holes crossing themselves that plan.json's reader refused; on integer
+/// millimetres (geometry::intersection_mm) its predicates are exact. A piece the rounding of the
+/// intersection points might still leave invalid is dropped when under 1 m^2, so that plan.json's
+/// reader accepts the region (and the export, whose fences are the region, follows it).
 MultiPolygon clip_region(const MultiPolygon& cells, const MultiPolygon& free) {
-  MultiPolygon clipped, out;
-  bg::intersection(cells, free, clipped);
-  auto tidy = [](Polygon::ring_type& ring) {
-    Polygon::ring_type kept;
-    for (const Point& p : ring)
-      if (kept.empty() || bg::comparable_distance(kept.back(), p) >= 1e-4) kept.push_back(p);
-    while (kept.size() > 1 && bg::comparable_distance(kept.back(), kept.front()) < 1e-4) kept.pop_back();
-    if (!kept.empty()) kept.push_back(kept.front());
-    ring = std::move(kept);
-  };
-  for (auto& poly : clipped) {
-    tidy(poly.outer());
-    for (auto& in : poly.inners()) tidy(in);
-    std::erase_if(poly.inners(), [](const auto& in) { return in.size() < 4; });
-    if (poly.outer().size() < 4) continue;
-    bg::remove_spikes(poly);
-    if (poly.outer().size() < 4 || (bg::area(poly) < 1.0 && !bg::is_valid(poly))) continue;
-    out.push_back(std::move(poly));
-  }
+  MultiPolygon out = geometry::intersection_mm(cells, free);
+  std::erase_if(out, [](const Polygon& piece) { return bg::area(piece) < 1.0 && !bg::is_valid(piece); });
   return out;
 }
 
