@@ -198,7 +198,7 @@ struct Cluster {
 
 /// Builds the instance: depots, then each item's entry and exit.
 Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, const std::vector<double>& shares,
-                       const Transit& transit, double penalty, std::vector<Point>& pos) {
+                       const Transit& transit, double penalty, std::vector<Point>& pos, const Context& ctx) {
   Instance in;
   in.uavs = static_cast<int>(cl.uavs.size());
   in.pairs = static_cast<int>(cl.items.size());
@@ -212,6 +212,7 @@ Instance make_instance(const Cluster& cl, const std::vector<Point>& starts, cons
   in.cost.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
+      if (j % 64 == 0) stop_check(ctx);  // thousands of routed transits on fields cut by many zones
       double c;
       if (i >= m && (i - m) % 2 == 0 && j == i + 1)
         c = cl.items[static_cast<std::size_t>((i - m) / 2)].inner;  // the pair's own edge: its legs
@@ -740,7 +741,7 @@ class MilpPlanner final : public Planner {
       lim.f1 = 0.05 + 0.85 * (g + 1) / C;
       ctx.report(lim.stage, lim.f0);
       std::vector<Point> pos;
-      const Instance in = make_instance(cl, p.starts, p.shares, transit, par.nearby_penalty, pos);
+      const Instance in = make_instance(cl, p.starts, p.shares, transit, par.nearby_penalty, pos, ctx);
       const Routes start = warm_start(in, cl);
       milp::Result r;
       if (cl.items.empty()) {

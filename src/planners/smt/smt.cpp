@@ -208,6 +208,8 @@ class SmtPlanner final : public Planner {
         // each route is one sortie from home and back (the engine adds the legs)
         a.sortie_starts.push_back(a.coverage.size());
         a.coverage.push_back(smt::walk_polyline(lat, r.walk, false));  // entry to exit
+        // a lone node (cut off by no-fly zones) is a coverage leg of zero length: a line needs 2 positions
+        if (a.coverage.back().size() == 1) a.coverage.back().push_back(a.coverage.back().front());
         sorties.push_back({{"time_s", r.time_s},
                            {"length_m", r.length_m},
                            {"turns", r.turns},

@@ -6,17 +6,22 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <queue>
 #include <set>
 
 #include "engine/local_mission.hpp"
 #include "evaluation/cost.hpp"
 #include "geometry/geometry.hpp"
+#include "io/plan_io.hpp"
 #include "planners/planner.hpp"
 #include "planners/smt/cover.hpp"
 #include "planners/smt/lattice.hpp"
@@ -25,6 +30,7 @@
 #include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/plan_outputs.hpp"
 
 using namespace uavcover;
 using namespace uavcover::planners;
@@ -716,3 +722,45 @@ TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
 
 }  // namespace
 #endif  // UAVCOVER_HAS_SMT
+
+// A no-fly hedge that cuts one lattice node off from the rest (the 300 m hedged field of
+// tests/planners/darp/hedge_region_test.cpp had three such nodes a plan): that node is a route of its
+// own, a coverage leg of zero length, and the plan folder must still read back (a LineString of one
+// position was written before, and the reader refused it).
+TEST(SmtRoutes, ALoneNodeCutOffByAZoneIsAZeroLengthLegAndThePlanFolderReadsBack) {
+  nlohmann::json j = rectangle_mission(nlohmann::json::object());
+  const auto& c = j["area"]["coordinates"][0];
+  const double lon0 = c[0][0].get<double>(), lat0 = c[0][1].get<double>();
+  auto pos = [&](double x, double y) {
+    return nlohmann::json::array(
+        {lon0 + x / (111320 * std::cos(lat0 * std::numbers::pi / 180)), lat0 + y / 110540});
+  };
+  // an L of 1 m around the south-west 10 m x 10 m cell, open nowhere
+  j["no_fly_zones"] = nlohmann::json::array(
+      {{{"type", "Polygon"},
+        {"coordinates",
+         {{pos(-1, 10), pos(11, 10), pos(11, -1), pos(12, -1), pos(12, 11), pos(-1, 11), pos(-1, 10)}}}}});
+  const Plan plan = uavcover::plan(parse_mission(j.dump()));
+  auto coverage_parts = [](const Plan& pl) {
+    std::vector<std::vector<Point>> out;
+    for (const auto& part : pl.uavs[0].parts)
+      if (part.kind == PartKind::Coverage) out.push_back(part.local);
+    return out;
+  };
+  int lone = 0;
+  for (const auto& part : coverage_parts(plan))
+    if (part.size() == 2 && geometry::length(part) < 1e-9) ++lone;
+  EXPECT_EQ(lone, 1) << "the cut-off corner node is flown as a leg of zero length";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uavcover_smt_lone_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  usecases::OutputOptions oo;
+  oo.evaluate = false;
+  oo.images = false;
+  io::write_artifacts(dir, usecases::plan_outputs(plan, oo).artifacts);
+  Plan loaded;
+  EXPECT_NO_THROW(loaded = io::load_plan_dir(dir));
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(loaded.uavs.size(), 1u);
+  EXPECT_EQ(coverage_parts(loaded).size(), coverage_parts(plan).size());
+}
