@@ -29,7 +29,7 @@ void normalise(Walk& w) {
   while (w.size() > 1 && w.back() == w.front()) w.pop_back();
 }
 
-/// The point of the no-fly zones' boundaries nearest to p (p itself when they have no edge).
+/// The point of the boundary of the no-fly zone holding p nearest to p (p itself when none holds it).
 Point nearest_on_boundary(const MultiPolygon& zones, Point p) {
   Point best = p;
   double bd = std::numeric_limits<double>::infinity();
@@ -44,6 +44,7 @@ Point nearest_on_boundary(const MultiPolygon& zones, Point p) {
     }
   };
   for (const auto& poly : zones) {
+    if (!bg::covered_by(p, poly)) continue;  // the zone holding p has the nearest edge (zones are disjoint)
     scan(poly.outer());
     for (const auto& hole : poly.inners()) scan(hole);
   }
