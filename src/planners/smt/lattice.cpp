@@ -17,6 +17,8 @@ namespace uavcover::smt {
 namespace {
 
 constexpr double kTol = 1e-3;  // metres
+/// How far outside a no-fly zone's edge a node moved out of the zone sits (coverage mode), metres.
+constexpr double kMoveClearance = 1.0;
 
 double dist2(Point a, Point b) {
   const double dx = a.x() - b.x(), dy = a.y() - b.y();
@@ -25,6 +27,28 @@ double dist2(Point a, Point b) {
 
 void normalise(Walk& w) {
   while (w.size() > 1 && w.back() == w.front()) w.pop_back();
+}
+
+/// The point of the boundary of the no-fly zone holding p nearest to p (p itself when none holds it).
+Point nearest_on_boundary(const MultiPolygon& zones, Point p) {
+  Point best = p;
+  double bd = std::numeric_limits<double>::infinity();
+  auto scan = [&](const auto& ring) {
+    for (std::size_t k = 1; k < ring.size(); ++k) {
+      const Point a = ring[k - 1], b = ring[k];
+      const double ex = b.x() - a.x(), ey = b.y() - a.y(), ll = ex * ex + ey * ey;
+      const double t =
+          ll > 0.0 ? std::clamp(((p.x() - a.x()) * ex + (p.y() - a.y()) * ey) / ll, 0.0, 1.0) : 0.0;
+      const Point q(a.x() + t * ex, a.y() + t * ey);
+      if (const double d = dist2(p, q); d < bd) bd = d, best = q;
+    }
+  };
+  for (const auto& poly : zones) {
+    if (!bg::covered_by(p, poly)) continue;  // the zone holding p has the nearest edge (zones are disjoint)
+    scan(poly.outer());
+    for (const auto& hole : poly.inners()) scan(hole);
+  }
+  return best;
 }
 
 }  // namespace
@@ -64,13 +88,36 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
       Point(box.min_corner().x() - (cols_d * ds - w) / 2.0, box.min_corner().y() - (rows_d * ds - h) / 2.0);
   lat.node_of_cell.assign(static_cast<std::size_t>(lat.cols) * static_cast<std::size_t>(lat.rows), -1);
   const bool strict = problem.mode == Mode::Strict;
+  std::vector<char> moved;  // per node: moved out of a no-fly zone (coverage mode)
   for (int r = 0; r < lat.rows; ++r) {
     if (check) check();
     for (int c = 0; c < lat.cols; ++c) {
-      const Point p(lat.origin.x() + (c + 0.5) * ds, lat.origin.y() + (r + 0.5) * ds);
-      const bool ok = strict ? bg::covered_by(p, problem.free)
-                             : geometry::distance(problem.free, p) <= 0.5 * ds &&
-                                   (problem.no_fly.empty() || !bg::covered_by(p, problem.no_fly));
+      Point p(lat.origin.x() + (c + 0.5) * ds, lat.origin.y() + (r + 0.5) * ds);
+      bool ok = false, shifted = false;
+      if (strict) {
+        ok = bg::covered_by(p, problem.free);
+      } else if (geometry::distance(problem.free, p) <= 0.5 * ds) {
+        ok = problem.no_fly.empty() || !bg::covered_by(p, problem.no_fly);
+        if (!ok) {
+          // a cell centred in a no-fly zone whose cell holds free ground: its node moves to the zone's
+          // nearest edge, kMoveClearance outside, so that the band along the edge is flown
+          const double e = 1e-3 * ds;
+          const bg::model::box<Point> cellbox(Point(p.x() - 0.5 * ds + e, p.y() - 0.5 * ds + e),
+                                              Point(p.x() + 0.5 * ds - e, p.y() + 0.5 * ds - e));
+          if (bg::intersects(cellbox, problem.free)) {
+            const Point q = nearest_on_boundary(problem.no_fly, p);
+            const double d = std::sqrt(dist2(p, q));
+            if (d > 0.0) {
+              const Point moved_to(q.x() + (q.x() - p.x()) / d * kMoveClearance,
+                                   q.y() + (q.y() - p.y()) / d * kMoveClearance);
+              ok = !bg::covered_by(moved_to, problem.no_fly) &&
+                   geometry::distance(problem.no_fly, moved_to) >= 0.5 * kMoveClearance &&
+                   geometry::distance(problem.free, moved_to) <= 0.5 * ds;
+              if (ok) p = moved_to, shifted = true;
+            }
+          }
+        }
+      }
       if (!ok) continue;
       if (lat.size() >= max_nodes)
         throw InputError("spacing_m", fmt::format("the smt planner's lattice has more than {} nodes at {} m "
@@ -80,6 +127,7 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
                        static_cast<std::size_t>(c)] = lat.size();
       lat.pos.push_back(p);
       lat.cell.push_back({c, r});
+      moved.push_back(shifted ? 1 : 0);
     }
   }
   if (lat.pos.empty())
@@ -109,6 +157,46 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
         lat.adj4[static_cast<std::size_t>(a)].push_back(b);
         lat.adj4[static_cast<std::size_t>(b)].push_back(a);
       }
+    }
+  }
+  // moved nodes that no clear edge joins to an unmoved one would be routes of their own: dropped (their
+  // edges join them only to each other, so the others' edges stay)
+  std::vector<char> reached(lat.pos.size(), 0);
+  std::vector<int> stack;
+  for (int a = 0; a < lat.size(); ++a)
+    if (!moved[static_cast<std::size_t>(a)]) reached[static_cast<std::size_t>(a)] = 1, stack.push_back(a);
+  while (!stack.empty()) {
+    const int a = stack.back();
+    stack.pop_back();
+    for (int b : lat.adj[static_cast<std::size_t>(a)])
+      if (!reached[static_cast<std::size_t>(b)]) reached[static_cast<std::size_t>(b)] = 1, stack.push_back(b);
+  }
+  if (std::find(moved.begin(), moved.end(), 0) != moved.end()) {  // (all moved: none dropped)
+    std::vector<int> renum(lat.pos.size(), -1);
+    int kept = 0;
+    for (std::size_t a = 0; a < lat.pos.size(); ++a)
+      if (reached[a]) renum[a] = kept++;
+    if (kept < lat.size()) {
+      Lattice out = lat;
+      out.pos.clear(), out.cell.clear(), out.adj.clear(), out.adj4.clear();
+      std::fill(out.node_of_cell.begin(), out.node_of_cell.end(), -1);
+      auto remap = [&](const std::vector<int>& n) {
+        std::vector<int> m;
+        for (int b : n)
+          if (renum[static_cast<std::size_t>(b)] >= 0) m.push_back(renum[static_cast<std::size_t>(b)]);
+        return m;
+      };
+      for (std::size_t a = 0; a < lat.pos.size(); ++a) {
+        if (renum[a] < 0) continue;
+        const auto [c, r] = lat.cell[a];
+        out.node_of_cell[static_cast<std::size_t>(r) * static_cast<std::size_t>(lat.cols) +
+                         static_cast<std::size_t>(c)] = renum[a];
+        out.pos.push_back(lat.pos[a]);
+        out.cell.push_back(lat.cell[a]);
+        out.adj.push_back(remap(lat.adj[a]));
+        out.adj4.push_back(remap(lat.adj4[a]));
+      }
+      lat = std::move(out);
     }
   }
   for (auto& n : lat.adj) std::sort(n.begin(), n.end());

@@ -15,8 +15,8 @@ namespace uavcover::smt {
 
 struct Lattice {
   double ds = 0.0;
-  Point
-      origin;  ///< lower-left corner of cell (0, 0); node (i, j) sits at origin + ((i + .5) ds, (j + .5) ds)
+  Point origin;  ///< lower-left corner of cell (0, 0); node (i, j) sits at origin + ((i + .5) ds, (j + .5)
+                 ///< ds), except a node moved out of a no-fly zone (build_lattice, coverage mode)
   int cols = 0, rows = 0;
   std::vector<int> node_of_cell;         ///< rows * cols, row-major; -1: no node
   std::vector<Point> pos;                ///< per node
@@ -30,7 +30,9 @@ struct Lattice {
 };
 
 /// Strict mode: nodes inside the free area, edges within it. Coverage mode: nodes within ds/2 of the
-/// free area and outside the no-fly zones, edges that do not enter a no-fly zone. Throws InputError
+/// free area and outside the no-fly zones, edges that do not enter a no-fly zone; a cell centred in a
+/// no-fly zone whose cell holds free ground has its node moved to the zone's nearest edge, 1 m outside
+/// it (dropped when no clear edge joins it to the unmoved nodes). Throws InputError
 /// ("spacing_m") when the lattice would exceed `max_nodes` or has no node.
 /// `check` (optional) is called once per lattice row.
 Lattice build_lattice(const planners::Problem& problem, bool eight_connected, int max_nodes,

@@ -20,6 +20,7 @@
 
 #include "engine/local_mission.hpp"
 #include "evaluation/cost.hpp"
+#include "evaluation/coverage.hpp"
 #include "geometry/geometry.hpp"
 #include "io/plan_io.hpp"
 #include "planners/planner.hpp"
@@ -718,6 +719,49 @@ TEST(SmtSorties, EachRouteIsOneSortieFromHomeAndBack) {
     for (const auto& cov : covered) on += on_path(q, cov) ? 1 : 0;
     EXPECT_EQ(on, 1) << "node " << q.x() << " " << q.y();
   }
+}
+
+// Coverage mode: a no-fly zone whose edges lie 2 m past lattice cell centres (ds 20 m, footprint 30 m)
+// leaves a 3 m band along each edge that the nodes outside the zone do not reach; the nodes of the
+// cells centred in the zone move out to its edge, so smt's PoC (the project's evaluator) is at least
+// DARP's, with no node or edge in the zone.
+TEST(SmtRoutes, CoverageModeFliesTheBandAlongANoFlyZoneAtLeastAsWellAsDarp) {
+  const Problem p = problem(mp({rect(0, 0, 200, 200)}), mp({rect(48, 48, 132, 132)}), {Point{-5, -5}}, 20.0,
+                            Mode::Coverage);
+  const smt::Lattice lat = smt::build_lattice(p, false, 10000);
+  for (int a = 0; a < lat.size(); ++a) {
+    const Point q = lat.pos[static_cast<std::size_t>(a)];
+    EXPECT_FALSE(bg::covered_by(q, p.no_fly)) << q.x() << " " << q.y();
+    EXPECT_FALSE(lat.adj[static_cast<std::size_t>(a)].empty()) << "isolated node " << q.x() << " " << q.y();
+    for (int b : lat.adj[static_cast<std::size_t>(a)])
+      EXPECT_FALSE(geometry::segment_enters(p.no_fly, q, lat.pos[static_cast<std::size_t>(b)], 1e-6));
+  }
+  const PlannerInfo* darp = find("darp");
+  ASSERT_NE(darp, nullptr);
+  const Assignment s = run(p);
+  const Assignment d = darp->create()->plan(p, validate_params(*darp, nullptr), Context{});
+  for (const auto& part : s.uavs[0].coverage)
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      EXPECT_FALSE(bg::covered_by(part[k], p.no_fly));
+      if (k > 0) {
+        EXPECT_FALSE(geometry::segment_enters(p.no_fly, part[k - 1], part[k], 1e-6));
+      }
+    }
+  auto poc = [&](const Assignment& a) {
+    std::vector<evaluation::Flight> flights;
+    for (const auto& u : a.uavs) {
+      evaluation::Flight f;
+      for (const auto& part : u.coverage) f.push_back({PartKind::Coverage, part, {}});
+      flights.push_back(std::move(f));
+    }
+    evaluation::CoverageOptions opt;
+    opt.footprint_m = p.footprint_m;
+    opt.lattice_m = 1.0;
+    return evaluation::evaluate_coverage(p.free, flights, opt).total.poc;
+  };
+  const double smt_poc = poc(s), darp_poc = poc(d);
+  EXPECT_GE(smt_poc, darp_poc);
+  EXPECT_GT(smt_poc, 0.999);
 }
 
 }  // namespace
