@@ -17,6 +17,7 @@
 #include "geodesy/local_frame.hpp"
 #include "geometry/millimetres.hpp"
 #include "io/plan_io.hpp"
+#include "support/plan_folder.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/plan_outputs.hpp"
 
@@ -58,17 +59,9 @@ std::string hedged_field(int seed, int uavs = 1) {
 /// the planned ones, valid, in the free area and (several UAVs) exclusive.
 void plan_write_read(int seed, int uavs) {
   const Plan plan = uavcover::plan(parse_mission(hedged_field(seed, uavs)));
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("uavcover_hedged_" + std::to_string(seed) + "_" +
-                                                std::to_string(uavs) + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  usecases::OutputOptions oo;
-  oo.evaluate = false;
-  oo.images = false;
-  io::write_artifacts(dir, usecases::plan_outputs(plan, oo).artifacts);
   Plan loaded;
-  EXPECT_NO_THROW(loaded = io::load_plan_dir(dir));
-  std::filesystem::remove_all(dir);
+  EXPECT_NO_THROW(loaded = uavcover::testing::write_and_read_plan_folder(
+                      plan, "uavcover_hedged_" + std::to_string(seed) + "_" + std::to_string(uavs)));
   ASSERT_EQ(loaded.uavs.size(), static_cast<std::size_t>(uavs));
   const MultiPolygon free = evaluation::free_area(plan.mission, geodesy::LocalFrame(plan.origin));
   for (int i = 0; i < uavs; ++i) {

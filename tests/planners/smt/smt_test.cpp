@@ -22,16 +22,15 @@
 #include "evaluation/cost.hpp"
 #include "evaluation/coverage.hpp"
 #include "geometry/geometry.hpp"
-#include "io/plan_io.hpp"
 #include "planners/planner.hpp"
 #include "planners/smt/cover.hpp"
 #include "planners/smt/lattice.hpp"
 #include "planners/smt/schedule.hpp"
 #include "support/files.hpp"
+#include "support/plan_folder.hpp"
 #include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
-#include "usecases/plan_outputs.hpp"
 
 using namespace uavcover;
 using namespace uavcover::planners;
@@ -795,16 +794,8 @@ TEST(SmtRoutes, ALoneNodeCutOffByAZoneIsAZeroLengthLegAndThePlanFolderReadsBack)
   for (const auto& part : coverage_parts(plan))
     if (part.size() == 2 && geometry::length(part) < 1e-9) ++lone;
   EXPECT_EQ(lone, 1) << "the cut-off corner node is flown as a leg of zero length";
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("uavcover_smt_lone_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  usecases::OutputOptions oo;
-  oo.evaluate = false;
-  oo.images = false;
-  io::write_artifacts(dir, usecases::plan_outputs(plan, oo).artifacts);
   Plan loaded;
-  EXPECT_NO_THROW(loaded = io::load_plan_dir(dir));
-  std::filesystem::remove_all(dir);
+  EXPECT_NO_THROW(loaded = uavcover::testing::write_and_read_plan_folder(plan, "uavcover_smt_lone"));
   ASSERT_EQ(loaded.uavs.size(), 1u);
   EXPECT_EQ(coverage_parts(loaded).size(), coverage_parts(plan).size());
 }
