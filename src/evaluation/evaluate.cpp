@@ -34,6 +34,16 @@ double footprint_for(const Mission& m, std::size_t uav) {
   return footprint_for(m);
 }
 
+void set_uav_footprints(const Mission& mission, std::size_t uavs, double w, CoverageOptions& coverage) {
+  if (coverage.footprint_m > 0.0 || !coverage.uav_footprint_m.empty()) return;
+  bool differs = false;
+  for (std::size_t i = 0; i < uavs; ++i) {
+    coverage.uav_footprint_m.push_back(footprint_for(mission, i));
+    differs = differs || coverage.uav_footprint_m.back() != w;
+  }
+  if (!differs) coverage.uav_footprint_m.clear();
+}
+
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame) {
   const MultiPolygon area = geometry::unite(geometry::to_local(mission.area, frame));
   const MultiPolygon nfz = geometry::unite(geometry::to_local(mission.no_fly_zones, frame));
@@ -124,15 +134,8 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
   EvaluateOptions opt = options;
-  if (!(options.coverage.footprint_m > 0.0) && opt.coverage.uav_footprint_m.empty()) {
-    // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
-    bool differs = false;
-    for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
-      opt.coverage.uav_footprint_m.push_back(footprint_for(plan.mission, i));
-      differs = differs || opt.coverage.uav_footprint_m.back() != w;
-    }
-    if (!differs) opt.coverage.uav_footprint_m.clear();
-  }
+  // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
+  set_uav_footprints(plan.mission, plan.uavs.size(), w, opt.coverage);
   std::optional<Evaluation::TerrainFootprints> tf;
   if (terrain::grid(plan.mission) != nullptr) {
     // each piece of a coverage leg as wide as the UAV's camera sees from its height above the ground there

@@ -42,6 +42,10 @@ struct Evaluation {
 double footprint_for(const Mission& mission);
 /// Footprint width of UAV `uav` (heterogeneous cameras): its own camera's, else footprint_for(mission).
 double footprint_for(const Mission& mission, std::size_t uav);
+/// Heterogeneous cameras: unless `coverage` sweeps one width for all (footprint_m > 0, `--footprint`) or
+/// already has per-UAV widths, sets coverage.uav_footprint_m to footprint_for(mission, i) of the
+/// mission's first `uavs` UAVs, left empty when every one of them sees `w`.
+void set_uav_footprints(const Mission& mission, std::size_t uavs, double w, CoverageOptions& coverage);
 
 /// Free area (area - no-fly zones) of the mission in the local frame centred at `origin`.
 MultiPolygon free_area(const Mission& mission, const geodesy::LocalFrame& frame);

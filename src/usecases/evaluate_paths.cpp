@@ -40,9 +40,7 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
   opt.coverage.context = &ctx;
   const double w =
       opt.coverage.footprint_m > 0.0 ? opt.coverage.footprint_m : evaluation::footprint_for(mission);
-  if (!(opt.coverage.footprint_m > 0.0) && opt.coverage.uav_footprint_m.empty())
-    for (std::size_t i = 0; i < out.uavs.size(); ++i)
-      opt.coverage.uav_footprint_m.push_back(evaluation::footprint_for(shown.mission, i));
+  evaluation::set_uav_footprints(shown.mission, out.uavs.size(), w, opt.coverage);
   const MultiPolygon free = evaluation::free_area(mission, frame);
   out.evaluation = evaluation::evaluate_flights(free, paths.flights, out.uavs, w, opt);
   shown.free_area_m2 = out.evaluation.coverage.total.area_m2;
