@@ -28,7 +28,7 @@ int start_cell(const grid::Grid& g, Point p, bool& inside) {
   const Point q = g.local_to_q(p);
   const int c = static_cast<int>(std::floor((q.x() - g.x0) / g.dn));
   const int r = static_cast<int>(std::floor((q.y() - g.y0) / g.dn));
-  inside = r >= 0 && r < g.rows && c >= 0 && c < g.cols && g.free[g.idx(r, c)];
+  inside = g.free_at(r, c);
   if (inside) return g.idx(r, c);
   int best = -1;
   double bd = std::numeric_limits<double>::infinity();

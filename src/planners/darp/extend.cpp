@@ -89,9 +89,6 @@ int LegExtender::extend(std::vector<Point>& loop) const {
   std::vector<char> moved(m, 0);
   int count = 0;
   auto at = [&](std::size_t i) -> Point& { return loop[i % m]; };
-  auto is_free = [&](int rr, int cc) {
-    return rr >= 0 && cc >= 0 && rr < g_.rows && cc < g_.cols && g_.free[g_.idx(rr, cc)];
-  };
   auto cell_of = [&](Point p) {
     const Point q = g_.local_to_q(p);
     return std::pair{static_cast<int>(std::floor((q.y() - g_.y0) / dn)),
@@ -102,7 +99,7 @@ int LegExtender::extend(std::vector<Point>& loop) const {
   auto cap_into = [&](int r1, int c1) {
     int free_nb = 0;
     for (const auto& [ar, ac] : std::array<std::pair<int, int>, 4>{{{1, 0}, {-1, 0}, {0, 1}, {0, -1}}})
-      free_nb += is_free(r1 + ar, c1 + ac);
+      free_nb += g_.free_at(r1 + ar, c1 + ac);
     return free_nb == 1 ? 0.5 * ds + dn - 2 * grid::kClearance : 0.95 * ds;
   };
   // how far a leg end must move along d for the footprint (w/2 past the end) to reach the boundary
@@ -143,11 +140,11 @@ int LegExtender::extend(std::vector<Point>& loop) const {
     const double dqx = g_.cos_t * d.x() + g_.sin_t * d.y(), dqy = -g_.sin_t * d.x() + g_.cos_t * d.y();
     const int dc = static_cast<int>(std::lround(dqx)), dr = static_cast<int>(std::lround(dqy));
     if (std::abs(dc) + std::abs(dr) != 1) continue;
-    if (!is_free(r, c)) continue;
+    if (!g_.free_at(r, c)) continue;
     // both turn vertices in that cell (a U-turn along one of its sides, not across a link)
     if (cell_of(v) != std::pair{r, c} || cell_of(w) != std::pair{r, c}) continue;
     const int r1 = r + dr, c1 = c + dc;
-    if (is_free(r1, c1)) continue;
+    if (g_.free_at(r1, c1)) continue;
     const double cap = cap_into(r1, c1);
     auto wanted = [&](Point p) { return reach(p, d, cap); };
     double tv = wanted(v), tw = wanted(w);
@@ -186,9 +183,6 @@ int LegExtender::shift(const std::vector<std::vector<Point>*>& loops) const {
     for (std::size_t k = 0; k + 1 < loops[l]->size(); ++k)
       all.push_back(entry(static_cast<int>(l), static_cast<int>(k)));
   bgi::rtree<Entry, bgi::rstar<16>> segs(all.begin(), all.end());
-  auto is_free = [&](int r, int c) {
-    return r >= 0 && c >= 0 && r < g_.rows && c < g_.cols && g_.free[g_.idx(r, c)];
-  };
   int count = 0;
   for (std::size_t l = 0; l < loops.size(); ++l) {
     auto& lp = *loops[l];
@@ -237,7 +231,7 @@ int LegExtender::shift(const std::vector<std::vector<Point>*>& loops) const {
       for (int s = 0; s <= n && outer; ++s) {
         const double t = lo + (hi - lo) * s / n;
         const int c = std::clamp(static_cast<int>(std::floor(t / dn)), 0, (horiz ? g_.cols : g_.rows) - 1);
-        outer = horiz ? !is_free(r_out, c) : !is_free(c, r_out);  // nothing free beyond the leg
+        outer = horiz ? !g_.free_at(r_out, c) : !g_.free_at(c, r_out);  // nothing free beyond the leg
         if (!outer) break;
         const Point p =
             horiz ? g_.q_to_local(g_.x0 + t, g_.y0 + across) : g_.q_to_local(g_.x0 + across, g_.y0 + t);

@@ -134,7 +134,6 @@ double estimate_coverage(const Grid& g, const std::vector<QEdge>& fe_sorted, int
   const std::uint16_t low = static_cast<std::uint16_t>((1u << band) - 1);
   const std::uint16_t high = static_cast<std::uint16_t>(low << (K - band));
   std::vector<std::uint16_t> bits(static_cast<std::size_t>(rows) * cols * K, 0);
-  auto fr = [&](int r, int c) { return r >= 0 && c >= 0 && r < rows && c < cols && g.free[g.idx(r, c)]; };
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       std::uint16_t* b = bits.data() + static_cast<std::size_t>(g.idx(r, c)) * K;
@@ -143,12 +142,12 @@ double estimate_coverage(const Grid& g, const std::vector<QEdge>& fe_sorted, int
         continue;
       }
       std::uint16_t side = 0;
-      if (fr(r, c - 1)) side |= low;
-      if (fr(r, c + 1)) side |= high;
+      if (g.free_at(r, c - 1)) side |= low;
+      if (g.free_at(r, c + 1)) side |= high;
       for (int a = 0; a < K; ++a) b[a] = side;
-      const bool dn_ = fr(r - 1, c), up = fr(r + 1, c);
-      const std::uint16_t dl = fr(r - 1, c - 1) ? low : 0, dr = fr(r - 1, c + 1) ? high : 0;
-      const std::uint16_t ul = fr(r + 1, c - 1) ? low : 0, ur = fr(r + 1, c + 1) ? high : 0;
+      const bool dn_ = g.free_at(r - 1, c), up = g.free_at(r + 1, c);
+      const std::uint16_t dl = g.free_at(r - 1, c - 1) ? low : 0, dr = g.free_at(r - 1, c + 1) ? high : 0;
+      const std::uint16_t ul = g.free_at(r + 1, c - 1) ? low : 0, ur = g.free_at(r + 1, c + 1) ? high : 0;
       for (int a = 0; a < band; ++a) {
         b[a] |= dn_ ? full : static_cast<std::uint16_t>(dl | dr);
         b[K - 1 - a] |= up ? full : static_cast<std::uint16_t>(ul | ur);

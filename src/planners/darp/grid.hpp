@@ -60,6 +60,10 @@ struct Grid {
   double coverage_estimate = 0.0;
 
   [[nodiscard]] int idx(int r, int c) const { return r * cols + c; }
+  /// Whether (r, c) is a cell of the grid and free.
+  [[nodiscard]] bool free_at(int r, int c) const {
+    return r >= 0 && c >= 0 && r < rows && c < cols && free[idx(r, c)];
+  }
   [[nodiscard]] Point q_to_local(double qx, double qy) const {
     const double x = qx - sx, y = qy - sy;
     return {cos_t * x - sin_t * y, sin_t * x + cos_t * y};
