@@ -12,6 +12,7 @@
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
+#include "io/write_artifacts.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/plan_outputs.hpp"
 
@@ -44,25 +45,29 @@ void run_plan(const PlanArgs& a) {
   if (a.time_limit_s)
     limit =
         std::chrono::duration_cast<Context::Clock::duration>(std::chrono::duration<double>(*a.time_limit_s));
+  usecases::OutputOptions oo;
+  oo.evaluate = !a.no_evaluate;
+  oo.images = !a.no_images;
+  oo.exports = a.exports;
+  oo.per_sortie = a.per_sortie;
+  // what the exports would refuse after planning (transition altitudes over the ceiling) is refused now
+  usecases::check_outputs(mission, oo);
   const Progress bar = make_progress_bar(quiet);
   Plan result;
   usecases::PlanOutputs outputs;
+  std::vector<std::filesystem::path> files;
+  const std::filesystem::path dir(a.out);
   try {
-    result = plan(mission, opt, Context(bar, interrupt_token(), limit));
-    usecases::OutputOptions oo;
-    oo.evaluate = !a.no_evaluate;
-    oo.images = !a.no_images;
-    oo.exports = a.exports;
-    oo.per_sortie = a.per_sortie;
-    // the time limit is the planner's; the outputs still stop on Ctrl-C
-    outputs = usecases::plan_outputs(result, oo, Context(bar, interrupt_token()));
+    // one context for the whole command: Ctrl-C and the time limit land in every stage, the writing too
+    const Context ctx(bar, interrupt_token(), limit);
+    result = plan(mission, opt, ctx);
+    outputs = usecases::plan_outputs(result, oo, ctx);
+    files = io::write_artifacts(dir, outputs.artifacts, ctx);
   } catch (...) {
     finish_progress_bar();
     throw;
   }
   finish_progress_bar();
-  const std::filesystem::path dir(a.out);
-  const auto files = io::write_artifacts(dir, outputs.artifacts);
   for (const auto& w : outputs.warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (quiet) return;
   std::cout << fmt::format("{} — {} UAV(s), planner {}, spacing {:.1f} m, mode {}, seed {}\n",
@@ -97,8 +102,10 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_option("--seed", args->seed, "Random seed (overrides the mission's seed); same seed, same plan")
       ->check(integer_in<std::uint64_t>(0, std::numeric_limits<std::uint64_t>::max()));
   cmd->add_option("--time-limit", args->time_limit_s,
-                  "Planning time budget in seconds: the planner's best complete plan so far is returned "
-                  "with a warning, or the command fails with exit code 3 when it has none")
+                  "Time budget of the whole command in seconds: the planner's best complete plan so far "
+                  "is returned with a warning (evaluation, pictures and exports that do not fit are left "
+                  "out and named; plan.json and paths.geojson are always written), or the command fails "
+                  "with exit code 3 when it has no complete plan")
       ->check(number_in(0.0, 1e6, true));
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
       ->capture_default_str()

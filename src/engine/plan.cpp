@@ -9,6 +9,7 @@
 #include <random>
 
 #include "engine/local_mission.hpp"
+#include "engine/test_hold.hpp"
 #include "evaluation/evaluate.hpp"
 #include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
@@ -111,6 +112,8 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   }
   problem.uavs = out.mission.uavs;
 
+  engine::test_hold(ctx, "planning", out.mission.name);
+  if (ctx.stop_requested()) throw Cancelled();
   const planners::Assignment res = info->create()->plan(problem, out.mission.planner_params, ctx);
   if (res.uavs.size() != out.mission.uavs.size())
     throw OperationError(fmt::format("planner \"{}\" returned {} UAVs for {}", info->name, res.uavs.size(),

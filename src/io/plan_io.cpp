@@ -1,4 +1,5 @@
 #include "io/plan_io.hpp"
+#include "io/write_artifacts.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "engine/test_hold.hpp"
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "json/strict.hpp"
@@ -274,17 +276,32 @@ std::filesystem::path checked_relative(const std::string& name) {
 
 }  // namespace
 
-std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir,
-                                                   const Artifacts& artifacts) {
+namespace {
+
+std::vector<std::filesystem::path> write_staged(const std::filesystem::path& dir_in,
+                                                const Artifacts& artifacts, const Context* ctx) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) throw OperationError("cannot create the folder " + dir.string());
-  const fs::path staging = dir / (".staging-" + std::to_string(::getpid()));
+  fs::path dir = dir_in.lexically_normal();
+  if (!dir.has_filename() && dir.has_relative_path()) dir = dir.parent_path();  // "a/b/" -> "a/b"
+  if (dir.empty()) dir = ".";
+  const bool fresh = !fs::exists(dir, ec);
+  if (fresh) {
+    if (dir.has_parent_path()) fs::create_directories(dir.parent_path(), ec);
+    if (ec) throw OperationError("cannot create the folder " + dir.parent_path().string());
+  } else if (!fs::is_directory(dir, ec)) {
+    throw OperationError("cannot create the folder " + dir.string());
+  }
+  const std::string tag = ".staging-" + std::to_string(::getpid());
+  // a fresh folder is staged beside itself and renamed into place whole; an existing one inside
+  const fs::path staging = fresh ? dir.parent_path() / ("." + dir.filename().string() + tag) : dir / tag;
   fs::remove_all(staging, ec);
+  auto stopped = [ctx] { return ctx != nullptr && ctx->stop_requested(); };
   std::vector<fs::path> written;
   try {
+    fs::create_directories(staging);
     for (const auto& a : artifacts) {
+      if (stopped()) throw Cancelled();
       const fs::path rel = checked_relative(a.name);
       const fs::path tmp = staging / rel;
       fs::create_directories(tmp.parent_path());
@@ -292,6 +309,14 @@ std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& 
       out.write(a.bytes.data(), static_cast<std::streamsize>(a.bytes.size()));
       out.flush();
       if (!out) throw OperationError("cannot write " + (dir / rel).string());
+    }
+    if (ctx != nullptr) engine::test_hold(*ctx, "storing", "");
+    if (stopped()) throw Cancelled();
+    // past this point the outputs are committed: a stop no longer undoes them
+    if (fresh) {
+      fs::rename(staging, dir);
+      for (const auto& a : artifacts) written.push_back(dir / checked_relative(a.name));
+      return written;
     }
     for (const auto& a : artifacts) {
       const fs::path rel = checked_relative(a.name);
@@ -308,6 +333,18 @@ std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& 
   }
   fs::remove_all(staging, ec);
   return written;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir,
+                                                   const Artifacts& artifacts) {
+  return write_staged(dir, artifacts, nullptr);
+}
+
+std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& dir,
+                                                   const Artifacts& artifacts, const Context& ctx) {
+  return write_staged(dir, artifacts, &ctx);
 }
 
 namespace {

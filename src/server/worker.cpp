@@ -9,6 +9,7 @@
 #include <random>
 #include <stop_token>
 
+#include "engine/test_hold.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
@@ -114,6 +115,10 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
         spdlog::warn("worker {}: {} ended but its lease was lost; result dropped", name_, label);
         return;
       }
+      if (state == store::JobState::Done) {
+        // the store records a done as cancelled when the cancel came while storing
+        if (const auto recorded = store_.get_job(job.id)) state = recorded->state;
+      }
     } catch (const std::exception& e) {
       spdlog::error("worker {}: {}: cannot record the end: {}", name_, label, e.what());
       return;
@@ -189,6 +194,10 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
   nlohmann::json error;
   try {
     result = usecases::run_job(job_type(job.kind), mission, job.params, ctx);
+    // storing: a cancel that came meanwhile wins (the store also records a late one as cancelled)
+    ctx.report("storing", 1.0);
+    engine::test_hold(ctx, "storing", mission.name);
+    if (ctx.stop_requested()) throw Cancelled();
     outcome = Outcome::Done;
   } catch (const Cancelled&) {
     outcome = st.cancel || !(st.shutdown || st.lost) ? Outcome::Cancelled : Outcome::Drop;

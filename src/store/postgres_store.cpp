@@ -525,14 +525,19 @@ class PostgresStore final : public Store {
     std::sort(order.begin(), order.end(),
               [&](std::size_t a, std::size_t b) { return artifacts[a].bytes < artifacts[b].bytes; });
     return transaction([&](PGconn* c) {
+      // done after a cancel request (a DELETE while the worker was storing): recorded cancelled, with no
+      // result and no artifacts
       const auto r =
           exec(c,
-               "UPDATE jobs SET state = $3::text, result = $4, error = $5, "
-               "progress = CASE WHEN $3::text = 'done' THEN 1 ELSE progress END, "
+               "UPDATE jobs SET "
+               "state = CASE WHEN $3::text = 'done' AND cancel_requested THEN 'cancelled' ELSE $3::text END, "
+               "result = CASE WHEN $3::text = 'done' AND cancel_requested THEN '{}' ELSE $4 END, error = $5, "
+               "progress = CASE WHEN $3::text = 'done' AND NOT cancel_requested THEN 1 ELSE progress END, "
                "completions = completions + 1, worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
-               ", " BUMP_UPDATED " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING id",
+               ", " BUMP_UPDATED " WHERE id = $1 AND state = 'running' AND worker = $2 RETURNING state",
                {integer(job), text(worker), text(to_string(state)), text(result.dump()), text(error.dump())});
       if (r.rows() == 0) return false;
+      if (job_state_from_string(r.str(0, 0)) != state) return true;  // cancelled: no artifacts
       for (const std::size_t i : order) {
         const Artifact& a = artifacts[i];
         // the key is the SHA-256 of the bytes, computed by the database (pgcrypto-free sha256(), PG 11+)

@@ -706,19 +706,26 @@ class SqliteStore final : public Store {
     for (const auto& a : artifacts) hashes.push_back(sha256_hex(a.bytes));
     const std::string result_text = result.dump();
     const std::string error_text = error.dump();
-    return write([&](Connection& c) {
+    return write([&](Connection& c) -> bool {
       const std::int64_t now = now_ms();
+      JobState recorded = state;
       {
+        // done after a cancel request: cancelled, with no result (and no artifacts below)
         Query q(c,
-                "UPDATE jobs SET state = ?3, result = ?4, error = ?5, completions = completions + 1, "
+                "UPDATE jobs SET "
+                "state = CASE WHEN ?3 = 'done' AND cancel_requested != 0 THEN 'cancelled' ELSE ?3 END, "
+                "result = CASE WHEN ?3 = 'done' AND cancel_requested != 0 THEN '{}' ELSE ?4 END, "
+                "error = ?5, completions = completions + 1, "
                 "worker = '', lease_expires_ms = 0, finished_ms = ?6, updated_ms = MAX(?6, updated_ms + 1), "
-                "progress = CASE WHEN ?3 = 'done' THEN 1.0 ELSE progress END "
-                "WHERE id = ?1 AND worker = ?2 AND state = 'running'");
+                "progress = CASE WHEN ?3 = 'done' AND cancel_requested = 0 THEN 1.0 ELSE progress END "
+                "WHERE id = ?1 AND worker = ?2 AND state = 'running' RETURNING state");
         const std::string state_word = to_string(state);
         q.bind(1, job).bind(2, worker).bind(3, state_word).bind(4, result_text).bind(5, error_text);
         q.bind(6, now);
-        if (q.run() == 0) return false;  // the transaction rolls back: nothing written
+        if (!q.step()) return false;  // the transaction rolls back: nothing written
+        recorded = state_of(q.text(0));
       }
+      if (recorded != state) return true;  // done after a cancel: cancelled, no artifacts
       for (std::size_t i = 0; i < artifacts.size(); ++i) {
         const auto& a = artifacts[i];
         bool stored = false;

@@ -108,21 +108,28 @@ Mission with_planner(const Mission& mission, const json& params) {
   return m;
 }
 
-JobResult plan_job(const Mission& mission, const json& params, const Context& ctx) {
-  const Mission m = with_planner(mission, params);
-  PlanOptions po;
-  po.seed = seed_of(params);
-  // planning: the planner's stages share [0, 0.75]; then evaluation, pictures and exports
-  const Plan p = plan(m, po, job_progress(limited(ctx, params), {}, 0.75));
+/// The outputs of a plan job: the CLI's `plan --export <every format>`, refusals as warnings.
+OutputOptions plan_job_outputs() {
   OutputOptions oo;
   oo.exports = exporting::known_formats();
   oo.kmz = true;
   oo.refused_exports_are_warnings = true;
   oo.heatmap_overlay = true;
-  // the time limit is the planner's; the outputs still stop when the job is cancelled
+  return oo;
+}
+
+JobResult plan_job(const Mission& mission, const json& params, const Context& ctx) {
+  const Mission m = with_planner(mission, params);
+  PlanOptions po;
+  po.seed = seed_of(params);
+  // one deadline for the whole job: the planner, then evaluation, pictures and exports (what does not
+  // fit is left out and named in the warnings); a cancel lands in every stage
+  const Context job = limited(ctx, params);
+  // planning: the planner's stages share [0, 0.75]; then evaluation, pictures and exports
+  const Plan p = plan(m, po, job_progress(job, {}, 0.75));
   PlanOutputs out = plan_outputs(
-      p, oo,
-      job_progress(ctx, {{"evaluation", 0.75, 0.9}, {"pictures", 0.9, 0.95}, {"exports", 0.95, 1.0}}, 1.0));
+      p, plan_job_outputs(),
+      job_progress(job, {{"evaluation", 0.75, 0.9}, {"pictures", 0.9, 0.95}, {"exports", 0.95, 1.0}}, 1.0));
 
   // evaluation.json: the coverage and cost blocks of plan.json
   out.artifacts.push_back({"evaluation.json", "application/json", out.evaluation.dump(1) + "\n"});
@@ -219,6 +226,8 @@ json validate_job_params(JobType type, const Mission& mission, const json& param
         given = mission.planner_params;
       params["planner"] = name;
       params["planner_params"] = planners::validate_params(info, given);
+      // refused before planning: transition altitudes that cannot fit under the export's ceiling
+      check_outputs(mission, plan_job_outputs());
       break;
     }
     case JobType::Study: {

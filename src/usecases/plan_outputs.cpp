@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/test_hold.hpp"
 #include "export/export.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
@@ -12,41 +13,84 @@
 
 namespace uavcover::usecases {
 
+namespace {
+
+/// A time limit reached inside a stage after the planner: the stage is left out.
+struct OutOfTime {};
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+}  // namespace
+
+void check_outputs(const Mission& mission, const OutputOptions& options) {
+  if (options.exports.empty()) return;
+  (void)exporting::parse_formats(options.exports);
+  // every export format flies the transition altitudes: the export's own rule, before any planning
+  (void)exporting::resolve_altitudes(exporting::AltitudeOptions{}, mission.uavs.size(), mission.altitude_m);
+}
+
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
-  if (!options.exports.empty()) (void)exporting::parse_formats(options.exports);  // refuse unknown ones first
+  const std::vector<std::string> formats =
+      options.exports.empty() ? std::vector<std::string>{} : exporting::parse_formats(options.exports);
+  const std::string& name = plan.mission.name;
+  // a stop ends everything (Cancelled); the time limit leaves out what has not finished
+  std::vector<std::string> left_out;
+  auto out_of_time = [&ctx] {
+    if (ctx.stop_requested()) throw Cancelled();
+    return ctx.time_up();
+  };
   PlanOutputs out;
   nlohmann::json extra = nlohmann::json::object();
   evaluation::Evaluation ev;
+  bool evaluated = false;
   if (options.evaluate) {
-    evaluation::EvaluateOptions eo;
-    eo.coverage.context = &ctx;
-    ev = evaluation::evaluate_plan(plan, eo);
-    extra = evaluation::to_json(ev);
-    // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
-    // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
-    // (the export's transition altitudes; a plan whose UAVs cannot be separated under the export's
-    // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
-    exporting::AltitudeOptions altitudes;
+    ctx.report("evaluation", 0.0);
+    engine::test_hold(ctx, "evaluation", name);
     try {
-      altitudes = exporting::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
-    } catch (const InputError&) {
-      altitudes.transition_ceiling_m = 0;
+      if (out_of_time()) throw OutOfTime{};
+      evaluation::EvaluateOptions eo;
+      eo.coverage.context = &ctx;
+      ev = evaluation::evaluate_plan(plan, eo);
+      nlohmann::json blocks = evaluation::to_json(ev);
+      // the alternative to eq. 15: flight durations of the time-parameterised trajectories (climbs to
+      // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
+      // (the export's transition altitudes; a plan whose UAVs cannot be separated under the export's
+      // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
+      exporting::AltitudeOptions altitudes;
+      try {
+        altitudes = exporting::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
+      } catch (const InputError&) {
+        altitudes.transition_ceiling_m = 0;
+      }
+      std::vector<double> durations_min;
+      for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+        if (out_of_time()) throw OutOfTime{};
+        durations_min.push_back(trajectory::flight_time_s(plan, i, {}, altitudes) / 60.0);
+      }
+      const auto traj_cost = evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs,
+                                                                      ev.coverage.total.area_m2);
+      blocks["cost_trajectory"] = evaluation::to_json(traj_cost);
+      extra = std::move(blocks);
+      evaluated = true;
+      out.trajectory_flight_time_min = traj_cost.flight_time_min;
+      out.poc = ev.coverage.total.poc;
+      out.pooc = ev.coverage.total.pooc;
+      out.flight_time_min = ev.cost.flight_time_min;
+      out.total_time_min = ev.cost.total_time_min;
+      out.cost_eur = ev.cost.flight_cost_eur;
+    } catch (const OutOfTime&) {
+      left_out.push_back("evaluation");
+    } catch (const TimeLimitReached&) {
+      left_out.push_back("evaluation");
     }
-    std::vector<double> durations_min;
-    for (std::size_t i = 0; i < plan.uavs.size(); ++i)
-      durations_min.push_back(trajectory::flight_time_s(plan, i, {}, altitudes) / 60.0);
-    const auto traj_cost =
-        evaluation::evaluate_cost_from_durations(durations_min, plan.mission.uavs, ev.coverage.total.area_m2);
-    extra["cost_trajectory"] = evaluation::to_json(traj_cost);
-    out.trajectory_flight_time_min = traj_cost.flight_time_min;
-    out.poc = ev.coverage.total.poc;
-    out.pooc = ev.coverage.total.pooc;
-    out.flight_time_min = ev.cost.flight_time_min;
-    out.total_time_min = ev.cost.total_time_min;
-    out.cost_eur = ev.cost.flight_cost_eur;
   }
   // with a DEM: what was read, and (with pictures) the profile of the leg terrain following changes most
   std::optional<exporting::LegProfile> profile;
+  bool profile_left_out = false;
   if (const HeightGrid* ground = terrain::grid(plan.mission)) {
     extra["terrain"] = {{"dem", ground->source},
                         {"mode", plan.mission.terrain->mode},
@@ -55,6 +99,11 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
                         {"highest_ground_m", ground->max_m}};
     if (options.images)
       for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+        if (out_of_time()) {
+          profile.reset();
+          profile_left_out = true;
+          break;
+        }
         try {
           auto lp = exporting::leg_profile(plan, i);
           if (lp && (!profile || lp->terrain_waypoints > profile->terrain_waypoints)) profile = std::move(lp);
@@ -63,49 +112,87 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
         }
       }
   }
-  out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
-  out.artifacts.push_back({"plan.json", "application/json", io::plan_json(plan, extra).dump(1) + "\n"});
-  out.evaluation = std::move(extra);
+  Artifacts pictures;
   if (options.images) {
     ctx.report("pictures", 0.0);
-    out.artifacts.push_back(render::plan_png(plan));
-    out.artifacts.push_back(render::plan_svg(plan));
-    if (profile) out.artifacts.push_back(render::terrain_profile_png(*profile));
-    if (options.evaluate) {
-      out.artifacts.push_back(render::heatmap_png(ev.coverage, &ev.free));
-      out.artifacts.push_back(render::histogram_png(ev.coverage.total));
+    engine::test_hold(ctx, "pictures", name);
+    std::vector<std::string> missing;
+    auto picture = [&](const char* file, auto&& make) {
+      if (out_of_time())
+        missing.push_back(file);
+      else
+        pictures.push_back(make());
+    };
+    picture("plan.png", [&] { return render::plan_png(plan); });
+    picture("plan.svg", [&] { return render::plan_svg(plan); });
+    if (profile) picture("terrain-profile.png", [&] { return render::terrain_profile_png(*profile); });
+    if (profile_left_out) missing.push_back("terrain-profile.png");
+    if (evaluated) {
+      picture("heatmap.png", [&] { return render::heatmap_png(ev.coverage, &ev.free); });
+      picture("histogram.png", [&] { return render::histogram_png(ev.coverage.total); });
       const auto& cov = ev.coverage;
       if (options.heatmap_overlay && cov.lattice_cols > 0 && cov.lattice_rows > 0 &&
           cov.lattice_cols <= 20000 && cov.lattice_rows <= 20000) {
-        out.artifacts.push_back(render::heatmap_overlay_png(cov));
-        const auto b = evaluation::lattice_bounds(cov, geodesy::LocalFrame(plan.origin));
-        out.heatmap_bounds = {{b.south, b.west}, {b.north, b.east}};
-      }
-    }
-  }
-  if (!options.exports.empty()) {
-    ctx.report("exports", 0.0);
-    exporting::ExportOptions eo;
-    eo.warnings = &out.warnings;
-    eo.kmz = options.kmz;
-    eo.per_sortie = options.per_sortie;
-    auto add = [&](const std::vector<std::string>& formats) {
-      auto exported = exporting::export_artifacts(plan, formats, eo);
-      out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
-                           std::make_move_iterator(exported.end()));
-    };
-    if (!options.refused_exports_are_warnings) {
-      add(options.exports);
-    } else {
-      for (const auto& format : exporting::parse_formats(options.exports)) {
-        try {
-          add({format});
-        } catch (const InputError& e) {
-          out.warnings.push_back(format + " export refused: " + e.what());
+        if (out_of_time()) {
+          missing.push_back("heatmap-overlay.png");
+        } else {
+          pictures.push_back(render::heatmap_overlay_png(cov));
+          const auto b = evaluation::lattice_bounds(cov, geodesy::LocalFrame(plan.origin));
+          out.heatmap_bounds = {{b.south, b.west}, {b.north, b.east}};
         }
       }
     }
+    if (!missing.empty()) left_out.push_back("pictures " + joined(missing));
   }
+  Artifacts exported;
+  if (!formats.empty()) {
+    ctx.report("exports", 0.0);
+    engine::test_hold(ctx, "exports", name);
+    exporting::ExportOptions eo;
+    std::vector<std::string> warnings;
+    eo.warnings = &warnings;
+    eo.kmz = options.kmz;
+    eo.per_sortie = options.per_sortie;
+    std::vector<std::string> missing;
+    // one format at a time, so that a stop or the time limit lands between formats
+    for (std::size_t k = 0; k < formats.size(); ++k) {
+      const std::string& format = formats[k];
+      if (out_of_time()) {
+        missing.push_back(format);
+        continue;
+      }
+      try {
+        auto files = exporting::export_artifacts(plan, {format}, eo);
+        exported.insert(exported.end(), std::make_move_iterator(files.begin()),
+                        std::make_move_iterator(files.end()));
+      } catch (const InputError& e) {
+        if (!options.refused_exports_are_warnings) throw;
+        warnings.push_back(format + " export refused: " + e.what());
+      }
+      ctx.report("exports", static_cast<double>(k + 1) / static_cast<double>(formats.size()));
+    }
+    // each format's export repeats the plan-wide warnings (altitudes, separation): once each
+    for (auto& w : warnings)
+      if (std::find(out.warnings.begin(), out.warnings.end(), w) == out.warnings.end())
+        out.warnings.push_back(std::move(w));
+    if (!missing.empty()) left_out.push_back("exports " + joined(missing));
+  }
+  if (ctx.stop_requested()) throw Cancelled();
+  nlohmann::json pj = io::plan_json(plan, extra);
+  if (!left_out.empty()) {
+    const std::string w = "time limit reached after planning: left out " + joined(left_out) +
+                          " (plan.json and paths.geojson are complete; raise the time limit for the rest)";
+    out.warnings.push_back(w);
+    pj["warnings"].push_back(w);
+  }
+  out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
+  out.artifacts.push_back({"plan.json", "application/json", pj.dump(1) + "\n"});
+  out.evaluation = std::move(extra);
+  out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(pictures.begin()),
+                       std::make_move_iterator(pictures.end()));
+  out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
+                       std::make_move_iterator(exported.end()));
+  out.left_out = std::move(left_out);
   return out;
 }
 

@@ -38,9 +38,21 @@ struct PlanOutputs {
   /// With heatmap_overlay: the WGS84 box heatmap-overlay.png spans, [[south, west], [north, east]] (the
   /// corners of its local-frame rectangle, enclosed); null otherwise.
   nlohmann::json heatmap_bounds;
+  /// What the time limit left out after the planner ("evaluation", "pictures heatmap.png, ...",
+  /// "exports qgc, kml"); a warning in `warnings` and in plan.json says the same. Empty when all fitted.
+  std::vector<std::string> left_out;
 };
 
-/// Everything the plan folder holds. The evaluation checks ctx for stops.
+/// Refuses, before any planning, what plan_outputs() would refuse after it (InputError naming the
+/// field, the same message): unknown export formats, and with exports transition altitudes that cannot
+/// fit under the export's ceiling (exporting::resolve_altitudes). Call it before plan().
+void check_outputs(const Mission& mission, const OutputOptions& options);
+
+/// Everything the plan folder holds. Stops and the time limit land in every stage (docs/stops.md): a
+/// stop request throws Cancelled (per UAV in the evaluation, per picture, per export format); when ctx's
+/// deadline passes, the stages that have not finished are left out (PlanOutputs::left_out) and
+/// paths.geojson and plan.json are still made. UAVCOVER_TEST_HOLD_STAGE can hold it at "evaluation",
+/// "pictures" or "exports" (engine/test_hold.hpp).
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx = {});
 
 }  // namespace uavcover::usecases

@@ -375,6 +375,28 @@ TEST_P(StoreConformance, HeartbeatRecordsProgressWhileTheLeaseIsHeld) {
   EXPECT_EQ(store_->request_cancel(id), JobState::Cancelled);
 }
 
+// A DELETE that lands while the worker stores its result: the job is never recorded done.
+TEST_P(StoreConformance, ADoneAfterACancelRequestIsRecordedCancelledWithoutArtifacts) {
+  const Id m = mission();
+  const Id id = job(m);
+  ASSERT_TRUE(store_->claim_job("w1", 60s, 3));
+  EXPECT_EQ(store_->request_cancel(id), JobState::Running);
+  const Artifacts outputs{{"plan.json", "application/json", "{\"late\": true}"}};
+  ASSERT_TRUE(store_->finish_job(id, "w1", JobState::Done, {{"poc", 1.0}}, nullptr, outputs));
+  const auto j = store_->get_job(id);
+  EXPECT_EQ(j->state, JobState::Cancelled);
+  EXPECT_TRUE(j->artifacts.empty());
+  EXPECT_EQ(j->result, nlohmann::json::object());
+  EXPECT_FALSE(store_->get_artifact(id, "plan.json"));
+  EXPECT_EQ(j->completions, 1);
+  // without a cancel request a done stays done
+  const Id other = job(m);
+  ASSERT_TRUE(store_->claim_job("w1", 60s, 3));
+  ASSERT_TRUE(store_->finish_job(other, "w1", JobState::Done, {{"poc", 1.0}}, nullptr, outputs));
+  EXPECT_EQ(store_->get_job(other)->state, JobState::Done);
+  EXPECT_TRUE(store_->get_artifact(other, "plan.json"));
+}
+
 TEST_P(StoreConformance, CancelAQueuedJobAtOnce) {
   const Id m = mission();
   const Id id = job(m);

@@ -154,11 +154,12 @@ export function leaseArgs(ms) {
  * line "uavcover: serving on http://HOST:PORT ...". Options: db (from freshDb), args (extra), token
  * (sent by api() as a bearer token), listen, seed (false: no --seed-dir).
  */
-export async function startServer({ db, args = [], token, listen = '127.0.0.1:0', seed = true, timeoutMs = 30000 } = {}) {
+/** env: extra environment variables of the server (e.g. the test hook UAVCOVER_TEST_HOLD_STAGE). */
+export async function startServer({ db, args = [], token, listen = '127.0.0.1:0', seed = true, timeoutMs = 30000, env = {} } = {}) {
   const argv = ['serve', '--listen', listen, '--db', db.url];
   if (seed) argv.push('--seed-dir', EXAMPLES);
   argv.push(...args);
-  const proc = spawn(CLI, argv, { stdio: ['ignore', 'pipe', 'pipe'] });
+  const proc = spawn(CLI, argv, { stdio: ['ignore', 'pipe', 'pipe'], env: { ...process.env, ...env } });
   const output = { stdout: '', stderr: '' };
   proc.stdout.setEncoding('utf8');
   proc.stderr.setEncoding('utf8');
