@@ -283,7 +283,7 @@ eachBackend(describe, (backend) => {
       const warning = warnings.find((w) => w.startsWith('time limit reached after planning: left out '));
       assert.ok(warning, JSON.stringify(warnings));
       assert.match(warning, /pictures plan\.png, plan\.svg/);
-      assert.match(warning, /exports qgc/);
+      assert.match(warning, /exports geojson, qgc, wpl/);
       const names = done.artifacts.map((a) => a.name);
       assert.ok(names.includes('plan.json') && names.includes('paths.geojson'), names.join(' '));
       assert.ok(!names.some((n) => n.endsWith('.png') || n.startsWith('export/')), names.join(' '));
