@@ -13,35 +13,84 @@ interface Planner {
   summary?: string;
 }
 
-const COLUMNS: { key: string; label: string; fmt: (v: number) => string }[] = [
-  { key: 'poc', label: 'PoC', fmt: (v) => `${(100 * v).toFixed(2)} %` },
-  { key: 'pooc', label: 'PoOC', fmt: (v) => `${(100 * v).toFixed(2)} %` },
-  { key: 'turns', label: 'Turns', fmt: (v) => v.toFixed(0) },
-  { key: 'length_m', label: 'Length (m)', fmt: (v) => v.toFixed(0) },
-  { key: 'flight_time_min', label: 'Flight (min)', fmt: (v) => v.toFixed(1) },
-  { key: 'cost_eur', label: 'Cost (€)', fmt: (v) => v.toFixed(2) },
-  { key: 'compute_time_s', label: 'Compute (s)', fmt: (v) => v.toFixed(2) },
+const ROWS: { key: string; label: string; title: string; fmt: (v: number) => string }[] = [
+  { key: 'poc', label: 'PoC', title: 'probability of coverage', fmt: (v) => `${(100 * v).toFixed(2)} %` },
+  { key: 'pooc', label: 'PoOC', title: 'probability of over-coverage', fmt: (v) => `${(100 * v).toFixed(2)} %` },
+  { key: 'turns', label: 'Turns', title: 'turns of all UAVs', fmt: (v) => Math.round(v).toLocaleString('en-GB') },
+  { key: 'length_m', label: 'Length', title: 'path length of all UAVs', fmt: (v) => (v >= 10000 ? `${(v / 1000).toFixed(1)} km` : `${Math.round(v)} m`) },
+  { key: 'flight_time_min', label: 'Flight time', title: 'flight time of the longest UAV', fmt: (v) => `${v.toFixed(1)} min` },
+  { key: 'batteries_per_uav', label: 'Batteries', title: 'batteries per UAV', fmt: (v) => v.toFixed(0) },
+  { key: 'cost_eur', label: 'Cost', title: 'flight cost', fmt: (v) => `${v.toFixed(2)} €` },
+  { key: 'compute_time_s', label: 'Compute', title: 'planning time', fmt: (v) => `${v.toFixed(2)} s` },
 ];
 
+const rowName = (r: Record<string, unknown>): string => String(r.planner ?? r.name ?? '?');
+const numberOf = (r: Record<string, unknown>, k: string): number | null => (typeof r[k] === 'number' && Number.isFinite(r[k]) ? (r[k] as number) : null);
+
+/**
+ * Words of caution for a planner that needs far more than the best one here (issue 29, defect 9):
+ * "spiral: 4.2× darp's length here (117 km against 28 km), 10 331 turns, 47 batteries".
+ */
+export function compareCautions(rows: Record<string, unknown>[], factor = 2): { planner: string; text: string }[] {
+  const withLength = rows.filter((r) => (numberOf(r, 'length_m') ?? 0) > 0);
+  if (withLength.length < 2) return [];
+  const best = withLength.reduce((a, b) => (numberOf(b, 'length_m')! < numberOf(a, 'length_m')! ? b : a));
+  const bestLen = numberOf(best, 'length_m')!;
+  const km = (m: number) => (m >= 10000 ? `${(m / 1000).toFixed(0)} km` : `${(m / 1000).toFixed(1)} km`);
+  const out: { planner: string; text: string }[] = [];
+  for (const r of withLength) {
+    const len = numberOf(r, 'length_m')!;
+    if (r === best || len < factor * bestLen) continue;
+    const extra: string[] = [];
+    const turns = numberOf(r, 'turns');
+    const bat = numberOf(r, 'batteries_per_uav');
+    if (turns !== null) extra.push(`${Math.round(turns).toLocaleString('en-GB')} turns`);
+    if (bat !== null) extra.push(`${bat.toFixed(0)} batteries per UAV`);
+    out.push({
+      planner: rowName(r),
+      text: `${rowName(r)}: ${(len / bestLen).toFixed(1)}× ${rowName(best)}'s length here (${km(len)} against ${km(bestLen)})${extra.length ? `, ${extra.join(', ')}` : ''}.`,
+    });
+  }
+  return out;
+}
+
+/** The comparison as a table that fits the panel: one column per planner, one row per metric. */
 export function compareTable(rows: Record<string, unknown>[]): HTMLElement {
+  const wrap = el('div', { class: 'plan-compare-wrap' });
   const table = el('table', { class: 'plan-compare-table', 'data-testid': 'compare-table' });
   const head = el('tr');
-  head.append(el('th', {}, 'Planner'));
-  for (const c of COLUMNS) head.append(el('th', {}, c.label));
+  head.append(el('th', { scope: 'col' }, ''));
+  for (const r of rows) {
+    const th = el('th', { scope: 'col', 'data-planner': rowName(r) }, rowName(r));
+    if (typeof r.error === 'string' || (r.error && typeof r.error === 'object')) th.title = JSON.stringify(r.error);
+    head.append(th);
+  }
   table.append(el('thead'), el('tbody'));
   table.tHead!.append(head);
-  for (const r of rows) {
-    const name = String(r.planner ?? r.name ?? '?');
-    const tr = el('tr', { 'data-planner': name });
-    tr.append(el('th', { scope: 'row' }, name));
-    for (const c of COLUMNS) {
+  // the best value per metric is marked (lowest, but highest PoC)
+  for (const c of ROWS) {
+    const tr = el('tr', { 'data-metric': c.key });
+    tr.append(el('th', { scope: 'row', title: c.title }, c.label));
+    const values = rows.map((r) => numberOf(r, c.key));
+    const known = values.filter((v): v is number => v !== null);
+    const best = known.length > 1 ? (c.key === 'poc' ? Math.max(...known) : Math.min(...known)) : null;
+    rows.forEach((r, i) => {
       const v = r[c.key];
-      tr.append(el('td', { 'data-metric': c.key }, typeof v === 'number' ? c.fmt(v) : v === undefined || v === null ? '—' : String(v)));
-    }
-    if (typeof r.error === 'string' || (r.error && typeof r.error === 'object')) tr.title = JSON.stringify(r.error);
+      const td = el('td', { 'data-metric': c.key, 'data-planner': rowName(r) }, typeof v === 'number' ? c.fmt(v) : v === undefined || v === null ? '—' : String(v));
+      if (typeof v === 'number') td.dataset.value = String(v);
+      if (best !== null && values[i] === best && c.key !== 'compute_time_s') td.classList.add('plan-compare-best');
+      tr.append(td);
+    });
     table.tBodies[0].append(tr);
   }
-  return table;
+  wrap.append(table);
+  const cautions = compareCautions(rows);
+  if (cautions.length) {
+    const ul = el('ul', { class: 'plan-compare-cautions', 'data-testid': 'compare-cautions' });
+    for (const c of cautions) ul.append(el('li', { 'data-testid': 'compare-caution', 'data-planner': c.planner }, c.text));
+    wrap.append(ul);
+  }
+  return wrap;
 }
 
 /** N small maps whose pan and zoom follow each other, each with one plan. */

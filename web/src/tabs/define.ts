@@ -24,6 +24,7 @@ import {
 import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
 import { uavColour } from '../palette.ts';
+import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '../zones.ts';
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
@@ -83,10 +84,6 @@ function round(x: number, digits: number): number {
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
 // the area and no-fly zones as the CLI's pictures draw them (src/render/render.cpp draw_plan)
-const AREA_FILL = '#f2f2ed';
-const AREA_STROKE = '#404040';
-const NFZ_FILL = '#d93333';
-const NFZ_STROKE = '#b31a1a';
 const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 
@@ -96,10 +93,12 @@ function isEditable(t: EventTarget | null): boolean {
 }
 
 class DefinePanel {
-  private doc: MissionDoc = newDraft('New mission', 0);
+  private doc: MissionDoc = newDraft('New mission', 1);
   /** the document last given to app.update by this tab (to tell our own updates from others) */
   private pushed: MissionDoc | null = null;
   private savedJson: string | null = null;
+  /** the document as it was loaded (opened, new or imported): what "unsaved changes" compares with */
+  private baseJson = '';
   private undoStack: MissionDoc[] = [];
   private shareHistory: number[] = [];
   private visible = false;
@@ -149,6 +148,7 @@ class DefinePanel {
     private panel: HTMLElement,
     private app: App,
   ) {
+    this.baseJson = JSON.stringify(this.doc);
     this.build();
     this.installMap();
     document.addEventListener('keydown', (e) => this.onKey(e));
@@ -197,7 +197,7 @@ class DefinePanel {
     const area = this.section('Area and no-fly zones');
     area.dataset.anchor = 'area no_fly_zones';
     const tools = el('div', { class: 'define-tools' });
-    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one (or Finish) to close' }, 'Draw area');
+    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw area');
     this.drawNfzBtn = el('button', { type: 'button', 'data-testid': 'draw-nfz', class: 'define-nfz-btn', title: 'A zone the UAVs must not enter' }, 'Draw no-fly zone');
     this.cutBtn = el('button', { type: 'button', 'data-testid': 'draw-hole', title: 'Cut a hole out of the area' }, 'Cut hole');
     const undoBtn = el('button', { type: 'button', 'data-testid': 'define-undo', title: 'Undo (Ctrl-Z)' }, 'Undo');
@@ -209,9 +209,12 @@ class DefinePanel {
     delBtn.addEventListener('click', () => this.deleteSelection());
     tools.append(this.drawAreaBtn, this.drawNfzBtn, this.cutBtn, undoBtn, delBtn);
     this.areaInfo = el('p', { class: 'define-small muted' });
+    const zoneKey = el('div', { class: 'zone-legend', 'data-testid': 'define-zone-legend' });
+    zoneKey.innerHTML = zoneLegendHtml();
     area.append(
       tools,
       this.areaInfo,
+      zoneKey,
       el('p', { class: 'define-small muted' }, 'Drag a vertex to move it, the middle of an edge to add one; click a vertex or shape then Delete to remove it. Esc cancels drawing, Ctrl-Z undoes.'),
     );
 
@@ -326,17 +329,19 @@ class DefinePanel {
 
   /** a mission document arrives from elsewhere (opened, imported, new) */
   private load(doc: MissionDoc | null): void {
-    let d = doc ?? newDraft('New mission', 0);
+    let d = doc ?? newDraft('New mission', 1);
     if (typeof d.uavs === 'number' && Number.isInteger(d.uavs) && d.uavs > 0 && d.uavs <= 200)
       d = { ...d, uavs: Array.from({ length: d.uavs as number }, (_, i) => ({ id: `uav${i + 1}` })) };
+    this.pushed = doc; // the document as received: later updates of other fields do not load it again
     this.doc = d;
     this.undoStack = [];
     this.shareHistory = [];
     this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
+    this.baseJson = JSON.stringify(d);
     this.cancelModes();
     this.clearErrors();
     this.clearGeneral();
-    if (d !== doc) this.push(d);
+    if (d !== doc || this.app.state.dirty !== false) this.push(d);
     this.refreshForm();
     this.renderMap();
     this.scheduleValidate(0);
@@ -344,7 +349,9 @@ class DefinePanel {
 
   private push(d: MissionDoc): void {
     this.pushed = d;
-    this.app.update({ mission: d, dirty: this.savedJson === null || JSON.stringify(d) !== this.savedJson });
+    // unsaved edits: the document differs from the saved revision, or from the draft as it arrived
+    // (a new mission or an imported file that nobody has touched yet holds no work to lose)
+    this.app.update({ mission: d, dirty: JSON.stringify(d) !== (this.savedJson ?? this.baseJson) });
   }
 
   /** the operator changed the document */

@@ -7,13 +7,14 @@
 import { api, API, ApiError } from '../api.ts';
 import { events, type Job } from '../events.ts';
 import { FlyLayers, type UavFrame } from '../fly-layers.ts';
-import { failSpec, flightEnded, planWaypoints, type Flight, type FlightCoverage, type FlightUav, type UavLines } from '../fly-model.ts';
+import { failSpec, flightEnded, flightOutcome, planWaypoints, type Flight, type FlightCoverage, type FlightUav, type UavLines } from '../fly-model.ts';
 import { FlyPanel } from '../fly-panel.ts';
 import { FlyReplay } from '../fly-replay.ts';
 import { el, errorText } from '../job-ui.ts';
 import { uavColour } from '../palette.ts';
 import type { PathsGeoJson } from '../plan-geometry.ts';
 import type { App, Tab } from '../state.ts';
+import { zoneLegendHtml, zoneRings } from '../zones.ts';
 import '../fly.css';
 
 /** Fleet-wide commands, in the order an operator needs them. */
@@ -77,6 +78,8 @@ export const flyTab: Tab = {
     let coverageTimer: number | null = null;
     let autoStart: number | null = null; // a simulated flight to start once its missions are uploaded
     let planSeq = 0;
+    /** the operator's last command, until the flight shows what became of it */
+    let lastCommand: { command: string; reassignment?: number } | null = null;
 
     // --- the plan and its flights
     const none = el('p', { class: 'muted', 'data-testid': 'fly-no-plan' }, 'No plan yet: plan the mission in the Plan tab.');
@@ -172,7 +175,8 @@ export const flyTab: Tab = {
     afterBox.body.append(replay.el);
     const legend = el('div', { class: 'muted fly-legend' });
     legend.innerHTML =
-      '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned';
+      '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned' +
+      `<div class="zone-legend">${zoneLegendHtml()}</div>`;
     const head = el('div', { class: 'plan-row' });
     head.append(stateLine, stop);
     flightBox.append(head, cmdRow, cmdMsg, legend, live.el, afterBox.box);
@@ -191,7 +195,10 @@ export const flyTab: Tab = {
       }
       try {
         const r = await api.post<Flight>(`/flights/${f.id}/commands`, req);
-        if (!quiet) cmdMsg.textContent = `${command}${extra.uav ? ` ${extra.uav}` : ''}: queued`;
+        if (!quiet) {
+          cmdMsg.textContent = `${command}${extra.uav ? ` ${extra.uav}` : ''}: queued`;
+          lastCommand = { command, reassignment: extra.reassignment };
+        }
         if (r && r.id === flight?.id) applyFlight(r);
       } catch (e) {
         cmdMsg.className = quiet ? 'fly-message muted' : 'fly-message plan-error';
@@ -222,7 +229,22 @@ export const flyTab: Tab = {
       flight = f;
       const ended = flightEnded(f.state);
       stateLine.dataset.state = f.state;
-      stateLine.textContent = `Flight #${f.id} — ${f.state}${f.simulated ? ' (simulated fleet)' : ''}`;
+      const out = flightOutcome(f);
+      stateLine.dataset.outcome = out.outcome;
+      stateLine.classList.toggle('fly-state-lost', out.outcome.endsWith('-lost'));
+      stateLine.textContent = `Flight #${f.id} — ${out.text}${f.simulated ? ' (simulated fleet)' : ''}`;
+      // a command's "queued" gives way to what became of it
+      if (lastCommand?.reassignment !== undefined) {
+        const r = (f.reassignments ?? []).find((x) => x.id === lastCommand!.reassignment);
+        if (r && r.state !== 'offered') {
+          cmdMsg.className = 'fly-message';
+          cmdMsg.textContent = `Reassignment #${r.id}: ${r.state}.`;
+          lastCommand = null;
+        }
+      } else if (lastCommand && ended) {
+        cmdMsg.textContent = '';
+        lastCommand = null;
+      }
       for (const b of cmdButtons.values()) b.disabled = ended;
       stop.disabled = ended;
       live.update(f);
@@ -396,6 +418,7 @@ export const flyTab: Tab = {
       flightSel.replaceChildren();
       if (planId === null) {
         layers.setPlan([], new Map());
+      layers.setZones({ area: [], nfz: [] });
         return;
       }
       title.textContent = `Plan #${planId}…`;
@@ -408,6 +431,7 @@ export const flyTab: Tab = {
         plan = { id: planId, job, uavs, lines };
         title.textContent = `Plan #${planId} (mission #${job.mission_id}, revision ${job.revision}): ${uavs.length} UAV${uavs.length === 1 ? '' : 's'}`;
         layers.setPlan(uavs, lines);
+        layers.setZones(zoneRings(paths));
         buildForms(uavs);
         if (visible) fit();
         await listFlights('newest');

@@ -2,6 +2,7 @@
 // duplicate, rename, delete, export; import a file by drag and drop (or a file picker); new mission.
 import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
+import { confirmDiscard } from '../discard.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
 import { docBbox, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
@@ -103,8 +104,9 @@ class MissionsPanel {
       this.searchTimer = window.setTimeout(() => this.reload(), 250);
     });
     const newBtn = el('button', { type: 'button', class: 'primary', 'data-testid': 'mission-new' }, 'New mission');
-    newBtn.addEventListener('click', () => {
-      this.app.update({ missionId: null, revision: null, mission: newDraft('New mission', 0), planId: null, dirty: true });
+    newBtn.addEventListener('click', async () => {
+      if (!(await confirmDiscard(this.app, 'Start a new mission'))) return;
+      this.app.update({ missionId: null, revision: null, mission: newDraft('New mission', 1), planId: null, dirty: true });
       this.app.showTab('define');
     });
     bar.append(this.search, newBtn);
@@ -286,7 +288,8 @@ class MissionsPanel {
     return api.get<Mission>(`/missions/${id}`);
   }
 
-  async open(id: number): Promise<void> {
+  async open(id: number, confirmed = false): Promise<void> {
+    if (!confirmed && !(await confirmDiscard(this.app, `Open mission #${id}`))) return;
     this.say('Opening…');
     try {
       const m = await this.fetchMission(id);
@@ -414,6 +417,7 @@ class MissionsPanel {
       this.say(`${f.name}: the file is larger than 10 MB.`, true);
       return;
     }
+    if (!(await confirmDiscard(this.app, `Import ${f.name}`))) return;
     this.say(`Reading ${f.name}…`);
     try {
       const text = await f.text();
@@ -424,7 +428,7 @@ class MissionsPanel {
         this.search.value = '';
         await this.reload();
         this.say(`Imported ${f.name} as mission #${c.id}.`);
-        await this.open(c.id);
+        await this.open(c.id, true);
       } else {
         this.app.update({ missionId: null, revision: null, mission: r.doc, planId: null, dirty: true });
         const b = bboxBounds(docBbox(r.doc));
