@@ -225,3 +225,14 @@ export function nextUavId(ids: string[], prefix = 'uav'): string {
   const used = new Set(ids.map((s) => s.toLowerCase()));
   for (let i = 1; ; i++) if (!used.has(`${prefix}${i}`.toLowerCase())) return `${prefix}${i}`;
 }
+
+/**
+ * The document the Define tab edits for a stored mission: the source as submitted when it is a uavcover
+ * v1 document (it keeps catalog references, `catalog_id` of UAVs and camera, which the normalised
+ * mission has resolved into numbers: issue 29, defect 4), else the normalised mission (an mCPP input).
+ */
+export function editableDoc(m: { mission: MissionDoc; source?: unknown }): MissionDoc {
+  const s = m.source;
+  if (s && typeof s === 'object' && !Array.isArray(s) && 'area' in s && !('droneNo' in s)) return s as MissionDoc;
+  return m.mission;
+}

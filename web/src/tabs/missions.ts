@@ -4,7 +4,7 @@ import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
 import { confirmDiscard } from '../discard.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
-import { docBbox, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
+import { docBbox, editableDoc, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
 import '../missions.css';
 
@@ -293,7 +293,7 @@ class MissionsPanel {
     this.say('Opening…');
     try {
       const m = await this.fetchMission(id);
-      this.app.update({ missionId: m.id, revision: m.revision, mission: m.mission, planId: null, dirty: false });
+      this.app.update({ missionId: m.id, revision: m.revision, mission: editableDoc(m), planId: null, dirty: false });
       const b = bboxBounds(m.bbox) ?? bboxBounds(docBbox(m.mission));
       if (b) this.app.map.fitBounds(b, { padding: [30, 30], maxZoom: 18 });
       this.say('');
@@ -306,7 +306,7 @@ class MissionsPanel {
   private async duplicate(m: MissionSummary): Promise<void> {
     try {
       const full = await this.fetchMission(m.id);
-      const doc = { ...full.mission, name: `${full.name} (copy)` };
+      const doc = { ...editableDoc(full), name: `${full.name} (copy)` };
       const r = await api.post<{ id: number; revision: number }>('/missions', doc);
       this.selected = r.id;
       await this.reload(true);
@@ -347,7 +347,7 @@ class MissionsPanel {
     }
     try {
       const full = await this.fetchMission(m.id);
-      const doc = { ...full.mission, name };
+      const doc = { ...editableDoc(full), name };
       const r = await api.put<{ id: number; revision: number }>(`/missions/${m.id}`, doc);
       if (this.app.state.missionId === m.id) this.app.update({ revision: r.revision, mission: { ...(this.app.state.mission ?? doc), name }, dirty: false });
       await this.reload(true);

@@ -15,6 +15,7 @@ import type { App, Tab } from '../state.ts';
 import { studyPanel } from '../study.ts';
 import { groupWarnings } from '../warnings.ts';
 import { zoneLegendHtml } from '../zones.ts';
+import { editableDoc } from '../mission-doc.ts';
 
 interface Planner {
   name: string;
@@ -274,9 +275,9 @@ export const planTab: Tab = {
     // a link to a mission: ?mission=ID opens it here when nothing else is open
     const linked = Number(new URLSearchParams(window.location.search).get('mission'));
     if (Number.isInteger(linked) && linked > 0)
-      api.get<{ id: number; revision: number; mission: Record<string, unknown> }>(`/missions/${linked}`).then(
+      api.get<{ id: number; revision: number; mission: Record<string, unknown>; source?: unknown }>(`/missions/${linked}`).then(
         (m) => {
-          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: m.mission });
+          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: editableDoc(m), dirty: false });
         },
         (e: ApiError) => {
           none.className = 'plan-error';
