@@ -93,45 +93,91 @@ export function compareTable(rows: Record<string, unknown>[]): HTMLElement {
   return wrap;
 }
 
-/** N small maps whose pan and zoom follow each other, each with one plan. */
+/**
+ * N maps of the same size showing the same view, each with one plan: one zoom and centre that shows
+ * every plan whole on all of them, and a pan or zoom of any map applied to the others at once (issue
+ * 29, defect 2: no animation, so that every map is at the same place at every frame).
+ */
 function sideBySide(plans: { planner: string; prepared: PreparedPlan }[]): void {
   const overlay = el('div', { class: 'plan-overlay', 'data-testid': 'compare-maps', role: 'dialog', 'aria-label': 'Plans side by side' });
   const bar = el('div', { class: 'plan-overlay-bar' });
   const close = el('button', { type: 'button', 'data-testid': 'compare-close' }, 'Close');
   bar.append(el('strong', {}, 'Plans side by side (pan and zoom are synchronised)'), close);
   const grid = el('div', { class: 'plan-overlay-grid' });
+  // equal cells: as many columns as fit three plans a row, never wider than the screen
+  const cols = Math.min(plans.length, window.innerWidth < 700 ? 1 : plans.length <= 3 ? plans.length : Math.ceil(plans.length / 2));
+  grid.style.gridTemplateColumns = `repeat(${cols}, minmax(0, 1fr))`;
+  grid.style.gridAutoRows = 'minmax(0, 1fr)';
   overlay.append(bar, grid);
   document.body.append(overlay);
   const maps: L.Map[] = [];
   const url = tileUrl(window.location.search);
-  let syncing = false;
   let bounds: L.LatLngBounds | null = null;
+  const cells: HTMLElement[] = [];
   for (const p of plans) {
     const cell = el('div', { class: 'plan-overlay-cell' });
     const title = el('div', { class: 'plan-overlay-title' }, p.planner);
     const mapEl = el('div', { class: 'plan-overlay-map', 'data-planner': p.planner });
     cell.append(title, mapEl);
     grid.append(cell);
-    const m = L.map(mapEl, { preferCanvas: true, zoomSnap: 0.25 }).setView([0, 0], 2);
+    cells.push(mapEl);
+    const b = p.prepared.summary.bounds ? L.latLngBounds(p.prepared.summary.bounds) : null;
+    if (b) bounds = bounds ? bounds.extend(b) : L.latLngBounds(b.getSouthWest(), b.getNorthEast());
+  }
+  // the common view, from the maps' real sizes (the overlay is laid out by now)
+  void overlay.offsetWidth;
+  const size = cells.reduce((s, c) => L.point(Math.min(s.x, c.clientWidth), Math.min(s.y, c.clientHeight)), L.point(Infinity, Infinity));
+  for (const [i, p] of plans.entries()) {
+    const m = L.map(cells[i], { preferCanvas: true, zoomSnap: 0.25, zoomAnimation: false, fadeAnimation: false, markerZoomAnimation: false, inertia: false });
     if (url) L.tileLayer(url, { maxZoom: 20, attribution: '&copy; OpenStreetMap contributors' }).addTo(m);
     L.control.scale({ imperial: false }).addTo(m);
-    const d = drawPlan(m, p.prepared);
-    if (d.bounds) bounds = bounds ? bounds.extend(d.bounds) : L.latLngBounds(d.bounds.getSouthWest(), d.bounds.getNorthEast());
+    if (bounds) {
+      // the largest zoom at which the union of the plans fits the smallest map, with a margin
+      const pad = L.point(20, 20);
+      let z = m.getBoundsZoom(bounds, false, pad);
+      if (size.x < Infinity) {
+        const fit = (zoom: number) => {
+          const sw = m.project(bounds!.getSouthWest(), zoom);
+          const ne = m.project(bounds!.getNorthEast(), zoom);
+          return Math.abs(ne.x - sw.x) <= size.x - 2 * pad.x && Math.abs(sw.y - ne.y) <= size.y - 2 * pad.y;
+        };
+        while (z > 0 && !fit(z)) z -= 0.25;
+      }
+      m.setView(bounds.getCenter(), z, { animate: false });
+    } else m.setView([0, 0], 2);
+    drawPlan(m, p.prepared);
+    // the view on the element, for people's tools and the tests: zoom, centre, [s, w, n, e]
+    const mark = () => {
+      const c = m.getCenter();
+      const b = m.getBounds();
+      cells[i].dataset.zoom = String(m.getZoom());
+      cells[i].dataset.center = `${c.lat.toFixed(6)},${c.lng.toFixed(6)}`;
+      cells[i].dataset.view = [b.getSouth(), b.getWest(), b.getNorth(), b.getEast()].map((x) => x.toFixed(7)).join(',');
+    };
+    m.on('moveend zoomend', mark);
+    mark();
     maps.push(m);
   }
-  for (const m of maps) {
-    if (bounds) m.fitBounds(bounds, { padding: [10, 10], animate: false });
-    m.on('move zoom', () => {
-      if (syncing) return;
-      syncing = true;
-      for (const o of maps) if (o !== m) o.setView(m.getCenter(), m.getZoom(), { animate: false });
-      syncing = false;
-    });
-  }
+  let syncing = false;
+  const sync = (from: L.Map) => {
+    if (syncing) return;
+    syncing = true;
+    const c = from.getCenter();
+    const z = from.getZoom();
+    for (const o of maps) if (o !== from && (o.getZoom() !== z || !o.getCenter().equals(c, 1e-9))) o.setView(c, z, { animate: false });
+    syncing = false;
+  };
+  for (const m of maps) m.on('move zoom moveend zoomend', () => sync(m));
+  const onResize = () => {
+    for (const m of maps) m.invalidateSize({ animate: false });
+    if (maps[0]) sync(maps[0]);
+  };
+  window.addEventListener('resize', onResize);
   const dispose = () => {
     for (const m of maps) m.remove();
     overlay.remove();
     document.removeEventListener('keydown', onKey);
+    window.removeEventListener('resize', onResize);
   };
   const onKey = (e: KeyboardEvent) => {
     if (e.key === 'Escape') dispose();

@@ -1,13 +1,11 @@
 // A plan's warnings for people (issue 29, defect 6): numbers rounded as a person writes them
 // ("119.99000000000001 m" → "120 m"), repeats grouped with their count, in first-seen order.
 
-/** A number's text rounded for reading: at most 2 decimals, and no more than 4 significant digits after the point. */
+/** A number's text as a person writes it: five significant digits, no floating-point noise. */
 export function humanNumber(text: string): string {
   const x = Number(text);
   if (!Number.isFinite(x)) return text;
-  const abs = Math.abs(x);
-  const digits = abs >= 100 ? 0 : abs >= 10 ? 1 : 2;
-  const r = Number(x.toFixed(digits));
+  const r = Number(x.toPrecision(5));
   return String(Object.is(r, -0) ? 0 : r);
 }
 

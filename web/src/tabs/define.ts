@@ -11,6 +11,8 @@ import { panelTab, type App, type Tab } from '../state.ts';
 import {
   areaPolygons,
   geojsonPolygons,
+  fieldLabel,
+  humanMessage,
   matchField,
   newDraft,
   nextUavId,
@@ -436,7 +438,7 @@ class DefinePanel {
       const d: MissionDoc = { ...this.doc, planner_params: params };
       if (Object.keys(params).length === 0) delete d.planner_params;
       this.commit(d);
-      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, `planner_params.${name}: ${error}`), 0);
+      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, error), 0);
     });
   }
 
@@ -485,8 +487,8 @@ class DefinePanel {
     top.appendChild(rm);
 
     const bottom = el('div', { class: 'define-uav-bottom' });
-    const slider = el('input', { type: 'range', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
-    const number = el('input', { type: 'number', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
+    const slider = el('input', { type: 'range', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
+    const number = el('input', { type: 'number', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
     const shareWrap = el('span', { class: 'define-share', 'data-anchor': `uavs[${i}].share` });
     shareWrap.append(slider, number, el('span', { class: 'define-unit' }, '%'));
     if (this.uavs().length < 2) {
@@ -572,6 +574,14 @@ class DefinePanel {
     this.shareHistory = [i, ...this.shareHistory.filter((k) => k !== i)];
     this.commit({ ...this.doc, uavs: this.withShares(this.uavs(), next) });
     this.refreshShares(next);
+    // a share the operator asked for but cannot have (0 %, or all of it): say why, on that row
+    this.uavRows.querySelectorAll('[data-testid="share-note"]').forEach((x) => x.remove());
+    if (Math.round(v) !== next[i]) {
+      const row = this.uavRows.querySelectorAll<HTMLElement>('[data-testid="uav-row"]')[i];
+      const id = String(this.uavs()[i]?.id ?? `uav${i + 1}`);
+      const why = Math.round(v) < next[i] ? `a share is at least 1 % — remove ${id} (×) to leave it out` : `each other UAV keeps at least 1 %`;
+      row?.append(el('div', { class: 'define-share-note', 'data-testid': 'share-note', role: 'status' }, `${id}: ${next[i]} %, ${why}.`));
+    }
   }
 
   /** show shares in the rows without rebuilding them (keeps the focus) */
@@ -714,15 +724,21 @@ class DefinePanel {
   showError(field: string, message: string): void {
     const anchors = this.anchors();
     const match = matchField(field, anchors.keys());
+    // in words: the field as the form names it ("uav2 share", "Altitude"), its path in the tooltip
+    const label = fieldLabel(field, this.doc);
+    const text = `${label ? `${label}: ` : ''}${humanMessage(field, message, this.doc)}`;
     if (!match) {
-      this.showGeneral(message, field);
+      this.showGeneral(text, field);
       return;
     }
     const target = anchors.get(match)!;
     target.classList.add('define-invalid');
+    // a problem of the shares as a whole marks every share
+    if (field === 'uavs' && /share/i.test(message))
+      this.uavRows.querySelectorAll('.define-share').forEach((x) => x.classList.add('define-invalid'));
     // overlaps are fractions in the file, percentages here: say so
     const hint = /overlap$/.test(field) ? ` (entered here in %: ${this.overlapInput.value} %)` : '';
-    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert' }, message + hint);
+    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert', title: field }, text + hint);
     if (target.tagName === 'SECTION') target.querySelector('h3')!.after(box);
     else if (target.classList.contains('define-inline') || target.classList.contains('define-share')) target.closest('.define-uav')!.appendChild(box);
     else target.after(box);
@@ -738,6 +754,7 @@ class DefinePanel {
     this.general.hidden = false;
     this.general.dataset.field = field;
     this.general.textContent = message;
+    this.general.title = field;
   }
 
   private clearGeneral(): void {

@@ -4,7 +4,7 @@ import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
 import { confirmDiscard } from '../discard.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
-import { docBbox, editableDoc, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
+import { docBbox, editableDoc, fieldLabel, fileName, humanMessage, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
 import '../missions.css';
 
@@ -40,7 +40,10 @@ function el<K extends keyof HTMLElementTagNameMap>(
 export function errorText(e: unknown): string {
   if (e instanceof ApiError) {
     if (e.status === 409) return `Refused: ${e.message}`;
-    return e.field && !e.message.startsWith(e.field) ? `${e.field}: ${e.message}` : e.message;
+    // the field as the form names it ("Area, polygon 1"), not the document's path
+    const label = fieldLabel(e.field);
+    const msg = humanMessage(e.field, e.message);
+    return label ? `${label}: ${msg}` : msg;
   }
   return e instanceof Error ? e.message : String(e);
 }

@@ -244,7 +244,7 @@ test('9. a validation error next to its field', async (t) => {
   await page.press('[data-testid=altitude-input]', 'Tab');
   const err = page.locator('[data-testid=field-error][data-field=altitude_m]');
   await err.waitFor({ timeout: 10000 });
-  assert.match(await err.innerText(), /altitude/);
+  assert.match(await err.innerText(), /altitude/i);
   // next to its field: the error box is close below or beside the input
   const a = await page.locator('[data-testid=altitude-input]').boundingBox();
   const b = await err.boundingBox();
