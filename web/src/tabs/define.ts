@@ -137,6 +137,7 @@ class DefinePanel {
   private overlapInput!: HTMLInputElement;
   private hfovInput!: HTMLInputElement;
   private spacingInput!: HTMLInputElement;
+  private gimbalInput!: HTMLInputElement;
   private spacingValue!: HTMLElement;
   private gsdValue!: HTMLElement;
   private footprintValue!: HTMLElement;
@@ -159,6 +160,7 @@ class DefinePanel {
       else this.showStatus();
     });
     void this.loadCatalogs();
+    window.addEventListener('uavcover:catalog-changed', () => void this.loadCatalogs());
   }
 
   // ---------------------------------------------------------------- layout
@@ -249,7 +251,9 @@ class DefinePanel {
     this.field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
     this.spacingInput = el('input', { type: 'number', min: '0.1', step: 'any', 'data-testid': 'spacing-input' });
     this.field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
-    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput]) i.addEventListener('change', () => this.cameraChanged(false));
+    this.gimbalInput = el('input', { type: 'number', min: '-90', max: '0', step: '1', placeholder: '-90', 'data-testid': 'gimbal-input', title: 'camera pitch: -90° looks straight down (the default), 0° at the horizon' });
+    this.field(cam, 'Gimbal pitch', 'camera.gimbal_pitch_deg', this.gimbalInput, '°');
+    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput, this.gimbalInput]) i.addEventListener('change', () => this.cameraChanged(false));
     const out = el('dl', { class: 'define-values' });
     const value = (label: string, testid: string, title: string) => {
       out.append(el('dt', { title }, label));
@@ -465,6 +469,23 @@ class DefinePanel {
     const cat = typeof u.catalog_id === 'number' ? this.uavCatalog.find((c) => c.id === u.catalog_id) : undefined;
     if (typeof u.catalog_id === 'number') {
       top.appendChild(el('span', { class: 'define-uav-cat', 'data-anchor': `uavs[${i}].catalog_id`, title: 'from the UAV catalog' }, cat ? cat.name : `catalog UAV #${u.catalog_id}`));
+      // the mission's speed wins over the catalog's: empty = the catalog's
+      const speed = el('input', {
+        type: 'number',
+        min: '0.1',
+        max: '50',
+        step: 'any',
+        value: typeof u.speed_mps === 'number' ? String(u.speed_mps) : '',
+        placeholder: cat ? String(cat.speed_mps) : '',
+        'aria-label': 'Speed (empty: the catalog’s)',
+        title: 'empty: the catalog’s speed',
+        'data-testid': 'uav-speed-override',
+        class: 'define-uav-speed',
+      });
+      speed.addEventListener('change', () => this.setUav(i, { speed_mps: num(speed.value) }));
+      const sp = el('span', { class: 'define-inline', 'data-anchor': `uavs[${i}].speed_mps` });
+      sp.append(speed, el('span', { class: 'define-unit' }, 'm/s'));
+      top.appendChild(sp);
     } else {
       const speed = el('input', {
         type: 'number',
@@ -517,6 +538,26 @@ class DefinePanel {
     startWrap.appendChild(place);
     bottom.append(shareWrap, startWrap);
     row.append(top, bottom);
+    // its own camera (heterogeneous cameras): only beside a mission camera, at its altitude and overlaps
+    if (this.doc.camera && typeof this.doc.camera === 'object' && this.cameras.length) {
+      const camRow = el('span', { class: 'define-inline define-uav-camera', 'data-anchor': `uavs[${i}].camera` });
+      const sel = el('select', { 'data-testid': 'uav-camera', 'aria-label': `Camera of ${id}` });
+      sel.append(el('option', { value: '' }, 'the mission’s camera'));
+      for (const c of this.cameras) sel.append(el('option', { value: String(c.id) }, c.name));
+      const mine = this.uavCameraId(u);
+      sel.value = mine === null ? '' : String(mine);
+      if (u.camera && mine === null) {
+        sel.append(el('option', { value: 'file' }, 'its own (from the file)'));
+        sel.value = 'file';
+      }
+      sel.addEventListener('change', () => {
+        if (sel.value === 'file') return;
+        const own = sel.value ? this.ownCamera(this.doc, Number(sel.value)) : null;
+        this.setUav(i, { camera: own ?? undefined });
+      });
+      camRow.append(el('span', { class: 'define-unit' }, 'camera'), sel);
+      row.append(camRow);
+    }
     return row;
   }
 
@@ -636,6 +677,8 @@ class DefinePanel {
     show(this.overlapInput, mode !== 'none');
     show(this.hfovInput, mode === 'paper');
     show(this.spacingInput, mode === 'none');
+    this.gimbalInput.value = typeof c.gimbal_pitch_deg === 'number' ? String(c.gimbal_pitch_deg) : '';
+    show(this.gimbalInput, mode !== 'none');
   }
 
   private cameraChanged(modeChanged: boolean): void {
@@ -673,8 +716,54 @@ class DefinePanel {
         d.camera = put({ catalog_id: Number(mode.slice(4)), altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) });
       }
     }
+    if (d.camera && typeof d.camera === 'object') {
+      const cam = d.camera as Record<string, unknown>;
+      const g = num(this.gimbalInput.value);
+      if (g === undefined) delete cam.gimbal_pitch_deg;
+      else cam.gimbal_pitch_deg = g;
+    }
+    d.uavs = this.uavCameras(d, this.uavs());
     this.commit(d);
     if (modeChanged) this.refreshCamera();
+    if (modeChanged) this.renderUavs();
+  }
+
+  /** A UAV's own camera (a catalog camera other than the mission's) as the library wants it: the
+   * mission camera's altitude and overlaps with that camera's sensor (or HFOV in the paper's convention). */
+  private ownCamera(d: MissionDoc, camId: number): Record<string, unknown> | null {
+    const mc = d.camera as Record<string, unknown> | undefined;
+    const k = this.cameras.find((c) => c.id === camId);
+    if (!mc || typeof mc !== 'object' || !k) return null;
+    const out: Record<string, unknown> = { altitude_m: mc.altitude_m };
+    const paper = typeof mc.overlap === 'number' || (typeof mc.hfov_deg === 'number' && mc.sensor_width_mm === undefined && mc.catalog_id === undefined);
+    if (paper) Object.assign(out, { overlap: mc.overlap, hfov_deg: k.hfov_deg });
+    else Object.assign(out, { side_overlap: mc.side_overlap, sensor_width_mm: k.sensor_width_mm, focal_length_mm: k.focal_length_mm, image_width_px: k.image_width_px });
+    for (const key of ['front_overlap', 'gimbal_pitch_deg']) if (mc[key] !== undefined) out[key] = mc[key];
+    for (const key of Object.keys(out)) if (out[key] === undefined) delete out[key];
+    return out;
+  }
+
+  /** The catalog camera a UAV's own camera block is, if any. */
+  private uavCameraId(u: Uav): number | null {
+    const c = u.camera as Record<string, unknown> | undefined;
+    if (!c || typeof c !== 'object') return null;
+    const k = this.cameras.find((x) =>
+      typeof c.sensor_width_mm === 'number' ? x.sensor_width_mm === c.sensor_width_mm && x.focal_length_mm === c.focal_length_mm && x.image_width_px === c.image_width_px : x.hfov_deg === c.hfov_deg,
+    );
+    return k ? k.id : null;
+  }
+
+  /** UAVs whose own camera follows the mission's camera (altitude, overlaps); none without one. */
+  private uavCameras(d: MissionDoc, list: Uav[]): Uav[] {
+    return list.map((u) => {
+      if (!u.camera) return u;
+      const id = this.uavCameraId(u);
+      const n = { ...u };
+      const own = id === null ? null : this.ownCamera(d, id);
+      if (own) n.camera = own;
+      else if (!d.camera) delete n.camera;
+      return n;
+    });
   }
 
   // ---------------------------------------------------------------- validation and errors

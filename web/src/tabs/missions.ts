@@ -3,6 +3,7 @@
 import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
 import { confirmDiscard } from '../discard.ts';
+import { catalogEditor } from '../catalog-editor.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
 import { docBbox, editableDoc, fieldLabel, fileName, humanMessage, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
@@ -134,7 +135,7 @@ class MissionsPanel {
     this.status = el('div', { class: 'missions-status', role: 'status', 'aria-live': 'polite' });
     this.list = el('ul', { class: 'missions-list', 'data-testid': 'mission-list' });
     this.pager = el('div', { class: 'missions-pager' });
-    p.append(bar, drop, this.status, this.list, this.pager);
+    p.append(bar, drop, this.status, this.list, this.pager, catalogEditor());
   }
 
   show(): void {

@@ -424,6 +424,100 @@ test('defect 9: the Fly map shows the area and its no-fly zones', async () => {
   await h.shot(p, 'ops-9-fly-zones');
 });
 
+test('the catalog editor: UAVs and cameras added, edited (errors by the field) and deleted', async () => {
+  const p = await page();
+  await p.goto(`${server.base}/?tiles=off`);
+  await p.click('[data-testid=catalog-section] > summary');
+  await p.waitForSelector('[data-testid=catalog-item][data-kind=cameras]');
+  // a camera, first with an image width that is not an integer
+  await p.click('[data-testid=catalog-add][data-kind=cameras]');
+  const form = p.locator('[data-testid=catalog-form]');
+  await form.locator('[data-field=name]').fill('ops editor cam');
+  await form.locator('[data-field=image_width_px]').fill('4000.5');
+  await p.click('[data-testid=catalog-save]');
+  await p.waitForSelector('[data-testid=catalog-error][data-field=image_width_px]');
+  assert.match(await p.locator('[data-testid=catalog-error]').innerText(), /^Image width: /);
+  await form.locator('[data-field=image_width_px]').fill('4000');
+  await p.click('[data-testid=catalog-save]');
+  await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
+  const cam = (await server.api('/cameras')).items.find((c) => c.name === 'ops editor cam');
+  assert.ok(cam, 'the camera is in the catalog');
+  assert.equal(cam.image_width_px, 4000);
+  // a UAV carrying it
+  await p.click('[data-testid=catalog-add][data-kind=uavs]');
+  await form.locator('[data-field=name]').fill('ops editor quad');
+  await form.locator('[data-field=speed_mps]').fill('11');
+  await form.locator('[data-field=camera_id]').selectOption(String(cam.id));
+  await p.click('[data-testid=catalog-save]');
+  await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
+  let quad = (await server.api('/uavs')).items.find((u) => u.name === 'ops editor quad');
+  assert.equal(quad.speed_mps, 11);
+  assert.equal(quad.camera_id, cam.id);
+  const item = p.locator(`[data-testid=catalog-item][data-kind=uavs][data-id="${quad.id}"]`);
+  assert.match(await item.innerText(), /ops editor cam/);
+  // edited: a speed out of range is refused next to the field, then a good one saved
+  await item.locator('[data-testid=catalog-edit]').click();
+  await form.locator('[data-field=speed_mps]').fill('0');
+  await p.click('[data-testid=catalog-save]');
+  await p.waitForSelector('[data-testid=catalog-error][data-field=speed_mps]');
+  await form.locator('[data-field=speed_mps]').fill('12.5');
+  await p.click('[data-testid=catalog-save]');
+  await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
+  quad = (await server.api('/uavs')).items.find((u) => u.id === quad.id);
+  assert.equal(quad.speed_mps, 12.5);
+  // the Define tab offers it at once
+  await h.tab(p, 'define');
+  await p.waitForFunction((id) => !!document.querySelector(`[data-testid=uav-add-catalog] option[value="${id}"]`), quad.id);
+  await h.tab(p, 'missions');
+  await h.shot(p, 'ops-catalog-editor');
+  // deleted
+  await item.locator('[data-testid=catalog-delete]').click();
+  await item.locator('[data-testid=catalog-delete-confirm]').click();
+  await p.waitForSelector(`[data-testid=catalog-item][data-kind=uavs][data-id="${quad.id}"]`, { state: 'detached' });
+  assert.ok(!(await server.api('/uavs')).items.some((u) => u.id === quad.id));
+});
+
+test('Define: gimbal pitch, a catalog UAV\'s speed and a UAV\'s own camera', async () => {
+  const m = await post('/missions', { ...olive, name: 'ops define camera' });
+  const cams = (await server.api('/cameras')).items;
+  const p = await page();
+  await openMission(p, m.id);
+  await p.waitForFunction(() => document.querySelectorAll('[data-testid=uav-row] [data-testid=uav-camera]').length === 3);
+  await p.fill('[data-testid=gimbal-input]', '-60');
+  await p.press('[data-testid=gimbal-input]', 'Tab');
+  await p.locator('[data-testid=uav-row]').nth(1).locator('[data-testid=uav-camera]').selectOption(String(cams[1].id));
+  await p.click('[data-testid=mission-save]');
+  await p.waitForFunction(() => /revision 2 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  assert.equal(await p.locator('[data-testid=field-error]').count(), 0);
+  const r = await server.api(`/missions/${m.id}`);
+  assert.equal(r.source.camera.gimbal_pitch_deg, -60);
+  assert.equal(r.mission.camera.gimbal_pitch_deg, -60);
+  const own = r.mission.uavs[1].camera;
+  assert.ok(own, JSON.stringify(r.mission.uavs[1]));
+  assert.equal(own.hfov_deg, cams[1].hfov_deg);
+  assert.equal(own.altitude_m, olive.camera.altitude_m);
+  assert.equal(r.mission.uavs[0].camera, undefined);
+  // the mission's altitude changes: the UAV's camera follows (the library wants one altitude)
+  await p.fill('[data-testid=altitude-input]', '60');
+  await p.press('[data-testid=altitude-input]', 'Tab');
+  await p.click('[data-testid=mission-save]');
+  await p.waitForFunction(() => /revision 3 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  assert.equal((await server.api(`/missions/${m.id}`)).mission.uavs[1].camera.altitude_m, 60);
+  // a catalog UAV's speed: the catalog's unless the mission gives one
+  const catalog = p.locator('[data-testid=uav-add-catalog]');
+  const first = (await catalog.locator('option').evaluateAll((os) => os.map((o) => o.value).filter((v) => v)))[0];
+  await catalog.selectOption(first);
+  const row = p.locator('[data-testid=uav-row]').nth(3);
+  await row.locator('[data-testid=uav-speed-override]').fill('4');
+  await row.locator('[data-testid=uav-speed-override]').press('Tab');
+  await p.click('[data-testid=mission-save]');
+  await p.waitForFunction(() => /revision 4 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  const r4 = await server.api(`/missions/${m.id}`);
+  assert.equal(r4.source.uavs[3].catalog_id, Number(first));
+  assert.equal(r4.mission.uavs[3].speed_mps, 4);
+  await h.shot(p, 'ops-define-camera');
+});
+
 test('screenshots of every tab at 1440x900 and 768x1024', async () => {
   const m = await post('/missions', { ...olive, name: 'ops screenshots' });
   await planned(m.id);
