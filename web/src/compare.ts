@@ -24,6 +24,8 @@ const ROWS: { key: string; label: string; title: string; fmt: (v: number) => str
   { key: 'compute_time_s', label: 'Compute', title: 'planning time', fmt: (v) => `${v.toFixed(2)} s` },
 ];
 
+/** A long name with soft hyphens every 7 letters, so that a narrow column breaks it with a hyphen ("boustro-phedon"). */
+const breakable = (name: string): string => (name.length > 10 ? name.replace(/([a-z]{7})(?=[a-z]{4})/g, '$1\u00ad') : name);
 const rowName = (r: Record<string, unknown>): string => String(r.planner ?? r.name ?? '?');
 const numberOf = (r: Record<string, unknown>, k: string): number | null => (typeof r[k] === 'number' && Number.isFinite(r[k]) ? (r[k] as number) : null);
 
@@ -61,7 +63,7 @@ export function compareTable(rows: Record<string, unknown>[]): HTMLElement {
   const head = el('tr');
   head.append(el('th', { scope: 'col' }, ''));
   for (const r of rows) {
-    const th = el('th', { scope: 'col', 'data-planner': rowName(r) }, rowName(r));
+    const th = el('th', { scope: 'col', 'data-planner': rowName(r), title: rowName(r) }, breakable(rowName(r)));
     if (typeof r.error === 'string' || (r.error && typeof r.error === 'object')) th.title = JSON.stringify(r.error);
     head.append(th);
   }

@@ -179,12 +179,13 @@ export const flyTab: Tab = {
     afterBox.body.append(replay.el);
     const legend = el('div', { class: 'muted fly-legend' });
     legend.innerHTML =
-      '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned' +
-      `<div class="zone-legend">${zoneLegendHtml()}</div>`;
+      '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned';
     const head = el('div', { class: 'plan-row' });
     head.append(stateLine, stop);
     flightBox.append(head, cmdRow, cmdMsg, legend, live.el, afterBox.box);
-    body.append(title, otherPlan, listRow, create.box, flightBox);
+    const zoneKey = el('div', { class: 'zone-legend fly-zone-legend', 'data-testid': 'fly-zone-legend' });
+    zoneKey.innerHTML = zoneLegendHtml();
+    body.append(title, zoneKey, otherPlan, listRow, create.box, flightBox);
 
     // --- the mission's flights that have not ended
     let active: Flight[] = [];

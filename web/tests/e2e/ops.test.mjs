@@ -420,7 +420,7 @@ test('defect 9: the Fly map shows the area and its no-fly zones', async () => {
     return n;
   });
   assert.ok(red > 50, `the no-fly zones are drawn red on the Fly map (${red} pixels)`);
-  assert.ok(await p.locator('.fly-legend [data-testid=legend-nfz]').isVisible());
+  assert.ok(await p.locator('[data-testid=fly-zone-legend] [data-testid=legend-nfz]').isVisible());
   await h.shot(p, 'ops-9-fly-zones');
 });
 
