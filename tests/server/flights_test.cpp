@@ -244,7 +244,8 @@ TEST_P(FlightApiTest, AMissionListsItsFlightsThatHaveNotEndedWhateverTheirPlan) 
     const Answer r = call("GET", u);
     EXPECT_EQ(r.status, 200) << r.body;
     std::vector<store::Id> out;
-    for (const auto& f : r.json().at("items")) {
+    const json body = r.json();  // kept: a range-for over a temporary's member would dangle
+    for (const auto& f : body.at("items")) {
       EXPECT_EQ(f.at("mission_id").get<store::Id>(), mission) << f.dump();
       EXPECT_TRUE(f.contains("plan_id")) << f.dump();
       for (const auto& u : f.at("uavs"))
