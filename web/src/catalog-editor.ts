@@ -128,6 +128,7 @@ export function catalogEditor(): HTMLElement {
   const openForm = (kind: Kind, e: Entry | null, where: HTMLElement) => {
     box.querySelector('[data-testid=catalog-form]')?.remove();
     const form = el('form', { class: 'catalog-form', 'data-testid': 'catalog-form', 'data-kind': kind });
+    form.noValidate = true; // the server's checks, in words next to the field, not the browser's bubbles
     const inputs = new Map<string, HTMLInputElement | HTMLSelectElement>();
     const values = e ?? DEFAULTS[kind];
     for (const f of FIELDS[kind]) {
@@ -188,7 +189,7 @@ export function catalogEditor(): HTMLElement {
       } catch (err) {
         const field = err instanceof ApiError ? err.field : '';
         const label = FIELDS[kind].find((f) => f.key === field)?.label;
-        const msg = el('div', { class: 'define-field-error', 'data-testid': 'catalog-error', 'data-field': field, role: 'alert', title: field }, `${label ? `${label}: ` : ''}${(err as Error).message}`);
+        const msg = el('div', { class: 'define-field-error', 'data-testid': 'catalog-error', 'data-field': field, role: 'alert', title: field }, `${label ? `${label}: ` : ''}${(err as Error).message.replace(field ? `${field}: ` : '\u0000', '')}`);
         const input = inputs.get(field);
         if (input) input.closest('label')!.after(msg);
         else buttons.before(msg);

@@ -432,12 +432,12 @@ test('the catalog editor: UAVs and cameras added, edited (errors by the field) a
   // a camera, first with an image width that is not an integer
   await p.click('[data-testid=catalog-add][data-kind=cameras]');
   const form = p.locator('[data-testid=catalog-form]');
-  await form.locator('[data-field=name]').fill('ops editor cam');
-  await form.locator('[data-field=image_width_px]').fill('4000.5');
+  await form.locator('[data-testid=catalog-input][data-field=name]').fill('ops editor cam');
+  await form.locator('[data-testid=catalog-input][data-field=image_width_px]').fill('4000.5');
   await p.click('[data-testid=catalog-save]');
   await p.waitForSelector('[data-testid=catalog-error][data-field=image_width_px]');
-  assert.match(await p.locator('[data-testid=catalog-error]').innerText(), /^Image width: /);
-  await form.locator('[data-field=image_width_px]').fill('4000');
+  assert.match(await p.locator('[data-testid=catalog-error]').innerText(), /^Image width: (?!image_width_px)/);
+  await form.locator('[data-testid=catalog-input][data-field=image_width_px]').fill('4000');
   await p.click('[data-testid=catalog-save]');
   await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
   const cam = (await server.api('/cameras')).items.find((c) => c.name === 'ops editor cam');
@@ -445,9 +445,9 @@ test('the catalog editor: UAVs and cameras added, edited (errors by the field) a
   assert.equal(cam.image_width_px, 4000);
   // a UAV carrying it
   await p.click('[data-testid=catalog-add][data-kind=uavs]');
-  await form.locator('[data-field=name]').fill('ops editor quad');
-  await form.locator('[data-field=speed_mps]').fill('11');
-  await form.locator('[data-field=camera_id]').selectOption(String(cam.id));
+  await form.locator('[data-testid=catalog-input][data-field=name]').fill('ops editor quad');
+  await form.locator('[data-testid=catalog-input][data-field=speed_mps]').fill('11');
+  await form.locator('[data-testid=catalog-input][data-field=camera_id]').selectOption(String(cam.id));
   await p.click('[data-testid=catalog-save]');
   await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
   let quad = (await server.api('/uavs')).items.find((u) => u.name === 'ops editor quad');
@@ -457,10 +457,10 @@ test('the catalog editor: UAVs and cameras added, edited (errors by the field) a
   assert.match(await item.innerText(), /ops editor cam/);
   // edited: a speed out of range is refused next to the field, then a good one saved
   await item.locator('[data-testid=catalog-edit]').click();
-  await form.locator('[data-field=speed_mps]').fill('0');
+  await form.locator('[data-testid=catalog-input][data-field=speed_mps]').fill('0');
   await p.click('[data-testid=catalog-save]');
   await p.waitForSelector('[data-testid=catalog-error][data-field=speed_mps]');
-  await form.locator('[data-field=speed_mps]').fill('12.5');
+  await form.locator('[data-testid=catalog-input][data-field=speed_mps]').fill('12.5');
   await p.click('[data-testid=catalog-save]');
   await p.waitForSelector('[data-testid=catalog-form]', { state: 'detached' });
   quad = (await server.api('/uavs')).items.find((u) => u.id === quad.id);
@@ -487,7 +487,7 @@ test('Define: gimbal pitch, a catalog UAV\'s speed and a UAV\'s own camera', asy
   await p.press('[data-testid=gimbal-input]', 'Tab');
   await p.locator('[data-testid=uav-row]').nth(1).locator('[data-testid=uav-camera]').selectOption(String(cams[1].id));
   await p.click('[data-testid=mission-save]');
-  await p.waitForFunction(() => /revision 2 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  await p.waitForFunction(() => /revision 2\b/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
   assert.equal(await p.locator('[data-testid=field-error]').count(), 0);
   const r = await server.api(`/missions/${m.id}`);
   assert.equal(r.source.camera.gimbal_pitch_deg, -60);
@@ -501,7 +501,7 @@ test('Define: gimbal pitch, a catalog UAV\'s speed and a UAV\'s own camera', asy
   await p.fill('[data-testid=altitude-input]', '60');
   await p.press('[data-testid=altitude-input]', 'Tab');
   await p.click('[data-testid=mission-save]');
-  await p.waitForFunction(() => /revision 3 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  await p.waitForFunction(() => /revision 3\b/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
   assert.equal((await server.api(`/missions/${m.id}`)).mission.uavs[1].camera.altitude_m, 60);
   // a catalog UAV's speed: the catalog's unless the mission gives one
   const catalog = p.locator('[data-testid=uav-add-catalog]');
@@ -511,7 +511,7 @@ test('Define: gimbal pitch, a catalog UAV\'s speed and a UAV\'s own camera', asy
   await row.locator('[data-testid=uav-speed-override]').fill('4');
   await row.locator('[data-testid=uav-speed-override]').press('Tab');
   await p.click('[data-testid=mission-save]');
-  await p.waitForFunction(() => /revision 4 — saved/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
+  await p.waitForFunction(() => /revision 4\b/.test(document.querySelector('[data-testid=mission-status]')?.textContent));
   const r4 = await server.api(`/missions/${m.id}`);
   assert.equal(r4.source.uavs[3].catalog_id, Number(first));
   assert.equal(r4.mission.uavs[3].speed_mps, 4);
