@@ -60,7 +60,9 @@ test('1. draw an area with mouse clicks, then a no-fly zone', async (t) => {
 test('2. add 3 UAVs, move one start by dragging, shares 50/30/20', async (t) => {
   if (needsDefine(t)) return;
   const catalog = page.locator('[data-testid=uav-add-catalog]');
-  for (let i = 0; i < 3; i++) {
+  // a new mission starts with one UAV (issue 29): two more from the catalog
+  assert.equal(await page.locator('[data-testid=uav-row]').count(), 1);
+  for (let i = 0; i < 2; i++) {
     const options = await catalog.locator('option').evaluateAll((os) => os.map((o) => o.value).filter((v) => v));
     await catalog.selectOption(options[0]);
   }
