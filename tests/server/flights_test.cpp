@@ -44,8 +44,9 @@ std::string small_field() {
 class FlightApiTest : public ApiTest {
  protected:
   /// A done plan job of the small field; its id.
-  store::Id done_plan() {
-    const auto mission_id = create_mission(small_field());
+  store::Id done_plan() { return done_plan(create_mission(small_field())); }
+  /// A done plan job of the mission `mission_id`; its id.
+  store::Id done_plan(store::Id mission_id) {
     const Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
     EXPECT_EQ(a.status, 202) << a.body;
     const auto id = a.json().at("id").get<store::Id>();
@@ -219,6 +220,53 @@ TEST_P(FlightApiTest, AtStartFlightsThatHadNotEndedAreFollowedAgainOrAbortedWhen
   EXPECT_EQ(last.at("kind"), "state");
   EXPECT_EQ(last.at("data").at("state"), "aborted");
   EXPECT_NE(last.at("data").at("reason").get<std::string>().find("simulated fleet"), std::string::npos);
+}
+
+TEST_P(FlightApiTest, AMissionListsItsFlightsThatHaveNotEndedWhateverTheirPlan) {
+  const auto mission = create_mission(small_field());
+  const store::Id first = done_plan(mission);
+  const auto vehicles = json{{"vehicles",
+                              {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 1}},
+                               {{"uav", "B"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 2}}}}};
+  const Answer a = post_flight(first, vehicles);
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto flight_a = a.json().at("id").get<store::Id>();
+  // the mission is planned again: the flight of its first plan is still the mission's
+  const store::Id second = done_plan(mission);
+  ASSERT_NE(second, first);
+  const Answer b = post_flight(second, vehicles);
+  ASSERT_EQ(b.status, 201) << b.body;
+  const auto flight_b = b.json().at("id").get<store::Id>();
+  const auto other = create_mission(small_field());
+
+  const std::string url = "/api/v1/missions/" + std::to_string(mission) + "/flights";
+  auto ids = [&](const std::string& u) {
+    const Answer r = call("GET", u);
+    EXPECT_EQ(r.status, 200) << r.body;
+    std::vector<store::Id> out;
+    const json body = r.json();  // kept: a range-for over a temporary's member would dangle
+    for (const auto& f : body.at("items")) {
+      EXPECT_EQ(f.at("mission_id").get<store::Id>(), mission) << f.dump();
+      EXPECT_TRUE(f.contains("plan_id")) << f.dump();
+      for (const auto& u : f.at("uavs"))
+        EXPECT_FALSE(u.contains("waypoints")) << "the listing leaves them out";
+      out.push_back(f.at("id").get<store::Id>());
+    }
+    return out;
+  };
+  EXPECT_EQ(ids(url), (std::vector<store::Id>{flight_b, flight_a})) << "newest first, both plans";
+  EXPECT_TRUE(ids("/api/v1/missions/" + std::to_string(other) + "/flights").empty());
+
+  // a flight that ended (DELETE: aborted) is no longer listed
+  ASSERT_EQ(call("DELETE", "/api/v1/flights/" + std::to_string(flight_a)).status, 200);
+  EXPECT_EQ(ids(url), (std::vector<store::Id>{flight_b}));
+  ASSERT_EQ(call("DELETE", "/api/v1/flights/" + std::to_string(flight_b)).status, 200);
+  EXPECT_TRUE(ids(url).empty());
+
+  const Answer missing = call("GET", "/api/v1/missions/987654/flights");
+  EXPECT_EQ(missing.status, 404) << missing.body;
+  EXPECT_EQ(missing.error_field(), "id") << missing.body;
+  EXPECT_EQ(call("GET", "/api/v1/missions/x/flights").status, 400);
 }
 
 TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) {
