@@ -58,7 +58,7 @@ struct UploadResult {
   std::size_t out_of_order = 0;  ///< requests for anything but the next new item
   double elapsed_s = 0.0;
   /// After a failure: MISSION_CLEAR_ALL was sent (the vehicle had answered, so it may hold part of the
-  /// upload: ArduPilot truncates its mission at MISSION_COUNT and stores items as they arrive).
+  /// upload: ArduPilot stores items as they arrive, issue 34).
   bool clear_sent = false;
   /// ... and the vehicle acknowledged it (MISSION_ACK accepted): it holds no mission.
   bool cleared = false;
@@ -95,9 +95,10 @@ struct VehicleOptions {
   int retries = kMaxRetries;
   std::size_t max_items = 700;  ///< answers MAV_MISSION_NO_SPACE above this
   std::chrono::milliseconds heartbeat_period{1000};
-  /// ArduPilot's storage: MISSION_COUNT truncates the stored mission to the count and each item is
-  /// written as it arrives, so a transfer refused or abandoned midway leaves a truncated or mixed mission
-  /// (issue 34). Off: the stored mission changes only when an upload completes.
+  /// ArduPilot-like storage: each item is written as it arrives (issue 34: a refusal at item 3 left a
+  /// 3-item mission) and MISSION_COUNT truncates the stored mission to the count (assumed, not checked
+  /// in ArduPilot's source), so a transfer refused or abandoned midway leaves a truncated or mixed
+  /// mission. Off: the stored mission changes only when an upload completes.
   bool store_as_received = false;
   /// Tests: refuse the item with this seq with MISSION_ACK `refuse_result` (the transfer ends).
   std::optional<std::uint16_t> refuse_item;
