@@ -102,6 +102,15 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
   expect_error(post_flight(plan, {{"simulate", {{"fail", "1@1.5"}}}}), 422, "simulate.fail");
   expect_error(post_flight(plan, {{"simulate", {{"battery_min", 0.1}}}}), 422, "simulate.battery_min");
   expect_error(post_flight(plan, {{"simulate", {{"colour", "red"}}}}), 422, "simulate.colour");
+  expect_error(post_flight(plan, {{"simulate", {{"transport", "serial"}}}}), 422, "simulate.transport");
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "serial:/dev/ttyUSB0:1234"}}}}}),
+               422, "vehicles[0].endpoint");
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "serial:/tmp/tty:57600"}}}}}),
+               422, "vehicles[0].endpoint");
+  expect_error(
+      post_flight(plan,
+                  {{"vehicles", {{{"uav", "A"}, {"endpoint", "tcpin:127.0.0.1:5760"}, {"listen", false}}}}}),
+      422, "vehicles[0].listen");
   expect_error(post_flight(plan, {{"simulate", json::object()},
                                   {"vehicles", {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}}}}}),
                422, "simulate");
@@ -109,7 +118,7 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
                "vehicles[0].uav");
   expect_error(post_flight(plan, {{"vehicles",
                                    {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}},
-                                    {{"uav", "B"}, {"endpoint", "tcp:127.0.0.1:1"}}}}}),
+                                    {{"uav", "B"}, {"endpoint", "ftp:127.0.0.1:1"}}}}}),
                422, "vehicles[1].endpoint");
   // the server has no token here: vehicles beyond loopback are refused
   expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "udp:10.1.2.3:14550"}}}}}), 422,
@@ -368,6 +377,29 @@ TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) 
   EXPECT_EQ(png.content_type, "image/png");
   EXPECT_TRUE(png.body.starts_with("\x89PNG")) << png.body.substr(0, 8);
   EXPECT_EQ(call("GET", "/api/v1/flights/987654/coverage").status, 404);
+}
+
+// Issue 34: the same flight with the simulated vehicles listening on TCP and the server connecting.
+TEST_P(FlightApiTest, ASimulatedFlightOverTcpEndsDone) {
+  const store::Id plan = done_plan();
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}, {"transport", "tcp"}}}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const json flight = created.json();
+  for (const auto& v : flight.at("config").at("vehicles"))
+    EXPECT_TRUE(v.at("endpoint").get<std::string>().starts_with("tcp:127.0.0.1:")) << v.dump();
+  const auto id = flight.at("id").get<store::Id>();
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "upload"})").status, 202);
+  json f = wait_flight(id, [](const json& j) { return j.at("state") == "ready"; });
+  ASSERT_EQ(f.at("state"), "ready") << f.dump();
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "start"})").status, 202);
+  f = wait_flight(id, [](const json& j) { return j.at("state") == "done" || j.at("state") == "aborted"; });
+  ASSERT_EQ(f.at("state"), "done") << f.dump();
+  for (const auto& u : f.at("uavs")) {
+    const std::string w = u.at("waypoints");
+    EXPECT_FALSE(w.empty());
+    EXPECT_EQ(w, std::string(w.size(), 'R')) << u.at("uav");
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FlightApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
