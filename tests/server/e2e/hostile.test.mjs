@@ -441,7 +441,37 @@ function suite() {
       assert.equal(created.length + refused.length, 24, answers.map((r) => `${r.status} ${r.text.slice(0, 120)}`).join('\n'));
       assert.ok(created.length <= 16, `${created.length} flights created`);
       assert.equal(created.length, 16);
-      await Promise.all(created.map((r) => api(server, 'POST', `/api/v1/flights/${r.json.id}/commands`, { body: { command: 'abort' } })));
+      await Promise.all(created.map((r) => api(server, 'DELETE', `/api/v1/flights/${r.json.id}`)));
+    });
+
+    it('ends an upload to a silent vehicle when its flight is deleted (the upload is stopped, not retried out)', async () => {
+      const missionId = await createMission(server, rectangle());
+      const plan = await postPlan(server, missionId, { seed: 2 });
+      await waitDone(server, plan.id, { timeoutMs: 120000 });
+      const f = await api(server, 'POST', `/api/v1/plans/${plan.id}/flights`, {
+        body: { vehicles: ['red', 'green', 'yellow'].map((uav, k) => ({ uav, endpoint: `udp:127.0.0.1:${41000 + k}` })) },
+      });
+      assert.equal(f.status, 201, f.text);
+      assert.equal((await api(server, 'POST', `/api/v1/flights/${f.json.id}/commands`, { body: { command: 'upload' } })).status, 202);
+      // the hook: the flight says it is uploading (the vehicles never answer, an upload waits 9 s per try)
+      for (let i = 0; i < 100; ++i) {
+        const g = await api(server, 'GET', `/api/v1/flights/${f.json.id}`);
+        if (g.json.state === 'uploading' || (g.json.uavs || []).some((u) => u.phase === 'uploading')) break;
+        await sleep(50);
+      }
+      const t0 = performance.now();
+      const d = await api(server, 'DELETE', `/api/v1/flights/${f.json.id}`);
+      const ms = performance.now() - t0;
+      assert.equal(d.status, 200, d.text);
+      assert.equal(d.json.state, 'aborted');
+      const log = await api(server, 'GET', `/api/v1/flights/${f.json.id}/log?limit=1000`);
+      const acks = log.json.items.filter((r) => r.kind === 'ack' && r.data.command === 'upload');
+      assert.equal(acks.length, 3, JSON.stringify(log.json.items.slice(-10)));
+      for (const a of acks) {
+        assert.equal(a.data.result, 'stopped', JSON.stringify(a));
+        assert.equal(a.data.attempts, 1, JSON.stringify(a));
+      }
+      console.log(`hostile-measure: DELETE /flights/{id} during an upload to 3 silent vehicles answered in ${ms.toFixed(0)} ms`);
     });
   });
 }
