@@ -453,12 +453,14 @@ function suite() {
       });
       assert.equal(f.status, 201, f.text);
       assert.equal((await api(server, 'POST', `/api/v1/flights/${f.json.id}/commands`, { body: { command: 'upload' } })).status, 202);
-      // the hook: the flight says it is uploading (the vehicles never answer, an upload waits 9 s per try)
-      for (let i = 0; i < 100; ++i) {
+      // the hook: every UAV says it is uploading (the vehicles never answer, an upload waits 9 s per try)
+      let uploading = false;
+      for (let i = 0; i < 200 && !uploading; ++i) {
         const g = await api(server, 'GET', `/api/v1/flights/${f.json.id}`);
-        if (g.json.state === 'uploading' || (g.json.uavs || []).some((u) => u.phase === 'uploading')) break;
-        await sleep(50);
+        uploading = (g.json.uavs || []).length === 3 && g.json.uavs.every((u) => u.phase === 'uploading');
+        if (!uploading) await sleep(25);
       }
+      assert.ok(uploading, 'the UAVs never said uploading');
       const t0 = performance.now();
       const d = await api(server, 'DELETE', `/api/v1/flights/${f.json.id}`);
       const ms = performance.now() - t0;
