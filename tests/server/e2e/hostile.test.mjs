@@ -19,6 +19,7 @@ import {
   freshDb,
   postPlan,
   rectangle,
+  runServe,
   sleep,
   startServer,
   tempDir,
@@ -280,6 +281,17 @@ function suite() {
         assert.equal(ok.status, 202, ok.text);
       } finally {
         await server.stop();
+      }
+    });
+  });
+
+  describe('start-up options', () => {
+    it('refuses a malformed --allowed-host or --cors-origin (exit 2, naming the option)', () => {
+      const db = freshDb('sqlite');
+      for (const [opt, value] of [['--allowed-host', 'uav.example:80'], ['--allowed-host', 'http://uav.example'], ['--cors-origin', 'app.example'], ['--cors-origin', 'https://app.example/']]) {
+        const r = runServe(['--listen', '127.0.0.1:0', '--db', db.url, opt, value]);
+        assert.equal(r.code, 2, `${opt} ${value}: ${r.stdout}${r.stderr}`);
+        assert.ok(r.stderr.includes(opt), r.stderr);
       }
     });
   });
