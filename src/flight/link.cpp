@@ -401,6 +401,7 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
     mav::UploadOptions opt;
     opt.target_system = u0.binding.sysid;
     opt.target_component = u0.binding.compid;
+    opt.stop = stop;  // DELETE /flights/{id} during an upload to a silent vehicle ends it at once
     mav::UploadResult res;
     int attempts = 0;
     while (attempts < kUploadAttempts && !stop.stop_requested()) {

@@ -130,7 +130,11 @@ UploadResult upload_mission(Link& link, std::vector<MissionItemInt> items, const
 
   while (true) {
     if (clock::now() >= hard_deadline) return finish(false, "gave up: the upload took too long");
-    auto r = link.receive(until(std::min(timeout_at, hard_deadline)));
+    if (options.stop.stop_requested()) return finish(false, "stopped");
+    // waits in short slices when it can be stopped
+    const auto wake = std::min(timeout_at, hard_deadline);
+    auto r = link.receive(until(
+        options.stop.stop_possible() ? std::min(wake, clock::now() + std::chrono::milliseconds(100)) : wake));
     if (!r) {
       if (clock::now() < timeout_at) continue;
       ++res.timeouts;

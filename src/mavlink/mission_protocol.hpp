@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stop_token>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ struct UploadOptions {
   std::uint8_t target_system = 1;
   std::uint8_t target_component = 1;
   std::uint8_t mission_type = kMissionTypeMission;
+  /// A stop ends the upload within about 100 ms (ok false, error "stopped"), e.g. a flight deleted
+  /// while its vehicle is silent; without it the retries take up to (retries + 1) * timeout.
+  std::stop_token stop;
 };
 
 struct UploadResult {

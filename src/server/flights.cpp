@@ -259,6 +259,7 @@ void FlightManager::attach(const store::StoredFlight& row, const std::optional<j
 
 json FlightManager::create(const store::Job& plan_job, const json& body) {
   if (!body.is_object()) throw InputError("", "the flight request must be a JSON object");
+  const std::lock_guard create_lock(create_mutex_);  // 24 concurrent POSTs must not make 17 flights
   if (live_count() >= limits_.max_live)
     throw HttpError(
         409, "", fmt::format("{} flights are followed already (at most {})", live_count(), limits_.max_live));
