@@ -5,12 +5,15 @@
 // worst share deviation (a region's share of the regions against the requested share) and the planning
 // time.
 // Prints a Markdown table; bench/hard_shapes/run.sh writes it to bench/results/hard-shapes.md.
-// usage: bench_hard_shapes [PLANNER...]   (default: every registered planner)
+// usage: bench_hard_shapes [PLANNER...] [MISSION.json...]   (default: every registered planner, the
+// fixtures; mission files replace the fixtures)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,7 +26,21 @@ using namespace uavcover;
 
 int main(int argc, char** argv) {
   std::vector<std::string> names;
-  for (int i = 1; i < argc; ++i) names.emplace_back(argv[i]);
+  std::vector<testing::HardShape> shapes = testing::hard_shapes();
+  bool own_missions = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.size() > 5 && a.ends_with(".json")) {  // a mission file instead of the fixtures
+      std::ifstream in(a);
+      std::stringstream text;
+      text << in.rdbuf();
+      if (!own_missions) shapes.clear();
+      own_missions = true;
+      shapes.push_back({a, nlohmann::json::parse(text.str())});
+    } else {
+      names.push_back(a);
+    }
+  }
   if (names.empty())
     for (const auto& p : planners::registry()) names.push_back(p.name);
   std::printf(
@@ -31,7 +48,7 @@ int main(int argc, char** argv) {
       "deviation (points) | plan s |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& name : names)
-    for (const auto& shape : testing::hard_shapes()) {
+    for (const auto& shape : shapes) {
       nlohmann::json j = shape.mission;
       j["planner"] = name;
       try {
