@@ -318,9 +318,13 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   }
   if (options.shift_legs) {
     std::vector<std::vector<Point>*> all;
-    for (auto& u : out.uavs)
-      for (auto& loop : u.loops) all.push_back(&loop);
-    extender.shift(all);
+    std::vector<double> swaths;  // per loop: its UAV's own footprint width (0: the mission's)
+    for (std::size_t i = 0; i < out.uavs.size(); ++i)
+      for (auto& loop : out.uavs[i].loops) {
+        all.push_back(&loop);
+        swaths.push_back(i < input.own_footprint_m.size() ? input.own_footprint_m[i] : 0.0);
+      }
+    extender.shift(all, swaths);
   }
   double worst = 0, worst_n = 1.0;  // cells, of the UAV furthest outside its tolerance (0: none)
   for (int i = 0; i < U; ++i) {

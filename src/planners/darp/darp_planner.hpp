@@ -39,6 +39,9 @@ struct Input {
   std::vector<double> shares;    ///< one per UAV, sum 1
   std::vector<std::string> ids;  ///< one per UAV, for warnings
   double ds = 0.0;               ///< scanning density; mega-cells are 2*ds
+  /// One per UAV (or empty): the footprint width of a UAV's own camera, 0 for the mission's. The legs
+  /// shifted along the edges keep such a UAV's swath meeting its inner lane's (issue 26).
+  std::vector<double> own_footprint_m;
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };
