@@ -24,7 +24,8 @@ double principal_axis(const MultiPolygon& mp);
 
 /// One start per share: `free` is cut across its principal axis into slabs of area proportional to the
 /// shares (in order), and start i is a point of slab i's free area drawn from `rng` in the middle half
-/// of the slab (its point on surface when the draw finds none). Deterministic for a given rng state.
+/// of the slab along the axis and its middle fifth across it (else anywhere across it; the slab's point
+/// on surface when the draw finds none). Deterministic for a given rng state.
 std::vector<Point> spread_starts(const MultiPolygon& free, const std::vector<double>& shares,
                                  std::mt19937_64& rng);
 
