@@ -27,6 +27,7 @@ struct ServeArgs {
   std::optional<std::string> static_dir;
   std::optional<std::string> seed_dir;
   std::optional<std::string> cors_origin;
+  std::vector<std::string> allowed_hosts;
   std::size_t max_body = std::size_t{10} << 20;
   int max_queued = 100;
   int lease_ms = 10000;
@@ -52,13 +53,39 @@ std::string read_token(const std::string& file) {
   return token;
 }
 
+/// --cors-origin: scheme://host[:port] as a browser sends it in Origin (no path, no trailing slash).
+std::string check_origin(const std::string& origin) {
+  const auto scheme = origin.find("://");
+  const bool ok = scheme != std::string::npos &&
+                  (origin.substr(0, scheme) == "http" || origin.substr(0, scheme) == "https") &&
+                  origin.size() > scheme + 3 && origin.find('/', scheme + 3) == std::string::npos &&
+                  origin.find_first_of(" \t\r\n") == std::string::npos;
+  if (!ok)
+    throw InputError("--cors-origin",
+                     "expected an origin such as https://app.example or http://localhost:5173, got '" +
+                         origin.substr(0, 100) + "'");
+  return origin;
+}
+
+/// --allowed-host: a host name or address as it appears in the Host header, without a port.
+std::string check_allowed_host(const std::string& name) {
+  std::string host;
+  std::optional<std::uint16_t> port;
+  if (!server::split_host(name, host, port) || port)
+    throw InputError("--allowed-host",
+                     "expected a host name such as uav.example.org (no scheme, no port), got '" +
+                         name.substr(0, 100) + "'");
+  return host;
+}
+
 void run_serve(const ServeArgs& a) {
   server::ServeOptions opt;
   opt.http.listen = a.listen;
   if (a.token_file) opt.http.token = read_token(*a.token_file);
   server::check_listen_policy(opt.http);
   opt.http.max_body = a.max_body;
-  opt.http.cors_origin = a.cors_origin;
+  if (a.cors_origin) opt.http.cors_origin = check_origin(*a.cors_origin);
+  for (const auto& h : a.allowed_hosts) opt.http.allowed_hosts.push_back(check_allowed_host(h));
   opt.http.log_json = a.log_json;
   opt.http.io_threads = 2;
   opt.http.stop = interrupt_token();
@@ -87,7 +114,11 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
                   "File holding the bearer token (at least 16 characters) every request must carry");
   cmd->add_option("--static", args->static_dir, "Serve the web app: the files in this folder, read at start");
   cmd->add_option("--seed-dir", args->seed_dir, "Mission files stored when the database is first created");
-  cmd->add_option("--cors-origin", args->cors_origin, "Allow browser requests from this origin (CORS)");
+  cmd->add_option("--cors-origin", args->cors_origin,
+                  "Allow browser requests from this origin (CORS); other foreign origins get 403");
+  cmd->add_option("--allowed-host", args->allowed_hosts,
+                  "A Host name served besides the listen address and localhost (behind a proxy); repeatable. "
+                  "Other Host headers get 421");
   cmd->add_option("--max-body", args->max_body, "Largest request body in bytes")
       ->capture_default_str()
       ->check(integer_in<std::size_t>(1024, std::size_t{1} << 30));

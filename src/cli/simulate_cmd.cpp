@@ -1,4 +1,4 @@
-// `uavcover simulate --vehicles N --listen udp:HOST:PORT[,PORT...]`: N simulated MAVLink 2 multirotors in
+// `uavcover simulate --vehicles N --listen udp|tcp:HOST:PORT[,PORT...]`: N simulated MAVLink 2 multirotors in
 // one process (src/sim, docs/simulate.md), until Ctrl-C / SIGTERM.
 #include <fmt/format.h>
 
@@ -43,16 +43,23 @@ struct SimulateArgs {
   double duration = 0.0;
 };
 
-std::vector<std::uint16_t> parse_ports(const std::string& text, int n, std::string& host) {
+// "udp:HOST:PORT[,PORT...]" or "tcp:HOST:PORT[,PORT...]" (tcpin: is the same: the vehicles listen).
+std::vector<std::uint16_t> parse_ports(const std::string& text, int n, std::string& host, bool& tcp) {
   const std::string field = "--listen";
-  const auto comma = text.find(',');
-  std::string first = text.substr(0, comma);
+  const std::string usage =
+      "expected udp:HOST:PORT[,PORT...] or tcp:HOST:PORT[,PORT...] (e.g. tcp:127.0.0.1:5760), got '" + text +
+      "'";
+  const auto colon = text.find(':');
+  const std::string scheme = colon == std::string::npos ? "" : text.substr(0, colon);
+  if (scheme != "udp" && scheme != "tcp" && scheme != "tcpin") throw InputError(field, usage);
+  tcp = scheme != "udp";
+  const std::string spec = text.substr(colon + 1);
+  const auto comma = spec.find(',');
+  const std::string first = spec.substr(0, comma);
   std::vector<std::uint16_t> ports;
-  const bool any = first.size() > 2 && first.ends_with(":0") && comma == std::string::npos;
-  const mavlink::Endpoint e =
-      mavlink::parse_udp_endpoint(any ? first.substr(0, first.size() - 1) + "1" : first, field);
+  const mavlink::Endpoint e = mavlink::parse_host_port(first, field, usage, comma == std::string::npos);
   host = e.host;
-  if (any) return std::vector<std::uint16_t>(static_cast<std::size_t>(n), 0);
+  if (e.port == 0) return std::vector<std::uint16_t>(static_cast<std::size_t>(n), 0);  // any free ports
   ports.push_back(e.port);
   if (comma == std::string::npos) {
     if (static_cast<long>(e.port) + n - 1 > 65535)
@@ -60,7 +67,7 @@ std::vector<std::uint16_t> parse_ports(const std::string& text, int n, std::stri
     for (int i = 1; i < n; ++i) ports.push_back(static_cast<std::uint16_t>(e.port + i));
     return ports;
   }
-  std::stringstream rest(text.substr(comma + 1));
+  std::stringstream rest(spec.substr(comma + 1));
   std::string p;
   while (std::getline(rest, p, ',')) {
     unsigned v = 0;
@@ -97,7 +104,8 @@ LonLat parse_home(const std::string& text) {
 
 void run_simulate(const SimulateArgs& a) {
   std::string host;
-  const auto ports = parse_ports(a.listen, a.vehicles, host);
+  bool tcp = false;
+  const auto ports = parse_ports(a.listen, a.vehicles, host, tcp);
   std::map<std::uint8_t, sim::Failure> failures;
   for (const auto& f : a.fail) {
     const auto [id, failure] = sim::parse_failure(f, "--fail");
@@ -111,6 +119,8 @@ void run_simulate(const SimulateArgs& a) {
   if (!a.home.empty()) home = parse_home(a.home);
   std::optional<mavlink::Endpoint> gcs;
   if (!a.gcs.empty()) gcs = mavlink::parse_udp_endpoint(a.gcs, "--gcs");
+  if (gcs && tcp)
+    throw InputError("--gcs", "applies to UDP vehicles only (a TCP vehicle talks to its client)");
   if (a.autostart && a.plan_dir.empty()) throw InputError("--autostart", "needs --plan (a mission to fly)");
 
   // Optional preloaded missions: vehicle i flies UAV i of the plan (cycling when there are more vehicles).
@@ -132,6 +142,7 @@ void run_simulate(const SimulateArgs& a) {
     sim::VehicleConfig c;
     c.sysid = static_cast<std::uint8_t>(i + 1);
     c.listen = mavlink::Endpoint{host, ports[static_cast<std::size_t>(i)]};
+    c.tcp = tcp;
     c.home = home;
     if (!home && !starts.empty()) c.home = starts[static_cast<std::size_t>(i) % starts.size()];
     c.v_max = a.speed;
@@ -165,7 +176,8 @@ void run_simulate(const SimulateArgs& a) {
         v.start_mission();
       }
     }
-    std::cout << fmt::format("vehicle {}: udp:{}:{} system id {}\n", i + 1, host, v.port(), v.sysid());
+    std::cout << fmt::format("vehicle {}: {}:{}:{} system id {}\n", i + 1, tcp ? "tcp" : "udp", host,
+                             v.port(), v.sysid());
   }
   std::cout << std::flush;
   if (!global_flags().quiet)
@@ -194,9 +206,11 @@ const bool registered = CommandRegistry::add(55, [](CLI::App& app) {
   cmd->add_option("--vehicles", args->vehicles, "Number of vehicles (system ids 1..N)")
       ->capture_default_str()
       ->check(integer_in(1, 255));
-  cmd->add_option("--listen", args->listen,
-                  "udp:HOST:PORT (vehicles on PORT..PORT+N-1), udp:HOST:P1,P2,... (one port each) or "
-                  "udp:HOST:0 (any free ports)")
+  cmd->add_option(
+         "--listen", args->listen,
+         "udp:HOST:PORT (vehicles on PORT..PORT+N-1), udp:HOST:P1,P2,... (one port each) or "
+         "udp:HOST:0 (any free ports); tcp:... the same with each vehicle a TCP listener (one client "
+         "at a time, the newest wins; tcpin: is a synonym)")
       ->capture_default_str();
   cmd->add_option("--speedup", args->speedup, "Simulated seconds per wall second")
       ->capture_default_str()
@@ -213,7 +227,8 @@ const bool registered = CommandRegistry::add(55, [](CLI::App& app) {
   cmd->add_option("--wind-from", args->wind_from, "Direction the wind blows from (degrees, 0 = north)")
       ->capture_default_str()
       ->check(number_in(0, 360));
-  cmd->add_option("--loss", args->loss, "Drop this fraction of sent and received datagrams (seeded)")
+  cmd->add_option("--loss", args->loss,
+                  "Drop this fraction of sent and received datagrams (seeded; over TCP: of the frames sent)")
       ->capture_default_str()
       ->check(number_in(0, 0.9));
   cmd->add_option("--seed", args->seed, "Seed of the packet loss")->capture_default_str();

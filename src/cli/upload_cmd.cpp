@@ -1,5 +1,7 @@
-// `uavcover upload PLAN_DIR --uav ID --to udp:HOST:PORT`: sends one UAV's mission to a vehicle with the
-// MAVLink mission upload protocol (MISSION_COUNT / MISSION_REQUEST_INT / MISSION_ITEM_INT / MISSION_ACK).
+// `uavcover upload PLAN_DIR --uav ID --to ENDPOINT`: sends one UAV's mission to a vehicle with the
+// MAVLink mission upload protocol (MISSION_COUNT / MISSION_REQUEST_INT / MISSION_ITEM_INT / MISSION_ACK)
+// over UDP, TCP (connect or listen) or a serial port (mavlink/link.hpp). A failed upload is followed by
+// MISSION_CLEAR_ALL; when that is not acknowledged the message says the vehicle may hold a partial mission.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -13,6 +15,7 @@
 #include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
+#include "mavlink/stream.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::cli {
@@ -33,7 +36,7 @@ struct UploadArgs {
 };
 
 void run_upload(const UploadArgs& a) {
-  const mavlink::Endpoint to = mavlink::parse_udp_endpoint(a.to, "--to");
+  const mavlink::LinkAddress to = mavlink::parse_link_address(a.to, "--to");
   if (!(a.timeout_s > 0) || a.timeout_s > 60) throw InputError("--timeout", "must be in (0, 60] seconds");
   if (a.retries < 0 || a.retries > 100) throw InputError("--retries", "must be in 0..100");
   auto byte_option = [](int v, const char* field, int lo) {
@@ -72,15 +75,34 @@ void run_upload(const UploadArgs& a) {
   if (!a.no_home) home = plan.mission.uavs.at(index).start_resolved;
   const auto items = mavlink::to_mission_items(exported, home);
 
-  mavlink::UdpLink link(mavlink::Endpoint{"0.0.0.0", 0}, byte_option(a.sysid, "--sysid", 1),
-                        byte_option(a.compid, "--compid", 0));
-  link.set_peer(to);
+  const std::uint8_t sysid = byte_option(a.sysid, "--sysid", 1);
+  const std::uint8_t compid = byte_option(a.compid, "--compid", 0);
   const bool quiet = global_flags().quiet;
+  std::unique_ptr<mavlink::Link> link;
+  try {
+    link = mavlink::open_link(to, sysid, compid);
+  } catch (const std::runtime_error& e) {  // a port in use, a device that is not there
+    throw OperationError(fmt::format("cannot open {}: {}", to.text(), e.what()));
+  }
+  // Connect / wait for the vehicle within the protocol's timeouts (the upload itself is bounded too).
+  const auto wait = opt.timeout * (opt.retries + 1);
+  if (auto* tcp = dynamic_cast<mavlink::TcpClientLink*>(link.get())) {
+    const std::string why = tcp->connect(wait);
+    if (!why.empty()) throw OperationError(fmt::format("cannot connect to {}: {}", to.text(), why));
+  } else if (to.listens()) {
+    if (!quiet) std::cerr << fmt::format("waiting on {} for the vehicle\n", link->describe());
+    const auto deadline = std::chrono::steady_clock::now() + wait;
+    while (!link->has_peer() && std::chrono::steady_clock::now() < deadline)
+      (void)link->receive(std::chrono::milliseconds(50));  // accepts (TCP) or learns the peer (UDP)
+    if (!link->has_peer())
+      throw OperationError(fmt::format("no vehicle reached {} within {:.1f} s", link->describe(),
+                                       std::chrono::duration<double>(wait).count()));
+  }
   if (!quiet)
-    std::cerr << fmt::format("uploading {} items for UAV '{}' to {}:{} (system {}, component {}){}\n",
-                             items.size(), a.uav, to.host, to.port, opt.target_system, opt.target_component,
+    std::cerr << fmt::format("uploading {} items for UAV '{}' to {} (system {}, component {}){}\n",
+                             items.size(), a.uav, to.text(), opt.target_system, opt.target_component,
                              home ? ", item 0 = home" : "");
-  const auto res = mavlink::upload_mission(link, items, opt, [&](std::size_t done, std::size_t total) {
+  const auto res = mavlink::upload_mission(*link, items, opt, [&](std::size_t done, std::size_t total) {
     if (!quiet) std::cerr << fmt::format("\r  {}/{} items", done, total) << std::flush;
   });
   if (!quiet && res.unique_items > 0) std::cerr << "\n";
@@ -94,14 +116,17 @@ void run_upload(const UploadArgs& a) {
 
 const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
   auto args = std::make_shared<UploadArgs>();
-  auto* cmd = app.add_subcommand("upload", "Upload one UAV's mission to a vehicle over MAVLink 2 (UDP)");
+  auto* cmd = app.add_subcommand("upload",
+                                 "Upload one UAV's mission to a vehicle over MAVLink 2 (UDP, TCP or serial)");
   cmd->add_option("PLAN_DIR", args->plan_dir,
                   "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--uav", args->uav, "Id of the UAV whose mission is sent")->required();
   cmd->add_option("--to", args->to,
-                  "Vehicle address, udp:HOST:PORT (we send from an ephemeral port; it answers there)")
+                  "Vehicle address: udp:HOST:PORT (we send from an ephemeral port; it answers there), "
+                  "udpin:HOST:PORT (wait for the vehicle's datagrams there), tcp:HOST:PORT (connect), "
+                  "tcpin:HOST:PORT (wait for the vehicle to connect) or serial:DEVICE:BAUD (8N1)")
       ->required();
   cmd->add_option("--timeout", args->timeout_s, "Seconds to wait for the vehicle before resending")
       ->capture_default_str()
@@ -145,7 +170,9 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
       "The mission is the one `uavcover export` writes (take-off, speed, transition altitudes, coverage,\n"
       "RTL/land); latitude/longitude are sent as degrees * 1e7 in MISSION_ITEM_INT. Timeouts and retries\n"
       "follow the MAVLink mission protocol (1.5 s, 5 retries); requests are served in any order.\n"
-      "Exit codes: 0 accepted, 1 upload failed (no answer, vehicle refused), 2 bad input.");
+      "A failed upload the vehicle had answered is followed by MISSION_CLEAR_ALL: the message says whether\n"
+      "the vehicle acknowledged it, or warns that it may hold a partial mission (docs/upload.md).\n"
+      "Exit codes: 0 accepted, 1 upload failed (no answer, vehicle refused, no connection), 2 bad input.");
   cmd->callback([args] { run_upload(*args); });
 });
 

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "engine/local_mission.hpp"
+#include "engine/shares.hpp"
 #include "engine/test_hold.hpp"
 #include "evaluation/evaluate.hpp"
 #include "export/mission_items.hpp"
@@ -98,8 +99,21 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   problem.mode = out.mission.mode;
   problem.seed = out.mission.seed;
   std::mt19937_64 rng(out.mission.seed ^ 0x5eedf00dULL);
+  // missing starts: spread over the free area by share (engine/shares.hpp), so that the division can
+  // meet the shares; one UAV meets its share from anywhere and keeps the uniform draw
+  std::vector<Point> spread;
+  if (out.mission.uavs.size() > 1) {
+    std::vector<double> shares;
+    for (const auto& u : out.mission.uavs) shares.push_back(u.share);
+    bool missing = false;
+    for (const auto& u : out.mission.uavs) missing |= !u.start;
+    if (missing) spread = engine::spread_starts(lm.free, shares, rng);
+  }
   for (auto& u : out.mission.uavs) {
-    const Point s = u.start ? lm.frame.to_local(*u.start) : engine::random_free_point(lm.free, rng);
+    const std::size_t i = problem.starts.size();
+    const Point s = u.start          ? lm.frame.to_local(*u.start)
+                    : spread.empty() ? engine::random_free_point(lm.free, rng)
+                                     : spread[i];
     u.start_resolved = u.start ? *u.start : lm.frame.to_wgs84(s);
     problem.starts.push_back(s);
     problem.shares.push_back(u.share);
@@ -112,9 +126,13 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   }
   problem.uavs = out.mission.uavs;
 
+  // a free area in several parts: every UAV's share over the parts, the planner on each part
   engine::test_hold(ctx, "planning", out.mission.name);
   if (ctx.stop_requested()) throw Cancelled();
-  const planners::Assignment res = info->create()->plan(problem, out.mission.planner_params, ctx);
+  std::optional<planners::Assignment> by_parts =
+      engine::plan_by_parts(*info, problem, out.mission.planner_params, ctx);
+  const planners::Assignment res =
+      by_parts ? std::move(*by_parts) : info->create()->plan(problem, out.mission.planner_params, ctx);
   if (res.uavs.size() != out.mission.uavs.size())
     throw OperationError(fmt::format("planner \"{}\" returned {} UAVs for {}", info->name, res.uavs.size(),
                                      out.mission.uavs.size()));

@@ -68,9 +68,26 @@ void known_keys(const json& obj, const std::set<std::string>& keys, const std::s
       throw InputError(path + (k.size() > kMaxName ? k.substr(0, kMaxName) : k), "unknown field");
 }
 
-std::string endpoint_text(const mavlink::Endpoint& e) { return fmt::format("udp:{}:{}", e.host, e.port); }
-
 }  // namespace
+
+mavlink::LinkAddress link_address(const VehicleBinding& b) {
+  mavlink::LinkAddress a;
+  a.transport = b.transport;
+  if (b.listen && b.transport == mavlink::Transport::Udp) a.transport = mavlink::Transport::UdpListen;
+  if (b.listen && b.transport == mavlink::Transport::Tcp) a.transport = mavlink::Transport::TcpListen;
+  a.endpoint = b.endpoint;
+  a.device = b.device;
+  a.baud = b.baud;
+  return a;
+}
+
+std::string endpoint_text(const VehicleBinding& b) {
+  mavlink::LinkAddress a = link_address(b);
+  // "listen" says the direction: the endpoint keeps the plain scheme (as it always did for UDP)
+  if (a.transport == mavlink::Transport::UdpListen) a.transport = mavlink::Transport::Udp;
+  if (a.transport == mavlink::Transport::TcpListen) a.transport = mavlink::Transport::Tcp;
+  return a.text();
+}
 
 FlightConfig parse_config(const json& body, const Plan& plan) {
   if (!body.is_object()) throw InputError("", "the flight request must be a JSON object");
@@ -99,8 +116,22 @@ FlightConfig parse_config(const json& body, const Plan& plan) {
     if (!found) throw InputError(path + "uav", fmt::format("the plan has no UAV \"{}\"", b.uav));
     if (!seen.insert(b.uav).second)
       throw InputError(path + "uav", fmt::format("UAV \"{}\" is bound twice", b.uav));
-    b.endpoint = mavlink::parse_udp_endpoint(text(v, "endpoint", path), path + "endpoint");
-    b.listen = boolean(v, "listen", false, path);
+    const mavlink::LinkAddress address =
+        mavlink::parse_link_address(text(v, "endpoint", path), path + "endpoint");
+    if (address.transport == mavlink::Transport::Serial && !address.device.starts_with("/dev/"))
+      throw InputError(path + "endpoint",
+                       "a serial device must be under /dev/, got '" + address.device + "'");
+    b.listen = boolean(v, "listen", address.listens(), path);
+    if (address.listens() && !b.listen)
+      throw InputError(path + "listen", "is false, but the endpoint " + address.text() + " listens");
+    if (address.transport == mavlink::Transport::Serial && b.listen)
+      throw InputError(path + "listen", "a serial endpoint neither listens nor connects: leave listen out");
+    b.transport = address.transport == mavlink::Transport::UdpListen   ? mavlink::Transport::Udp
+                  : address.transport == mavlink::Transport::TcpListen ? mavlink::Transport::Tcp
+                                                                       : address.transport;
+    b.endpoint = address.endpoint;
+    b.device = address.device;
+    b.baud = address.baud;
     b.sysid = static_cast<std::uint8_t>(integer(v, "sysid", 1, 1, 255, path));
     b.compid = static_cast<std::uint8_t>(integer(v, "compid", 1, 0, 255, path));
     b.home_item = boolean(v, "home_item", false, path);
@@ -123,7 +154,7 @@ json config_json(const FlightConfig& c) {
   json vehicles = json::array();
   for (const auto& v : c.vehicles)
     vehicles.push_back({{"uav", v.uav},
-                        {"endpoint", endpoint_text(v.endpoint)},
+                        {"endpoint", endpoint_text(v)},
                         {"listen", v.listen},
                         {"sysid", v.sysid},
                         {"compid", v.compid},

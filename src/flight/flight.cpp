@@ -576,7 +576,7 @@ json Flight::Impl::snapshot_locked() const {
       }
     json j{
         {"uav", u.binding.uav},
-        {"endpoint", fmt::format("udp:{}:{}", u.binding.endpoint.host, u.binding.endpoint.port)},
+        {"endpoint", endpoint_text(u.binding)},
         {"sysid", u.binding.sysid},
         {"phase", u.phase},
         {"link",
@@ -667,13 +667,7 @@ void Flight::start() {
   for (std::size_t i = 0; i < f.uavs.size(); ++i) {
     const auto& b = f.uavs[i].binding;
     try {
-      auto link = std::make_unique<mav::UdpLink>(b.listen ? b.endpoint : mav::Endpoint{"0.0.0.0", 0},
-                                                 kGcsSysid, kGcsCompid);
-      if (b.listen)
-        link->learn_peer(true);
-      else
-        link->set_peer(b.endpoint);
-      f.links.push_back(std::move(link));
+      f.links.push_back(mav::open_link(link_address(b), kGcsSysid, kGcsCompid));
     } catch (const std::exception& e) {
       f.links.clear();
       throw InputError(fmt::format("vehicles[{}].endpoint", i), e.what());

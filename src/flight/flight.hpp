@@ -1,6 +1,6 @@
 // Live execution of a plan (issue 12, docs/flights.md): a Flight binds a done plan to vehicles, one
-// per UAV, each over its own MAVLink 2 UDP link (listen or connect). It uploads the UAVs' missions
-// (battery sorties, resume, reassigned work), sends commands, reads telemetry, keeps every coverage
+// per UAV, each over its own MAVLink 2 link (UDP, TCP or serial; listen or connect). It uploads the UAVs'
+// missions (battery sorties, resume, reassigned work), sends commands, reads telemetry, keeps every coverage
 // waypoint's status (pending, current, reached, skipped), raises alerts and offers (or applies) the
 // reassignment of a failed UAV's remaining coverage to the others.
 //
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "mavlink/udp.hpp"
+#include "mavlink/link.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::flight {
@@ -25,15 +25,25 @@ namespace uavcover::flight {
 /// One vehicle of a flight: which UAV of the plan it flies and how to reach it.
 struct VehicleBinding {
   std::string uav;             ///< UavPlan::id
-  mavlink::Endpoint endpoint;  ///< "udp:HOST:PORT"
+  mavlink::Endpoint endpoint;  ///< udp, tcp: HOST:PORT
   bool listen = false;         ///< true: bind HOST:PORT and learn the vehicle's address from its first
-                               ///< datagram (a vehicle or mavlink-router that sends to us); false:
-                               ///< send to HOST:PORT from an ephemeral local port (connect)
+                               ///< datagram (UDP: a vehicle or mavlink-router that sends to us), or
+                               ///< accept its TCP connection; false: send to HOST:PORT from an ephemeral
+                               ///< local port (UDP), or connect to it (TCP, reconnecting after a loss)
   std::uint8_t sysid = 1;      ///< the vehicle's MAVLink system id
   std::uint8_t compid = 1;     ///< the autopilot's component id
   /// ArduPilot: mission item 0 is the home position (the upload adds it and shifts the seqs).
   bool home_item = false;
+  /// Udp, Tcp or Serial ("udp:HOST:PORT", "tcp:HOST:PORT", "serial:DEVICE:BAUD"; "udpin:"/"tcpin:" are
+  /// the Udp/Tcp forms with `listen`).
+  mavlink::Transport transport = mavlink::Transport::Udp;
+  std::string device{};  ///< serial: the device path (under /dev/)
+  unsigned baud = 0;     ///< serial
 };
+
+/// The binding's link address (listen folded in: udpin/tcpin) and its text ("endpoint" in the JSON).
+mavlink::LinkAddress link_address(const VehicleBinding& binding);
+std::string endpoint_text(const VehicleBinding& binding);
 
 struct FlightConfig {
   std::vector<VehicleBinding> vehicles;  ///< one per UAV of the plan that flies (idle UAVs may be left out)

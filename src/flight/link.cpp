@@ -317,7 +317,7 @@ void Flight::Impl::finish_command(UavRt& u, bool ok, const std::string& outcome)
 }
 
 void Flight::Impl::vehicle_loop(std::size_t i, const std::stop_token& stop) {
-  mav::UdpLink& link = *links[i];
+  mav::Link& link = *links[i];
   Clock::time_point next_heartbeat = Clock::now();
   std::vector<mav::Received> batch;
   batch.reserve(kBatch);
@@ -336,7 +336,7 @@ void Flight::Impl::vehicle_loop(std::size_t i, const std::stop_token& stop) {
   add_thread_cpu();
 }
 
-void Flight::Impl::vehicle_step(std::size_t i, mav::UdpLink& link, Clock::time_point& next_heartbeat,
+void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_point& next_heartbeat,
                                 std::vector<mav::Received>& batch, const std::stop_token& stop) {
   const auto now = Clock::now();
   if (now >= next_heartbeat && link.has_peer()) {
@@ -401,6 +401,7 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::UdpLink& link, Clock::time_p
     mav::UploadOptions opt;
     opt.target_system = u0.binding.sysid;
     opt.target_component = u0.binding.compid;
+    opt.stop = stop;  // DELETE /flights/{id} during an upload to a silent vehicle ends it at once
     mav::UploadResult res;
     int attempts = 0;
     while (attempts < kUploadAttempts && !stop.stop_requested()) {
@@ -420,7 +421,18 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::UdpLink& link, Clock::time_p
             {"attempts", attempts},
             {"count_sent", res.count_sent},
             {"items_sent", res.items_sent},
-            {"timeouts", res.timeouts}});
+            {"timeouts", res.timeouts},
+            {"clear_sent", res.clear_sent},
+            {"cleared", res.cleared}});
+    // A failed upload is followed by MISSION_CLEAR_ALL; unacknowledged, the vehicle may fly a fragment.
+    if (res.partial_possible())
+      set_alert(
+          "partial_mission", u.binding.uav, "", true,
+          "the upload failed and MISSION_CLEAR_ALL was not acknowledged: the vehicle may hold a partial "
+          "mission; do not start it");
+    else if (res.ok || res.cleared)
+      set_alert("partial_mission", u.binding.uav, "", false,
+                res.ok ? "a complete mission was uploaded" : "the vehicle's mission was cleared");
     u.last_heard = Clock::now();  // the upload read the link meanwhile
     if (res.ok) {
       m.state = "ready";

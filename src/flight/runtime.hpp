@@ -143,7 +143,7 @@ struct Flight::Impl {
   bool dirty = true;
 
   std::mutex flush_mutex;  ///< keeps the observer's records in order
-  std::vector<std::unique_ptr<mavlink::UdpLink>> links;
+  std::vector<std::unique_ptr<mavlink::Link>> links;
   std::vector<std::jthread> threads;
   bool running = false;
 
@@ -178,7 +178,7 @@ struct Flight::Impl {
 
   // ---- threads ----
   void vehicle_loop(std::size_t i, const std::stop_token& stop);
-  void vehicle_step(std::size_t i, mavlink::UdpLink& link, detail::Clock::time_point& next_heartbeat,
+  void vehicle_step(std::size_t i, mavlink::Link& link, detail::Clock::time_point& next_heartbeat,
                     std::vector<mavlink::Received>& batch, const std::stop_token& stop);
   void supervisor_loop(const std::stop_token& stop);
   void flush();

@@ -88,6 +88,12 @@ MultiPolygon to_local(const std::vector<GeoPolygon>& polys, const geodesy::Local
   return out;
 }
 
+namespace {
+/// Clusters up to this size are united one polygon after the other, in input order (every plan of
+/// the golden tests); larger ones pairwise (the same area, in O(n log n) unions of bounded size).
+constexpr std::size_t kSequentialUnion = 32;
+}  // namespace
+
 MultiPolygon unite(const MultiPolygon& polys) {
   // Polygons whose boxes overlap (transitively) form a cluster; only a cluster's members are united
   // with each other, in input order, so thousands of separate no-fly zones cost O(n log n), not O(n^2).
@@ -119,11 +125,36 @@ MultiPolygon unite(const MultiPolygon& polys) {
   MultiPolygon out;
   for (std::size_t root = 0; root < n; ++root) {  // clusters in the order of their first member
     if (members[root].empty()) continue;
+    const auto& group = members[root];
     MultiPolygon acc;
-    for (const std::size_t i : members[root]) {
-      MultiPolygon next;
-      bg::union_(acc, polys[i], next);
-      acc = std::move(next);
+    if (group.size() <= kSequentialUnion) {
+      for (const std::size_t i : group) {
+        MultiPolygon next;
+        bg::union_(acc, polys[i], next);
+        acc = std::move(next);
+      }
+    } else {
+      // a large cluster (thousands of overlapping zones): united pairwise, level by level, so each
+      // polygon takes part in log2(n) unions of similar size instead of n unions with a growing one
+      std::vector<MultiPolygon> level;
+      level.reserve(group.size());
+      for (const std::size_t i : group) {
+        MultiPolygon single;
+        bg::union_(MultiPolygon{}, polys[i], single);  // corrected like the sequential path
+        level.push_back(std::move(single));
+      }
+      while (level.size() > 1) {
+        std::vector<MultiPolygon> next_level;
+        next_level.reserve((level.size() + 1) / 2);
+        for (std::size_t k = 0; k + 1 < level.size(); k += 2) {
+          MultiPolygon merged;
+          bg::union_(level[k], level[k + 1], merged);
+          next_level.push_back(std::move(merged));
+        }
+        if (level.size() % 2 == 1) next_level.push_back(std::move(level.back()));
+        level = std::move(next_level);
+      }
+      acc = std::move(level.front());
     }
     for (auto& p : acc) out.push_back(std::move(p));
   }

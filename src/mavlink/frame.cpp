@@ -97,6 +97,42 @@ Parser::Step Parser::try_frame(std::vector<Frame>& out) {
   return Step::Accepted;
 }
 
+namespace {
+
+// The length of a complete frame at `p` with supported flags, a known msgid and a valid checksum; 0 if
+// there is none (incomplete, or not a frame).
+std::size_t valid_frame_length(const std::uint8_t* p, std::size_t avail) {
+  const bool v2 = p[0] == kStxV2;
+  const std::size_t header_len = v2 ? 10 : 6;
+  if (avail < header_len) return 0;
+  const std::size_t len = p[1];
+  std::size_t total = header_len + len + 2;
+  std::uint32_t msgid = p[5];
+  if (v2) {
+    if ((p[2] & ~kIncompatSigned) != 0) return 0;
+    if (p[2] & kIncompatSigned) total += kSignatureLength;
+    msgid = static_cast<std::uint32_t>(p[7]) | (static_cast<std::uint32_t>(p[8]) << 8) |
+            (static_cast<std::uint32_t>(p[9]) << 16);
+  }
+  if (avail < total) return 0;
+  const auto info = message_info(msgid);
+  if (!info || (!v2 && len < info->min_length)) return 0;
+  std::uint16_t crc = crc_accumulate(std::span<const std::uint8_t>(p + 1, header_len - 1 + len));
+  crc = crc_accumulate(info->crc_extra, crc);
+  const auto got = static_cast<std::uint16_t>(p[header_len + len] | (p[header_len + len + 1] << 8));
+  return crc == got ? total : 0;
+}
+
+}  // namespace
+
+std::size_t Parser::later_valid_frame() const {
+  for (std::size_t pos = start_ + 1; pos < buf_.size(); ++pos)
+    if ((buf_[pos] == kStxV2 || buf_[pos] == kStxV1) &&
+        valid_frame_length(buf_.data() + pos, buf_.size() - pos) > 0)
+      return pos;
+  return 0;
+}
+
 void Parser::push(std::span<const std::uint8_t> bytes, std::vector<Frame>& out, bool end_of_input) {
   buf_.insert(buf_.end(), bytes.begin(), bytes.end());
   while (start_ < buf_.size()) {
@@ -108,7 +144,15 @@ void Parser::push(std::span<const std::uint8_t> bytes, std::vector<Frame>& out, 
     if (start_ >= buf_.size()) break;
     const Step step = try_frame(out);
     if (step == Step::Accepted) continue;
-    if (step == Step::NeedMore && !end_of_input) break;
+    if (step == Step::NeedMore && !end_of_input) {
+      // On a byte stream a false start byte would hold back the frames behind it until its claimed
+      // length has arrived (up to 280 bytes): when a complete, checksum-valid frame starts inside that
+      // span, the candidate was garbage.
+      const std::size_t next = later_valid_frame();
+      if (next == 0) break;
+      drop_front(next - start_, true);
+      continue;
+    }
     drop_front(1, true);  // rejected (or incomplete at the end of input): resume after the start byte
   }
   if (start_ == buf_.size()) {

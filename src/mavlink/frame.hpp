@@ -49,7 +49,9 @@ std::optional<Message> decode(const Frame& frame);
 /// Streaming parser. Bytes may arrive in any split; garbage between frames is skipped. A candidate
 /// frame whose checksum fails (or whose msgid is unknown, so it cannot be checked, or whose
 /// incompatibility flags are not supported) is rejected and the search resumes one byte after its
-/// start byte, so a real frame hidden behind a false start byte is still found.
+/// start byte, so a real frame hidden behind a false start byte is still found. An incomplete candidate
+/// is given up as soon as a complete frame with a valid checksum starts after its start byte (a TCP or
+/// serial stream does not wait for a false start's claimed length to arrive).
 class Parser {
  public:
   struct Stats {
@@ -71,6 +73,8 @@ class Parser {
   enum class Step { NeedMore, Rejected, Accepted };
   Step try_frame(std::vector<Frame>& out);
   void drop_front(std::size_t n, bool skipped);
+  /// Where a complete valid frame starts after start_ (0: nowhere).
+  [[nodiscard]] std::size_t later_valid_frame() const;
 
   std::vector<std::uint8_t> buf_;
   std::size_t start_ = 0;

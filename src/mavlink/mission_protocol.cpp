@@ -76,13 +76,21 @@ std::vector<MissionItemInt> to_mission_items(const std::vector<exporting::Missio
   return out;
 }
 
-UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, const UploadOptions& options,
+UploadResult upload_mission(Link& link, std::vector<MissionItemInt> items, const UploadOptions& options,
                             const UploadProgressFn& progress) {
   UploadResult res;
   const auto t0 = clock::now();
+  bool heard = false;  // the vehicle answered this transfer: it may hold part of it
   auto finish = [&](bool ok, std::string error) {
     res.ok = ok;
     res.error = std::move(error);
+    if (!ok && heard) {
+      res.clear_sent = true;
+      res.cleared = clear_mission(link, options);
+      res.error += res.cleared ? "; the vehicle's mission was cleared (MISSION_CLEAR_ALL acknowledged)"
+                               : "; WARNING: MISSION_CLEAR_ALL was not acknowledged: the vehicle may hold a "
+                                 "partial mission";
+    }
     res.elapsed_s = std::chrono::duration<double>(clock::now() - t0).count();
     return res;
   };
@@ -122,7 +130,11 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
 
   while (true) {
     if (clock::now() >= hard_deadline) return finish(false, "gave up: the upload took too long");
-    auto r = link.receive(until(std::min(timeout_at, hard_deadline)));
+    if (options.stop.stop_requested()) return finish(false, "stopped");
+    // waits in short slices when it can be stopped
+    const auto wake = std::min(timeout_at, hard_deadline);
+    auto r = link.receive(until(
+        options.stop.stop_possible() ? std::min(wake, clock::now() + std::chrono::milliseconds(100)) : wake));
     if (!r) {
       if (clock::now() < timeout_at) continue;
       ++res.timeouts;
@@ -150,6 +162,7 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
     if (request) {
       const MissionRequestInt* req = &*request;
       if (!for_me(req->target_system, link.sysid()) || req->mission_type != options.mission_type) continue;
+      heard = true;
       if (req->seq >= count)
         return finish(false, "the vehicle requested item " + std::to_string(req->seq) + " of a " +
                                  std::to_string(count) + "-item mission");
@@ -169,6 +182,7 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
       if (!for_me(ack->target_system, link.sysid()) || ack->mission_type != options.mission_type) continue;
       // An acceptance before anything was requested belongs to an earlier transfer (a repeated ack).
       if (ack->type == kMissionAccepted && count > 0 && !last_served) continue;
+      heard = true;
       res.ack = ack->type;
       if (ack->type != kMissionAccepted)
         return finish(false,
@@ -182,7 +196,30 @@ UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, co
   }
 }
 
-ProgressLog monitor_progress(UdpLink& link, std::uint8_t target_system, std::uint16_t last_seq,
+bool clear_mission(Link& link, const UploadOptions& options) {
+  MissionClearAll clear;
+  clear.target_system = options.target_system;
+  clear.target_component = options.target_component;
+  clear.mission_type = options.mission_type;
+  const int retries = std::max(0, options.retries);
+  for (int attempt = 0; attempt <= retries; ++attempt) {
+    link.send(clear);
+    const auto timeout_at = clock::now() + options.timeout;
+    while (clock::now() < timeout_at) {
+      auto r = link.receive(until(timeout_at));
+      if (!r) break;
+      if (options.target_system != 0 && r->header.sysid != options.target_system) continue;
+      const auto* ack = std::get_if<MissionAck>(&r->message);
+      // only an acceptance answers the clear (a repeated refusal of the upload does not)
+      if (ack && for_me(ack->target_system, link.sysid()) && ack->mission_type == options.mission_type &&
+          ack->type == kMissionAccepted)
+        return true;
+    }
+  }
+  return false;
+}
+
+ProgressLog monitor_progress(Link& link, std::uint8_t target_system, std::uint16_t last_seq,
                              std::chrono::milliseconds idle_timeout) {
   ProgressLog log;
   while (true) {
@@ -198,9 +235,7 @@ ProgressLog monitor_progress(UdpLink& link, std::uint8_t target_system, std::uin
   }
 }
 
-Vehicle::Vehicle(UdpLink& link, VehicleOptions options) : link_(link), opt_(options) {
-  link_.learn_peer(true);
-}
+Vehicle::Vehicle(Link& link, VehicleOptions options) : link_(link), opt_(options) { link_.learn_peer(true); }
 
 void Vehicle::request(std::uint16_t seq) {
   MissionRequestInt req;
@@ -220,6 +255,12 @@ void Vehicle::ack(std::uint8_t type, std::uint8_t target_system, std::uint8_t ta
   link_.send(a);
 }
 
+void Vehicle::end_transfer() {
+  receiving_ = false;
+  incoming_.clear();
+  if (opt_.store_as_received) ++mission_version_;  // what was stored so far is the mission now
+}
+
 void Vehicle::on_timeout() {
   if (!receiving_ || clock::now() < deadline_) return;
   if (retries_left_-- > 0) {
@@ -227,7 +268,7 @@ void Vehicle::on_timeout() {
     request(expected_);
     return;
   }
-  receiving_ = false;  // give up; the stored mission is unchanged
+  end_transfer();  // give up (without store_as_received the stored mission is unchanged)
   ++stats_.cancelled;
   ack(kMissionOperationCancelled, gcs_system_, gcs_component_);
 }
@@ -256,6 +297,7 @@ bool Vehicle::handle(const Received& r) {
     }
     receiving_ = true;  // a new count (also a resent one) (re)starts the transfer
     count_ = mc->count;
+    if (opt_.store_as_received && mission_.size() > count_) mission_.resize(count_);  // ArduPilot truncates
     expected_ = 0;
     incoming_.clear();
     retries_left_ = opt_.retries;
@@ -281,7 +323,19 @@ bool Vehicle::handle(const Received& r) {
       request(expected_);
       return true;
     }
+    if (opt_.refuse_item && item->seq == *opt_.refuse_item) {
+      ++stats_.refused;
+      end_transfer();
+      ack(opt_.refuse_result, gcs_system_, gcs_component_);
+      return true;
+    }
     incoming_.push_back(*item);
+    if (opt_.store_as_received) {  // ArduPilot writes each item to its storage as it arrives
+      if (item->seq < mission_.size())
+        mission_[item->seq] = *item;
+      else
+        mission_.push_back(*item);
+    }
     ++expected_;
     retries_left_ = opt_.retries;
     if (expected_ == count_) {
@@ -300,6 +354,7 @@ bool Vehicle::handle(const Received& r) {
     mission_.clear();
     receiving_ = false;
     ++mission_version_;
+    ++stats_.clears;
     ack(kMissionAccepted, r.header.sysid, r.header.compid);
   } else {
     return false;

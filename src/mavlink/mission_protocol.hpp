@@ -1,6 +1,8 @@
-// The MAVLink mission upload protocol over UdpLink, both ends:
+// The MAVLink mission upload protocol over any Link (UDP, TCP, serial), both ends:
 //  - upload_mission(): the GCS side. MISSION_COUNT -> vehicle MISSION_REQUEST_INT(i) -> MISSION_ITEM_INT(i)
-//    -> ... -> MISSION_ACK. Requests are served in whatever order and as often as they come.
+//    -> ... -> MISSION_ACK. Requests are served in whatever order and as often as they come. An upload
+//    that fails after the vehicle answered (an item refused, a timeout midway) is followed by
+//    MISSION_CLEAR_ALL, so no partial mission stays behind; the result says whether the clear was acked.
 //  - Vehicle: receives a mission (requests items in order, re-requests on timeout or out-of-sequence
 //    items, acks), answers MISSION_CLEAR_ALL, and "flies" a stored mission by broadcasting
 //    MISSION_CURRENT / MISSION_ITEM_REACHED, for tests and the simulated fleet.
@@ -13,10 +15,12 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stop_token>
 #include <string>
 #include <vector>
 
 #include "export/mission_items.hpp"
+#include "mavlink/link.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/udp.hpp"
 #include "uavcover/geometry.hpp"
@@ -41,6 +45,9 @@ struct UploadOptions {
   std::uint8_t target_system = 1;
   std::uint8_t target_component = 1;
   std::uint8_t mission_type = kMissionTypeMission;
+  /// A stop ends the upload within about 100 ms (ok false, error "stopped"), e.g. a flight deleted
+  /// while its vehicle is silent; without it the retries take up to (retries + 1) * timeout.
+  std::stop_token stop;
 };
 
 struct UploadResult {
@@ -54,6 +61,13 @@ struct UploadResult {
   std::size_t timeouts = 0;
   std::size_t out_of_order = 0;  ///< requests for anything but the next new item
   double elapsed_s = 0.0;
+  /// After a failure: MISSION_CLEAR_ALL was sent (the vehicle had answered, so it may hold part of the
+  /// upload: ArduPilot stores items as they arrive, issue 34).
+  bool clear_sent = false;
+  /// ... and the vehicle acknowledged it (MISSION_ACK accepted): it holds no mission.
+  bool cleared = false;
+  /// After a failure: the vehicle may hold a partial mission (the clear was not acknowledged).
+  [[nodiscard]] bool partial_possible() const { return !ok && clear_sent && !cleared; }
 };
 
 /// Called after each item sent: (distinct items requested so far, total).
@@ -61,8 +75,10 @@ using UploadProgressFn = std::function<void(std::size_t done, std::size_t total)
 
 /// Uploads `items` (their seq fields are overwritten with their index) to the vehicle at the link's
 /// peer. Bounded: gives up after `retries` consecutive timeouts, and after at most
-/// (retries + 1) * timeout * (count + 2) in total.
-UploadResult upload_mission(UdpLink& link, std::vector<MissionItemInt> items, const UploadOptions& options,
+/// (retries + 1) * timeout * (count + 2) in total. On a failure after the vehicle answered, sends
+/// MISSION_CLEAR_ALL (clear_mission()) and appends its outcome to `error`: "the vehicle's mission was
+/// cleared", or "WARNING: the vehicle may hold a partial mission" when the clear was not acknowledged.
+UploadResult upload_mission(Link& link, std::vector<MissionItemInt> items, const UploadOptions& options,
                             const UploadProgressFn& progress = {});
 
 /// Watches a flying vehicle: collects MISSION_ITEM_REACHED seqs (in arrival order) until `last_seq` is
@@ -71,7 +87,11 @@ struct ProgressLog {
   std::vector<std::uint16_t> reached;
   std::vector<std::uint16_t> current;  ///< MISSION_CURRENT seqs as they changed
 };
-ProgressLog monitor_progress(UdpLink& link, std::uint8_t target_system, std::uint16_t last_seq,
+/// Sends MISSION_CLEAR_ALL and waits for the vehicle's accepting MISSION_ACK, resending after each
+/// `timeout` up to `retries` times. True when acknowledged.
+bool clear_mission(Link& link, const UploadOptions& options);
+
+ProgressLog monitor_progress(Link& link, std::uint8_t target_system, std::uint16_t last_seq,
                              std::chrono::milliseconds idle_timeout);
 
 struct VehicleOptions {
@@ -79,6 +99,14 @@ struct VehicleOptions {
   int retries = kMaxRetries;
   std::size_t max_items = 700;  ///< answers MAV_MISSION_NO_SPACE above this
   std::chrono::milliseconds heartbeat_period{1000};
+  /// ArduPilot-like storage: each item is written as it arrives (issue 34: a refusal at item 3 left a
+  /// 3-item mission) and MISSION_COUNT truncates the stored mission to the count (assumed, not checked
+  /// in ArduPilot's source), so a transfer refused or abandoned midway leaves a truncated or mixed
+  /// mission. Off: the stored mission changes only when an upload completes.
+  bool store_as_received = false;
+  /// Tests: refuse the item with this seq with MISSION_ACK `refuse_result` (the transfer ends).
+  std::optional<std::uint16_t> refuse_item;
+  std::uint8_t refuse_result = 8;  // MAV_MISSION_INVALID_PARAM3
 };
 
 class Vehicle {
@@ -91,10 +119,12 @@ class Vehicle {
     std::size_t duplicates = 0;       ///< items already received: dropped (the expected one is requested)
     std::size_t cancelled = 0;        ///< transfers abandoned after the retries
     std::size_t acks_resent = 0;      ///< final item seen again after the ACK: ACK repeated
+    std::size_t refused = 0;          ///< transfers ended by refusing an item
+    std::size_t clears = 0;           ///< MISSION_CLEAR_ALL handled
   };
 
   /// The link's sysid/compid are the vehicle's; replies go to whoever sent last.
-  Vehicle(UdpLink& link, VehicleOptions options = {});
+  Vehicle(Link& link, VehicleOptions options = {});
 
   /// Handles messages and timeouts for at most `limit`, or until `stop` becomes true, or (when
   /// `until_accepted`) until an upload completes.
@@ -123,9 +153,10 @@ class Vehicle {
  private:
   using clock = std::chrono::steady_clock;
   void request(std::uint16_t seq);
+  void end_transfer();  ///< a transfer refused or abandoned midway
   void ack(std::uint8_t type, std::uint8_t target_system, std::uint8_t target_component);
 
-  UdpLink& link_;
+  Link& link_;
   VehicleOptions opt_;
   std::vector<MissionItemInt> mission_;
   // transfer in progress

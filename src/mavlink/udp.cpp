@@ -33,25 +33,10 @@ std::string sys_error(const std::string& what) { return what + ": " + std::strer
 Endpoint parse_udp_endpoint(const std::string& text, const std::string& field) {
   const std::string usage = "expected udp:HOST:PORT (e.g. udp:127.0.0.1:14550), got '" + text + "'";
   if (text.rfind("udp:", 0) != 0) throw InputError(field, usage);
-  const std::string rest = text.substr(4);
-  const auto colon = rest.rfind(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == rest.size()) throw InputError(field, usage);
-  Endpoint e;
-  e.host = rest.substr(0, colon);
-  const std::string port = rest.substr(colon + 1);
-  unsigned value = 0;
-  const auto [ptr, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
-  if (ec != std::errc{} || ptr != port.data() + port.size() || value == 0 || value > 65535)
-    throw InputError(field, "port must be an integer in 1..65535, got '" + port + "'");
-  e.port = static_cast<std::uint16_t>(value);
-  in_addr tmp{};
-  if (e.host != "localhost" && inet_pton(AF_INET, e.host.c_str(), &tmp) != 1)
-    throw InputError(field, "host must be a dotted IPv4 address or 'localhost', got '" + e.host + "'");
-  return e;
+  return parse_host_port(text.substr(4), field, usage);
 }
 
-UdpLink::UdpLink(const Endpoint& local, std::uint8_t sysid, std::uint8_t compid)
-    : sysid_(sysid), compid_(compid) {
+UdpLink::UdpLink(const Endpoint& local, std::uint8_t sysid, std::uint8_t compid) : Link(sysid, compid) {
   fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) throw std::runtime_error(sys_error("socket"));
   const sockaddr_in a = to_sockaddr(local);
@@ -72,16 +57,6 @@ UdpLink::~UdpLink() {
 
 void UdpLink::set_peer(const Endpoint& peer) { peer_ = to_sockaddr(peer); }
 
-void UdpLink::set_loss(double p, std::uint64_t seed) {
-  loss_ = p;
-  rng_.seed(seed);
-}
-
-bool UdpLink::drop() {
-  if (loss_ <= 0.0) return false;
-  return std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < loss_;
-}
-
 bool UdpLink::send_raw(const std::vector<std::uint8_t>& bytes) {
   if (!peer_) return false;
   if (drop()) {
@@ -100,61 +75,37 @@ bool UdpLink::send_raw(const std::vector<std::uint8_t>& bytes) {
   return true;
 }
 
-bool UdpLink::send(const Message& m) {
-  if (!peer_) return false;
-  Header h;
-  h.seq = seq_++;
-  h.sysid = sysid_;
-  h.compid = compid_;
-  return send_raw(encode(m, h));
+std::string UdpLink::describe() const {
+  if (!peer_) return "udpin:0.0.0.0:" + std::to_string(local_port_);
+  char host[INET_ADDRSTRLEN] = {};
+  inet_ntop(AF_INET, &peer_->sin_addr, host, sizeof host);
+  return "udp:" + std::string(host) + ":" + std::to_string(ntohs(peer_->sin_port));
 }
 
-std::optional<Received> UdpLink::receive(std::chrono::milliseconds timeout) {
-  using clock = std::chrono::steady_clock;
-  const auto deadline = clock::now() + timeout;
-  while (true) {
-    while (!pending_.empty()) {
-      Frame f = std::move(pending_.front());
-      const sockaddr_in from = pending_from_.front();
-      pending_.erase(pending_.begin());
-      pending_from_.erase(pending_from_.begin());
-      auto msg = decode(f);
-      if (!msg) continue;
-      return Received{f.header, std::move(*msg), from};
-    }
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock::now());
-    if (left.count() < 0) return std::nullopt;
-    pollfd pfd{fd_, POLLIN, 0};
-    const int r = ::poll(&pfd, 1, static_cast<int>(left.count()));
-    if (r < 0) {
-      if (errno == EINTR) continue;
-      throw std::runtime_error(sys_error("poll"));
-    }
-    if (r == 0) {
-      if (clock::now() >= deadline) return std::nullopt;
-      continue;
-    }
-    std::uint8_t buf[65536];
-    sockaddr_in from{};
-    socklen_t fromlen = sizeof from;
-    const ssize_t n = ::recvfrom(fd_, buf, sizeof buf, 0, reinterpret_cast<sockaddr*>(&from), &fromlen);
-    if (n < 0) {
-      if (errno == EINTR || errno == EAGAIN || errno == ECONNREFUSED) continue;
-      throw std::runtime_error(sys_error("recvfrom"));
-    }
-    if (drop()) {
-      ++stats_.dropped_rx;
-      continue;
-    }
-    ++stats_.received;
-    if (learn_peer_) peer_ = from;
-    std::vector<Frame> frames;
-    parser_.push(std::span<const std::uint8_t>(buf, static_cast<std::size_t>(n)), frames, true);
-    for (auto& f : frames) {
-      pending_.push_back(std::move(f));
-      pending_from_.push_back(from);
-    }
+bool UdpLink::read_some(std::chrono::milliseconds timeout) {
+  pollfd pfd{fd_, POLLIN, 0};
+  const int r = ::poll(&pfd, 1, static_cast<int>(timeout.count()));
+  if (r < 0) {
+    if (errno == EINTR) return false;
+    throw std::runtime_error(sys_error("poll"));
   }
+  if (r == 0) return false;
+  std::uint8_t buf[65536];
+  sockaddr_in from{};
+  socklen_t fromlen = sizeof from;
+  const ssize_t n = ::recvfrom(fd_, buf, sizeof buf, 0, reinterpret_cast<sockaddr*>(&from), &fromlen);
+  if (n < 0) {
+    if (errno == EINTR || errno == EAGAIN || errno == ECONNREFUSED) return false;
+    throw std::runtime_error(sys_error("recvfrom"));
+  }
+  if (drop()) {
+    ++stats_.dropped_rx;
+    return false;
+  }
+  ++stats_.received;
+  if (learn_peer_) peer_ = from;
+  feed(buf, static_cast<std::size_t>(n), true, from);
+  return true;
 }
 
 }  // namespace uavcover::mavlink

@@ -47,15 +47,17 @@ Handler guarded(Handler handler) {
 }
 
 nlohmann::json parse_body(const Request& req, const ApiContext& ctx, bool allow_empty) {
-  if (const auto type = req.header("content-type")) {
-    std::string media = type->substr(0, type->find(';'));
-    media.erase(0, media.find_first_not_of(" \t"));
-    media.erase(media.find_last_not_of(" \t") + 1);
-    for (auto& c : media) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (media != "application/json" && !(media.empty() && req.body.empty()))
-      throw HttpError(415, "body",
-                      "expected Content-Type application/json, got \"" + type->substr(0, 100) + "\"");
-  }
+  // A body must say it is JSON: a browser sends a text/plain or a Blob body (no Content-Type) across
+  // origins without a preflight, so a body read as JSON without one lets any page drive the server.
+  const auto type = req.header("content-type");
+  const std::string media = type ? media_type(*type) : std::string();
+  if (!req.body.empty() && media != "application/json")
+    throw HttpError(415, "body",
+                    type ? "expected Content-Type application/json, got \"" + type->substr(0, 100) + "\""
+                         : "a request body needs Content-Type: application/json");
+  if (type && media != "application/json" && !(media.empty() && req.body.empty()))
+    throw HttpError(415, "body",
+                    "expected Content-Type application/json, got \"" + type->substr(0, 100) + "\"");
   if (req.body.size() > ctx.config.max_body_bytes)
     throw HttpError(413, "body",
                     "the body is larger than " + std::to_string(ctx.config.max_body_bytes) + " bytes");

@@ -17,6 +17,9 @@ namespace uavcover::server {
 struct ApiConfig {
   int max_queued = 100;                                ///< jobs queued at most (503 beyond)
   std::size_t max_body_bytes = std::size_t{10} << 20;  ///< 413 beyond (the transport checks too)
+  /// The server's planning threads (--workers): a plan may ask for at most this many threads of its
+  /// own (smt's planner_params.threads; 422 beyond), so one job cannot start a hundred threads.
+  int planner_threads = 64;
 };
 
 class FlightManager;

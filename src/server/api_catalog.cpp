@@ -65,6 +65,9 @@ std::pair<std::string, nlohmann::json> validate_entry(store::CatalogKind kind, c
   const std::string name = name_it->get<std::string>();
   if (name.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError("name", "must not be empty");
   if (name.size() > kMaxName) throw InputError("name", "at most " + std::to_string(kMaxName) + " characters");
+  for (const char c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      throw InputError("name", "must not hold control characters (tabs, line breaks, escapes)");
   nlohmann::json data = nlohmann::json::object();
   for (const auto& f : fields) {
     const auto it = body.find(f.name);
@@ -139,16 +142,26 @@ void add_catalog_routes(Router& router, ApiContext& ctx) {
                  }
                  return Response::json(200, entry_json(get_or_404(ctx, kind, id)));
                }));
-    router.add("DELETE", base + "/{id}", guarded([&ctx, kind](const Request& req) {
-                 const store::Id id = id_param(req, "id");
-                 try {
-                   ctx.store.delete_entry(kind, id);
-                 } catch (const store::NotFound&) {
-                   throw HttpError(404, "id",
-                                   std::string("no ") + kind_name(kind) + " " + std::to_string(id));
-                 }
-                 return no_content();
-               }));
+    router.add(
+        "DELETE", base + "/{id}", guarded([&ctx, kind](const Request& req) {
+          const store::Id id = id_param(req, "id");
+          if (kind == store::CatalogKind::Camera) {
+            // a UAV carrying the camera would be left with a dangling camera_id
+            for (const auto& uav : ctx.store.list_entries(store::CatalogKind::Uav)) {
+              const auto it = uav.data.find("camera_id");
+              if (it != uav.data.end() && it->is_number_integer() && it->get<std::int64_t>() == id)
+                throw HttpError(409, "id",
+                                "camera " + std::to_string(id) + " is used by UAV " + std::to_string(uav.id) +
+                                    " (\"" + uav.name.substr(0, 80) + "\"): change or delete that UAV first");
+            }
+          }
+          try {
+            ctx.store.delete_entry(kind, id);
+          } catch (const store::NotFound&) {
+            throw HttpError(404, "id", std::string("no ") + kind_name(kind) + " " + std::to_string(id));
+          }
+          return no_content();
+        }));
   }
 }
 

@@ -2,6 +2,7 @@
 // flight log as pages, CSV and GeoJSON. The live flights are the FlightManager's.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <map>
 
@@ -167,6 +168,29 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                  if (auto it = f->find("uavs"); it != f->end() && it->is_array())
                    for (auto& u : *it)
                      if (u.is_object()) u.erase("waypoints");  // the listing leaves them out
+                 items.push_back(std::move(*f));
+               }
+               return Response::json(200, {{"items", items}});
+             }));
+  // A mission's flights that have not ended (not done or aborted), of any of its plans, newest first: a
+  // client finds the aircraft in the air whatever plan it shows (issue 29). Live state from memory.
+  router.add("GET", kApi + "/missions/{id}/flights", guarded([&ctx](const Request& req) {
+               const store::Id mission = id_param(req, "id");
+               if (!ctx.store.get_mission(mission))
+                 throw HttpError(404, "id", "no mission " + std::to_string(mission));
+               std::vector<store::Id> ids;
+               for (const auto& row : ctx.store.list_active_flights())
+                 if (row.mission_id == mission) ids.push_back(row.id);
+               std::sort(ids.rbegin(), ids.rend());
+               json items = json::array();
+               for (const store::Id id : ids) {
+                 auto f = manager(ctx).get(id);
+                 if (!f) continue;  // deleted meanwhile
+                 const std::string state = f->value("state", "");
+                 if (state == "done" || state == "aborted") continue;  // ended since it was listed
+                 if (auto it = f->find("uavs"); it != f->end() && it->is_array())
+                   for (auto& u : *it)
+                     if (u.is_object()) u.erase("waypoints");  // as GET /plans/{id}/flights
                  items.push_back(std::move(*f));
                }
                return Response::json(200, {{"items", items}});

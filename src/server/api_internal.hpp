@@ -15,7 +15,8 @@ inline const std::string kApi = "/api/v1";
 /// anything else 500 "internal error" (logged, never shown).
 Handler guarded(Handler handler);
 
-/// The request body as JSON: Content-Type must be absent or application/json (415), at most
+/// The request body as JSON: a non-empty body needs Content-Type application/json (415, field
+/// "content-type"; an empty one may come without), at most
 /// max_body_bytes (413), strict syntax (400, field "body" or the duplicate key's path). An empty body
 /// gives null when `allow_empty`, 400 otherwise.
 nlohmann::json parse_body(const Request& req, const ApiContext& ctx, bool allow_empty);

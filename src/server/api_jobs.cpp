@@ -227,6 +227,21 @@ nlohmann::json job_json(const store::Job& job, bool with_artifacts) {
   return j;
 }
 
+namespace {
+
+/// A planner's own threads (smt's planner_params.threads) are bounded by the server's planning threads.
+void check_planner_threads(const nlohmann::json& params, int max) {
+  const auto pp = params.find("planner_params");
+  if (pp == params.end() || !pp->is_object()) return;
+  const auto threads = pp->find("threads");
+  if (threads == pp->end() || !threads->is_number_integer() || threads->get<std::int64_t>() <= max) return;
+  throw InputError("planner_params.threads", "at most " + std::to_string(max) +
+                                                 " on this server (its planning threads, --workers), got " +
+                                                 std::to_string(threads->get<std::int64_t>()));
+}
+
+}  // namespace
+
 namespace detail {
 
 void add_job_routes(Router& router, ApiContext& ctx) {
@@ -245,6 +260,7 @@ void add_job_routes(Router& router, ApiContext& ctx) {
                  job.mission_id = mission_id;
                  job.revision = rev->revision;
                  job.params = usecases::validate_job_params(job_type(kind), mission, body);
+                 check_planner_threads(job.params, ctx.config.planner_threads);
                  store::Id id = 0;
                  try {
                    id = ctx.store.enqueue(job, ctx.config.max_queued);

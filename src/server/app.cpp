@@ -76,12 +76,17 @@ void serve(const ServeOptions& options) {
   }
   spdlog::info("database: {} (schema version {})", store->backend(), store->schema_version());
   constexpr int kMaxAttempts = 3;
-  if (store->backend() == "sqlite") {
-    // this server owns the database alone: the jobs it ran when it stopped are queued again
-    const int requeued = store->recover_running(kMaxAttempts);
-    if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
+  try {
+    if (store->backend() == "sqlite") {
+      // this server owns the database alone: the jobs it ran when it stopped are queued again
+      const int requeued = store->recover_running(kMaxAttempts);
+      if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
+    }
+    if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
+  } catch (const store::StoreError& e) {
+    // the first writes: a database that opens but cannot be written fails here, not as "internal error"
+    throw OperationError("cannot write the " + store->backend() + " database: " + e.what());
   }
-  if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
 
   FlightLimits flight_limits;
   flight_limits.allow_remote = options.http.token.has_value();  // vehicles beyond loopback need the token
@@ -90,6 +95,9 @@ void serve(const ServeOptions& options) {
   ApiContext ctx{*store, ApiConfig{}, &flights};
   ctx.config.max_queued = options.max_queued;
   ctx.config.max_body_bytes = options.http.max_body;
+  ctx.config.planner_threads = options.workers > 0
+                                   ? options.workers
+                                   : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   Router router;
   add_api_routes(router, ctx);
   StoreEvents events(*store, flights);
@@ -104,7 +112,7 @@ void serve(const ServeOptions& options) {
   });
 
   ServerConfig http = options.http;
-  http.ready_check = [&store] { return store->ping(); };
+  http.ready_check = [&store] { return store->writable(); };
 
   WorkerConfig wc;
   wc.threads = options.workers > 0 ? options.workers

@@ -58,15 +58,21 @@ struct SimulateRequest {
   sim::FleetOptions options;
   std::vector<sim::VehicleConfig> vehicles;
   std::vector<std::string> uavs;  ///< the UAV of each vehicle
+  bool tcp = false;               ///< the vehicles listen on TCP (the flight connects), not UDP
 };
 
 SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_vehicles) {
   if (!s.is_object()) throw InputError("simulate", "must be an object");
   for (const auto& [k, v] : s.items())
     if (k != "speedup" && k != "fail" && k != "loss" && k != "wind_mps" && k != "wind_from_deg" &&
-        k != "battery_min" && k != "seed")
+        k != "battery_min" && k != "seed" && k != "transport")
       throw InputError("simulate." + k.substr(0, 100), "unknown field");
   SimulateRequest out;
+  if (const json* t = member(s, "transport")) {
+    if (!t->is_string() || (*t != "udp" && *t != "tcp"))
+      throw InputError("simulate.transport", "must be \"udp\" or \"tcp\"");
+    out.tcp = *t == "tcp";
+  }
   out.options.speedup = number_in(s, "speedup", 1.0, 0.1, 1000);
   const double loss = number_in(s, "loss", 0.0, 0.0, 0.9);
   const double wind = number_in(s, "wind_mps", 0.0, 0.0, 30);
@@ -87,6 +93,7 @@ SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_
     sim::VehicleConfig c;
     c.sysid = static_cast<std::uint8_t>(i + 1);
     c.listen = mavlink::Endpoint{"127.0.0.1", 0};
+    c.tcp = out.tcp;
     c.home = u.start_resolved;
     c.v_max = u.speed_mps;
     c.a_max = u.max_accel_mps2;
@@ -252,6 +259,7 @@ void FlightManager::attach(const store::StoredFlight& row, const std::optional<j
 
 json FlightManager::create(const store::Job& plan_job, const json& body) {
   if (!body.is_object()) throw InputError("", "the flight request must be a JSON object");
+  const std::lock_guard create_lock(create_mutex_);  // 24 concurrent POSTs must not make 17 flights
   if (live_count() >= limits_.max_live)
     throw HttpError(
         409, "", fmt::format("{} flights are followed already (at most {})", live_count(), limits_.max_live));
@@ -269,9 +277,10 @@ json FlightManager::create(const store::Job& plan_job, const json& body) {
     }
     json vehicles = json::array();
     for (std::size_t i = 0; i < s.vehicles.size(); ++i)
-      vehicles.push_back({{"uav", s.uavs[i]},
-                          {"endpoint", fmt::format("udp:127.0.0.1:{}", fleet->vehicles()[i]->port())},
-                          {"sysid", s.vehicles[i].sysid}});
+      vehicles.push_back(
+          {{"uav", s.uavs[i]},
+           {"endpoint", fmt::format("{}:127.0.0.1:{}", s.tcp ? "tcp" : "udp", fleet->vehicles()[i]->port())},
+           {"sysid", s.vehicles[i].sysid}});
     request.erase("simulate");
     request["vehicles"] = std::move(vehicles);
   } else if (const json* v = member(body, "vehicles");

@@ -99,6 +99,7 @@ class FlightManager final : public flight::Observer {
   store::Store& store_;
   FlightLimits limits_;
   mutable std::mutex mutex_;  ///< live_
+  std::mutex create_mutex_;   ///< create(): the max_live check and the new flight's insert as one step
   std::map<store::Id, std::shared_ptr<Live>> live_;
   std::mutex queue_mutex_;  ///< pending_, changed_, stopping_
   std::condition_variable wake_;

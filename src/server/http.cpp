@@ -1,6 +1,7 @@
 #include "server/http.hpp"
 
 #include <boost/asio/ip/address.hpp>
+#include <cctype>
 #include <charconv>
 #include <string_view>
 
@@ -110,7 +111,45 @@ std::vector<std::pair<std::string, std::string>> Router::routes() const {
   return out;
 }
 
+namespace {
+
+std::string ascii_lower(std::string_view in) {
+  std::string out(in);
+  for (auto& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// The length of an absolute-form target's "scheme://" prefix, 0 when there is none.
+std::size_t scheme_length(std::string_view target) {
+  const std::string head = ascii_lower(target.substr(0, 8));
+  if (head.rfind("http://", 0) == 0) return 7;
+  if (head.rfind("https://", 0) == 0) return 8;
+  return 0;
+}
+
+}  // namespace
+
+std::optional<std::string> target_authority(std::string_view target) {
+  const std::size_t scheme = scheme_length(target);
+  if (scheme == 0) return std::nullopt;
+  const std::string_view rest = target.substr(scheme);
+  return std::string(rest.substr(0, rest.find_first_of("/?")));
+}
+
 void decode_target(std::string_view target, Request& req) {
+  std::string with_root;  // "http://host?q" becomes "/?q"
+  if (const std::size_t scheme = scheme_length(target); scheme > 0) {
+    const std::size_t path = target.find_first_of("/?", scheme);
+    if (path == std::string_view::npos) {
+      target = "/";
+    } else if (target[path] == '?') {
+      // "http://host?q": the path is "/" (RFC 9112 3.2.2); keep the query
+      with_root = "/" + std::string(target.substr(path));
+      target = with_root;
+    } else {
+      target = target.substr(path);
+    }
+  }
   if (target.empty() || target.front() != '/')
     throw HttpError(400, "path", "the request target must be a path starting with '/'");
   const auto q = target.find('?');
@@ -146,11 +185,92 @@ bool is_loopback(const std::string& host) {
   return false;
 }
 
+bool split_host(std::string_view value, std::string& host, std::optional<std::uint16_t>& port) {
+  host.clear();
+  port.reset();
+  std::string_view name;
+  std::string_view port_text;
+  if (!value.empty() && value.front() == '[') {
+    const auto close = value.find(']');
+    if (close == std::string_view::npos) return false;
+    name = value.substr(1, close - 1);
+    const std::string_view rest = value.substr(close + 1);
+    if (!rest.empty()) {
+      if (rest.front() != ':') return false;
+      port_text = rest.substr(1);
+      if (port_text.empty()) return false;
+    }
+    boost::system::error_code ec;
+    boost::asio::ip::make_address_v6(std::string(name), ec);
+    if (ec) return false;
+  } else {
+    const auto colon = value.rfind(':');
+    name = value.substr(0, colon);
+    if (colon != std::string_view::npos) {
+      port_text = value.substr(colon + 1);
+      if (port_text.empty()) return false;
+    }
+    for (const char c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.' && c != '_') return false;
+  }
+  if (name.empty()) return false;
+  if (!port_text.empty()) {
+    unsigned v = 0;
+    const auto [p, ec] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), v);
+    if (ec != std::errc() || p != port_text.data() + port_text.size() || v > 65535 || port_text.size() > 5)
+      return false;
+    port = static_cast<std::uint16_t>(v);
+  }
+  host = ascii_lower(name);
+  if (host.size() > 1 && host.back() == '.') host.pop_back();
+  return true;
+}
+
+bool host_allowed(std::string_view value, const HostPolicy& policy) {
+  std::string host;
+  std::optional<std::uint16_t> port;
+  if (!split_host(value, host, port)) return false;
+  for (const auto& name : policy.allowed) {
+    std::string allowed = ascii_lower(name);
+    if (allowed.size() > 1 && allowed.back() == '.') allowed.pop_back();
+    if (host == allowed) return true;
+  }
+  if (port && *port != policy.port) return false;
+  const std::string listen = ascii_lower(policy.listen_host);
+  if (host == listen || host == "localhost" || host == "127.0.0.1" || host == "::1") return true;
+  boost::system::error_code ec;
+  const auto listen_addr = boost::asio::ip::make_address(listen, ec);
+  if (!ec && listen_addr.is_unspecified()) {
+    // listening on every address: an IP literal cannot be a rebound DNS name
+    boost::asio::ip::make_address(host, ec);
+    return !ec;
+  }
+  return false;
+}
+
+bool origin_allowed(std::string_view origin, std::string_view host,
+                    const std::optional<std::string>& cors_origin) {
+  const std::string o = ascii_lower(origin);
+  if (o.empty() || o == "null") return false;
+  if (cors_origin && o == ascii_lower(*cors_origin)) return true;
+  if (host.empty()) return false;
+  const std::string h = ascii_lower(host);
+  return o == "http://" + h || o == "https://" + h;
+}
+
+std::string media_type(std::string_view content_type) {
+  std::string media(content_type.substr(0, content_type.find(';')));
+  media.erase(0, media.find_first_not_of(" \t"));
+  media.erase(media.find_last_not_of(" \t") + 1);
+  return ascii_lower(media);
+}
+
 std::int64_t parse_id(const std::string& text, const std::string& field) {
   std::int64_t v = 0;
   const auto* end = text.data() + text.size();
   const auto [p, ec] = std::from_chars(text.data(), end, v);
-  if (text.empty() || text.size() > 18 || ec != std::errc() || p != end || v <= 0)
+  if (text.empty() || text.size() > 18 || text.front() < '1' || text.front() > '9' || ec != std::errc() ||
+      p != end || v <= 0)
     throw HttpError(400, field, "expected a positive integer id, got \"" + text.substr(0, 40) + "\"");
   return v;
 }

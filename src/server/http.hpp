@@ -81,14 +81,44 @@ class Router {
 };
 
 /// Splits a request target ("/path?a=1&b=%20") into the percent-decoded path and query parameters
-/// ('+' is a space in the query; the last of a repeated key wins). HttpError 400 ("path" or "query") on
-/// a target without a leading '/', a malformed escape or a NUL byte.
+/// ('+' is a space in the query; the last of a repeated key wins). The absolute form
+/// ("http://host:port/path?q", RFC 9112 3.2.2) is accepted: its authority is skipped (see
+/// target_authority). HttpError 400 ("path" or "query") on a target without a leading '/', a malformed
+/// escape or a NUL byte.
 void decode_target(std::string_view target, Request& req);
+
+/// The authority ("host:port") of an absolute-form target ("http://host:port/path"), nullopt for the
+/// origin form ("/path"). The scheme is http or https, case-insensitive.
+std::optional<std::string> target_authority(std::string_view target);
+
+/// Which Host header values (or absolute-form authorities) the server answers, against DNS rebinding:
+/// the listen address, localhost, 127.0.0.1 and [::1] with no port or the server's port; any IP
+/// literal when it listens on an unspecified address (0.0.0.0, ::); and each `allowed` name (a proxy's
+/// public name) with any port. Names compare case-insensitively, a trailing dot ignored.
+struct HostPolicy {
+  std::string listen_host;  ///< without brackets
+  std::uint16_t port = 0;   ///< the bound port
+  std::vector<std::string> allowed;
+};
+/// "name", "name:port", "[v6]" or "[v6]:port" split (name lower-cased, without brackets and a
+/// trailing dot); false when malformed (empty, bad port, characters a host name cannot hold).
+bool split_host(std::string_view value, std::string& host, std::optional<std::uint16_t>& port);
+bool host_allowed(std::string_view value, const HostPolicy& policy);
+
+/// True when a request's Origin header may drive the server: the configured CORS origin, or the
+/// server's own origin (http:// or https:// followed by the request's Host value). "null" never is.
+bool origin_allowed(std::string_view origin, std::string_view host,
+                    const std::optional<std::string>& cors_origin);
+
+/// A media type without parameters, trimmed and lower-cased ("Application/JSON; charset=utf-8" ->
+/// "application/json").
+std::string media_type(std::string_view content_type);
 
 /// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
 bool is_loopback(const std::string& host);
 
-/// A positive decimal id from a path or query parameter; HttpError 400 (field) otherwise.
+/// A positive decimal id from a path or query parameter, without a sign or leading zeros; HttpError 400
+/// (field) otherwise.
 std::int64_t parse_id(const std::string& text, const std::string& field = "id");
 
 }  // namespace uavcover::server

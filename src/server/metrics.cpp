@@ -58,6 +58,16 @@ void Metrics::observe_request(const std::string& route, const std::string& metho
   observe(durations_[route], http_buckets(), seconds);
 }
 
+void Metrics::count_dropped_event_client() {
+  const std::lock_guard lock(mutex_);
+  ++dropped_event_clients_;
+}
+
+std::uint64_t Metrics::dropped_event_clients() const {
+  const std::lock_guard lock(mutex_);
+  return dropped_event_clients_;
+}
+
 void Metrics::observe_plan_duration(double seconds) {
   const std::lock_guard lock(mutex_);
   observe(plan_durations_, plan_buckets(), seconds);
@@ -109,6 +119,9 @@ std::string Metrics::render() const {
   out += "# TYPE uavcover_jobs gauge\n";
   for (const auto& [state, n] : jobs)
     out += fmt::format("uavcover_jobs{{state=\"{}\"}} {}\n", escape_label(state), n);
+  out += "# HELP uavcover_event_clients_dropped_total Event clients closed for falling behind (queue cap).\n";
+  out += "# TYPE uavcover_event_clients_dropped_total counter\n";
+  out += fmt::format("uavcover_event_clients_dropped_total {}\n", dropped_event_clients_);
   out += "# HELP uavcover_plan_duration_seconds Planning time of finished plan jobs.\n";
   out += "# TYPE uavcover_plan_duration_seconds histogram\n";
   render_histogram(out, "uavcover_plan_duration_seconds", "", plan_durations_, plan_buckets());

@@ -16,6 +16,9 @@ class Metrics {
   /// One answered request: uavcover_http_requests_total{route,method,code} and
   /// uavcover_http_request_duration_seconds{route}.
   void observe_request(const std::string& route, const std::string& method, int code, double seconds);
+  /// uavcover_event_clients_dropped_total: a WebSocket / SSE client closed for not reading.
+  void count_dropped_event_client();
+  [[nodiscard]] std::uint64_t dropped_event_clients() const;
   /// uavcover_plan_duration_seconds.
   void observe_plan_duration(double seconds);
   /// uavcover_jobs{state} is filled at scrape time from this callback (state -> count).
@@ -37,6 +40,7 @@ class Metrics {
   std::map<std::tuple<std::string, std::string, int>, std::uint64_t> requests_;
   std::map<std::string, Histogram> durations_;
   Histogram plan_durations_;
+  std::uint64_t dropped_event_clients_ = 0;
   std::function<std::map<std::string, std::int64_t>()> job_counts_;
 };
 

@@ -13,6 +13,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
+#include <boost/asio/thread_pool.hpp>
 #include <boost/asio/write.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -40,6 +41,7 @@ constexpr std::size_t kHeaderLimit = 16 * 1024;
 constexpr std::size_t kWsMessageMax = 64 * 1024;
 constexpr std::size_t kMaxPendingMessages = 1000;
 constexpr std::size_t kMaxConnections = 10000;
+constexpr std::size_t kMaxPendingProbes = 16;  // /readyz and /metrics waiting for the probe thread
 constexpr std::size_t kDrainBytes = std::size_t{64} << 20;  // bounded by the 2 s linger too
 constexpr const char* kEventsPath = "/api/v1/events";
 
@@ -59,6 +61,12 @@ bool valid_request_id(std::string_view id) {
   return std::all_of(id.begin(), id.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
   });
+}
+
+std::string trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return "";
+  return std::string(s.substr(first, s.find_last_not_of(" \t") - first + 1));
 }
 
 std::string lower(std::string_view s) {
@@ -109,9 +117,15 @@ class Session {
 
 struct Core {
   Core(ServerConfig c, Router& r, EventSource& events)
-      : cfg(std::move(c)), router(r), hub(events, cfg.event_poll) {
+      : cfg(std::move(c)),
+        router(r),
+        hub(events, cfg.event_poll),
+        handlers(static_cast<std::size_t>(std::max(1, cfg.handler_threads))),
+        probes(1) {
     std::random_device rd;
     id_counter = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
+    host_policy.listen_host = parse_listen(cfg.listen).host;
+    host_policy.allowed = cfg.allowed_hosts;
   }
 
   ServerConfig cfg;
@@ -124,6 +138,47 @@ struct Core {
   bool stopping = false;
   std::uint64_t next_session = 1;
   std::map<std::uint64_t, std::weak_ptr<Session>> sessions;
+
+  HostPolicy host_policy;  ///< its port is set once the acceptor is bound
+
+  // The API handlers and the operations probes (/readyz, /metrics: database calls) run here, never on
+  // the I/O threads, so a slow validation or a locked database cannot hold /healthz or other
+  // connections. Declared last: destroyed (joined) first.
+  net::thread_pool handlers;
+  net::thread_pool probes;
+  std::atomic<std::size_t> handler_load{0};  ///< requests queued for or running on `handlers`
+  std::atomic<std::size_t> probe_load{0};
+  std::mutex pool_mutex;
+  bool pools_closed = false;  ///< set before the pools are joined: nothing is posted afterwards
+
+  /// Posts `work` to `pool` unless `load` would exceed `max` or the server stops; false then.
+  template <class Work>
+  bool post_bounded(net::thread_pool& pool, std::atomic<std::size_t>& load, std::size_t max, Work&& work) {
+    const std::lock_guard lock(pool_mutex);
+    if (pools_closed) return false;
+    if (load.fetch_add(1) >= max) {
+      load.fetch_sub(1);
+      return false;
+    }
+    net::post(pool, [&load, work = std::forward<Work>(work)]() mutable {
+      struct Done {
+        std::atomic<std::size_t>& load;
+        ~Done() { load.fetch_sub(1); }
+      } done{load};
+      work();
+    });
+    return true;
+  }
+
+  /// Waits for every posted request to be answered (the I/O threads must still run).
+  void drain_pools() {
+    {
+      const std::lock_guard lock(pool_mutex);
+      pools_closed = true;
+    }
+    handlers.join();
+    probes.join();
+  }
 
   std::string next_request_id() { return fmt::format("{:016x}", splitmix64(id_counter.fetch_add(1))); }
 
@@ -176,8 +231,9 @@ struct Core {
 
 using StringResponse = http::response<http::string_body>;
 
+/// `head`: the answer to a HEAD request, the GET's headers (its Content-Length too) without the body.
 StringResponse to_beast(Response&& r, unsigned version, bool keep_alive, const std::string& request_id,
-                        const Core& core) {
+                        const Core& core, bool head = false) {
   StringResponse res;
   res.version(version);
   res.result(static_cast<unsigned>(std::clamp(r.status, 100, 599)));
@@ -190,6 +246,11 @@ StringResponse to_beast(Response&& r, unsigned version, bool keep_alive, const s
   res.keep_alive(keep_alive);
   if (r.status != 204 && r.status != 304) res.body() = std::move(r.body);
   res.prepare_payload();
+  if (head && r.status != 204 && r.status != 304) {
+    const auto length = res.body().size();
+    res.body().clear();
+    res.content_length(length);
+  }
   return res;
 }
 
@@ -280,11 +341,15 @@ class WsSession : public Session, public std::enable_shared_from_this<WsSession>
 
   void enqueue(const std::string& message) {
     if (closed_) return;
-    if (queue_.size() >= kMaxPendingMessages) {
-      spdlog::warn("events: closing a WebSocket client that does not read ({} messages pending)",
-                   queue_.size());
-      return close_now();
+    // a message larger than the cap still goes out alone; behind others it must fit
+    if (queue_.size() >= kMaxPendingMessages ||
+        (!queue_.empty() && queued_bytes_ + message.size() > core_.cfg.max_event_queue_bytes)) {
+      spdlog::warn("events: closing a WebSocket client that does not read ({} messages, {} bytes pending)",
+                   queue_.size(), queued_bytes_);
+      metrics().count_dropped_event_client();
+      return close_now(websocket::close_code::try_again_later);
     }
+    queued_bytes_ += message.size();
     queue_.push_back(message);
     if (!writing_) do_write();
   }
@@ -300,11 +365,12 @@ class WsSession : public Session, public std::enable_shared_from_this<WsSession>
     writing_ = false;
     if (ec) return close_now();
     if (closed_) return;
+    queued_bytes_ -= queue_.front().size();
     queue_.pop_front();
     if (!queue_.empty()) do_write();
   }
 
-  void close_now() {
+  void close_now(websocket::close_code code = websocket::close_code::going_away) {
     if (closed_) return;
     closed_ = true;
     core_.hub.close(sub_);
@@ -313,9 +379,10 @@ class WsSession : public Session, public std::enable_shared_from_this<WsSession>
       queue_.clear();
     else if (!queue_.empty())
       queue_.erase(std::next(queue_.begin()), queue_.end());
+    queued_bytes_ = queue_.empty() ? 0 : queue_.front().size();
     if (!writing_ && ws_.is_open()) {
       // a close frame when nothing is being written; the socket goes when the close completes
-      ws_.async_close(websocket::close_code::going_away, [self = shared_from_this()](beast::error_code) {
+      ws_.async_close(code, [self = shared_from_this()](beast::error_code) {
         beast::error_code ignored;
         beast::get_lowest_layer(self->ws_).socket().close(ignored);
       });
@@ -329,6 +396,7 @@ class WsSession : public Session, public std::enable_shared_from_this<WsSession>
   http::request<http::string_body> req_;
   beast::flat_buffer buffer_;
   std::deque<std::string> queue_;
+  std::size_t queued_bytes_ = 0;  ///< the bytes in queue_ (the event queue cap)
   bool writing_ = false;
   bool closed_ = false;
   std::uint64_t sub_ = 0;
@@ -418,10 +486,14 @@ class SseSession : public Session, public std::enable_shared_from_this<SseSessio
 
   void enqueue(std::string record) {
     if (closed_ || stopping_) return;
-    if (queue_.size() >= kMaxPendingMessages) {
-      spdlog::warn("events: closing an SSE client that does not read ({} records pending)", queue_.size());
+    if (queue_.size() >= kMaxPendingMessages ||
+        (!queue_.empty() && queued_bytes_ + record.size() > core_.cfg.max_event_queue_bytes)) {
+      spdlog::warn("events: closing an SSE client that does not read ({} records, {} bytes pending)",
+                   queue_.size(), queued_bytes_);
+      metrics().count_dropped_event_client();
       return close_now();
     }
+    queued_bytes_ += record.size();
     queue_.push_back(std::move(record));
     if (!writing_) do_write();
   }
@@ -439,6 +511,7 @@ class SseSession : public Session, public std::enable_shared_from_this<SseSessio
     writing_ = false;
     if (ec) return close_now();
     if (closed_) return;
+    queued_bytes_ -= queue_.front().size();
     queue_.pop_front();
     if (stopping_) return finish_stream();
     if (!queue_.empty()) do_write();
@@ -451,6 +524,7 @@ class SseSession : public Session, public std::enable_shared_from_this<SseSessio
     timer_.cancel();
     if (!chunked_) return close_now();
     queue_.clear();  // nothing is being written (the callers check)
+    queued_bytes_ = 0;
     writing_ = true;
     net::async_write(stream_, http::make_chunk_last(),
                      [self = shared_from_this()](beast::error_code, std::size_t) { self->close_now(); });
@@ -465,6 +539,7 @@ class SseSession : public Session, public std::enable_shared_from_this<SseSessio
       queue_.clear();
     else if (!queue_.empty())
       queue_.erase(std::next(queue_.begin()), queue_.end());
+    queued_bytes_ = queue_.empty() ? 0 : queue_.front().size();
     beast::error_code ec;
     stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
     stream_.close();
@@ -475,6 +550,7 @@ class SseSession : public Session, public std::enable_shared_from_this<SseSessio
   net::steady_timer timer_;
   std::vector<std::int64_t> ids_;
   std::deque<std::string> queue_;
+  std::size_t queued_bytes_ = 0;
   std::array<char, 256> scratch_{};
   bool chunked_ = true;
   bool writing_ = false;
@@ -550,6 +626,11 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
     start_ = std::chrono::steady_clock::now();
     stream_.expires_after(core_.cfg.idle_timeout);
     const auto& req = parser_->get();
+    // refused on the headers alone, before any of the body is read; the connection then closes
+    if (auto refusal = screen(req)) {
+      reply_and_close(refusal->status, refusal->field, refusal->what(), std::move(refusal->headers));
+      return;
+    }
     if (beast::iequals(req[http::field::expect], "100-continue") && !parser_->is_done()) {
       auto cont = std::make_shared<http::response<http::empty_body>>(http::status::continue_, req.version());
       http::async_write(stream_, *cont,
@@ -560,6 +641,98 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
       return;
     }
     read_body();
+  }
+
+  /// The checks a request's headers must pass (docs/deployment.md): one Host naming this server (400,
+  /// 421), an Origin of this server or --cors-origin (403), no transfer coding but chunked (501) and
+  /// no content coding (415), the token (401), and a JSON body on the API (415).
+  std::optional<HttpError> screen(const http::request_parser<http::string_body>::value_type& req) const {
+    const auto& cfg = core_.cfg;
+    const std::string_view target = sv(req.target());
+    std::size_t hosts = 0;
+    std::string host;
+    for (const auto& f : req)
+      if (f.name() == http::field::host) {
+        ++hosts;
+        host = std::string(sv(f.value()));
+      }
+    if (hosts > 1) return HttpError(400, "host", "the request has more than one Host header");
+    if (hosts == 0 && req.version() >= 11)
+      return HttpError(400, "host", "an HTTP/1.1 request needs a Host header");
+    // the absolute form's authority takes the place of Host (RFC 9112 3.2.2)
+    const std::string authority = target_authority(target).value_or(host);
+    if ((hosts > 0 || !authority.empty()) && !host_allowed(authority, core_.host_policy))
+      return HttpError(421, "host",
+                       "this server does not answer for host \"" + authority.substr(0, 100) +
+                           "\" (uavcover serve --allowed-host NAME adds a name)");
+    std::size_t origins = 0;
+    std::string origin;
+    for (const auto& f : req)
+      if (f.name() == http::field::origin) {
+        ++origins;
+        origin = std::string(sv(f.value()));
+      }
+    if (origins > 1 || (origins == 1 && !origin_allowed(origin, authority, cfg.cors_origin)))
+      return HttpError(403, "origin",
+                       "requests from origin \"" + origin.substr(0, 100) +
+                           "\" are not allowed (uavcover serve --cors-origin ORIGIN allows one)");
+    std::string codings;
+    std::size_t te_fields = 0;
+    for (const auto& f : req)
+      if (f.name() == http::field::transfer_encoding) {
+        ++te_fields;
+        codings += (codings.empty() ? "" : ",") + std::string(sv(f.value()));
+      }
+    if (te_fields > 0) {
+      if (te_fields > 1 || lower(trim(codings)) != "chunked")
+        return HttpError(
+            501, "transfer-encoding",
+            "only Transfer-Encoding: chunked is supported, got \"" + codings.substr(0, 100) + "\"");
+      if (req.count(http::field::content_length) > 0)
+        return HttpError(400, "transfer-encoding",
+                         "a request must not have both Transfer-Encoding and Content-Length");
+    }
+    if (req.count(http::field::content_encoding) > 0) {
+      std::string encodings;
+      for (const auto& f : req)
+        if (f.name() == http::field::content_encoding)
+          encodings += (encodings.empty() ? "" : ",") + std::string(sv(f.value()));
+      if (lower(trim(encodings)) != "identity")
+        return HttpError(
+            415, "content-encoding",
+            "request bodies must not be compressed (Content-Encoding: \"" + encodings.substr(0, 100) + "\")");
+    }
+    Request probe;
+    bool decoded = true;
+    try {
+      decode_target(target, probe);
+    } catch (const HttpError&) {
+      decoded = false;  // answered 400 once read
+    }
+    const std::string method(sv(req.method_string()));
+    const bool open_route = decoded && (method == "GET" || method == "HEAD") &&
+                            (probe.path == "/healthz" || probe.path == "/readyz");
+    const bool preflight = cfg.cors_origin && method == "OPTIONS";
+    const bool has_body = te_fields > 0 || (parser_->content_length() && *parser_->content_length() > 0);
+    // with a body: 401 before reading it (and the connection closes); without, the answer keeps it open
+    if (cfg.token && has_body && !open_route && !preflight) {
+      const auto auth = req[http::field::authorization];
+      probe.headers["authorization"] = std::string(sv(auth));
+      if (auth.empty()) probe.headers.clear();
+      if (!core_.authorized(probe)) {
+        HttpError e(401, "authorization", "missing or wrong bearer token (Authorization: Bearer <token>)");
+        e.headers.emplace_back("WWW-Authenticate", "Bearer");
+        return e;
+      }
+    }
+    if (has_body && decoded && probe.path.rfind("/api/", 0) == 0 &&
+        media_type(sv(req[http::field::content_type])) != "application/json")
+      return HttpError(415, "body",
+                       req.count(http::field::content_type) > 0
+                           ? "expected Content-Type application/json, got \"" +
+                                 std::string(sv(req[http::field::content_type])).substr(0, 100) + "\""
+                           : std::string("a request body needs Content-Type: application/json"));
+    return std::nullopt;
   }
 
   void read_body() {
@@ -575,6 +748,8 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
     process();
   }
 
+  enum class Dispatched { Answered, Deferred, Stream };
+
   void process() {
     auto& breq = parser_->get();
     Request req;
@@ -587,12 +762,15 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
       if (!fresh) it->second += ", " + std::string(f.value());
     }
     const bool keep = breq.keep_alive();
+    const unsigned version = breq.version();
+    const std::string method = req.method;
+    head_ = method == "HEAD";
     std::string route = "unmatched";
     Response res;
     try {
       decode_target(sv(breq.target()), req);
       req.body = std::move(breq.body());
-      if (dispatch(req, breq, route, res)) return;  // handed over to a WebSocket / SSE session
+      if (dispatch(req, breq, route, res) != Dispatched::Answered) return;  // a stream, or the pool answers
     } catch (const HttpError& e) {
       res = Response::error(e.status, e.field, e.what());
       res.headers.insert(res.headers.end(), e.headers.begin(), e.headers.end());
@@ -602,73 +780,140 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
       spdlog::error("request {} {} {}: {}", req.request_id, req.method, route, e.what());
       res = Response::error(500, "", "internal error");
     }
+    answer(req.request_id, method, route, req.path, std::move(res), version, keep);
+  }
+
+  void answer(const std::string& id, const std::string& method, const std::string& route,
+              const std::string& path, Response res, unsigned version, bool keep) {
     if (res.status == 401) res.headers.emplace_back("WWW-Authenticate", "Bearer");
     const int status = res.status;
-    auto out = to_beast(std::move(res), breq.version(), keep, req.request_id, core_);
+    auto out = to_beast(std::move(res), version, keep, id, core_, head_);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    core_.log_request(req.request_id, req.method, route, req.path, status, seconds, out.body().size());
+    core_.log_request(id, method, route, path, status, seconds, out.body().size());
     send(std::move(out), keep);
   }
 
-  /// Answers `req` into `res`; true when the connection was handed to an event stream.
-  bool dispatch(Request& req, const http::request<http::string_body>& breq, std::string& route,
-                Response& res) {
+  /// `fn(req)` with every error as its JSON answer (handlers off the I/O threads must not throw).
+  static Response run_guarded(const std::function<Response(const Request&)>& fn, const Request& req,
+                              const std::string& route) {
+    try {
+      return fn(req);
+    } catch (const HttpError& e) {
+      Response r = Response::error(e.status, e.field, e.what());
+      r.headers.insert(r.headers.end(), e.headers.begin(), e.headers.end());
+      return r;
+    } catch (const InputError& e) {
+      return Response::error(422, e.field(), e.what());
+    } catch (const std::exception& e) {
+      spdlog::error("request {} {} {}: {}", req.request_id, req.method, route, e.what());
+      return Response::error(500, "", "internal error");
+    } catch (...) {
+      spdlog::error("request {} {} {}: unknown exception", req.request_id, req.method, route);
+      return Response::error(500, "", "internal error");
+    }
+  }
+
+  /// Runs `fn(req)` on `pool` and answers on this session's strand. Deferred; Answered with 503 (and
+  /// `req` untouched) when the pool has `max` requests already or the server stops.
+  Dispatched defer(net::thread_pool& pool, std::atomic<std::size_t>& load, std::size_t max, Request& req,
+                   const std::string& route, unsigned version, bool keep,
+                   std::function<Response(const Request&)> fn, Response& res) {
+    auto shared = std::make_shared<Request>(std::move(req));
+    const std::string method = std::string(parser_->get().method_string());
+    auto self = shared_from_this();
+    const bool posted = core_.post_bounded(pool, load, max, [self, shared, fn, route, method, version, keep] {
+      Response out = run_guarded(fn, *shared, route);
+      net::post(self->stream_.get_executor(), [self, shared, out = std::move(out), route, method, version,
+                                               keep]() mutable {
+        self->answer(shared->request_id, method, route, shared->path, std::move(out), version, keep);
+      });
+    });
+    if (posted) return Dispatched::Deferred;
+    req = std::move(*shared);
+    res = Response::error(503, "", "the server is busy; try again later");
+    res.headers.emplace_back("Retry-After", "1");
+    return Dispatched::Answered;
+  }
+
+  /// Answers `req` into `res` (Answered), hands it to the handler pool (Deferred) or the connection to
+  /// an event stream (Stream). Only cheap answers are made here, on the I/O thread.
+  Dispatched dispatch(Request& req, const http::request<http::string_body>& breq, std::string& route,
+                      Response& res) {
     const auto& cfg = core_.cfg;
+    const unsigned version = breq.version();
+    const bool keep = breq.keep_alive();
     if (cfg.cors_origin && req.method == "OPTIONS") {
       route = "preflight";
       res.status = 204;
-      res.headers = {{"Access-Control-Allow-Methods", "GET, POST, PUT, DELETE, OPTIONS"},
+      res.headers = {{"Access-Control-Allow-Methods", "GET, HEAD, POST, PUT, DELETE, OPTIONS"},
                      {"Access-Control-Allow-Headers", "Authorization, Content-Type, X-Request-Id"},
                      {"Access-Control-Max-Age", "600"}};
-      return false;
+      return Dispatched::Answered;
     }
+    if (head_) req.method = "GET";  // HEAD: the GET's answer without its body (to_beast)
     if (req.method == "GET" && req.path == "/healthz") {
       route = "/healthz";
       res = Response::json(200, {{"status", "ok"}});
-      return false;
+      return Dispatched::Answered;
     }
     if (req.method == "GET" && req.path == "/readyz") {
       route = "/readyz";
-      bool ready = true;
-      try {
-        ready = !cfg.ready_check || cfg.ready_check();
-      } catch (const std::exception& e) {
-        spdlog::warn("request {}: readiness check failed: {}", req.request_id, e.what());
-        ready = false;
-      }
-      res = ready ? Response::json(200, {{"status", "ready"}})
-                  : Response::json(503, {{"status", "unavailable"}});
-      if (!ready) res.headers.emplace_back("Retry-After", "5");
-      return false;
+      auto check = cfg.ready_check;
+      return defer(
+          core_.probes, core_.probe_load, kMaxPendingProbes, req, route, version, keep,
+          [check](const Request& r) {
+            bool ready = true;
+            try {
+              ready = !check || check();
+            } catch (const std::exception& e) {
+              spdlog::warn("request {}: readiness check failed: {}", r.request_id, e.what());
+              ready = false;
+            }
+            Response out = ready ? Response::json(200, {{"status", "ready"}})
+                                 : Response::json(503, {{"status", "unavailable"}});
+            if (!ready) out.headers.emplace_back("Retry-After", "5");
+            return out;
+          },
+          res);
     }
     if (!core_.authorized(req)) {
       res = Response::error(401, "authorization",
                             "missing or wrong bearer token (Authorization: Bearer <token>)");
-      return false;
+      return Dispatched::Answered;
     }
     if (req.method == "GET" && req.path == "/metrics") {
       route = "/metrics";
-      res.status = 200;
-      res.content_type = kMetricsContentType;
-      res.body = metrics().render();
-      return false;
+      return defer(
+          core_.probes, core_.probe_load, kMaxPendingProbes, req, route, version, keep,
+          [](const Request&) {
+            Response out;
+            out.content_type = kMetricsContentType;
+            out.body = metrics().render();  // the job counts come from the database
+            return out;
+          },
+          res);
     }
     if (req.method == "GET" && req.path == kEventsPath) {
       route = kEventsPath;
+      if (head_) {
+        res = Response::error(405, "", "method HEAD is not allowed on the event stream; allowed: GET");
+        res.headers.emplace_back("Allow", "GET");
+        return Dispatched::Answered;
+      }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
       if (websocket::is_upgrade(breq)) {
         core_.log_request(req.request_id, req.method, route, req.path, 101, seconds, 0);
         stream_.expires_never();
         std::make_shared<WsSession>(stream_.release_socket(), core_)
             ->start(parser_->release(), req.request_id);
-        return true;
+        return Dispatched::Stream;
       }
       const auto ids = parse_jobs_param(req, static_cast<std::size_t>(std::max(0, cfg.max_subscriptions)));
       core_.log_request(req.request_id, req.method, route, req.path, 200, seconds, 0);
       stream_.expires_never();
       std::make_shared<SseSession>(stream_.release_socket(), core_)
           ->start(breq.version(), ids, req.request_id);
-      return true;
+      return Dispatched::Stream;
     }
     const bool api = req.path.rfind("/api/", 0) == 0;
     if (req.method == "GET" && !api) {
@@ -678,36 +923,39 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
         res.status = 200;
         res.content_type = it->second.media_type;
         res.body = it->second.bytes;
-        return false;
+        return Dispatched::Answered;
       }
     }
     auto match = core_.router.match(req.method, req.path);
     if (match.handler != nullptr) {
       route = match.route;
       req.params = std::move(match.params);
-      res = (*match.handler)(req);
-      return false;
+      const Handler* handler = match.handler;  // the router outlives the server
+      return defer(
+          core_.handlers, core_.handler_load, std::max<std::size_t>(1, cfg.max_pending), req, route, version,
+          keep, [handler](const Request& r) { return (*handler)(r); }, res);
     }
     if (!match.allowed.empty()) {
       std::vector<std::string> allowed = match.allowed;
+      if (std::find(allowed.begin(), allowed.end(), "GET") != allowed.end()) allowed.emplace_back("HEAD");
       std::sort(allowed.begin(), allowed.end());
       allowed.erase(std::unique(allowed.begin(), allowed.end()), allowed.end());
       std::string list;
       for (const auto& m : allowed) list += (list.empty() ? "" : ", ") + m;
-      res = Response::error(405, "",
-                            "method " + req.method.substr(0, 20) + " is not allowed here; allowed: " + list);
+      const std::string shown = head_ ? std::string("HEAD") : req.method.substr(0, 20);
+      res = Response::error(405, "", "method " + shown + " is not allowed here; allowed: " + list);
       res.headers.emplace_back("Allow", list);
-      return false;
+      return Dispatched::Answered;
     }
     if (req.method == "GET" && req.path == "/") {
       route = "index";
       res.status = 200;
       res.content_type = "text/html; charset=utf-8";
       res.body = kIndexPage;
-      return false;
+      return Dispatched::Answered;
     }
     res = Response::error(404, "", "no such resource: " + req.path.substr(0, 200));
-    return false;
+    return Dispatched::Answered;
   }
 
   void send(StringResponse&& res, bool keep) {
@@ -722,12 +970,15 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
   }
 
   /// An error answer outside the handlers (413, 431, 400), then the connection closes.
-  void reply_and_close(int status, const std::string& field, const std::string& message) {
+  void reply_and_close(int status, const std::string& field, const std::string& message,
+                       std::vector<std::pair<std::string, std::string>> headers = {}) {
     const auto id = core_.next_request_id();
     const unsigned version = parser_ && parser_->is_header_done() ? parser_->get().version() : 11;
     const std::string method =
         parser_ && parser_->is_header_done() ? std::string(parser_->get().method_string()) : "";
-    auto out = to_beast(Response::error(status, field, message), version, false, id, core_);
+    Response r = Response::error(status, field, message);
+    r.headers = std::move(headers);
+    auto out = to_beast(std::move(r), version, false, id, core_, method == "HEAD");
     core_.log_request(id, method, "unmatched", "", status, 0.0, out.body().size());
     send(std::move(out), false);
   }
@@ -765,6 +1016,7 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
   std::size_t drained_ = 0;
   bool first_ = true;
   bool closed_ = false;
+  bool head_ = false;  ///< the request being answered is a HEAD
   std::uint64_t reg_ = 0;
 };
 
@@ -841,6 +1093,7 @@ struct HttpServer::Impl {
     if (!ec) acceptor.listen(net::socket_base::max_listen_connections, ec);
     if (ec) throw OperationError("cannot listen on " + core.cfg.listen + ": " + ec.message());
     port = acceptor.local_endpoint().port();
+    core.host_policy.port = port;
   }
 
   ~Impl() {
@@ -895,6 +1148,7 @@ struct HttpServer::Impl {
   }
 
   void stop_threads() {
+    core.drain_pools();  // the requests they hold are answered (or fail) on the still running I/O threads
     work.reset();
     ioc.stop();
     for (auto& t : threads)

@@ -13,6 +13,7 @@
 #include <optional>
 #include <stop_token>
 #include <string>
+#include <vector>
 
 #include "server/events.hpp"
 #include "server/http.hpp"
@@ -27,16 +28,27 @@ struct StaticFile {
 
 struct ServerConfig {
   std::string listen = "127.0.0.1:8080";  ///< "host:port" or "[v6]:port"; port 0 picks a free port
-  int io_threads = 2;                     ///< threads answering requests (handlers run there)
+  int io_threads = 2;                     ///< threads reading and writing connections (no handler runs there)
+  /// Threads running the API handlers (parsing, validation, geometry, database calls) off the I/O
+  /// threads; at most `max_pending` requests wait for them or run (503 with Retry-After beyond).
+  int handler_threads = 2;
+  std::size_t max_pending = 64;
   std::size_t max_body = std::size_t{10} << 20;
-  std::optional<std::string> token;         ///< when set, every request but /healthz, /readyz needs it
-  std::optional<std::string> cors_origin;   ///< when set, CORS headers for this origin only
+  std::optional<std::string> token;        ///< when set, every request but /healthz, /readyz needs it
+  std::optional<std::string> cors_origin;  ///< when set, CORS headers for this origin, and it may call
+  /// Host names served besides the listen address, localhost, 127.0.0.1 and [::1] (a proxy's public
+  /// name; any port). Any other Host gets 421 (DNS rebinding).
+  std::vector<std::string> allowed_hosts;
+  /// Bytes of live events a WebSocket or SSE connection may have waiting to be written; a client that
+  /// falls further behind is closed (WebSocket close code 1013, try again later).
+  std::size_t max_event_queue_bytes = std::size_t{4} << 20;
   std::chrono::seconds idle_timeout{30};    ///< between requests on a kept-alive connection, and per body
   std::chrono::seconds header_timeout{10};  ///< for the request line and headers of a new connection
   int max_subscriptions = 64;               ///< job subscriptions per WebSocket / SSE connection
   bool log_json = false;                    ///< request logs as one JSON object per line
   std::map<std::string, StaticFile> static_files;  ///< URL path ("/index.html") -> file
-  std::function<bool()> ready_check;               ///< /readyz: true when the store answers (unset: ready)
+  /// /readyz: true when the store takes writes (unset: ready). Runs off the I/O threads.
+  std::function<bool()> ready_check;
   /// run() returns when a stop is requested here (the CLI passes its SIGINT/SIGTERM token: signals
   /// are blocked in every thread of the uavcover process, so asio::signal_set would not see them).
   std::stop_token stop;

@@ -10,6 +10,8 @@
 #include <numbers>
 
 #include "export/mission_items.hpp"
+#include "mavlink/stream.hpp"
+#include "mavlink/udp.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::sim {
@@ -61,9 +63,28 @@ T clamp_to(double v) {
 
 }  // namespace
 
+namespace {
+
+std::unique_ptr<mav::Link> open_vehicle_link(const VehicleConfig& c) {
+  if (c.tcp) return std::make_unique<mav::TcpListenLink>(c.listen, c.sysid, 1);
+  return std::make_unique<mav::UdpLink>(c.listen, c.sysid, 1);
+}
+
+mav::VehicleOptions protocol_options(const VehicleConfig& c) {
+  mav::VehicleOptions o;
+  o.store_as_received = c.store_as_received;
+  o.refuse_item = c.refuse_item;
+  return o;
+}
+
+}  // namespace
+
 SimVehicle::SimVehicle(const VehicleConfig& config)
-    : cfg_(config), link_(config.listen, config.sysid, 1), protocol_(link_), v_max_(config.v_max) {
-  if (cfg_.loss > 0) link_.set_loss(cfg_.loss, cfg_.seed * 1000003ULL + cfg_.sysid);
+    : cfg_(config),
+      link_(open_vehicle_link(config)),
+      protocol_(*link_, protocol_options(config)),
+      v_max_(config.v_max) {
+  if (cfg_.loss > 0) link_->set_loss(cfg_.loss, cfg_.seed * 1000003ULL + cfg_.sysid);
   if (cfg_.home) {
     frame_.emplace(*cfg_.home);
     home_fixed_ = true;
@@ -71,6 +92,10 @@ SimVehicle::SimVehicle(const VehicleConfig& config)
   // wind blowing *from* wind_from_deg (clockwise from north): its velocity points the other way
   const double to = (cfg_.wind_from_deg + 180.0) * std::numbers::pi / 180.0;
   wind_ = {cfg_.wind_mps * std::sin(to), cfg_.wind_mps * std::cos(to), 0.0};
+}
+
+void SimVehicle::set_peer(const mav::Endpoint& gcs) {
+  if (auto* udp = dynamic_cast<mav::UdpLink*>(link_.get())) udp->set_peer(gcs);
 }
 
 LonLat SimVehicle::position_wgs84() const {
@@ -96,7 +121,7 @@ bool SimVehicle::is_home_item(std::size_t seq) const {
 
 void SimVehicle::service_link() {
   using namespace std::chrono_literals;
-  while (auto r = link_.receive(0ms)) {
+  while (auto r = link_->receive(0ms)) {
     if (st_.link_lost) continue;  // a lost link hears nothing
     handle(*r);
   }
@@ -468,8 +493,8 @@ void SimVehicle::step(double dt) {
 }
 
 void SimVehicle::send(const mav::Message& m) {
-  if (st_.link_lost || !link_.has_peer()) return;
-  link_.send(m);
+  if (st_.link_lost || !link_->has_peer()) return;
+  link_->send(m);
 }
 
 void SimVehicle::status(std::uint8_t severity, const std::string& text) {
@@ -537,7 +562,7 @@ mav::Heartbeat SimVehicle::heartbeat() const {
 
 void SimVehicle::telemetry(double dt) {
   (void)dt;
-  if (st_.link_lost || !link_.has_peer()) return;
+  if (st_.link_lost || !link_->has_peer()) return;
   const double t = st_.t;
   if (t + 1e-9 >= next_fast_) {
     next_fast_ = t + 1.0 / cfg_.telemetry_hz;
@@ -557,12 +582,12 @@ void SimVehicle::telemetry(double dt) {
       heading_cdeg_ = static_cast<std::uint16_t>(std::lround(hdg * 100.0) % 36000);
     }
     g.hdg = heading_cdeg_;
-    link_.send(g);
+    link_->send(g);
     send_current();
   }
   if (t + 1e-9 >= next_slow_) {
     next_slow_ = t + 1.0;
-    link_.send(heartbeat());
+    link_->send(heartbeat());
     const double volts = kCells * (kCellsEmpty + (kCellsFull - kCellsEmpty) * st_.battery);
     const std::int16_t current_ca = st_.armed ? (st_.airborne ? 1500 : 200) : 0;
     const auto pct = static_cast<std::int8_t>(std::lround(st_.battery * 100.0));
@@ -574,7 +599,7 @@ void SimVehicle::telemetry(double dt) {
     s.current_battery = current_ca;
     s.drop_rate_comm = clamp_to<std::uint16_t>(cfg_.loss * 10000.0);
     s.battery_remaining = pct;
-    link_.send(s);
+    link_->send(s);
     mav::BatteryStatus b;
     b.current_consumed = static_cast<std::int32_t>(std::lround(kBatteryCapacityMah * (1.0 - st_.battery)));
     b.energy_consumed = -1;
@@ -592,7 +617,7 @@ void SimVehicle::telemetry(double dt) {
                      : st_.battery * 100.0 <= cfg_.low_battery_pct / 2 ? 3
                      : st_.battery * 100.0 <= cfg_.low_battery_pct     ? 2
                                                                        : 1;
-    link_.send(b);
+    link_->send(b);
   }
 }
 
@@ -606,8 +631,8 @@ Fleet::Fleet(const std::vector<VehicleConfig>& configs, const FleetOptions& opti
 void Fleet::run(const std::stop_token& stop, std::optional<double> max_sim_s) {
   using clock = std::chrono::steady_clock;
   const double dt = opt_.physics_dt;
-  std::vector<pollfd> fds(vehicles_.size());
-  for (std::size_t i = 0; i < vehicles_.size(); ++i) fds[i] = pollfd{vehicles_[i]->socket(), POLLIN, 0};
+  std::vector<pollfd> fds;
+  std::vector<std::size_t> owner;  // fds[k] belongs to vehicles_[owner[k]]
   auto t0 = clock::now();
   long long tick = 0;
   while (!stop.stop_requested()) {
@@ -623,10 +648,23 @@ void Fleet::run(const std::stop_token& stop, std::optional<double> max_sim_s) {
       ts.tv_sec = static_cast<time_t>(std::chrono::duration_cast<std::chrono::seconds>(wait).count());
       ts.tv_nsec = static_cast<long>(std::chrono::duration_cast<std::chrono::nanoseconds>(wait).count() %
                                      1'000'000'000);
+      // rebuilt each time: a TCP vehicle's descriptors change as clients come and go
+      fds.clear();
+      owner.clear();
+      for (std::size_t i = 0; i < vehicles_.size(); ++i)
+        for (int fd : vehicles_[i]->poll_handles()) {
+          fds.push_back(pollfd{fd, POLLIN, 0});
+          owner.push_back(i);
+        }
       const int n = ::ppoll(fds.data(), fds.size(), &ts, nullptr);
-      if (n > 0)
-        for (std::size_t i = 0; i < fds.size(); ++i)
-          if (fds[i].revents & POLLIN) vehicles_[i]->service_link();
+      if (n > 0) {
+        std::size_t last = vehicles_.size();
+        for (std::size_t k = 0; k < fds.size(); ++k)
+          if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) && owner[k] != last) {
+            last = owner[k];
+            vehicles_[owner[k]]->service_link();
+          }
+      }
       if (stop.stop_requested()) return;
       if (clock::now() >= due) break;
     }

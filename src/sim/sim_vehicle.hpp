@@ -39,6 +39,10 @@ struct Failure {
 struct VehicleConfig {
   std::uint8_t sysid = 1;
   mavlink::Endpoint listen{"127.0.0.1", 0};  ///< port 0: any free port
+  bool tcp = false;  ///< listen for TCP clients (the newest one is the ground station) instead of UDP
+  /// Tests: the mission protocol's ArduPilot-like storage and refusal of an item (mavlink::VehicleOptions).
+  bool store_as_received = false;
+  std::optional<std::uint16_t> refuse_item;
   /// Where the vehicle stands at start. Unset: at the home (or take-off) position of the first mission
   /// uploaded before it flies.
   std::optional<LonLat> home;
@@ -101,13 +105,19 @@ class SimVehicle {
   SimVehicle& operator=(const SimVehicle&) = delete;
 
   [[nodiscard]] std::uint8_t sysid() const { return cfg_.sysid; }
-  [[nodiscard]] std::uint16_t port() const { return link_.local_port(); }
-  [[nodiscard]] int socket() const { return link_.native_handle(); }
+  [[nodiscard]] std::uint16_t port() const { return link_->local_port(); }
+  /// The descriptors to poll for input (a TCP listener: its socket, and its client's once connected).
+  [[nodiscard]] std::vector<int> poll_handles() const { return link_->poll_handles(); }
   [[nodiscard]] const VehicleState& state() const { return st_; }
-  [[nodiscard]] const mavlink::UdpLink& link() const { return link_; }
+  [[nodiscard]] const mavlink::Link& link() const { return *link_; }
+  /// The stored mission (as the mission protocol holds it).
+  [[nodiscard]] const std::vector<mavlink::MissionItemInt>& stored_mission() const {
+    return protocol_.mission();
+  }
   [[nodiscard]] LonLat position_wgs84() const;
-  /// Where telemetry goes until a ground station speaks (then: whoever sent last).
-  void set_peer(const mavlink::Endpoint& gcs) { link_.set_peer(gcs); }
+  /// Where telemetry goes until a ground station speaks (then: whoever sent last). UDP only: a TCP
+  /// vehicle talks to its client.
+  void set_peer(const mavlink::Endpoint& gcs);
 
   /// Reads and handles every datagram waiting on the socket (non-blocking), then the protocol's
   /// wall-time timeouts. A vehicle whose link failed reads and discards.
@@ -152,7 +162,7 @@ class SimVehicle {
   [[nodiscard]] mavlink::Heartbeat heartbeat() const;
 
   VehicleConfig cfg_;
-  mavlink::UdpLink link_;
+  std::unique_ptr<mavlink::Link> link_;
   mavlink::Vehicle protocol_;
   std::optional<geodesy::LocalFrame> frame_;
   bool home_fixed_ = false;

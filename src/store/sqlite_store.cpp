@@ -3,7 +3,14 @@
 // (WAL lets them read while the writer writes). Every write is one BEGIN IMMEDIATE transaction with
 // synchronous=FULL, so a returned write survives kill -9 and power loss. ":memory:" has one connection
 // for everything (each connection to :memory: is a database of its own).
+#include <spdlog/spdlog.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <optional>
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +28,7 @@ namespace uavcover::store {
 namespace {
 
 constexpr int kBusyTimeoutMs = 5000;
+constexpr int kProbeBusyTimeoutMs = 1000;  // writable(): how long the probe waits for the write lock
 constexpr std::size_t kMaxReaders = 8;
 
 std::int64_t now_ms() {
@@ -295,6 +303,7 @@ class SqliteStore final : public Store {
   template <class Fn>
   auto write(Fn&& fn) {
     std::lock_guard lock(write_mutex_);
+    check_file();
     Transaction tx(*writer_, true);
     if constexpr (std::is_void_v<decltype(fn(*writer_))>) {
       fn(*writer_);
@@ -396,11 +405,42 @@ class SqliteStore final : public Store {
       if (ec)
         throw StoreError("cannot create the folder of the SQLite database " + path + ": " + ec.message());
     }
+    if (!memory_) check_writable_file(path_);
     writer_ = std::make_unique<Connection>(path_, memory_);
     migrate();
+    if (!memory_) file_id_ = file_identity(path_);
   }
 
   std::string backend() const override { return "sqlite"; }
+
+  /// The file's device and inode: a database file deleted or replaced while the server runs would take
+  /// writes that vanish (an unlinked inode), so they are refused instead.
+  static std::optional<std::pair<std::uintmax_t, std::uintmax_t>> file_identity(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+    return std::pair<std::uintmax_t, std::uintmax_t>{st.st_dev, st.st_ino};
+  }
+
+  void check_file() const {
+    if (memory_ || !file_id_) return;
+    if (file_identity(path_) != file_id_)
+      throw StoreError("the SQLite database file " + path_ +
+                       " was deleted or replaced while the server runs; restart it");
+  }
+
+  /// A read-only file (or folder: WAL needs the -wal and -shm files beside it) fails at start, naming it.
+  static void check_writable_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec) && ::access(path.c_str(), W_OK) != 0)
+      throw StoreError("the SQLite database file " + path + " is read-only (" + std::strerror(errno) +
+                       "): the server needs to write it");
+    auto folder = std::filesystem::path(path).parent_path();
+    if (folder.empty()) folder = ".";
+    if (::access(folder.c_str(), W_OK | X_OK) != 0)
+      throw StoreError("the folder " + folder.string() + " of the SQLite database " + path +
+                       " is not writable (" + std::strerror(errno) +
+                       "): the server writes the database's -wal and -shm files there");
+  }
 
   bool ping() noexcept override {
     try {
@@ -408,6 +448,33 @@ class SqliteStore final : public Store {
         Query q(c, "SELECT 1");
         return q.step() && q.i32(0) == 1;
       });
+    } catch (...) {
+      return false;
+    }
+  }
+
+  bool writable() noexcept override {
+    try {
+      check_file();
+      if (memory_) return ping();
+      // a write lock on a reader connection, given back at once: fails while another connection
+      // (another process's BEGIN EXCLUSIVE, or a long write) holds it
+      std::unique_ptr<Connection> c = take_reader();
+      struct Return {
+        SqliteStore& s;
+        std::unique_ptr<Connection>& c;
+        ~Return() {
+          sqlite3_busy_timeout(c->db(), kBusyTimeoutMs);
+          s.give_back(std::move(c));
+        }
+      } returner{*this, c};
+      sqlite3_busy_timeout(c->db(), kProbeBusyTimeoutMs);
+      c->exec("BEGIN IMMEDIATE");
+      c->exec("ROLLBACK");
+      return true;
+    } catch (const std::exception& e) {
+      spdlog::warn("sqlite: {} does not take writes: {}", path_, e.what());
+      return false;
     } catch (...) {
       return false;
     }
@@ -1014,6 +1081,7 @@ class SqliteStore final : public Store {
  private:
   std::string path_;
   bool memory_;
+  std::optional<std::pair<std::uintmax_t, std::uintmax_t>> file_id_;  ///< see check_file()
   std::mutex write_mutex_;
   std::unique_ptr<Connection> writer_;
   std::mutex pool_mutex_;

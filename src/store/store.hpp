@@ -202,8 +202,11 @@ class Store {
 
   /// "sqlite" or "postgresql".
   [[nodiscard]] virtual std::string backend() const = 0;
-  /// A round trip to the database (readyz). False instead of throwing.
+  /// A round trip to the database. False instead of throwing.
   virtual bool ping() noexcept = 0;
+  /// Whether a write would succeed now (readyz): the database takes a write lock within about a
+  /// second, and (SQLite) its file is still the one opened. False instead of throwing.
+  virtual bool writable() noexcept { return ping(); }
   /// The schema version after the migrations applied at open.
   [[nodiscard]] virtual int schema_version() = 0;
 

@@ -320,6 +320,14 @@ json resolve_catalog_refs(const json& document, const CatalogLookup& uav, const 
     for (const char* k : keys)
       if (!target.contains(k) && entry.contains(k) && !entry[k].is_null()) target[k] = entry[k];
   };
+  // the mission's camera as given (before its own catalog reference is resolved below): a catalog
+  // UAV's camera_id other than it becomes the UAV's own camera at the same altitude and overlaps
+  const json mission_camera =
+      doc.contains("camera") && doc["camera"].is_object() ? doc["camera"] : json(nullptr);
+  std::optional<long long> mission_camera_id;
+  if (mission_camera.is_object() && mission_camera.contains("catalog_id") &&
+      mission_camera["catalog_id"].is_number_integer())
+    mission_camera_id = mission_camera["catalog_id"].get<long long>();
   if (doc.contains("uavs") && doc["uavs"].is_array()) {
     auto& list = doc["uavs"];
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -330,6 +338,37 @@ json resolve_catalog_refs(const json& document, const CatalogLookup& uav, const 
       if (!entry) throw InputError(field, "no UAV with this id in the catalog (GET /api/v1/uavs)");
       u.erase("catalog_id");
       fill(u, *entry, {"speed_mps", "max_accel_mps2", "endurance_min"});
+      // the UAV's camera (issue 29): when the mission shoots with a camera block and this UAV carries
+      // another catalog camera, that camera with the mission's altitude and overlaps is the UAV's own
+      // (the library's heterogeneous cameras); a UAV with a camera block of its own keeps it
+      const auto cam_it = entry->find("camera_id");
+      if (cam_it == entry->end() || !cam_it->is_number_integer() || u.contains("camera") ||
+          !mission_camera.is_object())
+        continue;
+      const long long cam_id = cam_it->get<long long>();
+      if (mission_camera_id && *mission_camera_id == cam_id) continue;  // the mission's camera already
+      const auto cam = camera(cam_id);
+      if (!cam) continue;  // deleted from the catalog since: the mission's camera
+      const bool fov = mission_camera.contains("overlap") || mission_camera.contains("hfov_deg");
+      json own = json::object();
+      for (const char* k : {"altitude_m", "overlap", "side_overlap", "front_overlap",
+                            "min_trigger_interval_s", "gimbal_pitch_deg", "capture", "image_size_mb"})
+        if (mission_camera.contains(k)) own[k] = mission_camera[k];
+      if (fov) {
+        if (!cam->contains("hfov_deg") || !(*cam)["hfov_deg"].is_number())
+          continue;  // cannot be described so
+        own["hfov_deg"] = (*cam)["hfov_deg"];
+      } else {
+        bool complete = true;
+        for (const char* k : {"sensor_width_mm", "focal_length_mm", "image_width_px"}) {
+          if (!cam->contains(k) || !(*cam)[k].is_number())
+            complete = false;
+          else
+            own[k] = (*cam)[k];
+        }
+        if (!complete) continue;
+      }
+      u["camera"] = std::move(own);
     }
   }
   if (doc.contains("camera") && doc["camera"].is_object() && doc["camera"].contains("catalog_id")) {

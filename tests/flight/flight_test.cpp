@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -67,24 +68,29 @@ struct Recorder : flight::Observer {
 
 // The simulated fleet, one vehicle per UAV of `plan` at its start, in a thread.
 struct Sim {
+  bool tcp = false;  ///< the vehicles listen on TCP, the flight connects (issue 34)
   sim::Fleet fleet;
   std::jthread thread;
   Sim(const Plan& plan, double speedup, double loss = 0,
-      std::optional<std::pair<int, sim::Failure>> fail = {})
-      : fleet(configs(plan, loss, fail), sim::FleetOptions{speedup, 0.05}) {
+      std::optional<std::pair<int, sim::Failure>> fail = {}, bool tcp_links = false,
+      const std::function<void(sim::VehicleConfig&)>& edit = {})
+      : tcp(tcp_links), fleet(configs(plan, loss, fail, tcp_links, edit), sim::FleetOptions{speedup, 0.05}) {
     thread = std::jthread([this](std::stop_token st) { fleet.run(st, 20000.0); });
   }
   static std::vector<sim::VehicleConfig> configs(const Plan& plan, double loss,
-                                                 std::optional<std::pair<int, sim::Failure>> fail) {
+                                                 std::optional<std::pair<int, sim::Failure>> fail, bool tcp,
+                                                 const std::function<void(sim::VehicleConfig&)>& edit) {
     std::vector<sim::VehicleConfig> out;
     for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
       sim::VehicleConfig c;
+      c.tcp = tcp;
       c.sysid = static_cast<std::uint8_t>(i + 1);
       c.home = plan.mission.uavs[i].start_resolved;
       c.endurance_min = 60;  // the plan's endurance cuts the sorties; the vehicles never run dry here
       c.loss = loss;
       c.seed = 11;
       if (fail && fail->first == static_cast<int>(i)) c.failure = fail->second;
+      if (edit) edit(c);
       out.push_back(c);
     }
     return out;
@@ -95,6 +101,7 @@ struct Sim {
       flight::VehicleBinding b;
       b.uav = std::string(1, static_cast<char>('A' + i));
       b.endpoint = {"127.0.0.1", fleet.vehicles()[i]->port()};
+      if (tcp) b.transport = mavlink::Transport::Tcp;
       b.sysid = static_cast<std::uint8_t>(i + 1);
       c.vehicles.push_back(b);
     }
@@ -244,6 +251,54 @@ TEST(Flight, NominalFourVehiclesEveryWaypointPendingCurrentReachedInOrder) {
   }
   std::cout << "log: " << tele_n << " telemetry records, " << tele_bytes << " B; " << other_n
             << " other records, " << other_bytes << " B\n";
+}
+
+// Issue 34: the same flight over TCP (the vehicles listen as SITL does, the flight connects).
+TEST(Flight, OverTcpEveryWaypointReached) {
+  const Plan p = plan(field(120, 80, 2));
+  Sim s(p, 50, 0, {}, true);
+  Recorder rec;
+  const flight::FlightConfig c = s.config();
+  ASSERT_EQ(flight::config_json(c)["vehicles"][0]["endpoint"],
+            "tcp:127.0.0.1:" + std::to_string(s.fleet.vehicles()[0]->port()));
+  flight::Flight f(1, p, c, rec);
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 3000));
+  for (const auto& u : f.snapshot()["uavs"]) {
+    const std::string wp = u["waypoints"];
+    EXPECT_FALSE(wp.empty());
+    EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
+  }
+  for (const auto& v : s.fleet.vehicles()) EXPECT_GE(v->link().stats().connections, 1U);
+}
+
+// Issue 34: a vehicle that refuses an item is cleared (MISSION_CLEAR_ALL acknowledged): the upload is
+// recorded as failed and cleared, no partial-mission alert is raised, and the vehicle holds no mission.
+TEST(Flight, ARefusedUploadIsClearedAndRecorded) {
+  const Plan p = plan(field(120, 80, 1));
+  Sim s(p, 20, 0, {}, true, [](sim::VehicleConfig& c) {
+    c.store_as_received = true;
+    c.refuse_item = 2;
+  });
+  Recorder rec;
+  flight::Flight f(1, p, s.config(), rec);
+  f.start();
+  command(f, "upload");
+  std::optional<json> ack;
+  ASSERT_TRUE(wait_for(s, 2000, [&] {
+    for (const auto& r : rec.all())
+      if (r.kind == "ack" && r.data["command"] == "upload") ack = r.data;
+    return ack.has_value();
+  }));
+  f.stop();
+  s.thread.request_stop();
+  s.thread.join();
+  EXPECT_FALSE((*ack)["ok"].get<bool>());
+  EXPECT_NE((*ack)["result"].get<std::string>().find("MAV_MISSION_INVALID_PARAM3"), std::string::npos)
+      << *ack;
+  EXPECT_TRUE((*ack)["clear_sent"].get<bool>());
+  EXPECT_TRUE((*ack)["cleared"].get<bool>());
+  for (const auto& r : rec.all()) EXPECT_FALSE(r.kind == "alert" && r.data["kind"] == "partial_mission");
+  EXPECT_TRUE(s.fleet.vehicles()[0]->stored_mission().empty());
 }
 
 TEST(Flight, ListenLinkIgnoresOtherSystemsAndGarbage) {
@@ -546,6 +601,38 @@ std::string field_of(const std::function<void()>& fn) {
   return "<no error>";
 }
 
+// Issue 34: TCP (connect, listen) and serial endpoints, and their contradictions named.
+TEST(FlightConfig, TcpAndSerialEndpoints) {
+  const Plan p = plan(field(100, 60, 2));
+  const json good{{"vehicles",
+                   {{{"uav", "A"}, {"endpoint", "tcpin:127.0.0.1:5760"}},
+                    {{"uav", "B"}, {"endpoint", "serial:/dev/ttyUSB0:57600"}}}}};
+  const auto c = flight::parse_config(good, p);
+  EXPECT_EQ(c.vehicles[0].transport, mavlink::Transport::Tcp);
+  EXPECT_TRUE(c.vehicles[0].listen);
+  EXPECT_EQ(flight::link_address(c.vehicles[0]).transport, mavlink::Transport::TcpListen);
+  EXPECT_EQ(c.vehicles[1].transport, mavlink::Transport::Serial);
+  EXPECT_EQ(c.vehicles[1].device, "/dev/ttyUSB0");
+  EXPECT_EQ(c.vehicles[1].baud, 57600U);
+  const json j = flight::config_json(c);
+  EXPECT_EQ(j["vehicles"][0]["endpoint"], "tcp:127.0.0.1:5760");
+  EXPECT_EQ(j["vehicles"][0]["listen"], true);
+  EXPECT_EQ(j["vehicles"][1]["endpoint"], "serial:/dev/ttyUSB0:57600");
+  EXPECT_EQ(flight::config_json(flight::parse_config(j, p)), j);  // round trip
+  auto with = [&](const std::function<void(json&)>& edit) {
+    json k = good;
+    edit(k);
+    return field_of([&] { flight::parse_config(k, p); });
+  };
+  EXPECT_EQ(with([](json& k) { k["vehicles"][0]["listen"] = false; }), "vehicles[0].listen");
+  EXPECT_EQ(with([](json& k) { k["vehicles"][1]["listen"] = true; }), "vehicles[1].listen");
+  EXPECT_EQ(with([](json& k) { k["vehicles"][1]["endpoint"] = "serial:/tmp/tty:57600"; }),
+            "vehicles[1].endpoint");
+  EXPECT_EQ(with([](json& k) { k["vehicles"][1]["endpoint"] = "serial:/dev/ttyUSB0:57601"; }),
+            "vehicles[1].endpoint");
+  EXPECT_EQ(with([](json& k) { k["vehicles"][0]["endpoint"] = "tcp:127.0.0.1:0"; }), "vehicles[0].endpoint");
+}
+
 TEST(FlightConfig, ParseErrorsNameTheField) {
   const Plan p = plan(field(100, 60, 2));
   const json good = {{"vehicles",
@@ -569,7 +656,7 @@ TEST(FlightConfig, ParseErrorsNameTheField) {
     edit(j);
     return field_of([&] { flight::parse_config(j, p); });
   };
-  EXPECT_EQ(with([](json& j) { j["vehicles"][1]["endpoint"] = "tcp:1.2.3.4:5"; }), "vehicles[1].endpoint");
+  EXPECT_EQ(with([](json& j) { j["vehicles"][1]["endpoint"] = "tcp:1.2.3.4"; }), "vehicles[1].endpoint");
   EXPECT_EQ(with([](json& j) { j["vehicles"][1]["endpoint"] = "udp:127.0.0.1:0"; }), "vehicles[1].endpoint");
   EXPECT_EQ(with([](json& j) { j["vehicles"][0]["uav"] = "nobody"; }), "vehicles[0].uav");
   EXPECT_EQ(with([](json& j) { j["vehicles"][1]["uav"] = "A"; }), "vehicles[1].uav");

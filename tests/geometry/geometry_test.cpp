@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
+
 #include "geometry/geometry.hpp"
 #include "support/shapes.hpp"
 
@@ -42,4 +45,47 @@ TEST(Geometry, RouteAroundAvoidsObstacles) {
 TEST(Geometry, CountTurns) {
   EXPECT_EQ(geometry::count_turns({{0, 0}, {10, 0}, {20, 0}, {20, 10}, {0, 10}}), 2);
   EXPECT_EQ(geometry::count_turns({{0, 0}, {10, 0}}), 0);
+}
+
+namespace {
+
+/// n axis-aligned rectangles at seeded random places in a 1 km square, overlapping heavily.
+uavcover::MultiPolygon random_boxes(int n, unsigned seed) {
+  std::uint64_t state = seed;
+  auto rnd = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
+  };
+  uavcover::MultiPolygon out;
+  const double side = 2.5 * 1000.0 / std::sqrt(static_cast<double>(n));
+  for (int i = 0; i < n; ++i) {
+    const double x = 1000 * rnd(), y = 1000 * rnd(), w = side * (0.5 + rnd()), h = side * (0.5 + rnd());
+    out.push_back(rect(x, y, x + w, y + h));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Geometry, UniteALargeClusterPairwiseGivesTheSameArea) {
+  // 2 000 overlapping boxes form one cluster: united pairwise (the sequential way took quadratic time)
+  const auto boxes = random_boxes(2000, 7);
+  const auto united = geometry::unite(boxes);
+  ASSERT_FALSE(united.empty());
+  double sum = 0;
+  for (const auto& p : united) {
+    EXPECT_TRUE(bg::is_valid(p));
+    sum += bg::area(p);
+  }
+  // the reference: the same boxes added one by one
+  uavcover::MultiPolygon sequential;
+  for (const auto& b : boxes) {
+    uavcover::MultiPolygon next;
+    bg::union_(sequential, b, next);
+    sequential = std::move(next);
+  }
+  const double expected = bg::area(sequential);
+  EXPECT_NEAR(sum, expected, 1e-9 * expected);  // and the parts do not overlap: their areas add up
+  // every box lies inside the union
+  for (std::size_t i = 0; i < boxes.size(); i += 97) EXPECT_TRUE(bg::covered_by(boxes[i], united)) << i;
 }

@@ -14,6 +14,7 @@
 #include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
+#include "mavlink/stream.hpp"
 
 using namespace uavcover;
 using namespace uavcover::mavlink;
@@ -131,9 +132,19 @@ TEST_F(CliUpload, NoHomeSendsTheItemsOnly) {
 TEST_F(CliUpload, BadInputIsExitCode2AndSilenceIs1) {
   const Plan plan = io::load_plan_dir(plan_dir_);
   const std::string base = "upload '" + plan_dir_.string() + "' ";
-  auto r = run_cli(base + "--uav " + plan.uavs[0].id + " --to tcp:127.0.0.1:5760", dir_);
+  auto r = run_cli(base + "--uav " + plan.uavs[0].id + " --to ftp:127.0.0.1:5760", dir_);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--to"), std::string::npos) << r.err;
+  for (const char* bad :
+       {"tcp:127.0.0.1", "tcpin:127.0.0.1:0", "serial:/dev/ttyUSB0:12345", "serial:ttyS0:9600"}) {
+    r = run_cli(base + "--uav " + plan.uavs[0].id + " --to " + bad, dir_);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find("--to: "), std::string::npos) << bad << ": " << r.err;
+  }
+  // a serial device that is not there: exit 1, naming it
+  r = run_cli(base + "--uav " + plan.uavs[0].id + " --to serial:/dev/uavcover-no-such-tty:57600", dir_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/dev/uavcover-no-such-tty"), std::string::npos) << r.err;
   r = run_cli(base + "--uav " + plan.uavs[0].id + " --to udp:127.0.0.1:99999", dir_);
   EXPECT_EQ(r.code, 2);
   r = run_cli(base + "--uav nobody --to udp:127.0.0.1:14550", dir_);
@@ -149,4 +160,42 @@ TEST_F(CliUpload, BadInputIsExitCode2AndSilenceIs1) {
               dir_);
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("no answer from the vehicle after 2 retries"), std::string::npos) << r.err;
+}
+
+// Issue 34: a vehicle that refuses an item and then ignores MISSION_CLEAR_ALL keeps a truncated mission;
+// the CLI fails (exit 1) and says so loudly.
+TEST_F(CliUpload, RefusedAndNotClearedWarnsOfAPartialMission) {
+  const Plan plan = io::load_plan_dir(plan_dir_);
+  VehicleOptions vo;
+  vo.store_as_received = true;
+  vo.refuse_item = 3;
+  TcpListenLink link(Endpoint{"127.0.0.1", 0}, 1, 1);
+  Vehicle vehicle(link, vo);
+  std::atomic<bool> stop{false};
+  std::size_t clears_ignored = 0;
+  std::thread t([&] {
+    while (!stop) {
+      if (auto r = link.receive(20ms)) {
+        if (std::holds_alternative<MissionClearAll>(r->message))
+          ++clears_ignored;
+        else
+          vehicle.handle(*r);
+      }
+      vehicle.on_timeout();
+    }
+  });
+  const auto r =
+      run_cli("upload '" + plan_dir_.string() + "' --uav " + plan.uavs[0].id +
+                  " --to tcp:127.0.0.1:" + std::to_string(link.local_port()) + " --timeout 0.1 --retries 2",
+              dir_);
+  stop = true;
+  t.join();
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("MAV_MISSION_INVALID_PARAM3"), std::string::npos) << r.err;
+  EXPECT_NE(
+      r.err.find("WARNING: MISSION_CLEAR_ALL was not acknowledged: the vehicle may hold a partial mission"),
+      std::string::npos)
+      << r.err;
+  EXPECT_EQ(clears_ignored, 3U);  // the clear and its 2 resends
+  EXPECT_EQ(vehicle.mission().size(), 3U);
 }

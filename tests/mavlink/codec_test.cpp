@@ -263,6 +263,36 @@ TEST(MavlinkParser, ResyncsOnGarbageAndFalseStartBytes) {
   }
 }
 
+// Issue 34 (TCP, serial): a false start byte whose claimed length swallows the frames behind it does not
+// hold them back until that many bytes have arrived: they come out of the same push.
+TEST(MavlinkParser, AFalseStartDoesNotHoldBackTheFramesBehindItOnAStream) {
+  const auto ack = encode(MissionAck{255, 190, 0, 0, 0}, Header{3, 1, 1, 0, 0});
+  const auto good = encode(golden_item(), golden_header());
+  for (const std::vector<std::uint8_t>& false_start :
+       {std::vector<std::uint8_t>{0xFE, 0xFD}, std::vector<std::uint8_t>{0xFD, 0xF0, 0x00, 0x00}}) {
+    std::vector<std::uint8_t> stream = false_start;  // v1 start claiming 253 bytes; v2 claiming 240
+    stream.insert(stream.end(), ack.begin(), ack.end());
+    stream.insert(stream.end(), good.begin(), good.end());
+    Parser p;
+    std::vector<Frame> frames;
+    p.push(stream, frames, false);  // not the end of the input: more bytes may come
+    ASSERT_EQ(frames.size(), 2U);
+    EXPECT_EQ(frames[0].msgid, 47U);
+    EXPECT_EQ(frames[1].msgid, 73U);
+    EXPECT_EQ(p.buffered(), 0U);
+    EXPECT_EQ(p.stats().bytes_skipped, false_start.size());
+  }
+  // a real frame split across pushes is still awaited (nothing valid follows its start)
+  Parser p;
+  std::vector<Frame> frames;
+  p.push(std::span(good).first(good.size() - 1), frames, false);
+  EXPECT_TRUE(frames.empty());
+  EXPECT_EQ(p.buffered(), good.size() - 1);
+  p.push(std::span(good).last(1), frames, false);
+  ASSERT_EQ(frames.size(), 1U);
+  EXPECT_EQ(std::get<MissionItemInt>(*decode(frames[0])), golden_item());
+}
+
 TEST(MavlinkParser, RandomGarbageBetweenFrames) {
   std::mt19937 rng(12345);
   std::vector<std::uint8_t> stream;

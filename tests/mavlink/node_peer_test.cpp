@@ -16,6 +16,7 @@
 #include "mavlink/frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/mission_protocol.hpp"
+#include "mavlink/stream.hpp"
 #include "mavlink/test_util.hpp"
 
 using namespace uavcover::mavlink;
@@ -290,17 +291,21 @@ struct NodeUpload {
   json items;
 };
 
-NodeUpload upload_to_node(const std::vector<MissionItemInt>& items, const std::string& order) {
+NodeUpload upload_to_node(const std::vector<MissionItemInt>& items, const std::string& order,
+                          const std::string& transport = "udp") {
   NodeUpload out;
-  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' " + order + " 9";
+  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' " + order + " 9 " + transport;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (pipe == nullptr) return out;
   const auto port = json::parse(read_line(pipe)).at("port").get<std::uint16_t>();
-  UdpLink gcs(Endpoint{"127.0.0.1", 0}, 255, 190);
-  gcs.set_peer(Endpoint{"127.0.0.1", port});
+  auto gcs =
+      open_link(parse_link_address(transport + ":127.0.0.1:" + std::to_string(port), "--to"), 255, 190);
+  if (auto* tcp = dynamic_cast<TcpClientLink*>(gcs.get())) {
+    EXPECT_EQ(tcp->connect(std::chrono::seconds(2)), "");
+  }
   UploadOptions opt;
   opt.target_system = 9;
-  out.result = upload_mission(gcs, items, opt);
+  out.result = upload_mission(*gcs, items, opt);
   const std::string report = read_line(pipe);
   out.status = ::pclose(pipe);
   if (out.result.ok) out.items = json::parse(report).at("items");
@@ -309,8 +314,7 @@ NodeUpload upload_to_node(const std::vector<MissionItemInt>& items, const std::s
 
 }  // namespace
 
-TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
-  SKIP_WITHOUT_NODE();
+static void upload_to_node_in_both_orders(const std::string& transport) {
   std::vector<MissionItemInt> items;
   for (std::uint16_t i = 0; i < 12; ++i) {
     MissionItemInt m;
@@ -325,7 +329,7 @@ TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
   }
   for (const std::string order : {"sequential", "reverse"}) {
     SCOPED_TRACE(order);
-    const NodeUpload up = upload_to_node(items, order);
+    const NodeUpload up = upload_to_node(items, order, transport);
     const UploadResult& res = up.result;
     ASSERT_TRUE(res.ok) << res.error;
     EXPECT_EQ(up.status, 0);
@@ -343,6 +347,18 @@ TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
       expect_fields(got[i], want);
     }
   }
+}
+
+TEST(NodeMavlinkPeer, UploadToItsVehicleOverUdp) {
+  SKIP_WITHOUT_NODE();
+  upload_to_node_in_both_orders("udp");
+}
+
+// Issue 34: over TCP, node-mavlink's vehicle listening (as SITL on 5760) and writing every frame in two
+// pieces; our client reads a byte stream.
+TEST(NodeMavlinkPeer, UploadToItsVehicleOverTcp) {
+  SKIP_WITHOUT_NODE();
+  upload_to_node_in_both_orders("tcp");
 }
 
 // Issue 18: a camera plan's upload carries the gimbal and trigger items, as node-mavlink decodes them.

@@ -335,6 +335,36 @@ TEST(MissionUpload, ErrorsAreReported) {
     EXPECT_EQ(res.timeouts, 4U);
     EXPECT_NE(res.error.find("3 retries"), std::string::npos) << res.error;
   }
+  {  // a silent vehicle and a stop: the upload ends without waiting out the retries
+    UdpLink silent(kLoopback, 1, 1);
+    UdpLink gcs(kLoopback, 255, 190);
+    gcs.set_peer(Endpoint{"127.0.0.1", silent.local_port()});
+    std::stop_source stopped;
+    stopped.request_stop();
+    UploadOptions uo;
+    uo.timeout = std::chrono::hours(1);  // without the stop, this upload would wait an hour per retry
+    uo.stop = stopped.get_token();
+    const auto res = upload_mission(gcs, make_items(4), uo);
+    EXPECT_FALSE(res.ok);
+    EXPECT_EQ(res.error, "stopped");
+    EXPECT_EQ(res.timeouts, 0U);
+    EXPECT_EQ(res.count_sent, 1U);
+    // stopped while it waits for the first request (from another thread)
+    std::stop_source later;
+    uo.stop = later.get_token();
+    std::thread stopper([&] {
+      // the hook: the MISSION_COUNT has reached the silent vehicle, so the upload is waiting
+      for (int i = 0; i < 100; ++i)
+        if (const auto r = silent.receive(100ms); r && std::holds_alternative<MissionCount>(r->message))
+          break;
+      later.request_stop();
+    });
+    const auto waited = upload_mission(gcs, make_items(4), uo);
+    stopper.join();
+    EXPECT_FALSE(waited.ok);
+    EXPECT_EQ(waited.error, "stopped");
+    EXPECT_EQ(waited.timeouts, 0U);  // not one of the hour-long timeouts ran out
+  }
   {  // the vehicle gives up when the GCS stops answering, and keeps its old mission
     VehicleOptions vo = quiet_vehicle();
     vo.item_timeout = 10ms;

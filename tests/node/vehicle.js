@@ -1,8 +1,10 @@
 #!/usr/bin/env node
 // Independent MAVLink vehicle for tests/mavlink, built on node-mavlink: receives one mission upload over
-// UDP on 127.0.0.1 and prints what it got.
-// Usage: node vehicle.js [sequential|reverse|fly] [sysid]
+// UDP (or TCP) on 127.0.0.1 and prints what it got.
+// Usage: node vehicle.js [sequential|reverse|fly] [sysid] [udp|tcp]
 //   prints {"port": N} once bound, then, after acking the upload, {"items": [...]} and exits 0.
+//   "tcp": listens for one TCP connection instead (as SITL does on 5760) and writes every frame in two
+//   pieces, the first 3 bytes and the rest in a later write, so the GCS reads frames split mid-header.
 //   "reverse" requests the items last to first (out of order, to exercise the GCS).
 //   "fly" (issue 12: an independent vehicle a flight follows in place of our simulator): keeps running
 //   after the upload, sends HEARTBEAT (PX4 modes) every 200 ms, acks every COMMAND_LONG, arms on
@@ -12,10 +14,12 @@
 //   Bounded: re-requests every 250 ms, gives up (exit 1) after 10 s (fly: 60 s).
 'use strict'
 const dgram = require('node:dgram')
+const net = require('node:net')
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common } = require('node-mavlink')
 
 const order = process.argv[2] || 'sequential'
 const sysid = Number(process.argv[3] || 1)
+const transport = process.argv[4] || 'udp'
 const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY }
 const protocol = new MavLinkProtocolV2(sysid, 1)
 const socket = dgram.createSocket('udp4')
@@ -30,8 +34,16 @@ let items = new Map()
 let pending = []  // seqs still to request, in request order
 let timer = null
 
+let stream = null  // tcp: the connected GCS
 function send(message) {
-  socket.send(protocol.serialize(message, txSeq++ & 0xff), peer.port, peer.address)
+  const bytes = protocol.serialize(message, txSeq++ & 0xff)
+  if (transport === 'tcp') {
+    if (!stream) return
+    stream.write(bytes.subarray(0, 3))  // two writes, in order
+    stream.write(bytes.subarray(3))
+    return
+  }
+  socket.send(bytes, peer.port, peer.address)
 }
 
 function requestNext() {
@@ -60,7 +72,7 @@ function finish() {
     mission = list
     return
   }
-  setTimeout(() => { socket.close(); process.exit(0) }, 50)
+  setTimeout(() => { shutdown(); process.exit(0) }, 50)
 }
 
 // ---- "fly" mode ----
@@ -120,7 +132,7 @@ function fly(seq) {
     armed = false
     heartbeat()
     process.stdout.write(JSON.stringify({ flown }) + '\n')
-    setTimeout(() => { socket.close(); process.exit(0) }, 1500)
+    setTimeout(() => { shutdown(); process.exit(0) }, 1500)
     return
   }
   const it = mission[seq]
@@ -171,13 +183,35 @@ parser.on('data', (packet) => {
   }
 })
 
-socket.on('message', (msg, rinfo) => {
-  peer = rinfo
-  splitter.write(msg)
-})
-socket.bind(0, '127.0.0.1', () => {
-  process.stdout.write(JSON.stringify({ port: socket.address().port }) + '\n')
-})
+let server = null
+function shutdown() {
+  if (server) {
+    if (stream) stream.destroy()
+    server.close()
+  } else {
+    socket.close()
+  }
+}
+if (transport === 'tcp') {
+  server = net.createServer((conn) => {
+    conn.setNoDelay(true)
+    stream = conn
+    peer = { port: conn.remotePort, address: conn.remoteAddress }
+    conn.on('data', (chunk) => splitter.write(chunk))
+    conn.on('close', () => { stream = null })
+  })
+  server.listen(0, '127.0.0.1', () => {
+    process.stdout.write(JSON.stringify({ port: server.address().port }) + '\n')
+  })
+} else {
+  socket.on('message', (msg, rinfo) => {
+    peer = rinfo
+    splitter.write(msg)
+  })
+  socket.bind(0, '127.0.0.1', () => {
+    process.stdout.write(JSON.stringify({ port: socket.address().port }) + '\n')
+  })
+}
 if (order === 'fly') setInterval(heartbeat, 200)
 setTimeout(() => {
   process.stderr.write(order === 'fly' ? 'vehicle.js: not flown within 60 s\n' : 'vehicle.js: no complete upload within 10 s\n')

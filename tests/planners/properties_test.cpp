@@ -1,12 +1,15 @@
 // The property suite every registered planner must pass (the planners of later issues inherit it):
 // exclusive, connected regions inside the free area; paths out of no-fly zones (and inside the area in
 // strict mode); no crossings between UAVs; shares; determinism; cancellation; a plan folder that
-// loads, exports to every format and renders.
+// loads, exports to every format and renders. On the hard shapes of issue 26 (stars, combs, C and U
+// shapes, holes touching no-fly zones, many small zones, islands, a long strip, an arctic field, a
+// heterogeneous fleet, a field cut in two): each UAV sweeps its own region.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <thread>
 
@@ -17,6 +20,7 @@
 #include "planners/planner.hpp"
 #include "render/render.hpp"
 #include "support/files.hpp"
+#include "support/hard_shapes.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/plan_outputs.hpp"
 
@@ -194,6 +198,66 @@ INSTANTIATE_TEST_SUITE_P(EveryPlanner, PlannerProperties,
                            return std::get<0>(info.param) + "_" +
                                   scenarios().at(static_cast<std::size_t>(std::get<1>(info.param))).name;
                          });
+
+/// The smallest share of its own region a UAV's coverage paths sweep, strict mode (issue 26 §1).
+constexpr double kOwnRegionCoverage = 0.97;
+
+class HardShapeProperties : public ::testing::TestWithParam<std::tuple<std::string, int>> {
+ protected:
+  void SetUp() override {
+    planner_ = std::get<0>(GetParam());
+    const int index = std::get<1>(GetParam());
+    shape_ = uavcover::testing::hard_shapes().at(static_cast<std::size_t>(index));
+    // planned once per planner and shape for the tests below (the suite's time is the planning)
+    static std::map<std::pair<std::string, int>, Plan> plans;
+    auto it = plans.find({planner_, index});
+    if (it == plans.end()) {
+      json j = shape_.mission;
+      j["planner"] = planner_;
+      const auto t0 = std::chrono::steady_clock::now();
+      it = plans.emplace(std::pair{planner_, index}, plan(parse_mission(j.dump()))).first;
+      RecordProperty("plan_s",
+                     std::to_string(  // measured, not asserted
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+    }
+    plan_ = &it->second;
+    lm_ = std::make_unique<engine::LocalMission>(engine::to_local(plan_->mission));
+  }
+  std::string planner_;
+  uavcover::testing::HardShape shape_;
+  const Plan* plan_ = nullptr;
+  std::unique_ptr<engine::LocalMission> lm_;
+};
+
+TEST_P(HardShapeProperties, EachUavSweepsItsOwnRegionInStrictMode) {
+  ASSERT_EQ(plan_->mission.mode, Mode::Strict);
+  const std::vector<double> own = uavcover::testing::own_region_coverage(*plan_);
+  for (std::size_t i = 0; i < plan_->uavs.size(); ++i)
+    EXPECT_GE(own[i], kOwnRegionCoverage)
+        << plan_->uavs[i].id << " sweeps " << own[i] * 100 << " % of its region ("
+        << bg::area(plan_->uavs[i].region_local) << " m2)";
+}
+
+TEST_P(HardShapeProperties, CoveragePathsStayInsideTheFreeArea) {
+  for (const auto& u : plan_->uavs)
+    for (const auto& part : u.parts)
+      for (std::size_t k = 1; k < part.local.size(); ++k) {
+        const Point a = part.local[k - 1], b = part.local[k];
+        EXPECT_FALSE(geometry::segment_enters(lm_->no_fly, a, b, kTol)) << u.id << " enters a no-fly zone";
+        if (part.kind == PartKind::Coverage) {
+          EXPECT_TRUE(geometry::segment_within(lm_->free, a, b, kTol)) << u.id << " leaves the area";
+        }
+      }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryPlanner, HardShapeProperties,
+    ::testing::Combine(::testing::ValuesIn(planner_names()),
+                       ::testing::Range(0, static_cast<int>(uavcover::testing::hard_shapes().size()))),
+    [](const auto& info) {
+      return std::get<0>(info.param) + "_" +
+             uavcover::testing::hard_shapes().at(static_cast<std::size_t>(std::get<1>(info.param))).name;
+    });
 
 TEST(PlannerRegistry, UnknownPlannersAndParametersAreRefusedByName) {
   json j = json::parse(scenarios()[0].mission);

@@ -301,6 +301,58 @@ TEST_P(ApiTest, CatalogEntriesAreValidatedField_by_field) {
   EXPECT_EQ(call("DELETE", "/api/v1/uavs/" + std::to_string(uav_id)).status, 404);
 }
 
+TEST_P(ApiTest, CatalogNamesAndReferencesHold) {
+  const json camera = {{"name", "cam"},
+                       {"sensor_width_mm", 35.9},
+                       {"focal_length_mm", 35},
+                       {"image_width_px", 7952},
+                       {"hfov_deg", 54.3}};
+  for (const std::string& name :
+       std::vector<std::string>{"a\tb", "line\nbreak", "esc\x1b[2J", std::string("nul\0x", 5), "del\x7f"}) {
+    json c = camera;
+    c["name"] = name;
+    const Answer r = call("POST", "/api/v1/cameras", c.dump());
+    EXPECT_EQ(r.status, 422) << r.body;
+    EXPECT_EQ(r.error_field(), "name");
+  }
+  Answer a = call("POST", "/api/v1/cameras", camera.dump());
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto camera_id = a.json().at("id").get<store::Id>();
+  const json uav = {{"name", "carrier"},   {"speed_mps", 8},          {"max_accel_mps2", 3},
+                    {"endurance_min", 30}, {"cost_per_min_eur", 1.5}, {"camera_id", camera_id}};
+  a = call("POST", "/api/v1/uavs", uav.dump());
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto uav_id = a.json().at("id").get<store::Id>();
+  // the camera is in use: 409, and the UAV keeps it
+  a = call("DELETE", "/api/v1/cameras/" + std::to_string(camera_id));
+  EXPECT_EQ(a.status, 409) << a.body;
+  EXPECT_EQ(a.error_field(), "id");
+  EXPECT_EQ(call("GET", "/api/v1/uavs/" + std::to_string(uav_id)).json().at("camera_id"), camera_id);
+  EXPECT_EQ(call("DELETE", "/api/v1/uavs/" + std::to_string(uav_id)).status, 204);
+  EXPECT_EQ(call("DELETE", "/api/v1/cameras/" + std::to_string(camera_id)).status, 204);
+  // ids: plain decimal numbers
+  EXPECT_EQ(call("GET", "/api/v1/cameras/0" + std::to_string(camera_id)).status, 400);
+  EXPECT_EQ(call("GET", "/api/v1/cameras/+" + std::to_string(camera_id)).status, 400);
+  // a body needs its JSON media type
+  a = call("POST", "/api/v1/cameras", camera.dump(), {{"content-type", ""}});
+  EXPECT_EQ(a.status, 415) << a.body;
+}
+
+TEST_P(ApiTest, PlannerThreadsAreBoundedByTheServer) {
+  ctx_->config.planner_threads = 2;
+  const auto id = create_mission(olive_grove());
+  const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
+  bool smt = false;
+  const json planners = call("GET", "/api/v1/planners").json();
+  for (const auto& p : planners.at("items")) smt = smt || p.at("name") == "smt";
+  if (!smt) GTEST_SKIP() << "no smt planner in this build";
+  Answer a = call("POST", plans, R"({"planner": "smt", "planner_params": {"threads": 64}})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "planner_params.threads");
+  a = call("POST", plans, R"({"planner": "smt", "planner_params": {"threads": 2}})");
+  EXPECT_EQ(a.status, 202) << a.body;
+}
+
 TEST_P(ApiTest, JobCreationValidatesParameters) {
   const auto id = create_mission(olive_grove());
   const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";

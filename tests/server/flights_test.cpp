@@ -44,8 +44,9 @@ std::string small_field() {
 class FlightApiTest : public ApiTest {
  protected:
   /// A done plan job of the small field; its id.
-  store::Id done_plan() {
-    const auto mission_id = create_mission(small_field());
+  store::Id done_plan() { return done_plan(create_mission(small_field())); }
+  /// A done plan job of the mission `mission_id`; its id.
+  store::Id done_plan(store::Id mission_id) {
     const Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", "{}");
     EXPECT_EQ(a.status, 202) << a.body;
     const auto id = a.json().at("id").get<store::Id>();
@@ -101,6 +102,15 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
   expect_error(post_flight(plan, {{"simulate", {{"fail", "1@1.5"}}}}), 422, "simulate.fail");
   expect_error(post_flight(plan, {{"simulate", {{"battery_min", 0.1}}}}), 422, "simulate.battery_min");
   expect_error(post_flight(plan, {{"simulate", {{"colour", "red"}}}}), 422, "simulate.colour");
+  expect_error(post_flight(plan, {{"simulate", {{"transport", "serial"}}}}), 422, "simulate.transport");
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "serial:/dev/ttyUSB0:1234"}}}}}),
+               422, "vehicles[0].endpoint");
+  expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "serial:/tmp/tty:57600"}}}}}),
+               422, "vehicles[0].endpoint");
+  expect_error(
+      post_flight(plan,
+                  {{"vehicles", {{{"uav", "A"}, {"endpoint", "tcpin:127.0.0.1:5760"}, {"listen", false}}}}}),
+      422, "vehicles[0].listen");
   expect_error(post_flight(plan, {{"simulate", json::object()},
                                   {"vehicles", {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}}}}}),
                422, "simulate");
@@ -108,7 +118,7 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
                "vehicles[0].uav");
   expect_error(post_flight(plan, {{"vehicles",
                                    {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}},
-                                    {{"uav", "B"}, {"endpoint", "tcp:127.0.0.1:1"}}}}}),
+                                    {{"uav", "B"}, {"endpoint", "ftp:127.0.0.1:1"}}}}}),
                422, "vehicles[1].endpoint");
   // the server has no token here: vehicles beyond loopback are refused
   expect_error(post_flight(plan, {{"vehicles", {{{"uav", "A"}, {"endpoint", "udp:10.1.2.3:14550"}}}}}), 422,
@@ -221,6 +231,53 @@ TEST_P(FlightApiTest, AtStartFlightsThatHadNotEndedAreFollowedAgainOrAbortedWhen
   EXPECT_NE(last.at("data").at("reason").get<std::string>().find("simulated fleet"), std::string::npos);
 }
 
+TEST_P(FlightApiTest, AMissionListsItsFlightsThatHaveNotEndedWhateverTheirPlan) {
+  const auto mission = create_mission(small_field());
+  const store::Id first = done_plan(mission);
+  const auto vehicles = json{{"vehicles",
+                              {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 1}},
+                               {{"uav", "B"}, {"endpoint", "udp:127.0.0.1:9"}, {"sysid", 2}}}}};
+  const Answer a = post_flight(first, vehicles);
+  ASSERT_EQ(a.status, 201) << a.body;
+  const auto flight_a = a.json().at("id").get<store::Id>();
+  // the mission is planned again: the flight of its first plan is still the mission's
+  const store::Id second = done_plan(mission);
+  ASSERT_NE(second, first);
+  const Answer b = post_flight(second, vehicles);
+  ASSERT_EQ(b.status, 201) << b.body;
+  const auto flight_b = b.json().at("id").get<store::Id>();
+  const auto other = create_mission(small_field());
+
+  const std::string url = "/api/v1/missions/" + std::to_string(mission) + "/flights";
+  auto ids = [&](const std::string& u) {
+    const Answer r = call("GET", u);
+    EXPECT_EQ(r.status, 200) << r.body;
+    std::vector<store::Id> out;
+    const json body = r.json();  // kept: a range-for over a temporary's member would dangle
+    for (const auto& f : body.at("items")) {
+      EXPECT_EQ(f.at("mission_id").get<store::Id>(), mission) << f.dump();
+      EXPECT_TRUE(f.contains("plan_id")) << f.dump();
+      for (const auto& u : f.at("uavs"))
+        EXPECT_FALSE(u.contains("waypoints")) << "the listing leaves them out";
+      out.push_back(f.at("id").get<store::Id>());
+    }
+    return out;
+  };
+  EXPECT_EQ(ids(url), (std::vector<store::Id>{flight_b, flight_a})) << "newest first, both plans";
+  EXPECT_TRUE(ids("/api/v1/missions/" + std::to_string(other) + "/flights").empty());
+
+  // a flight that ended (DELETE: aborted) is no longer listed
+  ASSERT_EQ(call("DELETE", "/api/v1/flights/" + std::to_string(flight_a)).status, 200);
+  EXPECT_EQ(ids(url), (std::vector<store::Id>{flight_b}));
+  ASSERT_EQ(call("DELETE", "/api/v1/flights/" + std::to_string(flight_b)).status, 200);
+  EXPECT_TRUE(ids(url).empty());
+
+  const Answer missing = call("GET", "/api/v1/missions/987654/flights");
+  EXPECT_EQ(missing.status, 404) << missing.body;
+  EXPECT_EQ(missing.error_field(), "id") << missing.body;
+  EXPECT_EQ(call("GET", "/api/v1/missions/x/flights").status, 400);
+}
+
 TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) {
   const store::Id plan = done_plan();
   const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}, {"log_period_s", 0.05}});
@@ -320,6 +377,29 @@ TEST_P(FlightApiTest, ASimulatedFlightEndsDoneWithEveryWaypointReachedInItsLog) 
   EXPECT_EQ(png.content_type, "image/png");
   EXPECT_TRUE(png.body.starts_with("\x89PNG")) << png.body.substr(0, 8);
   EXPECT_EQ(call("GET", "/api/v1/flights/987654/coverage").status, 404);
+}
+
+// Issue 34: the same flight with the simulated vehicles listening on TCP and the server connecting.
+TEST_P(FlightApiTest, ASimulatedFlightOverTcpEndsDone) {
+  const store::Id plan = done_plan();
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}, {"transport", "tcp"}}}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const json flight = created.json();
+  for (const auto& v : flight.at("config").at("vehicles"))
+    EXPECT_TRUE(v.at("endpoint").get<std::string>().starts_with("tcp:127.0.0.1:")) << v.dump();
+  const auto id = flight.at("id").get<store::Id>();
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "upload"})").status, 202);
+  json f = wait_flight(id, [](const json& j) { return j.at("state") == "ready"; });
+  ASSERT_EQ(f.at("state"), "ready") << f.dump();
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "start"})").status, 202);
+  f = wait_flight(id, [](const json& j) { return j.at("state") == "done" || j.at("state") == "aborted"; });
+  ASSERT_EQ(f.at("state"), "done") << f.dump();
+  for (const auto& u : f.at("uavs")) {
+    const std::string w = u.at("waypoints");
+    EXPECT_FALSE(w.empty());
+    EXPECT_EQ(w, std::string(w.size(), 'R')) << u.at("uav");
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FlightApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),

@@ -67,6 +67,9 @@ class Client {
     http::request<http::string_body> req{verb, target, 11};
     req.set(http::field::host, "127.0.0.1");
     for (const auto& [k, v] : headers) req.set(k, v);
+    // the server takes JSON bodies only (415 otherwise): a test sends another type explicitly
+    if (!body.empty() && req.count(http::field::content_type) == 0)
+      req.set(http::field::content_type, "application/json");
     req.body() = body;
     if (!body.empty() || verb == http::verb::post) req.prepare_payload();
     write(req);
@@ -271,7 +274,7 @@ TEST_F(ServerHttp, RoutingErrorsAreJson) {
 
   const auto wrong = c.send(http::verb::delete_, "/api/v1/things/3");
   EXPECT_EQ(wrong.result_int(), 405);
-  EXPECT_EQ(wrong[http::field::allow], "GET, PUT");
+  EXPECT_EQ(wrong[http::field::allow], "GET, HEAD, PUT");  // HEAD is served wherever GET is
   EXPECT_TRUE(body_of(wrong).contains("error"));
   // without --cors-origin, OPTIONS is a method like any other
   const auto options = c.send(http::verb::options, "/api/v1/things/3");
@@ -314,7 +317,8 @@ TEST_F(ServerHttp, BodyOverTheLimitIs413) {
   // chunked bodies are held to the same limit
   Client chunked(port_);
   chunked.write_raw(
-      "POST /api/v1/things HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n"
+      "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+      "Transfer-Encoding: chunked\r\n\r\n"
       "800\r\n" +
       std::string(2048, 'y') + "\r\n0\r\n\r\n");
   EXPECT_EQ(chunked.read().result_int(), 413);
@@ -323,7 +327,9 @@ TEST_F(ServerHttp, BodyOverTheLimitIs413) {
 TEST_F(ServerHttp, ExpectContinuePipeliningAndHeaderLimit) {
   start();
   Client c(port_);
-  c.write_raw("POST /api/v1/things HTTP/1.1\r\nHost: x\r\nContent-Length: 5\r\nExpect: 100-continue\r\n\r\n");
+  c.write_raw(
+      "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: "
+      "5\r\nExpect: 100-continue\r\n\r\n");
   std::string text;
   ASSERT_FALSE(c.read_raw_until("\r\n\r\n", text));
   EXPECT_EQ(text.rfind("HTTP/1.1 100 Continue\r\n", 0), 0U) << text;
@@ -333,7 +339,8 @@ TEST_F(ServerHttp, ExpectContinuePipeliningAndHeaderLimit) {
   EXPECT_EQ(body_of(res)["size"], 5);
   // two requests in one write, two answers in order
   c.write_raw(
-      "GET /api/v1/things/1 HTTP/1.1\r\nHost: x\r\n\r\nGET /api/v1/things/2 HTTP/1.1\r\nHost: x\r\n\r\n");
+      "GET /api/v1/things/1 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\nGET /api/v1/things/2 HTTP/1.1\r\nHost: "
+      "127.0.0.1\r\n\r\n");
   EXPECT_EQ(body_of(c.read())["id"], "1");
   EXPECT_EQ(body_of(c.read())["id"], "2");
 
@@ -577,7 +584,7 @@ TEST_F(ServerHttp, ServerStopClosesEventStreams) {
   ws.send(R"({"subscribe": {"jobs": [1]}})");
   ASSERT_TRUE(ws.receive());
   Client sse(port_);
-  sse.write_raw("GET /api/v1/events?jobs=1 HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n\r\n");
+  sse.write_raw("GET /api/v1/events?jobs=1 HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n");
   std::string text;
   ASSERT_FALSE(sse.read_raw_until("event: job", text));
   stop();
@@ -605,7 +612,8 @@ TEST_F(ServerHttp, ServerSentEvents) {
     }
   }
   Client sse(port_);
-  sse.write_raw("GET /api/v1/events?jobs=5,6 HTTP/1.1\r\nHost: x\r\nAccept: text/event-stream\r\n\r\n");
+  sse.write_raw(
+      "GET /api/v1/events?jobs=5,6 HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n");
   std::string text;
   ASSERT_FALSE(sse.read_raw_until("\"state\":\"queued\"", text)) << text;
   EXPECT_NE(text.find("HTTP/1.1 200"), std::string::npos);
@@ -852,3 +860,372 @@ TEST_F(ServerHttp, JsonRequestLog) {
 }
 
 }  // namespace
+
+// ---- hardening (issue 28) ----
+
+/// Everything a raw request gets back until the server closes the connection.
+std::string raw_exchange(std::uint16_t port, const std::string& request) {
+  Client c(port);
+  c.write_raw(request);
+  std::string text;
+  c.read_raw_until("", text);  // until the connection ends (an error), bounded by kWait
+  return text;
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+  return n;
+}
+
+/// A handler that holds until released: the hook a test uses to keep a request "running".
+class Hold {
+ public:
+  Response enter() {
+    std::unique_lock lock(mutex_);
+    ++entered_;
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return released_; });
+    return Response::json(200, {{"held", true}});
+  }
+  bool wait_entered(int n) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, kWait, [&] { return entered_ >= n; });
+  }
+  void release() {
+    const std::lock_guard lock(mutex_);
+    released_ = true;
+    changed_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int entered_ = 0;
+  bool released_ = false;
+};
+
+TEST_F(ServerHttp, HandlersRunOffTheIoThreadsOnABoundedPool) {
+  Hold hold;
+  router_.add("GET", "/api/v1/hold", [&hold](const Request&) { return hold.enter(); });
+  ServerConfig cfg;
+  cfg.io_threads = 1;  // one I/O thread: a handler running on it would hold every other connection
+  cfg.handler_threads = 1;
+  cfg.max_pending = 1;
+  start(cfg);
+  Res held;
+  std::thread first([&] {
+    Client c(port_);
+    held = c.send(http::verb::get, "/api/v1/hold");
+  });
+  ASSERT_TRUE(hold.wait_entered(1));
+  // the handler is held: /healthz and static answers still come from the I/O thread
+  Client probe(port_);
+  EXPECT_EQ(probe.send(http::verb::get, "/healthz").result_int(), 200);
+  EXPECT_EQ(probe.send(http::verb::get, "/").result_int(), 200);
+  // the pool admits max_pending requests; the next one is told to come back
+  const auto busy = probe.send(http::verb::get, "/api/v1/things/1");
+  EXPECT_EQ(busy.result_int(), 503);
+  EXPECT_EQ(busy[http::field::retry_after], "1");
+  EXPECT_TRUE(body_of(busy)["error"]["message"].is_string());
+  hold.release();
+  first.join();
+  EXPECT_EQ(held.result_int(), 200);
+  EXPECT_EQ(body_of(held)["held"], true);
+  EXPECT_EQ(probe.send(http::verb::get, "/api/v1/things/1").result_int(), 200);
+}
+
+TEST_F(ServerHttp, HostHeaderAndAbsoluteForm) {
+  ServerConfig cfg;
+  cfg.allowed_hosts = {"uav.example.org"};
+  start(cfg);
+  const std::string port = std::to_string(port_);
+  const auto status_of = [](const std::string& text) { return text.substr(0, 12); };
+  // DNS rebinding: a foreign name is refused, and the connection closes
+  EXPECT_EQ(status_of(raw_exchange(port_, "GET /api/v1/things/1 HTTP/1.1\r\nHost: attacker.example\r\n\r\n")),
+            "HTTP/1.1 421");
+  EXPECT_EQ(status_of(raw_exchange(port_, "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1:1\r\n\r\n")),
+            "HTTP/1.1 421");  // our name, another port
+  // RFC 9112: no Host, or two, is 400
+  EXPECT_EQ(status_of(raw_exchange(port_, "GET /healthz HTTP/1.1\r\n\r\n")), "HTTP/1.1 400");
+  const auto two = raw_exchange(port_, "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nHost: 127.0.0.1\r\n\r\n");
+  EXPECT_EQ(status_of(two), "HTTP/1.1 400");
+  EXPECT_NE(two.find("\"field\":\"host\""), std::string::npos) << two;
+  // HTTP/1.0 may leave Host out
+  EXPECT_EQ(status_of(raw_exchange(port_, "GET /healthz HTTP/1.0\r\n\r\n")), "HTTP/1.0 200");
+  Client c(port_);
+  for (const std::string& host :
+       std::vector<std::string>{"127.0.0.1:" + port, "localhost:" + port, "[::1]:" + port, "LOCALHOST",
+                                "uav.example.org", "uav.example.org:443", "UAV.example.org."}) {
+    const auto res = c.send(http::verb::get, "/api/v1/things/2", "", {{"Host", host}});
+    EXPECT_EQ(res.result_int(), 200) << host;
+  }
+  // the absolute form is accepted; its authority is the host that is checked
+  const auto absolute = c.send(http::verb::get, "http://127.0.0.1:" + port + "/api/v1/things/3?x=1", "",
+                               {{"Host", "127.0.0.1"}});
+  EXPECT_EQ(absolute.result_int(), 200);
+  EXPECT_EQ(body_of(absolute)["path"], "/api/v1/things/3");
+  EXPECT_EQ(body_of(absolute)["query"]["x"], "1");
+  EXPECT_EQ(c.send(http::verb::get, "http://127.0.0.1/healthz").result_int(), 200);
+  EXPECT_EQ(status_of(raw_exchange(
+                port_, "GET http://attacker.example/healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")),
+            "HTTP/1.1 421");
+}
+
+TEST_F(ServerHttp, ForeignOriginsAreRefused) {
+  start();
+  const std::string own = "http://127.0.0.1:" + std::to_string(port_);
+  Client c(port_);
+  // the server's own origin (the web app it serves) and no Origin at all (curl) may call
+  EXPECT_EQ(c.send(http::verb::get, "/api/v1/things/1", "",
+                   {{"Host", "127.0.0.1:" + std::to_string(port_)}, {"Origin", own}})
+                .result_int(),
+            200);
+  EXPECT_EQ(c.send(http::verb::get, "/api/v1/things/1").result_int(), 200);
+  for (const std::string origin :
+       {"http://evil.example", "null", "http://127.0.0.1:1", "https://127.0.0.1.evil"}) {
+    Client d(port_);
+    const auto res = d.send(http::verb::post, "/api/v1/things", "{}",
+                            {{"Host", "127.0.0.1:" + std::to_string(port_)}, {"Origin", origin}});
+    EXPECT_EQ(res.result_int(), 403) << origin;
+    EXPECT_EQ(body_of(res)["error"]["field"], "origin") << origin;
+  }
+  // a WebSocket upgrade from a foreign page is refused too
+  WsClient foreign(port_, {{"Origin", "http://evil.example"}});
+  EXPECT_TRUE(foreign.handshake_error);
+  WsClient same(port_, {{"Origin", "http://127.0.0.1"}});  // WsClient sends Host: 127.0.0.1
+  EXPECT_FALSE(same.handshake_error) << same.handshake_error.message();
+}
+
+TEST_F(ServerHttp, CorsOriginMayCallAndOthersMayNot) {
+  ServerConfig cfg;
+  cfg.cors_origin = "https://app.example";
+  start(cfg);
+  Client c(port_);
+  EXPECT_EQ(
+      c.send(http::verb::post, "/api/v1/things", "{}", {{"Origin", "https://app.example"}}).result_int(),
+      201);
+  Client d(port_);
+  EXPECT_EQ(
+      c.send(http::verb::post, "/api/v1/things", "{}", {{"Origin", "https://other.example"}}).result_int(),
+      403);
+}
+
+TEST_F(ServerHttp, JsonBodiesOnlyAndNoContentCoding) {
+  start();
+  const auto status_of = [](const std::string& text) { return text.substr(0, 12); };
+  // a browser's cross-site Blob body has no Content-Type: refused before the body is read
+  const auto blob =
+      raw_exchange(port_, "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 2\r\n\r\n{}");
+  EXPECT_EQ(status_of(blob), "HTTP/1.1 415");
+  EXPECT_NE(blob.find("Content-Type: application/json"), std::string::npos) << blob;
+  EXPECT_EQ(status_of(raw_exchange(port_,
+                                   "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+                                   "text/plain\r\nContent-Length: 2\r\n\r\n{}")),
+            "HTTP/1.1 415");
+  for (const std::string coding : {"gzip", "br", "identity, gzip"}) {
+    const auto res =
+        raw_exchange(port_,
+                     "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                     "Content-Encoding: " +
+                         coding + "\r\nContent-Length: 2\r\n\r\n{}");
+    EXPECT_EQ(status_of(res), "HTTP/1.1 415") << coding;
+    EXPECT_NE(res.find("content-encoding"), std::string::npos) << res;
+  }
+  Client c(port_);
+  EXPECT_EQ(c.send(http::verb::post, "/api/v1/things", "{}", {{"Content-Encoding", "identity"}}).result_int(),
+            201);
+  // no body needs no Content-Type
+  EXPECT_EQ(c.send(http::verb::post, "/api/v1/things").result_int(), 201);
+}
+
+TEST_F(ServerHttp, TransferEncodingOtherThanChunkedIsNotSmuggled) {
+  start();
+  // the "body" is a second request: it must never be answered
+  const std::string smuggled = "GET /api/v1/things/666 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  for (const std::string te :
+       {"Transfer-Encoding: xchunked\r\n", "Transfer-Encoding: chunked, identity\r\n",
+        "Transfer-Encoding: identity\r\n", "Transfer-Encoding: chunked\r\nTransfer-Encoding: chunked\r\n"}) {
+    const auto text = raw_exchange(port_,
+                                   "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+                                   "application/json\r\n" +
+                                       te + "\r\n" + smuggled);
+    EXPECT_TRUE(text.rfind("HTTP/1.1 501", 0) == 0 || text.rfind("HTTP/1.1 400", 0) == 0) << te << text;
+    EXPECT_EQ(count_of(text, "HTTP/1.1 "), 1U) << te << text;
+    EXPECT_EQ(text.find("666"), std::string::npos) << te << text;
+  }
+  const auto both =
+      raw_exchange(port_,
+                   "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                   "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n" +
+                       smuggled);
+  EXPECT_EQ(count_of(both, "HTTP/1.1 "), 1U) << both;
+  EXPECT_EQ(both.find("666"), std::string::npos) << both;
+  // chunked itself works
+  Client c(port_);
+  c.write_raw(
+      "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+      "application/json\r\nTransfer-Encoding: "
+      "Chunked\r\n\r\n2\r\n{}\r\n0\r\n\r\n");
+  const auto res = c.read();
+  EXPECT_EQ(res.result_int(), 201);
+  EXPECT_EQ(body_of(res)["size"], 2);
+}
+
+TEST_F(ServerHttp, TokenIsCheckedBeforeTheBodyIsRead) {
+  ServerConfig cfg;
+  cfg.token = "0123456789abcdef-secret";
+  cfg.max_body = std::size_t{10} << 20;
+  start(cfg);
+  Client c(port_);
+  // headers of a 9 MB body, and none of the body: the 401 comes anyway
+  c.write_raw(
+      "POST /api/v1/things HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+      "application/json\r\nContent-Length: " +
+      std::to_string(9 << 20) + "\r\n\r\n");
+  const auto res = c.read();
+  EXPECT_EQ(res.result_int(), 401);
+  EXPECT_EQ(res[http::field::www_authenticate], "Bearer");
+  EXPECT_FALSE(res.keep_alive());
+  // with the token, the body is read as before
+  Client ok(port_);
+  EXPECT_EQ(
+      ok.send(http::verb::post, "/api/v1/things", "{}", {{"Authorization", "Bearer 0123456789abcdef-secret"}})
+          .result_int(),
+      201);
+}
+
+TEST_F(ServerHttp, HeadAnswersEveryGetRouteWithoutABody) {
+  start();
+  // two requests on one connection: a body after the HEAD answer would desync the second
+  Client c(port_);
+  c.write_raw(
+      "HEAD /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\nHEAD /api/v1/things/5 HTTP/1.1\r\nHost: "
+      "127.0.0.1\r\n\r\n"
+      "GET /api/v1/things/6 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+  std::string text;
+  ASSERT_FALSE(c.read_raw_until("\"id\":\"6\"", text)) << text;
+  ASSERT_EQ(count_of(text, "HTTP/1.1 200 OK\r\n"), 3U) << text;
+  const auto first_end = text.find("\r\n\r\n");
+  EXPECT_EQ(text.find("HTTP/1.1 200 OK\r\n", first_end), first_end + 4)
+      << "a body followed the HEAD answer: " << text;
+  EXPECT_NE(text.find("Content-Length: 15\r\n"), std::string::npos) << text;  // {"status":"ok"}
+  EXPECT_EQ(text.find("\"5\""), std::string::npos) << text;
+  // a path without GET: 405 listing the methods (HEAD beside GET), without a body
+  const auto put_only =
+      raw_exchange(port_, "HEAD /api/v1/nope HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(put_only.substr(0, 12), "HTTP/1.1 404");
+  EXPECT_EQ(put_only.find("{"), std::string::npos) << put_only;
+  Client d(port_);
+  const auto allowed = d.send(http::verb::delete_, "/api/v1/things/3");
+  EXPECT_EQ(allowed[http::field::allow], "GET, HEAD, PUT");
+}
+
+/// A job that changes on every poll, with a large JSON: a subscriber that never reads falls behind.
+class FloodSource : public EventSource {
+ public:
+  std::vector<json> snapshot(const std::vector<std::int64_t>& ids) override {
+    const std::lock_guard lock(mutex_);
+    ++polls_;
+    std::vector<json> out;
+    for (const auto id : ids)
+      out.push_back({{"id", id},
+                     {"state", "running"},
+                     {"progress", 0.5},
+                     {"stage", std::to_string(polls_)},
+                     {"updated", std::string(100 * 1024, 'x')}});
+    return out;
+  }
+  int polls() {
+    const std::lock_guard lock(mutex_);
+    return polls_;
+  }
+
+ private:
+  std::mutex mutex_;
+  int polls_ = 0;
+};
+
+TEST(ServerEvents, AWebSocketThatDoesNotReadIsClosedAtTheByteCap) {
+  spdlog::set_level(spdlog::level::err);
+  FloodSource source;
+  Router router;
+  ServerConfig cfg;
+  cfg.listen = "127.0.0.1:0";
+  cfg.event_poll = std::chrono::milliseconds(1);
+  cfg.max_event_queue_bytes = 1 << 20;  // 1 MiB: ten of the 100 kB messages
+  HttpServer server(cfg, router, source);
+  std::thread runner([&] { server.run(); });
+  {
+    net::io_context ioc;
+    tcp::socket socket(ioc);
+    socket.open(tcp::v4());
+    socket.set_option(net::socket_base::receive_buffer_size(4096));  // the kernel holds little for us
+    socket.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), server.port()));
+    websocket::stream<tcp::socket> ws(std::move(socket));
+    ws.handshake("127.0.0.1", "/api/v1/events");
+    ws.write(net::buffer(std::string(R"({"subscribe": {"jobs": [1]}})")));
+    // every poll makes a 100 kB message for a reader that takes none: the server drops the client
+    // once 1 MiB waits for it (the hook: the drop counter; polls stop with the subscription)
+    const auto dropped_before = metrics().dropped_event_clients();
+    std::uint64_t dropped = dropped_before;
+    for (int i = 0; i < 6000 && dropped == dropped_before; ++i) {  // bounded: 60 s at most
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      dropped = metrics().dropped_event_clients();
+    }
+    ASSERT_EQ(dropped, dropped_before + 1);
+    int received = 0;
+    beast::error_code ec;
+    for (;;) {
+      beast::flat_buffer buffer;
+      ws.read(buffer, ec);
+      if (ec) break;
+      ++received;
+    }
+    EXPECT_TRUE(ec) << "the connection was not closed";
+    // what the kernel buffers held and the one being written, not the polls' hundreds of messages
+    EXPECT_LT(received, source.polls());
+  }
+  server.stop();
+  runner.join();
+}
+
+TEST(HttpHelpers, HostsOriginsIdsAndTargets) {
+  HostPolicy p{"127.0.0.1", 8080, {"uav.example.org"}};
+  EXPECT_TRUE(host_allowed("127.0.0.1:8080", p));
+  EXPECT_TRUE(host_allowed("127.0.0.1", p));
+  EXPECT_TRUE(host_allowed("[::1]:8080", p));
+  EXPECT_TRUE(host_allowed("Localhost:8080", p));
+  EXPECT_TRUE(host_allowed("uav.example.org:8443", p));
+  EXPECT_FALSE(host_allowed("127.0.0.1:8081", p));
+  EXPECT_FALSE(host_allowed("evil.example:8080", p));
+  EXPECT_FALSE(host_allowed("10.0.0.1:8080", p));
+  EXPECT_FALSE(host_allowed("", p));
+  EXPECT_FALSE(host_allowed("127.0.0.1:", p));
+  EXPECT_FALSE(host_allowed("127.0.0.1:99999", p));
+  EXPECT_FALSE(host_allowed("a b", p));
+  EXPECT_FALSE(host_allowed("[::1", p));
+  const HostPolicy any{"0.0.0.0", 8080, {}};
+  EXPECT_TRUE(host_allowed("10.0.0.1:8080", any));  // an address literal cannot be rebound
+  EXPECT_FALSE(host_allowed("evil.example:8080", any));
+  EXPECT_TRUE(origin_allowed("http://127.0.0.1:8080", "127.0.0.1:8080", std::nullopt));
+  EXPECT_FALSE(origin_allowed("http://127.0.0.1:8080", "127.0.0.1:9090", std::nullopt));
+  EXPECT_FALSE(origin_allowed("null", "127.0.0.1:8080", std::nullopt));
+  EXPECT_TRUE(origin_allowed("https://App.example", "127.0.0.1:8080", std::string("https://app.example")));
+  EXPECT_FALSE(
+      origin_allowed("https://app.example.evil", "127.0.0.1:8080", std::string("https://app.example")));
+  EXPECT_EQ(media_type(" Application/JSON ; charset=utf-8"), "application/json");
+  EXPECT_EQ(parse_id("12"), 12);
+  for (const std::string bad : {"012", "0", "+1", "-1", " 1", "1x", ""})
+    EXPECT_THROW(parse_id(bad), HttpError) << bad;
+  EXPECT_EQ(target_authority("http://127.0.0.1:80/x"), "127.0.0.1:80");
+  EXPECT_EQ(target_authority("/x"), std::nullopt);
+  Request r;
+  decode_target("HTTP://h/a%20b?q=1", r);
+  EXPECT_EQ(r.path, "/a b");
+  EXPECT_EQ(r.query["q"], "1");
+  Request root;
+  decode_target("http://h?q=2", root);
+  EXPECT_EQ(root.path, "/");
+  EXPECT_EQ(root.query["q"], "2");
+}

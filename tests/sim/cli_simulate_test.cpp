@@ -44,6 +44,14 @@ TEST(CliSimulate, PrintsOneLinePerVehicleAndStopsAfterDuration) {
   EXPECT_NE(r.out.find("system id 3"), std::string::npos);
 }
 
+TEST(CliSimulate, TcpListenersPrintTheirPorts) {
+  const auto r = run("simulate --vehicles 2 --listen tcp:127.0.0.1:0 --speedup 20 --duration 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (int id = 1; id <= 2; ++id)
+    EXPECT_NE(r.out.find("vehicle " + std::to_string(id) + ": tcp:127.0.0.1:"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find(":0 system id"), std::string::npos) << "a real port, not 0: " << r.out;
+}
+
 TEST(CliSimulate, StopsCleanlyOnSigterm) {
   // `timeout` sends one SIGTERM after 1 s (--foreground: to the simulator only, not twice through the
   // process group, which the CLI takes as "the user insists"); the simulator stops and exits 0
@@ -61,7 +69,9 @@ TEST(CliSimulate, RefusesBadOptionsNamingThem) {
       {"--vehicles 2 --listen udp:127.0.0.1:65535", "--listen"},
       {"--vehicles 2 --listen udp:127.0.0.1:14540,14541,14542", "--listen"},
       {"--vehicles 2 --listen udp:127.0.0.1:14540,14540", "--listen"},
-      {"--vehicles 2 --listen tcp:127.0.0.1:14540", "--listen"},
+      {"--vehicles 2 --listen serial:/dev/ttyS0:57600", "--listen"},
+      {"--vehicles 2 --listen tcp:127.0.0.1:0,14541", "--listen"},
+      {"--vehicles 1 --listen tcp:127.0.0.1:0 --gcs udp:127.0.0.1:14550", "--gcs"},
       {"--vehicles 0", "--vehicles"},
       {"--vehicles 256", "--vehicles"},
       {"--wind -1", "--wind"},

@@ -195,3 +195,60 @@ TEST(SqliteStore, KillNineDuringWritesLosesNothingAcknowledged) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SqliteStore, NotWritableWhileAnotherConnectionHoldsAnExclusiveLock) {
+  TempDb tmp;
+  auto s = open_sqlite(tmp.path());
+  EXPECT_TRUE(s->writable());
+  // a second, real connection (as another process's sqlite3 shell would) takes the write lock
+  sqlite3* other = nullptr;
+  ASSERT_EQ(sqlite3_open(tmp.path().c_str(), &other), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(other, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(other);
+  EXPECT_TRUE(s->ping()) << "reads still work (WAL)";
+  EXPECT_FALSE(s->writable()) << "readyz must say 503 while writes would fail";
+  ASSERT_EQ(sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(other);
+  EXPECT_TRUE(s->writable());
+  s->create_mission(revision("after the lock"));
+}
+
+TEST(SqliteStore, RefusesWritesOnceItsFileIsDeletedOrReplaced) {
+  TempDb tmp;
+  auto s = open_sqlite(tmp.path());
+  s->create_mission(revision("before"));
+  EXPECT_TRUE(s->writable());
+  fs::remove(tmp.path());
+  EXPECT_FALSE(s->writable());
+  try {
+    s->create_mission(revision("lost"));
+    FAIL() << "a write to a deleted database file was acknowledged";
+  } catch (const StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("deleted or replaced"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(tmp.path()), std::string::npos) << e.what();
+  }
+  // a new file at the same path is another database: still refused
+  fs::remove(tmp.path() + "-wal");
+  fs::remove(tmp.path() + "-shm");
+  open_sqlite(tmp.path()).reset();
+  EXPECT_FALSE(s->writable());
+  EXPECT_THROW(s->create_mission(revision("elsewhere")), StoreError);
+}
+
+TEST(SqliteStore, AReadOnlyFileFailsAtOpenNamingIt) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root writes read-only files (hostile.test.mjs checks as nobody)";
+  TempDb tmp;
+  open_sqlite(tmp.path()).reset();
+  fs::permissions(tmp.path(), fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  try {
+    open_sqlite(tmp.path());
+    FAIL() << "opened a read-only file";
+  } catch (const StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("read-only"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(tmp.path()), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

@@ -75,6 +75,8 @@ class StoreConformance : public ::testing::TestWithParam<std::string> {
 // ---- missions ----
 
 TEST_P(StoreConformance, MissionRevisionsStayReadable) {
+  EXPECT_TRUE(store_->ping());
+  EXPECT_TRUE(store_->writable());  // readyz on an idle database
   const std::int64_t before = store_->count_missions();
   const std::string name = unique_name("Ελλάδα mission");
   const Id id = store_->create_mission(revision(name, {1, 2, 3, 4}));

@@ -183,3 +183,56 @@ TEST(Jobs, CatalogReferencesFillWhatTheMissionLeavesOut) {
   EXPECT_EQ(field({{"uavs", {{{"catalog_id", -1}}}}}), "uavs[0].catalog_id");
   EXPECT_EQ(field({{"camera", {{"catalog_id", 1}}}}), "camera.catalog_id");
 }
+
+TEST(Jobs, ACatalogUavsCameraBecomesItsOwnCameraAtTheMissionsAltitude) {
+  const json cam2 = {{"name", "wide"},
+                     {"sensor_width_mm", 13.2},
+                     {"focal_length_mm", 8.8},
+                     {"image_width_px", 5472},
+                     {"hfov_deg", 73.7}};
+  const json cam4 = {{"name", "narrow"},
+                     {"sensor_width_mm", 6.3},
+                     {"focal_length_mm", 9.0},
+                     {"image_width_px", 4000},
+                     {"hfov_deg", 38.6}};
+  auto uavs = [&](long long id) -> std::optional<json> {
+    if (id == 1)
+      return json{{"name", "with wide"}, {"speed_mps", 8}, {"endurance_min", 30}, {"camera_id", 2}};
+    if (id == 3)
+      return json{{"name", "with narrow"}, {"speed_mps", 8}, {"endurance_min", 30}, {"camera_id", 4}};
+    return std::nullopt;
+  };
+  auto cams = [&](long long id) -> std::optional<json> {
+    if (id == 2) return cam2;
+    if (id == 4) return cam4;
+    return std::nullopt;
+  };
+  const json own_block = {{"altitude_m", 60}, {"hfov_deg", 50}, {"overlap", 0.4}};
+  json doc = {
+      {"uavs",
+       {{{"id", "a"}, {"catalog_id", 1}},
+        {{"id", "b"}, {"catalog_id", 3}},
+        {{"id", "c"}, {"catalog_id", 3}, {"camera", own_block}}}},
+      {"camera", {{"catalog_id", 2}, {"altitude_m", 60}, {"side_overlap", 0.3}, {"front_overlap", 0.7}}}};
+  const json r = usecases::resolve_catalog_refs(doc, uavs, cams);
+  EXPECT_FALSE(r["uavs"][0].contains("camera")) << "a carries the mission's camera";
+  ASSERT_TRUE(r["uavs"][1].contains("camera")) << r.dump();
+  const json& b = r["uavs"][1]["camera"];
+  EXPECT_EQ(b["altitude_m"], 60);
+  EXPECT_EQ(b["side_overlap"], 0.3);
+  EXPECT_EQ(b["front_overlap"], 0.7);
+  EXPECT_EQ(b["image_width_px"], 4000);
+  EXPECT_EQ(b["focal_length_mm"], 9.0);
+  EXPECT_FALSE(b.contains("hfov_deg")) << "the mission's (QGC) convention";
+  EXPECT_EQ(r["uavs"][2]["camera"], own_block) << "a UAV's own camera block wins";
+
+  // the paper's convention: the catalog camera's HFOV
+  json paper = doc;
+  paper["camera"] = {{"catalog_id", 2}, {"altitude_m", 50}, {"overlap", 0.5}};
+  const json p = usecases::resolve_catalog_refs(paper, uavs, cams);
+  EXPECT_EQ(p["uavs"][1]["camera"], (json{{"altitude_m", 50}, {"overlap", 0.5}, {"hfov_deg", 38.6}}));
+
+  // a mission without a camera block (spacing given) has no camera to share: the UAVs get none
+  json spaced = {{"spacing_m", 20}, {"uavs", {{{"catalog_id", 3}}}}};
+  EXPECT_FALSE(usecases::resolve_catalog_refs(spaced, uavs, cams)["uavs"][0].contains("camera"));
+}

@@ -8,9 +8,11 @@
 // waypoints and the lines have canvas renderers of their own (panes flyWaypoints and flyLines), so a
 // moving trail never redraws thousands of waypoints.
 import L from 'leaflet';
+import { AREA_STROKE, NFZ_FILL, NFZ_FILL_OPACITY, NFZ_STROKE } from './zones.ts';
 import { changedIndices, STATUS_COLOUR, STATUS_NAME, type FlightMission, type Status, type UavLines } from './fly-model.ts';
 
 const PANES: [string, number][] = [
+  ['flyZones', 355],
   ['flyCoverage', 360],
   ['flyLines', 380],
   ['flyWaypoints', 390],
@@ -58,6 +60,9 @@ const arrowSvg = (colour: string) =>
 
 export class FlyLayers {
   private group = L.layerGroup();
+  private zones = L.layerGroup();
+  private zonesRenderer: L.Canvas;
+  zoneCount = { area: 0, nfz: 0 };
   private lines: L.Canvas;
   private dotsRenderer: L.Canvas;
   private uavs = new Map<string, UavLayer>();
@@ -72,6 +77,21 @@ export class FlyLayers {
     map.getPane('flyCoverage')!.style.pointerEvents = 'none';
     this.lines = L.canvas({ pane: 'flyLines', padding: 0.2 });
     this.dotsRenderer = L.canvas({ pane: 'flyWaypoints', padding: 0.2 });
+    this.zonesRenderer = L.canvas({ pane: 'flyZones', padding: 0.2 });
+    map.getPane('flyZones')!.style.pointerEvents = 'none';
+  }
+
+  /** The mission's area (outlined) and no-fly zones (red, dashed outline), as in the Define and Plan tabs. */
+  setZones(zones: { area: [number, number][][][]; nfz: [number, number][][][] }): void {
+    this.zones.clearLayers();
+    for (const p of zones.area)
+      L.polygon(p, { renderer: this.zonesRenderer, color: AREA_STROKE, weight: 2, fill: false, interactive: false, className: 'fly-area' }).addTo(this.zones);
+    for (const p of zones.nfz)
+      L.polygon(p, { renderer: this.zonesRenderer, color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: NFZ_FILL_OPACITY, interactive: false }).addTo(this.zones);
+    this.zoneCount = { area: zones.area.length, nfz: zones.nfz.length };
+    const pane = this.map.getPane('flyZones')!;
+    pane.dataset.area = String(zones.area.length);
+    pane.dataset.nfz = String(zones.nfz.length);
   }
 
   /** The plan's UAVs in order (the palette index) and their lines; clears everything else. */
@@ -113,6 +133,7 @@ export class FlyLayers {
   show(): void {
     if (this.shown) return;
     this.shown = true;
+    this.zones.addTo(this.map);
     this.group.addTo(this.map);
     this.coverage?.addTo(this.map);
   }
@@ -120,6 +141,7 @@ export class FlyLayers {
   hide(): void {
     if (!this.shown) return;
     this.shown = false;
+    this.zones.remove();
     this.group.remove();
     this.coverage?.remove();
   }

@@ -328,3 +328,56 @@ export function statusesAt(u: ReplayUav, t: number): string {
   }
   return s.join('');
 }
+
+/**
+ * A UAV's work in a flight: its own coverage waypoints and those reassigned to it (missions of kind
+ * `reassigned`, statuses in their own `waypoints`). Progress counts both (issue 29, defect 5: a helper
+ * that finished its own 13 waypoints and flies 15 reassigned ones is not at 100 %).
+ */
+export function uavWork(u: Pick<FlightUav, 'waypoints' | 'missions'>): { ownReached: number; own: number; extraReached: number; extra: number } {
+  const own = u.waypoints?.length ?? 0;
+  const ownReached = countStatus(u.waypoints, 'R');
+  let extra = 0;
+  let extraReached = 0;
+  for (const m of u.missions ?? []) {
+    if (m.kind !== 'reassigned' || typeof m.waypoints !== 'string') continue;
+    extra += m.waypoints.length;
+    extraReached += countStatus(m.waypoints, 'R');
+  }
+  return { ownReached, own, extraReached, extra };
+}
+
+/** "100.0 % (13/13)", or with reassigned work "46.4 % (13/13 own, 0/15 reassigned)"; and the fraction. */
+export function progressText(u: Pick<FlightUav, 'waypoints' | 'missions' | 'progress'>): { text: string; fraction: number } {
+  const w = uavWork(u);
+  if (w.extra === 0) {
+    const p = Math.max(0, Math.min(1, u.progress ?? (w.own ? w.ownReached / w.own : 0)));
+    return { text: `${(100 * p).toFixed(1)} %${w.own ? ` (${w.ownReached}/${w.own})` : ''}`, fraction: p };
+  }
+  const all = w.own + w.extra;
+  const p = (w.ownReached + w.extraReached) / all;
+  return { text: `${(100 * p).toFixed(1)} % (${w.ownReached}/${w.own} own, ${w.extraReached}/${w.extra} reassigned)`, fraction: p };
+}
+
+/**
+ * The flight's end in words: a flight `done` while a UAV's link is lost (or its link-lost alert still
+ * active, or it failed) did not end well — "done with a lost UAV: B (last seen at 50 m)".
+ */
+export function flightOutcome(f: Pick<Flight, 'state' | 'uavs' | 'alerts'>): { outcome: string; text: string; lost: string[] } {
+  const lost = new Set<string>();
+  for (const u of f.uavs ?? []) if (u.link?.state === 'lost' || u.phase === 'failed') lost.add(u.uav);
+  for (const a of f.alerts ?? []) if (a.active && a.kind === 'link_lost' && a.uav) lost.add(a.uav);
+  const names = [...lost];
+  if (f.state !== 'done' && f.state !== 'aborted') return { outcome: f.state, text: f.state, lost: names };
+  if (names.length === 0) return { outcome: f.state, text: f.state, lost: names };
+  const seen = names.map((id) => {
+    const u = f.uavs.find((x) => x.uav === id);
+    const alt = u?.position?.alt_m;
+    return `${id}${typeof alt === 'number' ? ` (last seen at ${alt.toFixed(0)} m)` : ''}`;
+  });
+  return {
+    outcome: `${f.state}-lost`,
+    text: `${f.state} with ${names.length === 1 ? 'a lost UAV' : `${names.length} lost UAVs`}: ${seen.join(', ')}`,
+    lost: names,
+  };
+}

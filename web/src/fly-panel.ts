@@ -2,7 +2,7 @@
 // sortie k/n, its own commands), the alerts, and the reassignment offers with Apply / Decline. Cards
 // are built once per flight and their fields rewritten only when their text changes.
 import { el } from './job-ui.ts';
-import { countStatus, formatEta, type Flight, type FlightAlert, type FlightReassignment, type FlightUav } from './fly-model.ts';
+import { countStatus, flightOutcome, formatEta, progressText, type Flight, type FlightAlert, type FlightReassignment, type FlightUav } from './fly-model.ts';
 
 /** Per-UAV commands (docs/flights.md), shown on each card. */
 const UAV_COMMANDS: [string, string][] = [
@@ -42,6 +42,8 @@ export class FlyPanel {
   private alerts = el('ul', { class: 'fly-alerts', 'data-testid': 'fly-alerts' });
   private offers = el('div', { class: 'fly-offers', 'data-testid': 'fly-reassignments' });
   private alertsKey = '';
+  /** UAVs lost in this flight: their link-lost alerts stay on top, even once the flight ended */
+  private lost = new Set<string>();
   private offersKey = '';
 
   constructor(
@@ -63,6 +65,7 @@ export class FlyPanel {
 
   update(f: Flight): void {
     const ended = f.state === 'done' || f.state === 'aborted';
+    this.lost = new Set(flightOutcome(f).lost);
     for (const u of f.uavs) this.updateCard(this.card(u.uav), u, ended);
     this.updateAlerts(f.alerts ?? []);
     this.updateOffers(f.reassignments ?? [], ended);
@@ -110,11 +113,10 @@ export class FlyPanel {
 
   private updateCard(c: Card, u: FlightUav, ended: boolean): void {
     set(c, 'phase', u.phase, u.phase);
-    const p = Math.max(0, Math.min(1, u.progress ?? 0));
+    const { text, fraction: p } = progressText(u);
     if (c.bar.value !== p) c.bar.value = p;
     const reached = countStatus(u.waypoints, 'R');
-    const total = u.waypoints?.length ?? 0;
-    set(c, 'progress', `${(100 * p).toFixed(1)} %${total ? ` (${reached}/${total})` : ''}`);
+    set(c, 'progress', text);
     if (c.box.dataset.reached !== String(reached)) c.box.dataset.reached = String(reached);
     const bat = u.battery_pct;
     set(c, 'battery', bat === null || bat === undefined ? '—' : `${bat.toFixed(0)} %`, bat === null || bat === undefined ? 'unknown' : bat < 25 ? 'low' : 'ok');
@@ -127,7 +129,7 @@ export class FlyPanel {
   }
 
   private updateAlerts(alerts: FlightAlert[]): void {
-    const key = JSON.stringify(alerts);
+    const key = JSON.stringify(alerts) + [...this.lost].join(',');
     if (key === this.alertsKey) return;
     this.alertsKey = key;
     this.alerts.replaceChildren();
@@ -136,9 +138,12 @@ export class FlyPanel {
       return;
     }
     // active first, newest first
-    const sorted = [...alerts].sort((a, b) => Number(!!b.active) - Number(!!a.active) || String(b.since ?? '').localeCompare(String(a.since ?? '')));
+    const lostAlert = (a: FlightAlert) => a.kind === 'link_lost' && !!a.uav && this.lost.has(a.uav);
+    const sorted = [...alerts].sort(
+      (a, b) => Number(lostAlert(b)) - Number(lostAlert(a)) || Number(!!b.active) - Number(!!a.active) || String(b.since ?? '').localeCompare(String(a.since ?? '')),
+    );
     for (const a of sorted.slice(0, 50)) {
-      const li = el('li', { class: `fly-alert${a.active ? ' fly-alert-active' : ''}`, 'data-testid': 'fly-alert', 'data-kind': a.kind, 'data-uav': a.uav ?? '' });
+      const li = el('li', { class: `fly-alert${a.active || lostAlert(a) ? ' fly-alert-active' : ''}`, 'data-active': String(!!a.active), 'data-testid': 'fly-alert', 'data-kind': a.kind, 'data-uav': a.uav ?? '' });
       const when = a.since ? new Date(a.since).toLocaleTimeString() : '';
       li.append(el('span', { class: 'fly-alert-kind' }, alertName(a.kind)), document.createTextNode(` ${a.uav ?? ''}${a.other ? `–${a.other}` : ''}: ${a.message ?? ''} `), el('span', { class: 'muted' }, `${when}${a.active ? '' : ' (cleared)'}`));
       this.alerts.append(li);

@@ -55,6 +55,27 @@ export function kmlPolygons(xml: Document): { coords: PolygonCoords; role?: Role
 }
 
 /**
+ * The name a KML gives itself: the Document's <name> (or a lone Folder's), else the name of the first
+ * Placemark holding a Polygon that is not a no-fly zone; null when there is none.
+ */
+export function kmlName(xml: Document): string | null {
+  const text = (e: Element | undefined) => e?.textContent?.trim() || null;
+  const childName = (e: Element) => Array.from(e.children).find((c) => c.localName === 'name');
+  const root = xml.documentElement;
+  for (const tag of ['Document', 'Folder']) {
+    const holder = root.localName === tag ? root : Array.from(root.getElementsByTagNameNS('*', tag))[0];
+    const n = holder ? text(childName(holder)) : null;
+    if (n) return n;
+  }
+  for (const pm of Array.from(root.getElementsByTagNameNS('*', 'Placemark'))) {
+    if (pm.getElementsByTagNameNS('*', 'Polygon').length === 0) continue;
+    const n = text(childName(pm));
+    if (n && !/no[\s_-]*fly|\bnfz\b|obstacle/i.test(n)) return n;
+  }
+  return null;
+}
+
+/**
  * Read a file's text. `parseXml` turns KML text into a Document (DOMParser in the browser).
  * Throws an Error whose message says in words what is wrong.
  */
@@ -67,7 +88,7 @@ export function readImport(text: string, fileName: string, parseXml?: (s: string
     if (xml.getElementsByTagName('parsererror').length > 0) throw new Error(`${fileName}: not well-formed XML`);
     const polys = kmlPolygons(xml);
     if (polys.length === 0) throw new Error(`${fileName}: the KML has no Polygon`);
-    return { kind: 'draft', doc: draftFromPolygons(name, polys), format: 'kml' };
+    return { kind: 'draft', doc: draftFromPolygons(kmlName(xml) ?? name, polys), format: 'kml' };
   }
   let json: unknown;
   try {

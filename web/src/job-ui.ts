@@ -90,7 +90,8 @@ export class JobView {
     this.job = job.id ? job : this.job;
     this.bar.value = job.state === 'done' ? 1 : Math.max(0, Math.min(1, job.progress || 0));
     this.cancel.disabled = terminal(job.state) || job.cancel_requested === true;
-    this.label.textContent = job.stage ? `stage: ${job.stage}` : '';
+    // the stage is what a running job is doing: a finished one has none left
+    this.label.textContent = job.stage && !terminal(job.state) ? `stage: ${job.stage}` : '';
     this.state.className = 'plan-job-state';
     this.state.dataset.state = job.state;
     switch (job.state) {

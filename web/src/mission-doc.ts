@@ -225,3 +225,84 @@ export function nextUavId(ids: string[], prefix = 'uav'): string {
   const used = new Set(ids.map((s) => s.toLowerCase()));
   for (let i = 1; ; i++) if (!used.has(`${prefix}${i}`.toLowerCase())) return `${prefix}${i}`;
 }
+
+/**
+ * The document the Define tab edits for a stored mission: the source as submitted when it is a uavcover
+ * v1 document (it keeps catalog references, `catalog_id` of UAVs and camera, which the normalised
+ * mission has resolved into numbers: issue 29, defect 4), else the normalised mission (an mCPP input).
+ */
+export function editableDoc(m: { mission: MissionDoc; source?: unknown }): MissionDoc {
+  const s = m.source;
+  if (s && typeof s === 'object' && !Array.isArray(s) && 'area' in s && !('droneNo' in s)) return s as MissionDoc;
+  return m.mission;
+}
+
+const FIELD_NAMES: Record<string, string> = {
+  name: 'Name',
+  area: 'Area',
+  no_fly_zones: 'No-fly zones',
+  uavs: 'UAVs',
+  spacing_m: 'Spacing',
+  altitude_m: 'Altitude',
+  camera: 'Camera',
+  'camera.altitude_m': 'Altitude',
+  'camera.overlap': 'Side overlap',
+  'camera.side_overlap': 'Side overlap',
+  'camera.front_overlap': 'Front overlap',
+  'camera.hfov_deg': 'HFOV',
+  'camera.catalog_id': 'Camera',
+  'camera.gimbal_pitch_deg': 'Gimbal pitch',
+  mode: 'Mode',
+  planner: 'Planner',
+  planner_params: 'Planner parameters',
+  seed: 'Seed',
+  battery_reserve: 'Battery reserve',
+};
+const UAV_FIELDS: Record<string, string> = {
+  id: 'id',
+  share: 'share',
+  speed_mps: 'speed',
+  start: 'start',
+  catalog_id: 'catalog UAV',
+  endurance_min: 'endurance',
+  max_accel_mps2: 'acceleration',
+  camera: 'camera',
+};
+
+/**
+ * A server field path as the form names it (issue 29, defects 7 and 9): `uavs[1].share` → "uav2 share"
+ * (the row's label, not a 0-based index), `camera.altitude_m` → "Altitude", `area.coordinates[0]` →
+ * "Area, polygon 1", `no_fly_zones[2]` → "No-fly zone 3", `planner_params.max_iterations` → "Planner
+ * parameter max_iterations". The path itself stays for tooltips.
+ */
+export function fieldLabel(path: string, doc: MissionDoc | null = null): string {
+  if (!path) return '';
+  if (FIELD_NAMES[path]) return FIELD_NAMES[path];
+  let m = /^uavs\[(\d+)\](?:\.([A-Za-z_]+)(.*))?$/.exec(path);
+  if (m) {
+    const i = Number(m[1]);
+    const list = doc && Array.isArray(doc.uavs) ? (doc.uavs as Record<string, unknown>[]) : [];
+    const id = typeof list[i]?.id === 'string' && list[i].id ? String(list[i].id) : `uav${i + 1}`;
+    if (!m[2]) return id;
+    const sub = m[2] === 'camera' && m[3] ? (FIELD_NAMES[`camera${m[3]}`] ?? 'camera').toLowerCase() : (UAV_FIELDS[m[2]] ?? m[2].replace(/_/g, ' '));
+    return `${id} ${m[2] === 'camera' && m[3] ? `camera ${sub}` : sub}`;
+  }
+  m = /^(area|no_fly_zones)(?:\.coordinates)?(?:\[(\d+)\])?/.exec(path);
+  if (m) {
+    const n = m[2] === undefined ? null : Number(m[2]) + 1;
+    if (m[1] === 'area') return n === null ? 'Area' : `Area, polygon ${n}`;
+    return n === null ? 'No-fly zones' : `No-fly zone ${n}`;
+  }
+  m = /^planner_params\.(.+)$/.exec(path);
+  if (m) return `Planner parameter ${m[1]}`;
+  m = /^camera\.(.+)$/.exec(path);
+  if (m) return `Camera ${m[1].replace(/_/g, ' ')}`;
+  return path;
+}
+
+/** A server message for people: a leading "path: " dropped, paths inside it named as the form names them. */
+export function humanMessage(path: string, message: string, doc: MissionDoc | null = null): string {
+  let text = message;
+  if (path && text.startsWith(`${path}: `)) text = text.slice(path.length + 2);
+  return text.replace(/\b(?:uavs\[\d+\](?:\.[A-Za-z_]+)*|camera\.[A-Za-z_]+|area(?:\.coordinates)?(?:\[\d+\])+|no_fly_zones(?:\[\d+\])+|planner_params\.[A-Za-z_]+)/g, (p) => fieldLabel(p, doc));
+}

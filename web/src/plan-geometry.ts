@@ -10,6 +10,7 @@
 //   so that a tile touches only what it shows.
 // No DOM and no Leaflet here: drawTile() draws into any 2D context (an OffscreenCanvas in the worker,
 // a tile canvas in the page, a recording fake in the unit tests).
+import { AREA_STROKE, NFZ_FILL, NFZ_FILL_OPACITY, NFZ_STROKE } from './zones.ts';
 import { uavColour } from './palette.ts';
 
 type Position = number[]; // [lon, lat]
@@ -299,9 +300,10 @@ export function buildPlanGeometry(plan: PlanJson, paths: PathsGeoJson): { geomet
   const ll = (p: Position): [number, number] => [p[1], p[0]];
 
   // the area (outlined) and its no-fly zones (shaded, dashed outline)
-  const area = b.layer({ color: '#555', weight: 1.5, opacity: 1 }, true);
-  // dash patterns with butt caps: Leaflet's round-capped [4, 3] and [6, 5] (drawTile)
-  const nfz = b.layer({ color: '#222', weight: 1.5, opacity: 1, dash: [5.5, 1.5], fillColor: '#222', fillOpacity: 0.3 }, true);
+  const area = b.layer({ color: AREA_STROKE, weight: 1.5, opacity: 1 }, true);
+  // dash patterns with butt caps: Leaflet's round-capped [4, 3] and [6, 5] (drawTile); no-fly zones
+  // red as in the Define and Fly tabs (zones.ts)
+  const nfz = b.layer({ color: NFZ_STROKE, weight: 1.5, opacity: 1, dash: [5.5, 1.5], fillColor: NFZ_FILL, fillOpacity: NFZ_FILL_OPACITY }, true);
   for (const f of paths.features) {
     if (!f.properties.role || f.geometry.type !== 'Polygon') continue;
     const l = f.properties.role === 'no_fly_zone' ? nfz : area;

@@ -50,7 +50,9 @@ export function setShare(shares: number[], index: number, value: number, locked:
   if (n === 0) return [];
   if (n === 1) return [100];
   if (index < 0 || index >= n || !Number.isFinite(value)) return roundTo100(shares);
-  const v = Math.min(100, Math.max(0, Math.round(value)));
+  // every UAV keeps at least 1 %: the server refuses a share of 0 ("leave the UAV out instead"), so
+  // 0 is not a value the operator can set here (issue 29, defect 7); remove the UAV instead
+  const v = Math.min(100 - (n - 1), Math.max(MIN_SHARE, Math.round(value)));
   const cur = roundTo100(shares);
   const keep = new Set(locked.filter((i) => i !== index && i >= 0 && i < n));
   const free = cur.map((_, i) => i).filter((i) => i !== index && !keep.has(i));
@@ -63,7 +65,7 @@ export function setShare(shares: number[], index: number, value: number, locked:
       100 - v - keptSum,
     );
     free.forEach((i, k) => (out[i] = rest[k]));
-    return out;
+    return atLeastOne(out, index);
   }
   const others = cur.map((_, i) => i).filter((i) => i !== index);
   const rest = apportion(
@@ -71,6 +73,24 @@ export function setShare(shares: number[], index: number, value: number, locked:
     100 - v,
   );
   others.forEach((i, k) => (out[i] = rest[k]));
+  return atLeastOne(out, index);
+}
+
+/** The smallest share a UAV can have, in %. */
+export const MIN_SHARE = 1;
+
+/** Raises every share but `index` to MIN_SHARE, taking from the largest of the others (sum kept). */
+function atLeastOne(out: number[], index: number): number[] {
+  for (let i = 0; i < out.length; i++) {
+    if (i === index) continue;
+    while (out[i] < MIN_SHARE) {
+      let j = -1;
+      for (let k = 0; k < out.length; k++) if (k !== index && k !== i && out[k] > MIN_SHARE && (j < 0 || out[k] > out[j])) j = k;
+      if (j < 0) break;
+      out[j]--;
+      out[i]++;
+    }
+  }
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace uavcover::planners::boustro {
 
@@ -79,8 +80,18 @@ double area(const Monotone& m) {
 Monotone clip(const Monotone& m, double x0, double x1) {
   x0 = std::max(x0, m.xmin());
   x1 = std::min(x1, m.xmax());
+  // A chain may step along X = x (a boundary edge parallel to the legs, e.g. at a reflex vertex, where
+  // the cuts are): the piece right of x starts at the step's last point, the piece left of it ends at
+  // its first (chain_at's). Starting both at the first point dropped the area between the step's ends
+  // (a star's point, issue 26).
+  auto right_of = [](const std::vector<Point>& c, double x) {
+    const auto it =
+        std::upper_bound(c.begin(), c.end(), x + 1e-9, [](double v, const Point& p) { return v < p.x(); });
+    if (it != c.begin() && std::prev(it)->x() >= x - 1e-9) return std::prev(it)->y();
+    return chain_at(c, x);
+  };
   auto cut = [&](const std::vector<Point>& c) {
-    std::vector<Point> out{Point{x0, chain_at(c, x0)}};
+    std::vector<Point> out{Point{x0, right_of(c, x0)}};
     for (const auto& p : c)
       if (p.x() > x0 && p.x() < x1) out.push_back(p);
     out.emplace_back(x1, chain_at(c, x1));

@@ -32,6 +32,7 @@ class DarpPlanner final : public Planner {
     for (const auto& u : problem.uavs) in.ids.push_back(u.id);
     in.ds = problem.spacing_m;
     in.mode = problem.mode;
+    for (const auto& f : problem.uav_footprints) in.own_footprint_m.push_back(f.own_camera ? f.width_m : 0.0);
     in.seed = problem.seed;
     darp::Options opt;
     opt.max_iterations = params.at("max_iterations").get<int>();

@@ -61,6 +61,41 @@ int nearest_untaken(const grid::Grid& g, int from, const std::vector<char>& take
 
 }  // namespace
 
+std::optional<std::string> coarse_grid_warning(const std::vector<double>& target, double ds,
+                                               double free_area_m2) {
+  const int U = static_cast<int>(target.size());
+  const double L = std::accumulate(target.begin(), target.end(), 0.0);
+  if (U < 2 || !(L > 0)) return std::nullopt;
+  // the best division at this grid: whole cells by largest remainder (it minimises the largest deviation)
+  std::vector<double> cells(target.size());
+  std::vector<int> order(target.size());
+  double given = 0;
+  for (int i = 0; i < U; ++i) given += cells[i] = std::floor(target[i] + 1e-9), order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return target[a] - cells[a] > target[b] - cells[b]; });
+  for (int k = 0; k < U && given + 0.5 < std::round(L); ++k) cells[order[k]] += 1, given += 1;
+  double dev = 0, rel = 0, smallest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < U; ++i) {
+    if (target[i] <= 0) continue;
+    smallest = std::min(smallest, target[i]);
+    const double d = std::fabs(cells[i] - target[i]);
+    dev = std::max(dev, d);
+    rel = std::max(rel, d / target[i]);
+  }
+  if (!(rel > 0.02 + 1e-9)) return std::nullopt;  // DARP's own tolerance: 2 % of a UAV's share
+  // 25 cells for the smallest share keep whole cells within 2 % of it; cells are (2 ds)^2
+  constexpr double kCellsPerShare = 25;
+  const double needed = kCellsPerShare * L / smallest;
+  const double finer = std::min(ds * std::sqrt(L / needed), std::sqrt(free_area_m2 / needed) / 2);
+  return fmt::format(
+      "DARP's grid is too coarse for the shares: {:.0f} free cells for {} UAVs ({:.1f} per UAV; the "
+      "smallest share, {:.3f}, is {:.1f} cells), so the best division at this grid is off by up to {:.2f} "
+      "cells ({:.1f} points of the area, {:.0f} % of a share; DARP aims at 2 %). Choose a finer spacing "
+      "(about {:.0f} m or less for {:.0f} cells per UAV of the smallest share) or a planner that divides "
+      "continuously (boustrophedon, spiral)",
+      L, U, L / U, smallest / L, smallest, dev, 100 * dev / L, 100 * rel, std::floor(finer), kCellsPerShare);
+}
+
 Output run(const Input& input, const Options& options, const Context& ctx) {
   Output out;
   const auto stop_early = [&out, &ctx] {
@@ -129,6 +164,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   if (!(ssum > 0)) std::fill(share.begin(), share.end(), 1.0), ssum = U;
   std::vector<double> target(U);
   for (int i = 0; i < U; ++i) target[i] = share[i] / ssum * L;
+  if (auto w = coarse_grid_warning(target, input.ds, bg::area(input.free))) out.warnings.push_back(*w);
 
   std::vector<int> scell(U);
   std::vector<char> taken(N, 0);
@@ -318,9 +354,13 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   }
   if (options.shift_legs) {
     std::vector<std::vector<Point>*> all;
-    for (auto& u : out.uavs)
-      for (auto& loop : u.loops) all.push_back(&loop);
-    extender.shift(all);
+    std::vector<double> swaths;  // per loop: its UAV's own footprint width (0: the mission's)
+    for (std::size_t i = 0; i < out.uavs.size(); ++i)
+      for (auto& loop : out.uavs[i].loops) {
+        all.push_back(&loop);
+        swaths.push_back(i < input.own_footprint_m.size() ? input.own_footprint_m[i] : 0.0);
+      }
+    extender.shift(all, swaths);
   }
   double worst = 0, worst_n = 1.0;  // cells, of the UAV furthest outside its tolerance (0: none)
   for (int i = 0; i < U; ++i) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ struct Input {
   std::vector<double> shares;    ///< one per UAV, sum 1
   std::vector<std::string> ids;  ///< one per UAV, for warnings
   double ds = 0.0;               ///< scanning density; mega-cells are 2*ds
+  /// One per UAV (or empty): the footprint width of a UAV's own camera, 0 for the mission's. The legs
+  /// shifted along the edges keep such a UAV's swath meeting its inner lane's (issue 26).
+  std::vector<double> own_footprint_m;
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
 };
@@ -77,5 +81,13 @@ struct Output {
 /// Progress goes to ctx; a stop request throws Cancelled; when the time is up the placement search
 /// and the division end early with their best result so far (stopped_early).
 Output run(const Input& input, const Options& options, const Context& ctx);
+
+/// The warning for a grid with too few cells for the shares (`target`: each UAV's share in cells): the
+/// best division in whole cells misses a share by more than DARP's 2 % of it. Says by how much, and what
+/// to change: a finer spacing (about the one giving 25 cells to the smallest share; `ds` the spacing,
+/// `free_area_m2` the free area), or a planner that divides continuously. Nothing when the grid is fine
+/// enough or there is one UAV.
+std::optional<std::string> coarse_grid_warning(const std::vector<double>& target, double ds,
+                                               double free_area_m2);
 
 }  // namespace uavcover::darp

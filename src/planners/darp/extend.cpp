@@ -165,11 +165,12 @@ int LegExtender::extend(std::vector<Point>& loop) const {
   return count;
 }
 
-int LegExtender::shift(const std::vector<std::vector<Point>*>& loops) const {
-  const double ds = g_.ds, dn = g_.dn, w2 = 0.75 * ds, eps = 1e-6 * ds;
+int LegExtender::shift(const std::vector<std::vector<Point>*>& loops,
+                       const std::vector<double>& swaths) const {
+  const double ds = g_.ds, dn = g_.dn, eps = 1e-6 * ds;
   // 0.45 ds: the leg stays in its own mega-cell, and its swath (w/2 = 0.75 ds) still meets the inner
   // lane's, ds away (up to 0.5 ds). 0.49 ds gave the same means (bench/results/darp-quality.md)
-  const double cap = 0.45 * ds, gap = 0.05 * ds;
+  const double gap = 0.05 * ds;
   // every segment of every loop: (loop, k) is loop[k] -> loop[k + 1]
   using Entry = std::pair<Box, std::pair<int, int>>;
   const auto entry = [&](int l, int k) {
@@ -188,6 +189,12 @@ int LegExtender::shift(const std::vector<std::vector<Point>*>& loops) const {
     auto& lp = *loops[l];
     const std::size_t m = lp.size() >= 2 ? lp.size() - 1 : 0;
     if (m < 4) continue;
+    // a UAV's own camera of width w: a leg shifted by more than w - ds leaves a gap beside its inner
+    // lane's (a 46 m camera at ds 44.7 m swept 94.5 % of its region, issue 26)
+    const double own = l < swaths.size() ? swaths[l] : 0.0;
+    const double w2 = own > 0.0 ? 0.5 * own : 0.75 * ds;
+    const double cap = own > 0.0 ? std::clamp(own - ds, 0.0, 0.45 * ds) : 0.45 * ds;
+    if (!(cap > 0.0)) continue;
     // a new segment a-b of loop l, in place of its segments k-1 .. k+1, meets no other segment
     auto meets = [&](Point a, Point b, std::size_t k) {
       Box q;

@@ -38,8 +38,10 @@ class LegExtender {
   /// either side) reaches the boundary beside it. Both of its vertices move, so its neighbours only get
   /// longer or shorter: no vertex is added. The same limits as extend() (no-fly zones, strict mode), and
   /// every moved segment keeps 0.05 ds from every other segment of `loops` (all UAVs' loops, closed,
-  /// local frame). Returns how many legs moved.
-  int shift(const std::vector<std::vector<Point>*>& loops) const;
+  /// local frame). `swaths` (one per loop, or empty): a loop's UAV's own footprint width w, 0 for the
+  /// mission's; such a leg moves by at most w - ds (its swath, w/2 to either side, still meets the inner
+  /// lane's) until w/2 reaches the boundary. Returns how many legs moved.
+  int shift(const std::vector<std::vector<Point>*>& loops, const std::vector<double>& swaths = {}) const;
 
  private:
   struct Index;

@@ -1,5 +1,5 @@
-// The MILP sweep planner (Hong et al. 2021, "Multi-UAV coverage with MILP task assignment"): virtual
-// lines along the longest boundary edge, their segments inside the free area as waypoint pairs, and
+// The MILP sweep planner (Hong et al. 2021, "Autonomous Mission of Multi-UAV for Optimal Area Coverage"):
+// virtual lines along the longest boundary edge, their segments inside the free area as waypoint pairs, and
 // the assignment of the segments to the UAVs (order and direction included) by a mixed-integer linear
 // program solved with COIN-OR CBC. Large instances are clustered by share and contracted into blocks
 // of neighbouring lines; see docs/planners/milp.md.

@@ -11,6 +11,7 @@
 
 #include "engine/local_mission.hpp"
 #include "geometry/geometry.hpp"
+#include "planners/boustrophedon/decomposition.hpp"
 #include "planners/planner.hpp"
 #include "support/files.hpp"
 #include "support/shapes.hpp"
@@ -174,6 +175,43 @@ TEST(Boustrophedon, LShapeGivesTwoCells) {
   const auto a = run(p);
   ASSERT_EQ(a.uavs[0].coverage.size(), 2u);
   EXPECT_EQ(a.uavs[0].diagnostics["legs"], 10);  // 5 legs along each arm
+  expect_strict_inside(p, a);
+}
+
+TEST(Boustrophedon, ClipAtAStepAlongTheLegsKeepsBothSides) {
+  // an L lying on its side in the frame: the lower chain steps down along X = 100 (an edge parallel to
+  // the legs, at the reflex vertex where the cell may be cut); the two sides of that cut are the whole
+  boustro::Monotone cell;
+  cell.lower = {Point{0, 0}, Point{100, 0}, Point{100, -200}, Point{300, -200}};
+  cell.upper = {Point{0, 100}, Point{300, 100}};
+  const double whole = boustro::area(cell);
+  ASSERT_NEAR(whole, 100.0 * 100.0 + 200.0 * 300.0, 1e-6);
+  const double left = boustro::area(boustro::clip(cell, 0, 100));
+  const double right = boustro::area(boustro::clip(cell, 100, 300));
+  EXPECT_NEAR(left, 100.0 * 100.0, 1e-6);
+  EXPECT_NEAR(right, 300.0 * 200.0, 1e-6) << "the right side starts at the step's low end";
+  EXPECT_NEAR(left + right, whole, 1e-6);
+}
+
+TEST(Boustrophedon, EveryPointOfAStarIsSwept) {
+  // a five-pointed star (radii 300 / 120 m), 3 UAVs, 35 m: the cells of each UAV's sweeps are its
+  // whole region (two points were left out when a cut fell on an edge parallel to the legs)
+  Polygon star;
+  for (int k = 0; k < 10; ++k) {
+    const double r = k % 2 == 0 ? 300.0 : 120.0, t = kPi / 2 + k * kPi / 5;
+    bg::append(star.outer(), Point{r * std::cos(t), r * std::sin(t)});
+  }
+  bg::append(star.outer(), star.outer().front());
+  bg::correct(star);
+  auto p = problem(mp({star}), {}, {Point{-320, -260}, Point{0, -320}, Point{320, -260}},
+                   {1.0 / 3, 1.0 / 3, 1.0 / 3}, Mode::Strict, 35.0);
+  const auto a = run(p);
+  for (std::size_t k = 0; k < a.uavs.size(); ++k) {
+    ASSERT_TRUE(a.uavs[k].diagnostics.contains("cells")) << "uav " << k << " has no region";
+    double cells = 0.0;
+    for (const auto& c : a.uavs[k].diagnostics.at("cells")) cells += c["area_m2"].get<double>();
+    EXPECT_NEAR(cells, bg::area(a.uavs[k].region), 0.01 * bg::area(a.uavs[k].region)) << "uav " << k;
+  }
   expect_strict_inside(p, a);
 }
 

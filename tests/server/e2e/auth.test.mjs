@@ -86,10 +86,13 @@ describe('token rule', () => {
       ok.close();
     });
 
-    it('sends no CORS headers when none are configured', async () => {
+    it('sends no CORS headers when none are configured, and refuses a foreign origin (403)', async () => {
       const r = await api(server, 'GET', '/api/v1/missions', { token, headers: { origin: 'http://evil.example' } });
-      assert.equal(r.status, 200);
+      assertError(r, 403, 'origin');
       assert.equal(r.headers.get('access-control-allow-origin'), null);
+      const plain = await api(server, 'GET', '/api/v1/missions', { token });
+      assert.equal(plain.status, 200, plain.text);
+      assert.equal(plain.headers.get('access-control-allow-origin'), null);
     });
   });
 

@@ -11,6 +11,8 @@ import { panelTab, type App, type Tab } from '../state.ts';
 import {
   areaPolygons,
   geojsonPolygons,
+  fieldLabel,
+  humanMessage,
   matchField,
   newDraft,
   nextUavId,
@@ -24,6 +26,7 @@ import {
 import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
 import { uavColour } from '../palette.ts';
+import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '../zones.ts';
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
@@ -83,10 +86,6 @@ function round(x: number, digits: number): number {
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
 // the area and no-fly zones as the CLI's pictures draw them (src/render/render.cpp draw_plan)
-const AREA_FILL = '#f2f2ed';
-const AREA_STROKE = '#404040';
-const NFZ_FILL = '#d93333';
-const NFZ_STROKE = '#b31a1a';
 const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 
@@ -96,10 +95,12 @@ function isEditable(t: EventTarget | null): boolean {
 }
 
 class DefinePanel {
-  private doc: MissionDoc = newDraft('New mission', 0);
+  private doc: MissionDoc = newDraft('New mission', 1);
   /** the document last given to app.update by this tab (to tell our own updates from others) */
   private pushed: MissionDoc | null = null;
   private savedJson: string | null = null;
+  /** the document as it was loaded (opened, new or imported): what "unsaved changes" compares with */
+  private baseJson = '';
   private undoStack: MissionDoc[] = [];
   private shareHistory: number[] = [];
   private visible = false;
@@ -136,6 +137,7 @@ class DefinePanel {
   private overlapInput!: HTMLInputElement;
   private hfovInput!: HTMLInputElement;
   private spacingInput!: HTMLInputElement;
+  private gimbalInput!: HTMLInputElement;
   private spacingValue!: HTMLElement;
   private gsdValue!: HTMLElement;
   private footprintValue!: HTMLElement;
@@ -149,6 +151,7 @@ class DefinePanel {
     private panel: HTMLElement,
     private app: App,
   ) {
+    this.baseJson = JSON.stringify(this.doc);
     this.build();
     this.installMap();
     document.addEventListener('keydown', (e) => this.onKey(e));
@@ -157,6 +160,7 @@ class DefinePanel {
       else this.showStatus();
     });
     void this.loadCatalogs();
+    window.addEventListener('uavcover:catalog-changed', () => void this.loadCatalogs());
   }
 
   // ---------------------------------------------------------------- layout
@@ -197,7 +201,7 @@ class DefinePanel {
     const area = this.section('Area and no-fly zones');
     area.dataset.anchor = 'area no_fly_zones';
     const tools = el('div', { class: 'define-tools' });
-    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one (or Finish) to close' }, 'Draw area');
+    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw area');
     this.drawNfzBtn = el('button', { type: 'button', 'data-testid': 'draw-nfz', class: 'define-nfz-btn', title: 'A zone the UAVs must not enter' }, 'Draw no-fly zone');
     this.cutBtn = el('button', { type: 'button', 'data-testid': 'draw-hole', title: 'Cut a hole out of the area' }, 'Cut hole');
     const undoBtn = el('button', { type: 'button', 'data-testid': 'define-undo', title: 'Undo (Ctrl-Z)' }, 'Undo');
@@ -209,9 +213,12 @@ class DefinePanel {
     delBtn.addEventListener('click', () => this.deleteSelection());
     tools.append(this.drawAreaBtn, this.drawNfzBtn, this.cutBtn, undoBtn, delBtn);
     this.areaInfo = el('p', { class: 'define-small muted' });
+    const zoneKey = el('div', { class: 'zone-legend', 'data-testid': 'define-zone-legend' });
+    zoneKey.innerHTML = zoneLegendHtml();
     area.append(
       tools,
       this.areaInfo,
+      zoneKey,
       el('p', { class: 'define-small muted' }, 'Drag a vertex to move it, the middle of an edge to add one; click a vertex or shape then Delete to remove it. Esc cancels drawing, Ctrl-Z undoes.'),
     );
 
@@ -244,7 +251,9 @@ class DefinePanel {
     this.field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
     this.spacingInput = el('input', { type: 'number', min: '0.1', step: 'any', 'data-testid': 'spacing-input' });
     this.field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
-    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput]) i.addEventListener('change', () => this.cameraChanged(false));
+    this.gimbalInput = el('input', { type: 'number', min: '-90', max: '0', step: '1', placeholder: '-90', 'data-testid': 'gimbal-input', title: 'camera pitch: -90° looks straight down (the default), 0° at the horizon' });
+    this.field(cam, 'Gimbal pitch', 'camera.gimbal_pitch_deg', this.gimbalInput, '°');
+    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput, this.gimbalInput]) i.addEventListener('change', () => this.cameraChanged(false));
     const out = el('dl', { class: 'define-values' });
     const value = (label: string, testid: string, title: string) => {
       out.append(el('dt', { title }, label));
@@ -326,17 +335,19 @@ class DefinePanel {
 
   /** a mission document arrives from elsewhere (opened, imported, new) */
   private load(doc: MissionDoc | null): void {
-    let d = doc ?? newDraft('New mission', 0);
+    let d = doc ?? newDraft('New mission', 1);
     if (typeof d.uavs === 'number' && Number.isInteger(d.uavs) && d.uavs > 0 && d.uavs <= 200)
       d = { ...d, uavs: Array.from({ length: d.uavs as number }, (_, i) => ({ id: `uav${i + 1}` })) };
+    this.pushed = doc; // the document as received: later updates of other fields do not load it again
     this.doc = d;
     this.undoStack = [];
     this.shareHistory = [];
     this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
+    this.baseJson = JSON.stringify(d);
     this.cancelModes();
     this.clearErrors();
     this.clearGeneral();
-    if (d !== doc) this.push(d);
+    if (d !== doc || this.app.state.dirty !== false) this.push(d);
     this.refreshForm();
     this.renderMap();
     this.scheduleValidate(0);
@@ -344,7 +355,9 @@ class DefinePanel {
 
   private push(d: MissionDoc): void {
     this.pushed = d;
-    this.app.update({ mission: d, dirty: this.savedJson === null || JSON.stringify(d) !== this.savedJson });
+    // unsaved edits: the document differs from the saved revision, or from the draft as it arrived
+    // (a new mission or an imported file that nobody has touched yet holds no work to lose)
+    this.app.update({ mission: d, dirty: JSON.stringify(d) !== (this.savedJson ?? this.baseJson) });
   }
 
   /** the operator changed the document */
@@ -429,7 +442,7 @@ class DefinePanel {
       const d: MissionDoc = { ...this.doc, planner_params: params };
       if (Object.keys(params).length === 0) delete d.planner_params;
       this.commit(d);
-      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, `planner_params.${name}: ${error}`), 0);
+      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, error), 0);
     });
   }
 
@@ -456,6 +469,23 @@ class DefinePanel {
     const cat = typeof u.catalog_id === 'number' ? this.uavCatalog.find((c) => c.id === u.catalog_id) : undefined;
     if (typeof u.catalog_id === 'number') {
       top.appendChild(el('span', { class: 'define-uav-cat', 'data-anchor': `uavs[${i}].catalog_id`, title: 'from the UAV catalog' }, cat ? cat.name : `catalog UAV #${u.catalog_id}`));
+      // the mission's speed wins over the catalog's: empty = the catalog's
+      const speed = el('input', {
+        type: 'number',
+        min: '0.1',
+        max: '50',
+        step: 'any',
+        value: typeof u.speed_mps === 'number' ? String(u.speed_mps) : '',
+        placeholder: cat ? String(cat.speed_mps) : '',
+        'aria-label': 'Speed (empty: the catalog’s)',
+        title: 'empty: the catalog’s speed',
+        'data-testid': 'uav-speed-override',
+        class: 'define-uav-speed',
+      });
+      speed.addEventListener('change', () => this.setUav(i, { speed_mps: num(speed.value) }));
+      const sp = el('span', { class: 'define-inline', 'data-anchor': `uavs[${i}].speed_mps` });
+      sp.append(speed, el('span', { class: 'define-unit' }, 'm/s'));
+      top.appendChild(sp);
     } else {
       const speed = el('input', {
         type: 'number',
@@ -478,8 +508,8 @@ class DefinePanel {
     top.appendChild(rm);
 
     const bottom = el('div', { class: 'define-uav-bottom' });
-    const slider = el('input', { type: 'range', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
-    const number = el('input', { type: 'number', min: '0', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
+    const slider = el('input', { type: 'range', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
+    const number = el('input', { type: 'number', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
     const shareWrap = el('span', { class: 'define-share', 'data-anchor': `uavs[${i}].share` });
     shareWrap.append(slider, number, el('span', { class: 'define-unit' }, '%'));
     if (this.uavs().length < 2) {
@@ -508,6 +538,26 @@ class DefinePanel {
     startWrap.appendChild(place);
     bottom.append(shareWrap, startWrap);
     row.append(top, bottom);
+    // its own camera (heterogeneous cameras): only beside a mission camera, at its altitude and overlaps
+    if (this.doc.camera && typeof this.doc.camera === 'object' && this.cameras.length) {
+      const camRow = el('span', { class: 'define-inline define-uav-camera', 'data-anchor': `uavs[${i}].camera` });
+      const sel = el('select', { 'data-testid': 'uav-camera', 'aria-label': `Camera of ${id}` });
+      sel.append(el('option', { value: '' }, 'the mission’s camera'));
+      for (const c of this.cameras) sel.append(el('option', { value: String(c.id) }, c.name));
+      const mine = this.uavCameraId(u);
+      sel.value = mine === null ? '' : String(mine);
+      if (u.camera && mine === null) {
+        sel.append(el('option', { value: 'file' }, 'its own (from the file)'));
+        sel.value = 'file';
+      }
+      sel.addEventListener('change', () => {
+        if (sel.value === 'file') return;
+        const own = sel.value ? this.ownCamera(this.doc, Number(sel.value)) : null;
+        this.setUav(i, { camera: own ?? undefined });
+      });
+      camRow.append(el('span', { class: 'define-unit' }, 'camera'), sel);
+      row.append(camRow);
+    }
     return row;
   }
 
@@ -565,6 +615,14 @@ class DefinePanel {
     this.shareHistory = [i, ...this.shareHistory.filter((k) => k !== i)];
     this.commit({ ...this.doc, uavs: this.withShares(this.uavs(), next) });
     this.refreshShares(next);
+    // a share the operator asked for but cannot have (0 %, or all of it): say why, on that row
+    this.uavRows.querySelectorAll('[data-testid="share-note"]').forEach((x) => x.remove());
+    if (Math.round(v) !== next[i]) {
+      const row = this.uavRows.querySelectorAll<HTMLElement>('[data-testid="uav-row"]')[i];
+      const id = String(this.uavs()[i]?.id ?? `uav${i + 1}`);
+      const why = Math.round(v) < next[i] ? `a share is at least 1 % — remove ${id} (×) to leave it out` : `each other UAV keeps at least 1 %`;
+      row?.append(el('div', { class: 'define-share-note', 'data-testid': 'share-note', role: 'status' }, `${id}: ${next[i]} %, ${why}.`));
+    }
   }
 
   /** show shares in the rows without rebuilding them (keeps the focus) */
@@ -619,6 +677,8 @@ class DefinePanel {
     show(this.overlapInput, mode !== 'none');
     show(this.hfovInput, mode === 'paper');
     show(this.spacingInput, mode === 'none');
+    this.gimbalInput.value = typeof c.gimbal_pitch_deg === 'number' ? String(c.gimbal_pitch_deg) : '';
+    show(this.gimbalInput, mode !== 'none');
   }
 
   private cameraChanged(modeChanged: boolean): void {
@@ -656,8 +716,54 @@ class DefinePanel {
         d.camera = put({ catalog_id: Number(mode.slice(4)), altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) });
       }
     }
+    if (d.camera && typeof d.camera === 'object') {
+      const cam = d.camera as Record<string, unknown>;
+      const g = num(this.gimbalInput.value);
+      if (g === undefined) delete cam.gimbal_pitch_deg;
+      else cam.gimbal_pitch_deg = g;
+    }
+    d.uavs = this.uavCameras(d, this.uavs());
     this.commit(d);
     if (modeChanged) this.refreshCamera();
+    if (modeChanged) this.renderUavs();
+  }
+
+  /** A UAV's own camera (a catalog camera other than the mission's) as the library wants it: the
+   * mission camera's altitude and overlaps with that camera's sensor (or HFOV in the paper's convention). */
+  private ownCamera(d: MissionDoc, camId: number): Record<string, unknown> | null {
+    const mc = d.camera as Record<string, unknown> | undefined;
+    const k = this.cameras.find((c) => c.id === camId);
+    if (!mc || typeof mc !== 'object' || !k) return null;
+    const out: Record<string, unknown> = { altitude_m: mc.altitude_m };
+    const paper = typeof mc.overlap === 'number' || (typeof mc.hfov_deg === 'number' && mc.sensor_width_mm === undefined && mc.catalog_id === undefined);
+    if (paper) Object.assign(out, { overlap: mc.overlap, hfov_deg: k.hfov_deg });
+    else Object.assign(out, { side_overlap: mc.side_overlap, sensor_width_mm: k.sensor_width_mm, focal_length_mm: k.focal_length_mm, image_width_px: k.image_width_px });
+    for (const key of ['front_overlap', 'gimbal_pitch_deg']) if (mc[key] !== undefined) out[key] = mc[key];
+    for (const key of Object.keys(out)) if (out[key] === undefined) delete out[key];
+    return out;
+  }
+
+  /** The catalog camera a UAV's own camera block is, if any. */
+  private uavCameraId(u: Uav): number | null {
+    const c = u.camera as Record<string, unknown> | undefined;
+    if (!c || typeof c !== 'object') return null;
+    const k = this.cameras.find((x) =>
+      typeof c.sensor_width_mm === 'number' ? x.sensor_width_mm === c.sensor_width_mm && x.focal_length_mm === c.focal_length_mm && x.image_width_px === c.image_width_px : x.hfov_deg === c.hfov_deg,
+    );
+    return k ? k.id : null;
+  }
+
+  /** UAVs whose own camera follows the mission's camera (altitude, overlaps); none without one. */
+  private uavCameras(d: MissionDoc, list: Uav[]): Uav[] {
+    return list.map((u) => {
+      if (!u.camera) return u;
+      const id = this.uavCameraId(u);
+      const n = { ...u };
+      const own = id === null ? null : this.ownCamera(d, id);
+      if (own) n.camera = own;
+      else if (!d.camera) delete n.camera;
+      return n;
+    });
   }
 
   // ---------------------------------------------------------------- validation and errors
@@ -707,15 +813,21 @@ class DefinePanel {
   showError(field: string, message: string): void {
     const anchors = this.anchors();
     const match = matchField(field, anchors.keys());
+    // in words: the field as the form names it ("uav2 share", "Altitude"), its path in the tooltip
+    const label = fieldLabel(field, this.doc);
+    const text = `${label ? `${label}: ` : ''}${humanMessage(field, message, this.doc)}`;
     if (!match) {
-      this.showGeneral(message, field);
+      this.showGeneral(text, field);
       return;
     }
     const target = anchors.get(match)!;
     target.classList.add('define-invalid');
+    // a problem of the shares as a whole marks every share
+    if (field === 'uavs' && /share/i.test(message))
+      this.uavRows.querySelectorAll('.define-share').forEach((x) => x.classList.add('define-invalid'));
     // overlaps are fractions in the file, percentages here: say so
     const hint = /overlap$/.test(field) ? ` (entered here in %: ${this.overlapInput.value} %)` : '';
-    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert' }, message + hint);
+    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert', title: field }, text + hint);
     if (target.tagName === 'SECTION') target.querySelector('h3')!.after(box);
     else if (target.classList.contains('define-inline') || target.classList.contains('define-share')) target.closest('.define-uav')!.appendChild(box);
     else target.after(box);
@@ -731,6 +843,7 @@ class DefinePanel {
     this.general.hidden = false;
     this.general.dataset.field = field;
     this.general.textContent = message;
+    this.general.title = field;
   }
 
   private clearGeneral(): void {

@@ -7,13 +7,14 @@
 import { api, API, ApiError } from '../api.ts';
 import { events, type Job } from '../events.ts';
 import { FlyLayers, type UavFrame } from '../fly-layers.ts';
-import { failSpec, flightEnded, planWaypoints, type Flight, type FlightCoverage, type FlightUav, type UavLines } from '../fly-model.ts';
+import { failSpec, flightEnded, flightOutcome, planWaypoints, type Flight, type FlightCoverage, type FlightUav, type UavLines } from '../fly-model.ts';
 import { FlyPanel } from '../fly-panel.ts';
 import { FlyReplay } from '../fly-replay.ts';
 import { el, errorText } from '../job-ui.ts';
 import { uavColour } from '../palette.ts';
 import type { PathsGeoJson } from '../plan-geometry.ts';
 import type { App, Tab } from '../state.ts';
+import { zoneLegendHtml, zoneRings } from '../zones.ts';
 import '../fly.css';
 
 /** Fleet-wide commands, in the order an operator needs them. */
@@ -77,6 +78,8 @@ export const flyTab: Tab = {
     let coverageTimer: number | null = null;
     let autoStart: number | null = null; // a simulated flight to start once its missions are uploaded
     let planSeq = 0;
+    /** the operator's last command, until the flight shows what became of it */
+    let lastCommand: { command: string; reassignment?: number } | null = null;
 
     // --- the plan and its flights
     const none = el('p', { class: 'muted', 'data-testid': 'fly-no-plan' }, 'No plan yet: plan the mission in the Plan tab.');
@@ -85,7 +88,11 @@ export const flyTab: Tab = {
     const listRow = el('label', { class: 'plan-row' });
     const flightSel = el('select', { 'data-testid': 'fly-flights', 'aria-label': 'Flights of this plan', class: 'fly-flights' });
     listRow.append(el('span', { class: 'muted' }, 'Flights:'), flightSel);
-    panel.append(none, body);
+    // the mission's flights that have not ended, of any plan (GET /missions/{id}/flights): aircraft in
+    // the air stay one click away whatever plan is open (issue 29, defect 1)
+    const activeBox = el('div', { class: 'fly-active', 'data-testid': 'fly-active', hidden: '', role: 'region', 'aria-label': 'Flights not ended' });
+    const otherPlan = el('div', { class: 'plan-note fly-other-plan', 'data-testid': 'fly-other-plan', hidden: '' });
+    panel.append(activeBox, none, body);
 
     // --- a new flight: simulated, or real vehicles
     const create = section('New flight', true, 'fly-new');
@@ -176,7 +183,79 @@ export const flyTab: Tab = {
     const head = el('div', { class: 'plan-row' });
     head.append(stateLine, stop);
     flightBox.append(head, cmdRow, cmdMsg, legend, live.el, afterBox.box);
-    body.append(title, listRow, create.box, flightBox);
+    const zoneKey = el('div', { class: 'zone-legend fly-zone-legend', 'data-testid': 'fly-zone-legend' });
+    zoneKey.innerHTML = zoneLegendHtml();
+    body.append(title, zoneKey, otherPlan, listRow, create.box, flightBox);
+
+    // --- the mission's flights that have not ended
+    let active: Flight[] = [];
+    let activeMission: number | null = null;
+    let activeTimer: number | null = null;
+    let activeSeq = 0;
+    const missionOf = (): number | null => app.state.missionId ?? (plan?.job.mission_id as number | undefined) ?? null;
+    const renderActive = () => {
+      activeBox.replaceChildren();
+      activeBox.hidden = active.length === 0;
+      if (!active.length) return;
+      activeBox.append(el('div', { class: 'fly-active-head' }, `● ${active.length === 1 ? 'A flight has' : `${active.length} flights have`} not ended`));
+      for (const f of active) {
+        const row = el('div', { class: 'fly-active-flight', 'data-testid': 'fly-active-flight', 'data-id': String(f.id), 'data-plan': String(f.plan_id), 'data-state': f.state });
+        const following = flight?.id === f.id;
+        row.classList.toggle('fly-active-following', following);
+        const where = f.plan_id === app.state.planId ? 'the open plan' : `plan #${f.plan_id}${app.state.planId !== null ? ', not the open plan' : ''}`;
+        row.append(el('span', { class: 'fly-live-dot', 'aria-hidden': 'true' }), el('span', { class: 'fly-active-text' }, `Flight #${f.id} — ${f.state}${f.simulated ? ' (simulated)' : ''} · ${where}`));
+        if (following) row.append(el('span', { class: 'fly-active-tag' }, 'shown'));
+        else {
+          const b = el('button', { type: 'button', class: 'plan-small', 'data-testid': 'fly-active-follow' }, 'Follow');
+          b.addEventListener('click', () => void followFlight(f));
+          row.append(b);
+        }
+        activeBox.append(row);
+      }
+    };
+    const refreshActive = async (): Promise<Flight[]> => {
+      const m = missionOf();
+      const seq = ++activeSeq;
+      if (m === null) {
+        active = [];
+        activeMission = null;
+        renderActive();
+        return active;
+      }
+      try {
+        const items = (await api.get<{ items: Flight[] }>(`/missions/${m}/flights`)).items ?? [];
+        if (seq !== activeSeq) return active;
+        active = items.filter((f) => !flightEnded(f.state));
+        activeMission = m;
+      } catch {
+        if (seq !== activeSeq) return active;
+        active = []; // a server without the route: the plan's own list still works
+      }
+      renderActive();
+      scheduleActive();
+      return active;
+    };
+    const scheduleActive = () => {
+      if (activeTimer !== null) clearTimeout(activeTimer);
+      activeTimer = null;
+      if (!visible || activeMission === null) return;
+      activeTimer = window.setTimeout(() => void refreshActive(), active.length ? 3000 : 10000);
+    };
+    /** Shows a flight of any plan of the mission: its plan in this tab, then the flight. */
+    const followFlight = async (f: Flight) => {
+      if (plan?.id === f.plan_id) await listFlights(f.id);
+      else await setPlan(f.plan_id, f.id);
+    };
+    const updateOtherPlan = () => {
+      const open = app.state.planId;
+      otherPlan.replaceChildren();
+      otherPlan.hidden = !plan || open === null || plan.id === open;
+      if (otherPlan.hidden) return;
+      otherPlan.append(document.createTextNode(`This tab shows plan #${plan!.id}${flight ? `, flown by flight #${flight.id}` : ''}; the mission's open plan is #${open}. `));
+      const b = el('button', { type: 'button', class: 'plan-small', 'data-testid': 'fly-open-plan' }, `Show plan #${open}`);
+      b.addEventListener('click', () => void setPlan(open, 'none'));
+      otherPlan.append(b);
+    };
 
     // --- commands
     const send = async (command: string, extra: { uav?: string; reassignment?: number } = {}, quiet = false): Promise<void> => {
@@ -191,7 +270,10 @@ export const flyTab: Tab = {
       }
       try {
         const r = await api.post<Flight>(`/flights/${f.id}/commands`, req);
-        if (!quiet) cmdMsg.textContent = `${command}${extra.uav ? ` ${extra.uav}` : ''}: queued`;
+        if (!quiet) {
+          cmdMsg.textContent = `${command}${extra.uav ? ` ${extra.uav}` : ''}: queued`;
+          lastCommand = { command, reassignment: extra.reassignment };
+        }
         if (r && r.id === flight?.id) applyFlight(r);
       } catch (e) {
         cmdMsg.className = quiet ? 'fly-message muted' : 'fly-message plan-error';
@@ -222,7 +304,22 @@ export const flyTab: Tab = {
       flight = f;
       const ended = flightEnded(f.state);
       stateLine.dataset.state = f.state;
-      stateLine.textContent = `Flight #${f.id} — ${f.state}${f.simulated ? ' (simulated fleet)' : ''}`;
+      const out = flightOutcome(f);
+      stateLine.dataset.outcome = out.outcome;
+      stateLine.classList.toggle('fly-state-lost', out.outcome.endsWith('-lost'));
+      stateLine.textContent = `Flight #${f.id} — ${out.text}${f.simulated ? ' (simulated fleet)' : ''}`;
+      // a command's "queued" gives way to what became of it
+      if (lastCommand?.reassignment !== undefined) {
+        const r = (f.reassignments ?? []).find((x) => x.id === lastCommand!.reassignment);
+        if (r && r.state !== 'offered') {
+          cmdMsg.className = 'fly-message';
+          cmdMsg.textContent = `Reassignment #${r.id}: ${r.state}.`;
+          lastCommand = null;
+        }
+      } else if (lastCommand && ended) {
+        cmdMsg.textContent = '';
+        lastCommand = null;
+      }
       for (const b of cmdButtons.values()) b.disabled = ended;
       stop.disabled = ended;
       live.update(f);
@@ -236,7 +333,10 @@ export const flyTab: Tab = {
           void send('start', {}, true);
         } else if (f.state === 'flying' || ended) autoStart = null;
       }
-      if (ended && !wasEnded) void refreshCoverage(true);
+      if (ended && !wasEnded) {
+        void refreshCoverage(true);
+        void refreshActive();
+      }
     };
 
     // --- the flown coverage: overlay and PoC
@@ -277,6 +377,8 @@ export const flyTab: Tab = {
       replay.setFlight(f?.id ?? null, f ? flightEnded(f.state) : false);
       if (!f) return;
       flightSel.value = String(f.id);
+      renderActive();
+      updateOtherPlan();
       create.box.open = false; // the flight's panel gets the room; "New flight" opens again on a click
       applyFlight(f);
       unwatch = events.watchFlight(
@@ -290,7 +392,7 @@ export const flyTab: Tab = {
       void refreshCoverage();
     };
 
-    const listFlights = async (select: number | 'newest' | 'keep') => {
+    const listFlights = async (select: number | 'newest' | 'keep' | 'auto' | 'none') => {
       if (!plan) return;
       const p = plan;
       let items: Flight[];
@@ -304,7 +406,21 @@ export const flyTab: Tab = {
       flightSel.replaceChildren(el('option', { value: '' }, items.length ? `${items.length} flight${items.length === 1 ? '' : 's'}` : 'no flights yet'));
       for (const f of items) flightSel.append(el('option', { value: String(f.id), 'data-state': f.state }, flightLabel(f)));
       if (items.length === 0) create.box.open = true;
-      const want = select === 'newest' ? items[0]?.id : select === 'keep' ? flight?.id : select;
+      if (select === 'auto') {
+        // a flight of this plan that has not ended first; else one of another plan of the mission (the
+        // aircraft in the air), else this plan's newest
+        const mine = items.find((f) => !flightEnded(f.state));
+        if (!mine) {
+          const elsewhere = (await refreshActive()).find((f) => f.plan_id !== p.id);
+          if (plan !== p) return;
+          if (elsewhere) {
+            void setPlan(elsewhere.plan_id, elsewhere.id);
+            return;
+          }
+        }
+        select = mine ? mine.id : 'newest';
+      }
+      const want = select === 'newest' ? items[0]?.id : select === 'keep' ? flight?.id : select === 'none' ? undefined : select;
       if (want === undefined || want === null) {
         flightSel.value = '';
         return;
@@ -344,6 +460,7 @@ export const flyTab: Tab = {
         createMsg.textContent = `Flight #${f.id} created.`;
         if (startAfter) autoStart = f.id;
         follow(f);
+        void refreshActive();
         void listFlights('keep');
         if (startAfter && (f.state === 'created' || f.state === 'ready')) {
           if (f.state === 'ready') {
@@ -387,15 +504,17 @@ export const flyTab: Tab = {
     });
 
     // --- the plan
-    const setPlan = async (planId: number | null) => {
+    const setPlan = async (planId: number | null, select: number | 'auto' | 'none' = 'auto') => {
       const seq = ++planSeq;
       follow(null);
       plan = null;
       none.hidden = planId !== null;
       body.hidden = planId === null;
       flightSel.replaceChildren();
+      updateOtherPlan();
       if (planId === null) {
         layers.setPlan([], new Map());
+      layers.setZones({ area: [], nfz: [] });
         return;
       }
       title.textContent = `Plan #${planId}…`;
@@ -408,9 +527,12 @@ export const flyTab: Tab = {
         plan = { id: planId, job, uavs, lines };
         title.textContent = `Plan #${planId} (mission #${job.mission_id}, revision ${job.revision}): ${uavs.length} UAV${uavs.length === 1 ? '' : 's'}`;
         layers.setPlan(uavs, lines);
+        layers.setZones(zoneRings(paths));
         buildForms(uavs);
         if (visible) fit();
-        await listFlights('newest');
+        updateOtherPlan();
+        await listFlights(select);
+        renderActive();
       } catch (e) {
         if (seq !== planSeq) return;
         title.textContent = `Plan #${planId} cannot be read: ${errorText(e as ApiError)}`;
@@ -448,10 +570,22 @@ export const flyTab: Tab = {
       fitted = plan.id;
     };
 
+    let seenPlan: number | null = app.state.planId;
+    let seenMission: number | null = app.state.missionId;
     app.subscribe((s) => {
-      if (s.planId !== (plan?.id ?? null) && s.planId !== pendingPlan) {
-        pendingPlan = s.planId;
-        void setPlan(s.planId).finally(() => (pendingPlan = undefined));
+      const missionChanged = s.missionId !== seenMission;
+      seenMission = s.missionId;
+      if (s.planId !== seenPlan || missionChanged) {
+        seenPlan = s.planId;
+        const keep = flight !== null && !flightEnded(flight.state) && !missionChanged && (s.missionId === null || flight.mission_id === undefined || flight.mission_id === s.missionId);
+        if (keep) {
+          // the aircraft in the air stay on screen: the new plan is one click away
+          updateOtherPlan();
+          void refreshActive();
+        } else if (s.planId !== (plan?.id ?? null) && s.planId !== pendingPlan) {
+          pendingPlan = s.planId;
+          void setPlan(s.planId).finally(() => (pendingPlan = undefined));
+        } else if (missionChanged) void refreshActive();
       }
     });
     let pendingPlan: number | null | undefined = undefined;
@@ -463,12 +597,15 @@ export const flyTab: Tab = {
       if (flight && !replay.active) drawFlight(flight);
       if (flight) void refreshCoverage();
       if (plan === null && app.state.planId !== null && pendingPlan === undefined) void setPlan(app.state.planId);
+      void refreshActive();
     };
     this.hide = () => {
       visible = false;
       layers.hide();
       if (coverageTimer !== null) clearTimeout(coverageTimer);
       coverageTimer = null;
+      if (activeTimer !== null) clearTimeout(activeTimer);
+      activeTimer = null;
     };
     void setPlan(app.state.planId);
   },

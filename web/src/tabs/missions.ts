@@ -2,8 +2,10 @@
 // duplicate, rename, delete, export; import a file by drag and drop (or a file picker); new mission.
 import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
+import { confirmDiscard } from '../discard.ts';
+import { catalogEditor } from '../catalog-editor.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
-import { docBbox, fileName, newDraft, type MissionDoc } from '../mission-doc.ts';
+import { docBbox, editableDoc, fieldLabel, fileName, humanMessage, newDraft, type MissionDoc } from '../mission-doc.ts';
 import { readImport } from '../import.ts';
 import '../missions.css';
 
@@ -39,7 +41,10 @@ function el<K extends keyof HTMLElementTagNameMap>(
 export function errorText(e: unknown): string {
   if (e instanceof ApiError) {
     if (e.status === 409) return `Refused: ${e.message}`;
-    return e.field && !e.message.startsWith(e.field) ? `${e.field}: ${e.message}` : e.message;
+    // the field as the form names it ("Area, polygon 1"), not the document's path
+    const label = fieldLabel(e.field);
+    const msg = humanMessage(e.field, e.message);
+    return label ? `${label}: ${msg}` : msg;
   }
   return e instanceof Error ? e.message : String(e);
 }
@@ -103,8 +108,9 @@ class MissionsPanel {
       this.searchTimer = window.setTimeout(() => this.reload(), 250);
     });
     const newBtn = el('button', { type: 'button', class: 'primary', 'data-testid': 'mission-new' }, 'New mission');
-    newBtn.addEventListener('click', () => {
-      this.app.update({ missionId: null, revision: null, mission: newDraft('New mission', 0), planId: null, dirty: true });
+    newBtn.addEventListener('click', async () => {
+      if (!(await confirmDiscard(this.app, 'Start a new mission'))) return;
+      this.app.update({ missionId: null, revision: null, mission: newDraft('New mission', 1), planId: null, dirty: true });
       this.app.showTab('define');
     });
     bar.append(this.search, newBtn);
@@ -129,7 +135,7 @@ class MissionsPanel {
     this.status = el('div', { class: 'missions-status', role: 'status', 'aria-live': 'polite' });
     this.list = el('ul', { class: 'missions-list', 'data-testid': 'mission-list' });
     this.pager = el('div', { class: 'missions-pager' });
-    p.append(bar, drop, this.status, this.list, this.pager);
+    p.append(bar, drop, this.status, this.list, this.pager, catalogEditor());
   }
 
   show(): void {
@@ -286,11 +292,12 @@ class MissionsPanel {
     return api.get<Mission>(`/missions/${id}`);
   }
 
-  async open(id: number): Promise<void> {
+  async open(id: number, confirmed = false): Promise<void> {
+    if (!confirmed && !(await confirmDiscard(this.app, `Open mission #${id}`))) return;
     this.say('Opening…');
     try {
       const m = await this.fetchMission(id);
-      this.app.update({ missionId: m.id, revision: m.revision, mission: m.mission, planId: null, dirty: false });
+      this.app.update({ missionId: m.id, revision: m.revision, mission: editableDoc(m), planId: null, dirty: false });
       const b = bboxBounds(m.bbox) ?? bboxBounds(docBbox(m.mission));
       if (b) this.app.map.fitBounds(b, { padding: [30, 30], maxZoom: 18 });
       this.say('');
@@ -303,7 +310,7 @@ class MissionsPanel {
   private async duplicate(m: MissionSummary): Promise<void> {
     try {
       const full = await this.fetchMission(m.id);
-      const doc = { ...full.mission, name: `${full.name} (copy)` };
+      const doc = { ...editableDoc(full), name: `${full.name} (copy)` };
       const r = await api.post<{ id: number; revision: number }>('/missions', doc);
       this.selected = r.id;
       await this.reload(true);
@@ -344,7 +351,7 @@ class MissionsPanel {
     }
     try {
       const full = await this.fetchMission(m.id);
-      const doc = { ...full.mission, name };
+      const doc = { ...editableDoc(full), name };
       const r = await api.put<{ id: number; revision: number }>(`/missions/${m.id}`, doc);
       if (this.app.state.missionId === m.id) this.app.update({ revision: r.revision, mission: { ...(this.app.state.mission ?? doc), name }, dirty: false });
       await this.reload(true);
@@ -414,6 +421,7 @@ class MissionsPanel {
       this.say(`${f.name}: the file is larger than 10 MB.`, true);
       return;
     }
+    if (!(await confirmDiscard(this.app, `Import ${f.name}`))) return;
     this.say(`Reading ${f.name}…`);
     try {
       const text = await f.text();
@@ -424,7 +432,7 @@ class MissionsPanel {
         this.search.value = '';
         await this.reload();
         this.say(`Imported ${f.name} as mission #${c.id}.`);
-        await this.open(c.id);
+        await this.open(c.id, true);
       } else {
         this.app.update({ missionId: null, revision: null, mission: r.doc, planId: null, dirty: true });
         const b = bboxBounds(docBbox(r.doc));

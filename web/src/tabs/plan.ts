@@ -13,6 +13,9 @@ import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
 import { dropPlan, loadPlan, type PreparedPlan } from '../plan-source.ts';
 import type { App, Tab } from '../state.ts';
 import { studyPanel } from '../study.ts';
+import { groupWarnings } from '../warnings.ts';
+import { zoneLegendHtml } from '../zones.ts';
+import { editableDoc } from '../mission-doc.ts';
 
 interface Planner {
   name: string;
@@ -52,13 +55,19 @@ export const planTab: Tab = {
     const start = el('button', { type: 'button', class: 'plan-primary', 'data-testid': 'plan-start' }, 'Plan');
     controls.append(plannerSel, seed, start);
     const view = new JobView('plan');
+    // the plan's warnings, grouped and rounded, below the results (issue 29, defect 6)
+    const warnBox = el('details', { class: 'plan-section plan-warn-section', 'data-testid': 'plan-warnings-section', hidden: '' });
+    const warnTitle = el('summary', {}, 'Warnings');
     const warnings = el('ul', { class: 'plan-warnings', 'data-testid': 'plan-warnings' });
+    warnBox.append(warnTitle, warnings);
+    // errors reading plans stay at the top, where the operator looks after pressing Plan
+    const planErrors = el('ul', { class: 'plan-warnings', 'data-testid': 'plan-errors' });
     const stale = el('p', { class: 'plan-note', 'data-testid': 'plan-stale', hidden: '' });
     // the mission's earlier plans: the latest done one is shown when the mission is opened
     const historyRow = el('label', { class: 'plan-row plan-history', hidden: '' });
     const historySel = el('select', { 'data-testid': 'plan-history', 'aria-label': 'Plans of this mission' });
     historyRow.append(el('span', { class: 'muted' }, 'Plans:'), historySel);
-    body.append(title, controls, historyRow, view.el, stale, warnings);
+    body.append(title, controls, historyRow, view.el, stale, planErrors);
 
     // --- results
     const legend = el('div', { class: 'plan-legend', 'data-testid': 'plan-legend' });
@@ -74,7 +83,7 @@ export const planTab: Tab = {
     study.body.append(studyPanel(missionId));
     const compare = section('Compare planners', false, 'compare-section');
     compare.body.append(comparePanel(missionId));
-    body.append(results, study.box, compare.box);
+    body.append(results, warnBox, study.box, compare.box);
 
     api.get<{ items: Planner[] }>('/planners').then(
       (r) => {
@@ -96,6 +105,8 @@ export const planTab: Tab = {
       if (lastPlan) dropPlan(lastPlan.prepared);
       lastPlan = null;
       warnings.replaceChildren();
+      planErrors.replaceChildren();
+      warnBox.hidden = true;
     };
 
     const showHeatmap = () => {
@@ -132,10 +143,23 @@ export const planTab: Tab = {
         legend.append(item);
       }
       legend.append(el('div', { class: 'muted plan-legend-key' }, 'solid: coverage · dashed: transit · ● start · ○ return · numbers from zoom 17'));
+      const zoneKey = el('div', { class: 'zone-legend', 'data-testid': 'plan-zone-legend' });
+      zoneKey.innerHTML = zoneLegendHtml();
+      legend.append(zoneKey);
       const hasHeat = Array.isArray(job.result.heatmap_bounds);
       heatToggle.disabled = !hasHeat;
       heatNote.textContent = hasHeat ? '' : '(this plan has no heatmap overlay)';
-      for (const w of job.warnings ?? []) warnings.append(el('li', {}, w));
+      const groups = groupWarnings(job.warnings ?? []);
+      for (const g of groups) {
+        const li = el('li', { 'data-testid': 'plan-warning', 'data-count': String(g.count) }, g.text);
+        if (g.count > 1) li.append(el('span', { class: 'plan-warn-count' }, ` ×${g.count}`));
+        li.title = g.raw.join('\n');
+        warnings.append(li);
+      }
+      const total = (job.warnings ?? []).length;
+      warnTitle.textContent = `Warnings: ${groups.length}${total > groups.length ? ` distinct of ${total}` : ''}`;
+      warnBox.hidden = groups.length === 0;
+      warnBox.open = groups.length <= 3;
       metricsBox.body.replaceChildren(metricsPanel(job, plan));
       exportsBox.body.replaceChildren(exportsPanel(job.id, plan.uavs.map((u) => u.id)));
       results.hidden = false;
@@ -154,7 +178,7 @@ export const planTab: Tab = {
         app.update({ planId: job.id });
       } catch (e) {
         const s = el('li', { class: 'plan-error' }, `The plan's files cannot be read: ${errorText(e as ApiError)}`);
-        warnings.append(s);
+        planErrors.append(s);
       }
     };
 
@@ -176,7 +200,7 @@ export const planTab: Tab = {
         items = (await api.get<{ items: PlanSummary[] }>(`/missions/${id}/plans?limit=20`)).items;
       } catch (e) {
         if (seq !== historySeq) return;
-        warnings.append(el('li', { class: 'plan-error' }, `The mission's plans cannot be listed: ${errorText(e as ApiError)}`));
+        planErrors.append(el('li', { class: 'plan-error' }, `The mission's plans cannot be listed: ${errorText(e as ApiError)}`));
         return;
       }
       if (seq !== historySeq || id !== missionId()) return;
@@ -202,7 +226,7 @@ export const planTab: Tab = {
         if (job.mission_id !== missionId()) return;
         await load(job);
       } catch (e) {
-        warnings.append(el('li', { class: 'plan-error' }, `Plan #${planId} cannot be opened: ${errorText(e as ApiError)}`));
+        planErrors.append(el('li', { class: 'plan-error' }, `Plan #${planId} cannot be opened: ${errorText(e as ApiError)}`));
       }
     };
     historySel.addEventListener('change', () => {
@@ -251,9 +275,9 @@ export const planTab: Tab = {
     // a link to a mission: ?mission=ID opens it here when nothing else is open
     const linked = Number(new URLSearchParams(window.location.search).get('mission'));
     if (Number.isInteger(linked) && linked > 0)
-      api.get<{ id: number; revision: number; mission: Record<string, unknown> }>(`/missions/${linked}`).then(
+      api.get<{ id: number; revision: number; mission: Record<string, unknown>; source?: unknown }>(`/missions/${linked}`).then(
         (m) => {
-          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: m.mission });
+          if (app.state.missionId === null) app.update({ missionId: m.id, revision: m.revision, mission: editableDoc(m), dirty: false });
         },
         (e: ApiError) => {
           none.className = 'plan-error';

@@ -202,11 +202,32 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
   // the helpers' reassigned work is drawn dashed (once it is in their missions)
   const withWork = applied.uavs.filter((u) => (u.missions ?? []).some((m) => m.kind === 'reassigned'));
   if (withWork.length) await page.waitForFunction(() => Number(document.querySelector('.leaflet-flyLines-pane')?.dataset.reassigned) > 0, null, { timeout: 30000 });
+  // issue 29 defect 5: a helper's progress counts its reassigned waypoints, and "reassign: queued" gives
+  // way to what became of the offer
+  await page.waitForFunction(() => /Reassignment #\d+: (?!offered)/.test(document.querySelector('[data-testid=fly-message]')?.textContent ?? ''), null, { timeout: 30000 });
+  assert.doesNotMatch(await page.locator('[data-testid=fly-message]').innerText(), /queued/);
+  for (const u of withWork) {
+    const sel = `[data-testid=fly-uav-card][data-uav="${u.uav}"] [data-field=progress]`;
+    await page.waitForFunction((q) => /reassigned\)$/.test(document.querySelector(q)?.textContent ?? ''), sel, { timeout: 30000 });
+    const m = (await page.locator(sel).innerText()).match(/^([\d.]+) % \((\d+)\/(\d+) own, (\d+)\/(\d+) reassigned\)$/);
+    assert.ok(m, await page.locator(sel).innerText());
+    const [, pct, r1, n1, r2, n2] = m.map(Number);
+    assert.ok(n2 > 0);
+    assert.ok(Math.abs(pct - (100 * (r1 + r2)) / (n1 + n2)) < 0.06, 'the percentage counts both');
+  }
   await h.shot(page, 'fly-7-reassigned');
 
   // the failed UAV's marker shows the lost link; the flight can be stopped from the tab
   assert.ok(await page.locator(`[data-testid=fly-uav-marker][data-uav="${failed}"]`).evaluate((e) => e.classList.contains('fly-uav-lost')));
   await page.click('[data-testid=fly-stop]');
   await page.waitForSelector('[data-testid=fly-state][data-state=aborted]', { timeout: 30000 });
+  // the end says a UAV was lost, and its link-lost alert stays on top
+  assert.equal(await page.locator('[data-testid=fly-state]').getAttribute('data-outcome'), 'aborted-lost');
+  assert.match(await page.locator('[data-testid=fly-state]').innerText(), new RegExp(`aborted with a lost UAV: ${failed}`));
+  const firstAlert = page.locator('[data-testid=fly-alert]').first();
+  assert.equal(await firstAlert.getAttribute('data-kind'), 'link_lost');
+  assert.equal(await firstAlert.getAttribute('data-uav'), failed);
+  assert.ok(await firstAlert.evaluate((e) => e.classList.contains('fly-alert-active')));
+  await h.shot(page, 'fly-8-aborted-lost');
   assert.deepEqual(problems, [], 'no console errors or warnings');
 });

@@ -44,12 +44,20 @@ test('locked shares give way when the free ones cannot absorb the change', () =>
 
 test('setShare with all others at 0 splits the rest equally', () => {
   assert.deepEqual(setShare([100, 0, 0], 0, 40), [40, 30, 30]);
-  assert.deepEqual(setShare([100, 0, 0, 0], 0, 99), [99, 1, 0, 0]);
+  assert.deepEqual(setShare([100, 0, 0, 0], 0, 99), [97, 1, 1, 1], 'each of the others keeps 1 %');
 });
 
-test('setShare to 100 zeroes the others, to 0 gives them everything', () => {
-  assert.deepEqual(setShare([50, 30, 20], 1, 100), [0, 100, 0]);
-  assert.deepEqual(setShare([50, 30, 20], 0, 0), [0, 60, 40]);
+test('no share reaches 0 (the server refuses it): 100 leaves 1 % to each other, 0 becomes 1 %', () => {
+  assert.deepEqual(setShare([50, 30, 20], 1, 100), [1, 98, 1]);
+  assert.deepEqual(setShare([50, 30, 20], 0, 0), [1, 59, 40]);
+  // issue 29 defect 7: typing 0 into three shares in turn never gives a 0 share
+  let s = [34, 33, 33];
+  for (const i of [0, 1, 2]) {
+    s = setShare(s, i, 0);
+    assert.equal(sum(s), 100);
+    assert.ok(s.every((x) => x >= 1), `${s}`);
+  }
+  assert.deepEqual(setShare([1, 1, 98], 2, 0), [50, 49, 1]);
 });
 
 test('one UAV always has 100', () => {
@@ -58,8 +66,8 @@ test('one UAV always has 100', () => {
 });
 
 test('setShare clamps, rounds and ignores bad input', () => {
-  assert.deepEqual(setShare([50, 50], 0, 150), [100, 0]);
-  assert.deepEqual(setShare([50, 50], 0, -20), [0, 100]);
+  assert.deepEqual(setShare([50, 50], 0, 150), [99, 1]);
+  assert.deepEqual(setShare([50, 50], 0, -20), [1, 99]);
   assert.deepEqual(setShare([50, 50], 0, 33.6), [34, 66]);
   assert.deepEqual(setShare([50, 50], 0, Number.NaN), [50, 50]);
   assert.deepEqual(setShare([50, 50], 5, 10), [50, 50]);
@@ -72,8 +80,8 @@ test('rounding: displayed integers always sum to 100', () => {
       const base = Array.from({ length: n }, (_, i) => (i * 37) % 11);
       const r = setShare(roundTo100(base), n - 1, v);
       assert.equal(sum(r), 100, `n=${n} v=${v}`);
-      assert.equal(r[n - 1], v);
-      assert.ok(r.every((x) => Number.isInteger(x) && x >= 0));
+      assert.equal(r[n - 1], Math.min(100 - (n - 1), Math.max(1, v)), 'clamped to [1, 100 - (n - 1)]');
+      assert.ok(r.every((x) => Number.isInteger(x) && x >= 1));
     }
 });
 
