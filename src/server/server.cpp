@@ -41,7 +41,16 @@ constexpr std::size_t kHeaderLimit = 16 * 1024;
 constexpr std::size_t kWsMessageMax = 64 * 1024;
 constexpr std::size_t kMaxPendingMessages = 1000;
 constexpr std::size_t kMaxConnections = 10000;
-constexpr std::size_t kMaxPendingProbes = 16;  // /readyz and /metrics waiting for the probe thread
+constexpr std::size_t kMaxPendingProbes = 16;    // /readyz and /metrics waiting for the probe thread
+constexpr std::size_t kMaxPendingControls = 32;  // flight controls waiting for the control thread
+
+/// A live flight's controls: `POST /api/v1/flights/{id}/commands`, `GET` and `DELETE
+/// /api/v1/flights/{id}` (the router's route pattern).
+bool is_flight_control(const std::string& method, const std::string& route) {
+  static const std::string flight = "/api/v1/flights/{id}";
+  return (route == flight && (method == "GET" || method == "DELETE")) ||
+         (route == flight + "/commands" && method == "POST");
+}
 constexpr std::size_t kDrainBytes = std::size_t{64} << 20;  // bounded by the 2 s linger too
 constexpr const char* kEventsPath = "/api/v1/events";
 
@@ -121,7 +130,8 @@ struct Core {
         router(r),
         hub(events, cfg.event_poll),
         handlers(static_cast<std::size_t>(std::max(1, cfg.handler_threads))),
-        probes(1) {
+        probes(1),
+        control(1) {
     std::random_device rd;
     id_counter = (static_cast<std::uint64_t>(rd()) << 32) ^ rd();
     host_policy.listen_host = parse_listen(cfg.listen).host;
@@ -146,8 +156,12 @@ struct Core {
   // connections. Declared last: destroyed (joined) first.
   net::thread_pool handlers;
   net::thread_pool probes;
+  /// A live flight's controls (its commands: abort, land, RTL, ...; its DELETE and GET) run on their own
+  /// thread, so that a validation or a plan read holding every handler thread cannot delay an abort.
+  net::thread_pool control;
   std::atomic<std::size_t> handler_load{0};  ///< requests queued for or running on `handlers`
   std::atomic<std::size_t> probe_load{0};
+  std::atomic<std::size_t> control_load{0};
   std::mutex pool_mutex;
   bool pools_closed = false;  ///< set before the pools are joined: nothing is posted afterwards
 
@@ -178,6 +192,7 @@ struct Core {
     }
     handlers.join();
     probes.join();
+    control.join();
   }
 
   std::string next_request_id() { return fmt::format("{:016x}", splitmix64(id_counter.fetch_add(1))); }
@@ -931,6 +946,10 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
       route = match.route;
       req.params = std::move(match.params);
       const Handler* handler = match.handler;  // the router outlives the server
+      if (is_flight_control(req.method, route))
+        return defer(
+            core_.control, core_.control_load, kMaxPendingControls, req, route, version, keep,
+            [handler](const Request& r) { return (*handler)(r); }, res);
       return defer(
           core_.handlers, core_.handler_load, std::max<std::size_t>(1, cfg.max_pending), req, route, version,
           keep, [handler](const Request& r) { return (*handler)(r); }, res);

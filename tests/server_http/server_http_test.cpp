@@ -935,6 +935,37 @@ TEST_F(ServerHttp, HandlersRunOffTheIoThreadsOnABoundedPool) {
   EXPECT_EQ(probe.send(http::verb::get, "/api/v1/things/1").result_int(), 200);
 }
 
+TEST_F(ServerHttp, AFlightsControlsAnswerWhileEveryHandlerThreadIsHeld) {
+  Hold hold;
+  router_.add("GET", "/api/v1/hold", [&hold](const Request&) { return hold.enter(); });
+  router_.add("POST", "/api/v1/flights/{id}/commands", [](const Request&) {
+    return Response::json(202, {{"command", "abort"}});
+  });
+  router_.add("DELETE", "/api/v1/flights/{id}", [](const Request&) { return Response::json(200, {}); });
+  ServerConfig cfg;
+  cfg.handler_threads = 2;
+  cfg.max_pending = 2;
+  start(cfg);
+  std::vector<Res> held(2);
+  std::vector<std::thread> holders;
+  for (int i = 0; i < 2; ++i)
+    holders.emplace_back([&, i] {
+      Client c(port_);
+      held[static_cast<std::size_t>(i)] = c.send(http::verb::get, "/api/v1/hold");
+    });
+  ASSERT_TRUE(hold.wait_entered(2));
+  Client operator_(port_);
+  // every handler thread is held and their queue is full, yet an abort and a flight's DELETE are served
+  EXPECT_EQ(operator_.send(http::verb::get, "/api/v1/things/1").result_int(), 503);
+  EXPECT_EQ(
+      operator_.send(http::verb::post, "/api/v1/flights/3/commands", R"({"command": "abort"})").result_int(),
+      202);
+  EXPECT_EQ(operator_.send(http::verb::delete_, "/api/v1/flights/3").result_int(), 200);
+  hold.release();
+  for (auto& t : holders) t.join();
+  for (const auto& r : held) EXPECT_EQ(r.result_int(), 200);
+}
+
 TEST_F(ServerHttp, HostHeaderAndAbsoluteForm) {
   ServerConfig cfg;
   cfg.allowed_hosts = {"uav.example.org"};
