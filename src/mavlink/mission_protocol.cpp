@@ -281,6 +281,18 @@ bool Vehicle::handle(const Received& r) {
       request(expected_);
       return true;
     }
+    if (opt_.check_item) {
+      const std::uint8_t verdict = opt_.check_item(*item);
+      if (verdict != kMissionAccepted) {  // refused: the items before it stay stored (ArduPilot)
+        mission_ = std::move(incoming_);
+        incoming_.clear();
+        receiving_ = false;
+        ++stats_.refused;
+        ++mission_version_;
+        ack(verdict, gcs_system_, gcs_component_);
+        return true;
+      }
+    }
     incoming_.push_back(*item);
     ++expected_;
     retries_left_ = opt_.retries;

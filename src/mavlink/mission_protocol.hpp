@@ -79,6 +79,11 @@ struct VehicleOptions {
   int retries = kMaxRetries;
   std::size_t max_items = 700;  ///< answers MAV_MISSION_NO_SPACE above this
   std::chrono::milliseconds heartbeat_period{1000};
+  /// The autopilot's verdict on each item as it arrives (MAV_MISSION_RESULT; empty = accept every item).
+  /// An item it refuses ends the transfer with that MISSION_ACK, and the stored mission becomes the items
+  /// received before it, as ArduPilot keeps them (it stores each item as it comes; issue 34 saw a 3-item
+  /// mission left after a refusal at item 3). The simulator uses exporting::rules::ardupilot_item_result.
+  std::function<std::uint8_t(const MissionItemInt&)> check_item;
 };
 
 class Vehicle {
@@ -91,6 +96,7 @@ class Vehicle {
     std::size_t duplicates = 0;       ///< items already received: dropped (the expected one is requested)
     std::size_t cancelled = 0;        ///< transfers abandoned after the retries
     std::size_t acks_resent = 0;      ///< final item seen again after the ACK: ACK repeated
+    std::size_t refused = 0;          ///< uploads ended by an item check_item refused
   };
 
   /// The link's sysid/compid are the vehicle's; replies go to whoever sent last.

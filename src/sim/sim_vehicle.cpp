@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "export/consumer_rules.hpp"
 #include "export/mission_items.hpp"
 #include "uavcover/error.hpp"
 
@@ -59,10 +60,22 @@ T clamp_to(double v) {
   return static_cast<T>(std::llround(std::clamp(v, lo, hi)));
 }
 
+// The mission protocol's acceptance: items by ArduPilot's upload rules (issue 34), so that what a real
+// ArduPilot refuses (NaN in a command's params, an unknown command, a bad location) is refused here with
+// the same MAV_MISSION_RESULT.
+mav::VehicleOptions acceptance() {
+  mav::VehicleOptions o;
+  o.check_item = ex::rules::ardupilot_item_result;
+  return o;
+}
+
 }  // namespace
 
 SimVehicle::SimVehicle(const VehicleConfig& config)
-    : cfg_(config), link_(config.listen, config.sysid, 1), protocol_(link_), v_max_(config.v_max) {
+    : cfg_(config),
+      link_(config.listen, config.sysid, 1),
+      protocol_(link_, acceptance()),
+      v_max_(config.v_max) {
   if (cfg_.loss > 0) link_.set_loss(cfg_.loss, cfg_.seed * 1000003ULL + cfg_.sysid);
   if (cfg_.home) {
     frame_.emplace(*cfg_.home);

@@ -105,6 +105,8 @@ class SimVehicle {
   [[nodiscard]] int socket() const { return link_.native_handle(); }
   [[nodiscard]] const VehicleState& state() const { return st_; }
   [[nodiscard]] const mavlink::UdpLink& link() const { return link_; }
+  /// The stored mission (after a refused upload: the items received before the refused one, as ArduPilot).
+  [[nodiscard]] const std::vector<mavlink::MissionItemInt>& mission() const { return mission_; }
   [[nodiscard]] LonLat position_wgs84() const;
   /// Where telemetry goes until a ground station speaks (then: whoever sent last).
   void set_peer(const mavlink::Endpoint& gcs) { link_.set_peer(gcs); }
