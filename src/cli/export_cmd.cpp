@@ -47,6 +47,7 @@ void run_export(ExportArgs& a) {
     const std::string problem = std::string(e.what()).substr(e.field().empty() ? 0 : e.field().size() + 2);
     if (e.field() == "formats") throw InputError("--format", problem);
     if (e.field() == "altitude.transition_ceiling_m") throw InputError("--transition-ceiling", problem);
+    if (e.field() == "autopilot" && !a.opt.autopilot.empty()) throw InputError("--autopilot", problem);
     throw;
   }
   const auto files = io::write_artifacts(out, artifacts);
@@ -101,9 +102,11 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       ->capture_default_str()
       ->check(number_in(0, 10'000));
   cmd->add_flag("--land", args->opt.altitude.land_instead_of_rtl, "End with LAND at home instead of RTL");
+  cmd->add_option("--autopilot", args->opt.autopilot,
+                  "Flight software the files are for: px4 (default), ardupilot, dji or litchi; sets the QGC "
+                  ".plan firmwareType (3 ardupilot, 12 otherwise)");
   cmd->add_option("--firmware-type", args->opt.qgc_firmware_type,
-                  "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot)")
-      ->capture_default_str()
+                  "QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot); overrides --autopilot")
       ->check(integer_in(0, 255));
   cmd->add_option("--vehicle-type", args->opt.qgc_vehicle_type,
                   "QGC .plan vehicleType (MAV_TYPE: 2 quadrotor)")

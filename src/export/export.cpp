@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "autopilot/rules.hpp"
 #include "export/geofence.hpp"
 #include "export/separation.hpp"
 #include "export/xml.hpp"
@@ -263,7 +264,24 @@ std::vector<std::string> validate_geojson(const json& doc) {
   return problems;
 }
 
+std::string export_autopilot(const Plan& /*plan*/, const ExportOptions& opt) {
+  if (opt.autopilot.empty()) return "px4";
+  for (const char* a : {"px4", "ardupilot", "dji", "litchi"})
+    if (opt.autopilot == a) return opt.autopilot;
+  std::string shown = opt.autopilot.substr(0, 64);
+  for (char& c : shown)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  throw InputError("autopilot", "must be 'px4', 'ardupilot', 'dji' or 'litchi', got '" + shown + "'");
+}
+
+int qgc_firmware_type(const Plan& plan, const ExportOptions& opt) {
+  const std::string autopilot = export_autopilot(plan, opt);  // validated even when overridden
+  if (opt.qgc_firmware_type >= 0) return opt.qgc_firmware_type;
+  return autopilot == "ardupilot" ? 3 : 12;
+}
+
 json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
+  const int firmware = qgc_firmware_type(plan, opt);
   const auto items = mission_items(plan, index, opt.altitude);
   const Uav& uav = plan.mission.uavs.at(index);
   json jitems = json::array();
@@ -286,8 +304,8 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
     }
     jitems.push_back(j);
   }
-  const bool px4 = opt.qgc_firmware_type == 12;
-  const bool ardupilot = opt.qgc_firmware_type == 3;
+  const bool px4 = firmware == 12;
+  const bool ardupilot = firmware == 3;
   if (px4 && uav.speed_mps > limits::kPx4DefaultMaxSpeed)
     warn(opt,
          fmt::format("uav '{}': speed {} m/s is above PX4's default MPC_XY_VEL_MAX ({} m/s), which caps it",
@@ -319,7 +337,7 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
           {"groundStation", "QGroundControl"},
           {"mission",
            {{"version", 2},
-            {"firmwareType", opt.qgc_firmware_type},
+            {"firmwareType", firmware},
             {"vehicleType", opt.qgc_vehicle_type},
             {"globalPlanAltitudeMode", terrain::grid(plan.mission) != nullptr ? 2 : 1},
             {"cruiseSpeed", uav.speed_mps},
@@ -729,6 +747,32 @@ bool usable_id(const std::string& id) {
   });
 }
 
+/// The autopilots' upload rules (src/autopilot/rules.hpp) on the MAVLink items of UAV `i` of `p` (what the
+/// .plan, .waypoints, CSV and `uavcover upload` carry): a rule the autopilots refuse the mission for
+/// refuses the export; the limits that depend on the vehicle's configuration (item capacity, PX4's
+/// distance parameters) warn, for the autopilot the export is for.
+void check_consumers(const Plan& p, std::size_t i, const std::vector<MissionItem>& items,
+                     const std::string& autopilot, std::vector<std::string>& warnings) {
+  const std::string& id = p.uavs[i].id;
+  const LonLat home = p.mission.uavs[i].start_resolved;
+  struct Consumer {
+    const char* name;
+    std::vector<autopilot::Problem> problems;
+    bool warn;
+  };
+  const Consumer consumers[] = {
+      {"ArduPilot", autopilot::ardupilot_problems(items), autopilot == "ardupilot"},
+      {"PX4", autopilot::px4_problems(items, home, terrain::home_ground(p.mission, i)), autopilot == "px4"}};
+  for (const Consumer& c : consumers)
+    for (const autopilot::Problem& pr : c.problems) {
+      if (pr.fatal)
+        throw InputError("autopilot", fmt::format("uav '{}': {} would refuse the mission: {}", id, c.name,
+                                                  autopilot::describe(pr, items)));
+      if (c.warn)
+        warnings.push_back(fmt::format("uav '{}': {}: {}", id, c.name, autopilot::describe(pr, items)));
+    }
+}
+
 }  // namespace
 
 Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
@@ -739,6 +783,7 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
                                          plan.mission.uavs.size()));
   if (!std::isfinite(options.geofence_margin_m) || options.geofence_margin_m < 0)
     throw InputError("geofence_margin_m", "must be >= 0");
+  const std::string autopilot = export_autopilot(plan, options);  // an unknown one refuses before anything
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
       throw InputError(fmt::format("uavs[{}].id", i),
@@ -762,8 +807,10 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
       continue;
     }
     flown.push_back(i);
-    const auto violations = no_fly_violations(plan, i, mission_items(plan, i, opt.altitude));
+    const auto items = mission_items(plan, i, opt.altitude);
+    const auto violations = no_fly_violations(plan, i, items);
     if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+    if (!opt.per_sortie) check_consumers(plan, i, items, autopilot, warnings);
   }
   if (flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
 
@@ -812,9 +859,11 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
       auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
       for (const auto& s : list) {
         const Plan sp = sorties::sortie_plan(plan, i, s);
-        const auto violations = no_fly_violations(sp, i, mission_items(sp, i, opt.altitude));
+        const auto items = mission_items(sp, i, opt.altitude);
+        const auto violations = no_fly_violations(sp, i, items);
         if (!violations.empty())
           throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+        check_consumers(sp, i, items, autopilot, warnings);
       }
       sortie_lists[i] = std::move(list);
     }

@@ -31,7 +31,12 @@ inline constexpr double kArduPilotMaxSpeed = 20.0;   ///< ArduPilot WPNAV_SPEED 
 struct ExportOptions {
   AltitudeOptions altitude;
   trajectory::Options trajectory;
-  int qgc_firmware_type = 12;       ///< MAV_AUTOPILOT: 12 PX4, 3 ArduPilot
+  /// The flight software the files are for: "px4", "ardupilot", "dji" or "litchi" (issue 31's interface);
+  /// empty = "px4". Sets the .plan firmwareType.
+  std::string autopilot;
+  /// QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot); -1 = from the autopilot (3 for
+  /// "ardupilot", 12 otherwise). An explicit value wins (the CLI's --firmware-type).
+  int qgc_firmware_type = -1;
   int qgc_vehicle_type = 2;         ///< MAV_TYPE: 2 quadrotor
   double geofence_margin_m = 20.0;  ///< .plan inclusion fence: distance kept around everything flown
   bool kmz = false;                 ///< also export <id>.kmz next to <id>.kml
@@ -63,6 +68,13 @@ nlohmann::json uav_geojson(const Plan& plan, std::size_t index);
 /// RFC 7946 checks (positions [lon, lat] in range, closed rings of >= 4 positions, CCW exteriors,
 /// CW holes, LineStrings of >= 2 positions). Returns the problems found, empty when valid.
 std::vector<std::string> validate_geojson(const nlohmann::json& doc);
+
+/// The autopilot the export is for: opt.autopilot, else "px4". Throws InputError naming "autopilot"
+/// for an unknown value. (`plan` is for the mission's own "autopilot" field, not added yet.)
+std::string export_autopilot(const Plan& plan, const ExportOptions& opt);
+/// The .plan firmwareType: opt.qgc_firmware_type when >= 0, else 3 (MAV_AUTOPILOT_ARDUPILOTMEGA) for
+/// ArduPilot and 12 (MAV_AUTOPILOT_PX4) for the others.
+int qgc_firmware_type(const Plan& plan, const ExportOptions& opt);
 
 /// QGroundControl .plan (JSON) for UAV `index`, with a geofence PX4 accepts (geofence.hpp).
 nlohmann::json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt = {});

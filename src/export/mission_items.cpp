@@ -146,16 +146,54 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       command_item(kDoChangeSpeed, 1.0f, static_cast<float>(uav.speed_mps), -1.0f, 0.0f, "speed"));
   if (camera) {
     // MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW: param1 pitch, param2 yaw (0: ahead, follow mode), param3/4
-    // rates unset (NaN), param5 flags 0, param7 gimbal device 0 (all). PX4 >= 1.13 and ArduPilot >= 4.3
-    // run it in missions; it replaces the deprecated MAV_CMD_DO_MOUNT_CONTROL.
+    // rates 0 (the angles are given, so the rates are not used), param5 flags 0, param7 gimbal device 0
+    // (all). Not NaN: ArduPilot refuses NaN in any param of this command (AP_Mission::sanity_check_params,
+    // MAV_MISSION_INVALID_PARAM3; issue 34). PX4 >= 1.13 and ArduPilot >= 4.3 run it in missions; it
+    // replaces the deprecated MAV_CMD_DO_MOUNT_CONTROL.
     items.push_back(command_item(kDoGimbalManagerPitchyaw, static_cast<float>(cam->gimbal_pitch_deg), 0.0f,
-                                 kKeepHeading, kKeepHeading, "gimbal"));
+                                 0.0f, 0.0f, "gimbal"));
   }
   // MAV_CMD_IMAGE_START_CAPTURE: param1 camera 0 (all), param2 interval 0, param3 one image, param4 0
   auto capture = [&] { items.push_back(command_item(kImageStartCapture, 0.0f, 0.0f, 1.0f, 0.0f, "camera")); };
   // MAV_CMD_DO_SET_CAM_TRIGG_DIST: param1 distance (0 stops), param3 1 = one image now
   auto trigg = [&](double d) {
     items.push_back(command_item(kDoSetCamTriggDist, static_cast<float>(d), 0.0f, 1.0f, 0.0f, "camera"));
+  };
+  // The hold of hover-and-capture belongs to the waypoint where the UAV stops (NAV_WAYPOINT param1), never
+  // to a command item: IMAGE_START_CAPTURE's param1 is the camera instance (issue 34).
+  auto hold_at_last_waypoint = [&] {
+    for (auto it = items.rbegin(); it != items.rend(); ++it)
+      if (it->command == kNavWaypoint) {
+        it->param1 = static_cast<float>(photo::kHoverHoldS);
+        return;
+      }
+  };
+  // A leg that starts where the previous shot leg ended, with nothing flown in between (a shared corner):
+  // the previous leg's last image is this leg's first. The camera cannot take both (it refuses a trigger
+  // while its shutter is held, ArduPilot's CAMx_DURATION), so the corner is shot once: the stop trigger
+  // there takes no image (0, 0, 0) and the new leg's start takes it; in hover capture the corner's capture
+  // is not repeated. Returns true when the corner is shared (photo::estimate() counts it once too).
+  auto shared_corner = [&] {
+    // the last camera item, and nothing but waypoints at the same position and height after it
+    for (std::size_t k = items.size(); k-- > 0;) {
+      const MissionItem& it = items[k];
+      if (it.command == kDoSetCamTriggDist || it.command == kImageStartCapture) {
+        if (it.command == kDoSetCamTriggDist && !(it.param1 == 0.0f && it.param3 > 0.0f)) return false;
+        // the waypoint the image was taken at
+        std::size_t w = k;
+        while (w > 0 && items[w - 1].command != kNavWaypoint) --w;
+        if (w == 0) return false;
+        const MissionItem& at = items[w - 1];
+        for (std::size_t j = k + 1; j < items.size(); ++j)
+          if (items[j].command == kNavWaypoint &&
+              (!same_place({items[j].lon, items[j].lat}, {at.lon, at.lat}) || items[j].alt != at.alt))
+            return false;
+        if (it.command == kDoSetCamTriggDist) items[k].param3 = 0.0f;  // the stop takes no image
+        return true;
+      }
+      if (it.command != kNavWaypoint) return false;
+    }
+    return false;
   };
 
   bool high = true;  // at the transition altitude
@@ -192,7 +230,10 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
                          photo::leg_images(std::hypot(part.local[k].x() - part.local[k - 1].x(),
                                                       part.local[k].y() - part.local[k - 1].y()),
                                            trigger) > 1;
-        if (leg && !hover) trigg(trigger);
+        if (leg && !hover) {
+          shared_corner();
+          trigg(trigger);
+        }
         // between the leg's ends: hover-and-capture stops and, following the terrain, the points where the
         // ground departs from the straight line by more than the tolerance, in order along the leg
         struct Stop {
@@ -202,8 +243,10 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
         };
         std::vector<Stop> stops;
         if (leg && hover) {
-          items.back().param1 = static_cast<float>(photo::kHoverHoldS);  // hold at the leg's start, shoot
-          capture();
+          if (!shared_corner()) {  // hold at the leg's start and shoot (unless the corner was just shot)
+            hold_at_last_waypoint();
+            capture();
+          }
           const std::vector<Point> shots = photo::leg_shots(part.local[k - 1], part.local[k], trigger);
           for (std::size_t s = 1; s + 1 < shots.size(); ++s)
             stops.push_back(
@@ -220,7 +263,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
           const LonLat g = frame.to_wgs84(st.p);
           items.push_back(waypoint_at(g, cover_alt(g), st.capture ? "capture" : "terrain"));
           if (st.capture) {
-            items.back().param1 = static_cast<float>(photo::kHoverHoldS);
+            hold_at_last_waypoint();
             capture();
           }
         }
@@ -228,7 +271,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
         items.back().waypoint = waypoint++;
         if (leg && !hover) trigg(0.0);
         if (leg && hover) {
-          items.back().param1 = static_cast<float>(photo::kHoverHoldS);
+          hold_at_last_waypoint();
           capture();
         }
       }

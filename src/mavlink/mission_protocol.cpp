@@ -323,10 +323,22 @@ bool Vehicle::handle(const Received& r) {
       request(expected_);
       return true;
     }
-    if (opt_.refuse_item && item->seq == *opt_.refuse_item) {
+    std::uint8_t verdict = kMissionAccepted;
+    if (opt_.refuse_item && item->seq == *opt_.refuse_item)
+      verdict = opt_.refuse_result;
+    else if (opt_.check_item)
+      verdict = opt_.check_item(*item);
+    if (verdict != kMissionAccepted) {
       ++stats_.refused;
-      end_transfer();
-      ack(opt_.refuse_result, gcs_system_, gcs_component_);
+      if (opt_.store_as_received) {
+        end_transfer();  // what was stored as it came stays
+      } else {           // the items before the refused one stay stored (ArduPilot)
+        mission_ = std::move(incoming_);
+        incoming_.clear();
+        receiving_ = false;
+        ++mission_version_;
+      }
+      ack(verdict, gcs_system_, gcs_component_);
       return true;
     }
     incoming_.push_back(*item);

@@ -102,11 +102,17 @@ struct VehicleOptions {
   /// ArduPilot-like storage: each item is written as it arrives (issue 34: a refusal at item 3 left a
   /// 3-item mission) and MISSION_COUNT truncates the stored mission to the count (assumed, not checked
   /// in ArduPilot's source), so a transfer refused or abandoned midway leaves a truncated or mixed
-  /// mission. Off: the stored mission changes only when an upload completes.
+  /// mission. Off: the stored mission changes only when an upload completes, except after an item
+  /// `check_item` or `refuse_item` refuses: then it is the items received before the refused one.
   bool store_as_received = false;
   /// Tests: refuse the item with this seq with MISSION_ACK `refuse_result` (the transfer ends).
   std::optional<std::uint16_t> refuse_item;
   std::uint8_t refuse_result = 8;  // MAV_MISSION_INVALID_PARAM3
+  /// The autopilot's verdict on each item as it arrives (MAV_MISSION_RESULT; empty = accept every item).
+  /// An item it refuses ends the transfer with that MISSION_ACK, and the stored mission becomes the items
+  /// received before it, as ArduPilot keeps them (it stores each item as it comes; issue 34 saw a 3-item
+  /// mission left after a refusal at item 3). The simulator uses autopilot::ardupilot_item_result.
+  std::function<std::uint8_t(const MissionItemInt&)> check_item;
 };
 
 class Vehicle {
@@ -119,7 +125,7 @@ class Vehicle {
     std::size_t duplicates = 0;       ///< items already received: dropped (the expected one is requested)
     std::size_t cancelled = 0;        ///< transfers abandoned after the retries
     std::size_t acks_resent = 0;      ///< final item seen again after the ACK: ACK repeated
-    std::size_t refused = 0;          ///< transfers ended by refusing an item
+    std::size_t refused = 0;          ///< transfers ended by refusing an item (check_item, refuse_item)
     std::size_t clears = 0;           ///< MISSION_CLEAR_ALL handled
   };
 

@@ -12,6 +12,10 @@ double dist(const Point& a, const Point& b) { return std::hypot(b.x() - a.x(), b
 /// Below this a leg counts as one point (a closed loop's repeated vertex, rounding).
 constexpr double kMinLeg = 1e-6;
 
+bool same_place(const LonLat& a, const LonLat& b) {
+  return std::abs(a.lat - b.lat) < 1e-9 && std::abs(a.lon - b.lon) < 1e-9;
+}
+
 }  // namespace
 
 int leg_images(double length_m, double trigger_m) {
@@ -58,16 +62,29 @@ std::optional<Estimate> estimate(const Plan& plan) {
     u.id = up.id;
     u.trigger_distance_m = trigger;
     u.footprint_across_m = own ? mu->camera_geometry->footprint_m : e.footprint_across_m;
+    // where the last shot leg ended, while nothing else has been flown since (a shared corner follows)
+    std::optional<LonLat> corner;
     for (const PathPart& part : up.parts) {
-      if (part.kind != PartKind::Coverage) continue;
+      if (part.wgs84.empty()) continue;
+      if (part.kind != PartKind::Coverage) {  // transit: the UAV climbs and leaves
+        corner.reset();
+        continue;
+      }
+      const bool local = part.local.size() == part.wgs84.size();
+      if (!local) continue;
+      if (corner && !same_place(*corner, part.wgs84.front())) corner.reset();
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         const double len = dist(part.local[k - 1], part.local[k]);
         if (len <= kMinLeg) continue;
         const int n = leg_images(len, trigger);
         ++u.legs;
-        u.images += n;
+        // a leg starting where the previous one ended shares its first image with that one's last
+        const bool shared = corner && same_place(*corner, part.wgs84[k - 1]);
+        u.images += shared ? n - 1 : n;
+        u.shared_corners += shared ? 1 : 0;
         along_fraction += len / along;
         gaps += n - 1;
+        corner = part.wgs84[k];
       }
     }
     const double speed = mu != nullptr ? mu->speed_mps : 0.0;
@@ -88,6 +105,7 @@ nlohmann::json to_json(const Estimate& e) {
     uavs.push_back({{"id", u.id},
                     {"legs", u.legs},
                     {"images", u.images},
+                    {"shared_corners", u.shared_corners},
                     {"trigger_distance_m", u.trigger_distance_m},
                     {"footprint_across_m", u.footprint_across_m},
                     {"trigger_interval_s", u.trigger_interval_s},

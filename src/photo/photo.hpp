@@ -4,7 +4,9 @@
 //
 // Every coverage leg (the straight segment between two consecutive coverage waypoints of a coverage
 // part) is shot on its own: the first image at its start, then one every trigger distance d, and the
-// last at its end, so a leg of length L takes ceil(L / d) + 1 images. Nothing is shot in transit.
+// last at its end, so a leg of length L takes ceil(L / d) + 1 images. Nothing is shot in transit. Where a
+// leg starts at the corner where the previous shot leg ended (nothing flown between them), that corner's
+// image is taken once for both legs: the camera refuses a second trigger at the same place (issue 34).
 #pragma once
 
 #include <optional>
@@ -32,7 +34,10 @@ inline constexpr double kHoverHoldS = 4.0;
 struct UavImages {
   std::string id;
   int legs = 0;
+  /// Images the autopilot takes: per leg ceil(L / d) + 1, less one at each shared corner (a leg that
+  /// starts where the previous shot leg ended: that image is taken once, see mission_items()).
   int images = 0;
+  int shared_corners = 0;           ///< corners shot once for two legs
   double trigger_distance_m = 0.0;  ///< its camera's (uavs[i].camera, else the mission's)
   double footprint_across_m = 0.0;  ///< its camera's across-track footprint
   double trigger_interval_s = 0.0;  ///< trigger distance / the UAV's speed

@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "autopilot/rules.hpp"
 #include "export/mission_items.hpp"
 #include "mavlink/stream.hpp"
 #include "mavlink/udp.hpp"
@@ -61,6 +62,11 @@ T clamp_to(double v) {
   return static_cast<T>(std::llround(std::clamp(v, lo, hi)));
 }
 
+// The mission protocol's acceptance: items by ArduPilot's upload rules (issue 34), so that what a real
+// ArduPilot refuses (NaN in a command's params, an unknown command, a bad location) is refused here with
+// the same MAV_MISSION_RESULT.
+void accept_as_ardupilot(mav::VehicleOptions& o) { o.check_item = autopilot::ardupilot_item_result; }
+
 }  // namespace
 
 namespace {
@@ -74,6 +80,7 @@ mav::VehicleOptions protocol_options(const VehicleConfig& c) {
   mav::VehicleOptions o;
   o.store_as_received = c.store_as_received;
   o.refuse_item = c.refuse_item;
+  accept_as_ardupilot(o);
   return o;
 }
 

@@ -110,10 +110,11 @@ class SimVehicle {
   [[nodiscard]] std::vector<int> poll_handles() const { return link_->poll_handles(); }
   [[nodiscard]] const VehicleState& state() const { return st_; }
   [[nodiscard]] const mavlink::Link& link() const { return *link_; }
-  /// The stored mission (as the mission protocol holds it).
+  /// The stored mission (after a refused upload: the items received before the refused one, as ArduPilot).
   [[nodiscard]] const std::vector<mavlink::MissionItemInt>& stored_mission() const {
     return protocol_.mission();
   }
+  [[nodiscard]] const std::vector<mavlink::MissionItemInt>& mission() const { return protocol_.mission(); }
   [[nodiscard]] LonLat position_wgs84() const;
   /// Where telemetry goes until a ground station speaks (then: whoever sent last). UDP only: a TCP
   /// vehicle talks to its client.

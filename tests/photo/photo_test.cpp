@@ -59,15 +59,20 @@ json qgc_camera(double altitude = 30) {
 
 Plan plan_with(const json& camera) { return plan(parse_mission(field(camera).dump())); }
 
-/// The issue's count: sum over the UAV's coverage legs of ceil(L / d) + 1.
+/// The issue's count, sum over the UAV's coverage legs of ceil(L / d) + 1, less one at each corner where
+/// a leg starts where the previous leg ended (issue 34: that image is taken once, the camera refuses a
+/// second trigger there).
 int formula_images(const Plan& p, std::size_t uav, double d) {
   int n = 0;
   for (const PathPart& part : p.uavs[uav].parts) {
     if (part.kind != PartKind::Coverage) continue;
+    bool previous = false;  // the previous vertex ended a shot leg
     for (std::size_t k = 1; k < part.local.size(); ++k) {
       const double len =
           std::hypot(part.local[k].x() - part.local[k - 1].x(), part.local[k].y() - part.local[k - 1].y());
-      if (len > 1e-6) n += static_cast<int>(std::ceil(len / d - 1e-9)) + 1;
+      if (len <= 1e-6) continue;
+      n += static_cast<int>(std::ceil(len / d - 1e-9)) + (previous ? 0 : 1);
+      previous = true;
     }
   }
   return n;
@@ -369,13 +374,15 @@ TEST(Photo, HoverAndCaptureStopsAtEveryShot) {
     for (std::size_t k = 0; k < items.size(); ++k) {
       if (items[k].command == exporting::kImageStartCapture) {
         ++captures;
-        // right after a stop (a waypoint with the hold time) or another capture at the same stop
-        std::size_t j = k;
-        while (j > 0 && items[j - 1].command == exporting::kImageStartCapture) --j;
-        ASSERT_GT(j, 0u);
-        EXPECT_EQ(items[j - 1].command, exporting::kNavWaypoint);
-        EXPECT_FLOAT_EQ(items[j - 1].param1, static_cast<float>(photo::kHoverHoldS));
-        EXPECT_FLOAT_EQ(items[j - 1].alt, static_cast<float>(p.mission.altitude_m));
+        // issue 34: the hold belongs to the waypoint; the capture's param1 is the camera instance (0 = all)
+        // and param3 one image
+        EXPECT_EQ(items[k].param1, 0.0f) << "item " << k;
+        EXPECT_EQ(items[k].param3, 1.0f) << "item " << k;
+        // right after its stop (a waypoint with the hold time), never a second capture at the same stop
+        ASSERT_GT(k, 0u);
+        EXPECT_EQ(items[k - 1].command, exporting::kNavWaypoint) << "item " << k;
+        EXPECT_FLOAT_EQ(items[k - 1].param1, static_cast<float>(photo::kHoverHoldS));
+        EXPECT_FLOAT_EQ(items[k - 1].alt, static_cast<float>(p.mission.altitude_m));
       }
       if (items[k].command == exporting::kDoSetCamTriggDist) {
         ADD_FAILURE() << "distance trigger in hover capture";

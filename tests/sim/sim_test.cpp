@@ -9,9 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
 
+#include "autopilot/rules.hpp"
 #include "export/mission_items.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
@@ -483,4 +485,55 @@ TEST(SimVehicleModel, InvalidItemsAreSkipped) {
   EXPECT_TRUE(std::isfinite(s.p.x) && std::isfinite(s.p.y) && std::isfinite(s.p.z));
   EXPECT_LT(std::hypot(s.p.x, s.p.y), 1.0);  // RTL brought it home
   EXPECT_EQ(s.reached.size(), items.size() - 1);
+}
+
+// The simulator accepts items by ArduPilot's rules (AP_Mission::sanity_check_params and
+// mavlink_int_to_mission_cmd, src/autopilot/rules.hpp): the gimbal item the exports carried before
+// issue 34 (NaN rates in params 3 and 4) is refused with MAV_MISSION_INVALID_PARAM3, and the items
+// received before it stay stored, as on ArduPilot; with finite rates the same mission is accepted.
+TEST(SimFleet, RefusesWhatArduPilotRefuses) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  struct Case {
+    float p3, p4;
+    std::uint16_t command;
+    std::optional<std::uint8_t> ack;  ///< expected refusal, none = accepted
+  };
+  const std::vector<Case> cases = {
+      {nan, nan, ex::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 2}},
+      {0, nan, ex::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 3}},
+      {0, 0, 31999, std::uint8_t{kMissionUnsupported}},
+      {0, 0, ex::kDoGimbalManagerPitchyaw, std::nullopt},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(::testing::Message() << "command " << c.command << ", params 3/4 " << c.p3 << " " << c.p4);
+    auto items = square_mission();  // home, take-off, speed, 3 waypoints, RTL
+    MissionItemInt gimbal;
+    gimbal.command = c.command;
+    gimbal.frame = ex::kFrameMission;
+    gimbal.param1 = -90;
+    gimbal.param3 = c.p3;
+    gimbal.param4 = c.p4;
+    items.insert(items.begin() + 3, gimbal);
+    for (std::size_t k = 0; k < items.size(); ++k) items[k].seq = static_cast<std::uint16_t>(k);
+    RunningFleet f({config(6)}, 50.0, 600.0);
+    Gcs gcs(f.vehicle(0).port(), 6);
+    UploadOptions opt;
+    opt.target_system = 6;
+    const auto res = upload_mission(gcs.link, items, opt);
+    f.thread.request_stop();
+    f.join();
+    // as sent: the uploader addresses every item to the vehicle
+    std::vector<MissionItemInt> stored = f.vehicle(0).mission();
+    for (auto& it : stored) it.target_system = it.target_component = 0;
+    if (c.ack) {
+      EXPECT_FALSE(res.ok);
+      ASSERT_TRUE(res.ack.has_value()) << res.error;
+      EXPECT_EQ(*res.ack, *c.ack) << mission_result_name(*res.ack);
+      ASSERT_EQ(stored.size(), 3u);  // home, take-off, speed: what ArduPilot keeps
+      for (std::size_t k = 0; k < stored.size(); ++k) EXPECT_EQ(stored[k], items[k]);
+    } else {
+      EXPECT_TRUE(res.ok) << res.error;
+      EXPECT_EQ(stored, items);
+    }
+  }
 }
