@@ -300,9 +300,12 @@ export const flyTab: Tab = {
     const applyFlight = (f: Flight) => {
       if (!flight || f.id !== flight.id) return;
       const wasEnded = flightEnded(flight.state);
+      const ended = flightEnded(f.state);
+      // an ended flight never flies again: a late answer (a list polled before the end, arriving after
+      // the event that ended it) must not bring back its last live state
+      if (wasEnded && !ended) return;
       // the list omits waypoints: keep the last known statuses
       flight = f;
-      const ended = flightEnded(f.state);
       stateLine.dataset.state = f.state;
       const out = flightOutcome(f);
       stateLine.dataset.outcome = out.outcome;

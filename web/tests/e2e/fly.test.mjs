@@ -221,7 +221,9 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
   assert.ok(await page.locator(`[data-testid=fly-uav-marker][data-uav="${failed}"]`).evaluate((e) => e.classList.contains('fly-uav-lost')));
   await page.click('[data-testid=fly-stop]');
   await page.waitForSelector('[data-testid=fly-state][data-state=aborted]', { timeout: 30000 });
-  // the end says a UAV was lost, and its link-lost alert stays on top
+  // the end says a UAV was lost, and its link-lost alert stays on top (the telemetry that shows the
+  // lost link may come a moment after the state)
+  await page.waitForSelector('[data-testid=fly-state][data-state=aborted][data-outcome=aborted-lost]', { timeout: 10000 });
   assert.equal(await page.locator('[data-testid=fly-state]').getAttribute('data-outcome'), 'aborted-lost');
   assert.match(await page.locator('[data-testid=fly-state]').innerText(), new RegExp(`aborted with a lost UAV: ${failed}`));
   const firstAlert = page.locator('[data-testid=fly-alert]').first();
