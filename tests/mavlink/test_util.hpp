@@ -1,10 +1,14 @@
 // Helpers shared by the MAVLink tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "mavlink/mission_protocol.hpp"
 
 namespace mavtest {
 
@@ -38,6 +42,20 @@ inline std::vector<std::uint8_t> from_hex(std::string_view hex) {
     }
   }
   return out;
+}
+
+// What the vehicle stored must be what we sent (seq, addressing and payload).
+inline void expect_same_items(const std::vector<uavcover::mavlink::MissionItemInt>& got,
+                              const std::vector<uavcover::mavlink::MissionItemInt>& sent,
+                              std::uint8_t target_system) {
+  ASSERT_EQ(got.size(), sent.size());
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    uavcover::mavlink::MissionItemInt want = sent[i];
+    want.seq = static_cast<std::uint16_t>(i);
+    want.target_system = target_system;
+    want.target_component = 1;
+    EXPECT_EQ(got[i], want) << "item " << i;
+  }
 }
 
 }  // namespace mavtest

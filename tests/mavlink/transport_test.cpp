@@ -14,6 +14,7 @@
 
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
+#include "mavlink/test_util.hpp"
 #include "mavlink/udp.hpp"
 #include "uavcover/error.hpp"
 
@@ -45,17 +46,7 @@ std::vector<MissionItemInt> make_items(std::size_t n) {
   return to_mission_items(items, uavcover::LonLat{8.5455, 47.3977});
 }
 
-void expect_same_items(const std::vector<MissionItemInt>& got, const std::vector<MissionItemInt>& sent,
-                       std::uint8_t target_system) {
-  ASSERT_EQ(got.size(), sent.size());
-  for (std::size_t i = 0; i < sent.size(); ++i) {
-    MissionItemInt want = sent[i];
-    want.seq = static_cast<std::uint16_t>(i);
-    want.target_system = target_system;
-    want.target_component = 1;
-    EXPECT_EQ(got[i], want) << "item " << i;
-  }
-}
+using mavtest::expect_same_items;
 
 VehicleOptions quiet_vehicle() {
   VehicleOptions o;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "mavlink/mission_protocol.hpp"
+#include "mavlink/test_util.hpp"
 #include "uavcover/error.hpp"
 
 using namespace uavcover::mavlink;
@@ -45,18 +46,7 @@ std::vector<MissionItemInt> make_items(std::size_t n) {
   return to_mission_items(items, uavcover::LonLat{8.5455, 47.3977});
 }
 
-// What the vehicle stored must be what we sent (seq, addressing and payload).
-void expect_same_items(const std::vector<MissionItemInt>& got, const std::vector<MissionItemInt>& sent,
-                       std::uint8_t target_system) {
-  ASSERT_EQ(got.size(), sent.size());
-  for (std::size_t i = 0; i < sent.size(); ++i) {
-    MissionItemInt want = sent[i];
-    want.seq = static_cast<std::uint16_t>(i);
-    want.target_system = target_system;
-    want.target_component = 1;
-    EXPECT_EQ(got[i], want) << "item " << i;
-  }
-}
+using mavtest::expect_same_items;
 
 struct VehicleThread {
   UdpLink link;
