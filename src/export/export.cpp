@@ -1,4 +1,5 @@
 #include "export/export.hpp"
+#include "codec/plan_codec.hpp"
 
 #include <fmt/format.h>
 
@@ -13,12 +14,13 @@
 #include "export/xml.hpp"
 #include "export/zip.hpp"
 #include "geodesy/local_frame.hpp"
-#include "io/plan_io.hpp"
 #include "sorties/sorties.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
+
+using namespace waypoints;  // the waypoint model the formats write
 
 using nlohmann::json;
 
@@ -240,7 +242,7 @@ void check_geometry(const json& g, const std::string& where, std::vector<std::st
 json uav_geojson(const Plan& plan, std::size_t index) {
   if (index >= plan.uavs.size())
     throw std::out_of_range("uav_geojson: no UAV with index " + std::to_string(index));
-  return io::paths_geojson(plan, index);
+  return codec::paths_geojson(plan, index);
 }
 
 std::vector<std::string> validate_geojson(const json& doc) {
