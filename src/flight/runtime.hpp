@@ -1,6 +1,7 @@
-// The flight runtime's internal state (docs/flights.md, "Runtime"): shared by flight.cpp (commands,
-// supervision, reassignment, snapshot) and link.cpp (one thread per vehicle: the MAVLink link,
-// telemetry, waypoint statuses). Everything under Impl::mutex.
+// The flight runtime's internal state (docs/flights.md, "Runtime"): shared by flight.cpp (records,
+// phases, the public class), missions.cpp (each UAV's missions, reassigned work), supervisor.cpp,
+// commands.cpp, snapshot.cpp (snapshot and restore) and link.cpp (one thread per vehicle: the MAVLink
+// link, telemetry, waypoint statuses). Everything under Impl::mutex.
 #pragma once
 
 #include <atomic>
@@ -188,5 +189,14 @@ struct Flight::Impl {
 };
 
 std::int64_t now_ms();
+
+namespace detail {
+
+/// Whether a phase is one in the air (flying, paused or returning).
+inline bool airborne_phase(const std::string& p) {
+  return p == "flying" || p == "paused" || p == "returning";
+}
+
+}  // namespace detail
 
 }  // namespace uavcover::flight
