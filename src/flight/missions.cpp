@@ -16,7 +16,7 @@ using namespace detail;
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<exporting::MissionItem> items) const {
+MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<waypoints::MissionItem> items) const {
   MissionSpec m;
   m.items = std::move(items);
   const std::size_t n = m.items.size();
@@ -26,7 +26,7 @@ MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<exporting::M
   const LonLat home = plan.mission.uavs[uav].start_resolved;
   for (std::size_t j = 0; j < n; ++j) {
     const auto& it = m.items[j];
-    if (it.command == exporting::kNavReturnToLaunch)
+    if (it.command == waypoints::kNavReturnToLaunch)
       m.where[j] = frame.to_local(home);
     else if (it.lat != 0 || it.lon != 0)
       m.where[j] = frame.to_local(LonLat{it.lon, it.lat});
@@ -45,7 +45,7 @@ std::vector<MissionSpec> Flight::Impl::own_missions(std::size_t uav, int from_wa
   const int n = static_cast<int>(sorties::coverage_waypoints(plan.uavs[uav]).size());
   if (n == 0) return out;
   std::vector<Sortie> ss;
-  std::vector<std::vector<exporting::MissionItem>> items;
+  std::vector<std::vector<waypoints::MissionItem>> items;
   try {
     ss = sorties::resume_sorties(plan, uav, from_waypoint);
     items = sorties::resume_items(plan, uav, from_waypoint);
@@ -53,7 +53,7 @@ std::vector<MissionSpec> Flight::Impl::own_missions(std::size_t uav, int from_wa
     if (from_waypoint >= 0) throw;
     // a leg that does not fit one battery: the plan has no sorties; fly it as one mission
     ss = {Sortie{0, 0, n - 1, {}, 0, 0, 0}};
-    items = {exporting::mission_items(plan, uav)};
+    items = {waypoints::mission_items(plan, uav)};
   }
   for (std::size_t k = 0; k < ss.size() && k < items.size(); ++k) {
     MissionSpec m = make_mission(uav, std::move(items[k]));

@@ -17,7 +17,7 @@
 namespace uavcover::sim {
 
 namespace mav = uavcover::mavlink;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 using namespace detail;
 
 Fleet::Fleet(const std::vector<VehicleConfig>& configs, const FleetOptions& options) : opt_(options) {

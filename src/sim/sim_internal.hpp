@@ -8,7 +8,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "sim/sim_vehicle.hpp"  // (and the waypoint model, through mavlink/mission_protocol.hpp)
+#include "sim/sim_vehicle.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::sim::detail {
 
@@ -41,8 +42,8 @@ inline bool is_amsl(std::uint8_t frame) { return frame == 0 || frame == 5; }
 
 // The navigation commands flown (the others are done at once).
 inline bool is_nav(std::uint16_t command) {
-  return command == exporting::kNavWaypoint || command == exporting::kNavTakeoff ||
-         command == exporting::kNavLand || command == exporting::kNavReturnToLaunch ||
+  return command == waypoints::kNavWaypoint || command == waypoints::kNavTakeoff ||
+         command == waypoints::kNavLand || command == waypoints::kNavReturnToLaunch ||
          (command >= 17 && command <= 19) || command == 82;
 }
 

@@ -13,16 +13,16 @@
 #include <numbers>
 
 #include "autopilot/rules.hpp"
-#include "export/mission_items.hpp"
 #include "mavlink/stream.hpp"
 #include "mavlink/udp.hpp"
 #include "sim/sim_internal.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::sim {
 
 namespace mav = uavcover::mavlink;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 using namespace detail;
 
 namespace {
