@@ -3,6 +3,7 @@
 // shares that always sum to 100 %, camera/altitude/overlap with spacing, GSD and footprint computed by
 // the server (POST /missions/validate), mode, planner and its parameters, seed; save revision by
 // revision. The state's mission document is always what the operator sees.
+import { el } from '../dom.ts';
 import L from 'leaflet';
 import '@geoman-io/leaflet-geoman-free';
 import '@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css';
@@ -61,17 +62,6 @@ interface Validated {
 type Uav = Record<string, unknown>;
 type Kind = 'area' | 'nfz';
 
-function el<K extends keyof HTMLElementTagNameMap>(
-  tag: K,
-  props: Partial<Record<string, string>> = {},
-  text?: string,
-): HTMLElementTagNameMap[K] {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(props)) if (v !== undefined) e.setAttribute(k, v);
-  if (text !== undefined) e.textContent = text;
-  return e;
-}
-
 function num(s: string): number | undefined {
   if (s.trim() === '') return undefined;
   const x = Number(s);
@@ -85,7 +75,7 @@ function round(x: number, digits: number): number {
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
-// the area and no-fly zones as the CLI's pictures draw them (src/render/render.cpp draw_plan)
+// the area and no-fly zones as the CLI's pictures draw them (src/render/plan_map.cpp draw_plan)
 const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 
