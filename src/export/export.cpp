@@ -783,6 +783,9 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
                                          plan.mission.uavs.size()));
   if (!std::isfinite(options.geofence_margin_m) || options.geofence_margin_m < 0)
     throw InputError("geofence_margin_m", "must be >= 0");
+  if (!std::isfinite(options.trajectory_step_s) || options.trajectory_step_s < 0 ||
+      (options.trajectory_step_s > 0 && options.trajectory_step_s < 0.001))
+    throw InputError("trajectory_step_s", "must be 0 (the segment form) or a step of at least 0.001 s");
   const std::string autopilot = export_autopilot(plan, options);  // an unknown one refuses before anything
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
@@ -849,7 +852,9 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
       put(base + ".csv", "text/csv", waypoints_csv(p, i, opt));
     } else if (f == "trajectory") {
       const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
-      put("trajectory/" + id + ".csv", "text/csv", trajectory::trajectory_csv(p, traj.sample()));
+      put("trajectory/" + id + ".csv", "text/csv",
+          opt.trajectory_step_s > 0 ? trajectory::trajectory_csv(p, traj.sample(opt.trajectory_step_s))
+                                    : trajectory::segments_csv(p, traj));
     }
   };
   // per sortie: the sorties of each flown UAV (cut now when the plan has none, e.g. built by hand)

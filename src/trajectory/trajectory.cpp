@@ -213,15 +213,16 @@ std::vector<Segment> Trajectory::segments() const {
   std::vector<Segment> out;
   // a phase that continues the law of the segment before it (the same kind and acceleration, and that
   // law's state at its start) is not a new breakpoint: densified legs and long cruises stay one row
-  constexpr double kSame = 1e-10;
+  // (a 5 km cruise predicted from its first 10 m piece is off by about 1e-10 m: rounding of the directions)
+  constexpr double kSameP = 5e-10, kSameV = 1e-12;
   auto continues = [&](const Segment& c) {
     if (out.empty()) return false;
     const Segment& r = out.back();
-    if (r.kind != c.kind || c.kind == SegmentKind::Arc || norm(sub(r.a, c.a)) > kSame) return false;
+    if (r.kind != c.kind || c.kind == SegmentKind::Arc || norm(sub(r.a, c.a)) > kSameV) return false;
     const double s = c.t - r.t;
     const Vec3 p = add(add(r.p, scale(r.v, s)), scale(r.a, 0.5 * s * s));
     const Vec3 v = add(r.v, scale(r.a, s));
-    return norm(sub(p, c.p)) <= kSame && norm(sub(v, c.v)) <= kSame;
+    return norm(sub(p, c.p)) <= kSameP && norm(sub(v, c.v)) <= kSameV;
   };
   auto push = [&](Segment c) {
     // a phase too short to move the clock has no instant of its own: the next one starts then
