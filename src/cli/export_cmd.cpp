@@ -125,9 +125,11 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
                   "DJI WPML payloadEnumValue (-1 = the drone's own camera)")
       ->capture_default_str()
       ->check(integer_in(-1, 100'000));
-  cmd->add_option("--trajectory-step,--dt", args->opt.trajectory_step_s,
+  cmd->add_option("--trajectory-step", args->opt.trajectory_step_s,
                   "Trajectory: sample trajectory/<id>.csv every this many seconds; without it the file is "
                   "the segment form, one row per breakpoint (docs/trajectory.md)")
+      ->check(number_in(0.001, 60));
+  cmd->add_option("--dt", args->opt.trajectory_step_s, "The old name of --trajectory-step")
       ->check(number_in(0.001, 60));
   cmd->add_option("--densify", args->opt.trajectory.densify_m,
                   "Trajectory: split legs longer than this (m, 0 = off)")
