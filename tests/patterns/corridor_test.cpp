@@ -201,8 +201,8 @@ TEST(Corridor, ThreeUavsGetConsecutivePiecesByShare) {
   }
   j["pattern"] = json::object();
   const Plan p = plan_of(j);
-  // along the line: u2 (start at -50) first, then u3 (700), then u1 (1250)
-  const std::vector<std::pair<double, double>> pieces{{720, 1200}, {0, 600}, {600, 960}};
+  // along the line: u2 (start at -50, share 0.3) first, then u3 (700, 0.2), then u1 (1250, 0.5)
+  const std::vector<std::pair<double, double>> pieces{{600, 1200}, {0, 360}, {360, 600}};
   for (int i = 0; i < 3; ++i) {
     const auto runs = shot_runs(p.uavs[i]);
     ASSERT_EQ(runs.size(), 3u) << i;
