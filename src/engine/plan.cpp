@@ -12,11 +12,11 @@
 #include "engine/shares.hpp"
 #include "engine/test_hold.hpp"
 #include "evaluation/evaluate.hpp"
-#include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 
@@ -182,9 +182,9 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   };
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
   // UAVs can be separated there
-  exporting::AltitudeOptions altitudes;
+  waypoints::AltitudeOptions altitudes;
   try {
-    altitudes = exporting::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
+    altitudes = waypoints::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
                                              &out.warnings);
   } catch (const InputError& e) {
     altitudes.transition_ceiling_m = 0;
@@ -213,7 +213,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     up.region = to_wgs84(r.region, lm.frame);
     up.regions = static_cast<int>(r.region.size());
     up.diagnostics = r.diagnostics;
-    up.transition_altitude_m = exporting::transition_altitude(altitudes, i, out.mission.altitude_m);
+    up.transition_altitude_m = waypoints::transition_altitude(altitudes, i, out.mission.altitude_m);
     Point here = problem.starts[i];
     auto transit_to = [&](Point target) {
       if (ctx.stop_requested()) throw Cancelled();

@@ -622,7 +622,7 @@ void draw_study(cairo_t* cr, const std::vector<StudyPoint>& pts, int width, int 
   text(cr, 0.5 * (left + right), height - margin + 15, "number of UAVs", 14, 0.5);
 }
 
-void draw_profile(cairo_t* cr, const exporting::LegProfile& lp, int width, int height) {
+void draw_profile(cairo_t* cr, const waypoints::LegProfile& lp, int width, int height) {
   const double margin = 40;
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   text(cr, margin, margin,
@@ -706,7 +706,7 @@ void draw_profile(cairo_t* cr, const exporting::LegProfile& lp, int width, int h
 
 }  // namespace
 
-Artifact terrain_profile_png(const exporting::LegProfile& profile, std::string name, int width, int height) {
+Artifact terrain_profile_png(const waypoints::LegProfile& profile, std::string name, int width, int height) {
   return png(std::move(name), width, height, [&](cairo_t* cr) { draw_profile(cr, profile, width, height); });
 }
 

@@ -10,15 +10,15 @@
 #include <numbers>
 
 #include "autopilot/rules.hpp"
-#include "export/mission_items.hpp"
 #include "mavlink/stream.hpp"
 #include "mavlink/udp.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::sim {
 
 namespace mav = uavcover::mavlink;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 
 namespace {
 
@@ -49,8 +49,8 @@ bool is_amsl(std::uint8_t frame) { return frame == 0 || frame == 5; }
 
 // The navigation commands flown (the others are done at once).
 bool is_nav(std::uint16_t command) {
-  return command == ex::kNavWaypoint || command == ex::kNavTakeoff || command == ex::kNavLand ||
-         command == ex::kNavReturnToLaunch || (command >= 17 && command <= 19) || command == 82;
+  return command == wp::kNavWaypoint || command == wp::kNavTakeoff || command == wp::kNavLand ||
+         command == wp::kNavReturnToLaunch || (command >= 17 && command <= 19) || command == 82;
 }
 
 bool for_me(std::uint8_t target, std::uint8_t sysid) { return target == 0 || target == sysid; }
@@ -122,7 +122,7 @@ double SimVehicle::item_alt(const mav::MissionItemInt& item) const {
 
 bool SimVehicle::is_home_item(std::size_t seq) const {
   // ArduPilot's convention (and `uavcover upload` without --no-home): item 0 is the home position.
-  return seq == 0 && mission_.size() > 1 && mission_[0].command == ex::kNavWaypoint &&
+  return seq == 0 && mission_.size() > 1 && mission_[0].command == wp::kNavWaypoint &&
          mission_[0].frame == 0 && mission_[0].z == 0.0F;
 }
 
@@ -308,24 +308,24 @@ std::vector<SimVehicle::Target> SimVehicle::item_targets(const mav::MissionItemI
   // (begin_item() reports it); altitudes are kept within 0..10 km.
   if (is_nav(item.command)) {
     if (has_position && (std::abs(item.x) > 900'000'000 || std::abs(item.y) > 1'800'000'000)) return {};
-    if (item.command != ex::kNavLand && item.command != ex::kNavReturnToLaunch &&
+    if (item.command != wp::kNavLand && item.command != wp::kNavReturnToLaunch &&
         !std::isfinite(item_alt(item)))
       return {};
   }
   const Vec3 xy = has_position ? to_local(item.x, item.y) : Vec3{from.x, from.y, 0};
   const double alt = std::isfinite(item_alt(item)) ? std::clamp(item_alt(item), 0.0, 10'000.0) : 0.0;
   switch (item.command) {
-    case ex::kNavTakeoff:  // straight up where it stands
+    case wp::kNavTakeoff:  // straight up where it stands
       return {Target{{from.x, from.y, std::max(alt, 1.0)}, false}};
-    case ex::kNavWaypoint:
+    case wp::kNavWaypoint:
     case 17:  // LOITER_UNLIM, LOITER_TURNS (18), LOITER_TIME (19): flown as waypoints
     case 18:
     case 19:
     case 82:  // SPLINE_WAYPOINT
       return {Target{{xy.x, xy.y, alt}, false}};
-    case ex::kNavLand:
+    case wp::kNavLand:
       return {Target{{xy.x, xy.y, from.z}, false}, Target{{xy.x, xy.y, 0}, true}};
-    case ex::kNavReturnToLaunch:
+    case wp::kNavReturnToLaunch:
       return {Target{{0, 0, std::max(from.z, 2.0)}, false}, Target{{0, 0, 0}, true}};
     default:  // DO_CHANGE_SPEED, camera triggers, ...: done at once
       return {};
@@ -337,7 +337,7 @@ void SimVehicle::begin_item(std::size_t seq) {
     item_ = seq;
     st_.current_seq = static_cast<std::uint16_t>(seq);
     const auto& item = mission_[seq];
-    if (item.command == ex::kDoChangeSpeed && std::isfinite(item.param2) && item.param2 >= 0.1F &&
+    if (item.command == wp::kDoChangeSpeed && std::isfinite(item.param2) && item.param2 >= 0.1F &&
         item.param2 <= 100.0F)
       v_max_ = item.param2;
     targets_ = item_targets(item, st_.p);

@@ -396,12 +396,12 @@ std::vector<Sortie> resume_sorties(const Plan& plan, std::size_t index, int last
   return out;
 }
 
-std::vector<std::vector<exporting::MissionItem>> resume_items(const Plan& plan, std::size_t index,
+std::vector<std::vector<waypoints::MissionItem>> resume_items(const Plan& plan, std::size_t index,
                                                               int last_reached,
-                                                              const exporting::AltitudeOptions& altitude) {
-  std::vector<std::vector<exporting::MissionItem>> out;
+                                                              const waypoints::AltitudeOptions& altitude) {
+  std::vector<std::vector<waypoints::MissionItem>> out;
   for (const auto& s : resume_sorties(plan, index, last_reached)) {
-    auto items = exporting::mission_items(sortie_plan(plan, index, s), index, altitude);
+    auto items = waypoints::mission_items(sortie_plan(plan, index, s), index, altitude);
     for (auto& it : items)
       if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
     out.push_back(std::move(items));

@@ -215,19 +215,19 @@ std::vector<Sample> Trajectory::sample(double dt) const {
 }
 
 std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
-                                   const exporting::AltitudeOptions& altitudes) {
-  const auto items = exporting::mission_items(plan, index, altitudes);
+                                   const waypoints::AltitudeOptions& altitudes) {
+  const auto items = waypoints::mission_items(plan, index, altitudes);
   const geodesy::LocalFrame frame(plan.origin);
   const Point home = frame.to_local(plan.mission.uavs.at(index).start_resolved);
   // heights above take-off: with a DEM the items are above mean sea level, less the ground at take-off
   const double home_ground = terrain::home_ground(plan.mission, index);
   std::vector<Vec3> pts{{home.x(), home.y(), 0.0}};
   for (const auto& it : items) {
-    if (it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
-        it.command == exporting::kNavLand) {
+    if (it.command == waypoints::kNavWaypoint || it.command == waypoints::kNavTakeoff ||
+        it.command == waypoints::kNavLand) {
       const Point p = frame.to_local({it.lon, it.lat});
       const double z =
-          static_cast<double>(it.alt) - (it.frame == exporting::kFrameGlobal ? home_ground : 0.0);
+          static_cast<double>(it.alt) - (it.frame == waypoints::kFrameGlobal ? home_ground : 0.0);
       pts.push_back({p.x(), p.y(), z});
     }
   }
@@ -239,13 +239,13 @@ std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
 }
 
 Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options,
-                          const exporting::AltitudeOptions& altitudes) {
+                          const waypoints::AltitudeOptions& altitudes) {
   const Uav& u = plan.mission.uavs.at(index);
   return Trajectory(flight_waypoints(plan, index, altitudes), Limits{u.speed_mps, u.max_accel_mps2}, options);
 }
 
 double flight_time_s(const Plan& plan, std::size_t index, const Options& options,
-                     const exporting::AltitudeOptions& altitudes) {
+                     const waypoints::AltitudeOptions& altitudes) {
   return uav_trajectory(plan, index, options, altitudes).duration();
 }
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::trajectory {
 
@@ -85,15 +85,15 @@ class Trajectory {
 /// 3D flight waypoints of UAV `index` in local metres: home on the ground, then every positioned
 /// mission item (take-off, transition, transit, coverage) in order, then home and the ground again.
 std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
-                                   const exporting::AltitudeOptions& altitudes = {});
+                                   const waypoints::AltitudeOptions& altitudes = {});
 
 /// The trajectory of UAV `index` under its own speed_mps and max_accel_mps2.
 Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options = {},
-                          const exporting::AltitudeOptions& altitudes = {});
+                          const waypoints::AltitudeOptions& altitudes = {});
 
 /// Flight time (s) of UAV `index` along its trajectory: an alternative to the eq. 15 time model.
 double flight_time_s(const Plan& plan, std::size_t index, const Options& options = {},
-                     const exporting::AltitudeOptions& altitudes = {});
+                     const waypoints::AltitudeOptions& altitudes = {});
 
 /// CSV with header `t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az`, positions in the plan's local frame.
 std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples);

@@ -45,7 +45,7 @@ struct PlanOutputs {
 
 /// Refuses, before any planning, what plan_outputs() would refuse after it (InputError naming the
 /// field, the same message): unknown export formats, and with exports transition altitudes that cannot
-/// fit under the export's ceiling (exporting::resolve_altitudes). Call it before plan().
+/// fit under the export's ceiling (waypoints::resolve_altitudes). Call it before plan().
 void check_outputs(const Mission& mission, const OutputOptions& options);
 
 /// Everything the plan folder holds. Stops and the time limit land in every stage (docs/stops.md): a

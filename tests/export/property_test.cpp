@@ -17,6 +17,7 @@
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::waypoints;
 using nlohmann::json;
 
 namespace {

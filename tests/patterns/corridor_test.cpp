@@ -12,10 +12,10 @@
 #include "autopilot/rules.hpp"
 #include "evaluation/evaluate.hpp"
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "geodesy/local_frame.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover;
 using nlohmann::json;
@@ -284,10 +284,10 @@ TEST(Pattern, TurnaroundLegsExtendWithTheCameraOff) {
   EXPECT_EQ(turnarounds, 2 * lanes);
   for (const auto& r : runs) EXPECT_NEAR(run_length(r), 600.0, 0.5);  // the lanes, not the turnarounds
   // the mission items: one distance trigger per lane, started at its first waypoint and stopped at its last
-  const auto items = exporting::mission_items(p, 0);
+  const auto items = waypoints::mission_items(p, 0);
   int starts = 0, stops = 0;
   for (const auto& it : items)
-    if (it.command == exporting::kDoSetCamTriggDist) (it.param1 > 0 ? starts : stops) += 1;
+    if (it.command == waypoints::kDoSetCamTriggDist) (it.param1 > 0 ? starts : stops) += 1;
   EXPECT_EQ(starts, lanes);
   EXPECT_EQ(stops, lanes);
   // and the autopilots accept them; every format exports

@@ -217,7 +217,7 @@ TEST(Trajectory, PlanTrajectoriesWithTransitionAltitudes) {
     EXPECT_EQ(w.back()[2], 0.0);
     double zmax = 0;
     for (const auto& p : w) zmax = std::max(zmax, p[2]);
-    EXPECT_DOUBLE_EQ(zmax, exporting::transition_altitude({}, u, plan.mission.altitude_m));
+    EXPECT_DOUBLE_EQ(zmax, waypoints::transition_altitude({}, u, plan.mission.altitude_m));
     EXPECT_DOUBLE_EQ(flight_time_s(plan, u), t.duration());
     // the flight takes longer than flying the 3D waypoint polyline at v_max
     double len = 0;

@@ -1,6 +1,6 @@
 // Mission items with transition altitudes (Hong et al. 2021 §2.3): take-off straight to the UAV's own
 // transition altitude, transit legs at it, coverage at mission altitude, climb back, return, RTL/land.
-#include "export/mission_items.hpp"
+#include "waypoints/waypoints.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,7 @@
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
-namespace uavcover::exporting {
+namespace uavcover::waypoints {
 
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m) {
   const double base =
@@ -329,4 +329,4 @@ std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const
   return best;
 }
 
-}  // namespace uavcover::exporting
+}  // namespace uavcover::waypoints
