@@ -80,12 +80,12 @@ void joint(const Centre& L, std::size_t i, double d, std::vector<Point>& out) {
   const double cr = L.t[i - 1].x() * L.t[i].y() - L.t[i - 1].y() * L.t[i].x();
   const double co = dot(n1, n2);
   const bool outer = d * cr < 0.0;
-  if (outer && 1.0 + co < 0.5) {  // sharper than 120 degrees: round on the outside
+  if (outer) {  // round on the outside: every point stays at the lane's offset from the centre line
     const double a1 = std::atan2(n1.y(), n1.x());
     double delta = std::atan2(n2.y(), n2.x()) - a1;
     while (delta > std::numbers::pi) delta -= 2 * std::numbers::pi;
     while (delta < -std::numbers::pi) delta += 2 * std::numbers::pi;
-    const int steps = std::max(2, static_cast<int>(std::ceil(std::fabs(delta) / (std::numbers::pi / 12))));
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::fabs(delta) / (std::numbers::pi / 36))));
     for (int k = 0; k <= steps; ++k) {
       const double a = a1 + delta * k / steps;
       out.push_back(add(L.c[i], Point{std::cos(a), std::sin(a)}, d));

@@ -1,6 +1,7 @@
 // Corridor sweeps (docs/patterns.md), shared by the planners that support corridors (boustrophedon,
-// milp): lanes parallel to the centre line at the spacing, ceil(width / spacing) of them, mitred joints
-// (round on the outside of bends sharper than 120 degrees) that keep the spacing on bends; the
+// milp): lanes parallel to the centre line at the spacing, ceil(width / spacing) of them, joints round on
+// the outside of a bend and mitred on the inside, so that every lane stays at its offset from the centre
+// line and the lanes keep the spacing on bends; the
 // corridor cut across into consecutive pieces by share, one per UAV, each flying every lane of its
 // piece from the end nearest its start; no-fly zones cut the lanes (the engine routes the transit
 // around them); the pattern options (crosshatch, turnaround_m, entry, alternate_transects,
@@ -15,7 +16,7 @@ namespace uavcover::planners::corridor {
 int lane_count(double width_m, double spacing_m);
 
 /// The lane at `offset_m` to the left of `line` (negative: right) between arc lengths `from_m` and `to_m`
-/// of the line (0 <= from < to <= length): the parallel polyline, mitred at joints.
+/// of the line (0 <= from < to <= length): the parallel polyline (round outside bends, mitred inside).
 std::vector<Point> offset_lane(const std::vector<Point>& line, double offset_m, double from_m, double to_m);
 
 /// Plans a corridor mission (Problem::corridor_line non-empty).
