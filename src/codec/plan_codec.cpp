@@ -90,6 +90,10 @@ json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav) {
     for (const auto& part : u.parts) {
       const double len = geometry::length(part.local);
       const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
+      // the segments flown with the camera off (turns, turnarounds: docs/patterns.md), by index
+      json off = json::array();
+      for (std::size_t k = 0; k < part.camera_off.size(); ++k)
+        if (part.camera_off[k] != 0) off.push_back(k);
       features.push_back({{"type", "Feature"},
                           {"properties",
                            {{"uav", u.id},
@@ -100,6 +104,7 @@ json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav) {
                             {"length_m", len},
                             {"turns", turns}}},
                           {"geometry", {{"type", "LineString"}, {"coordinates", line_coords(part.wgs84)}}}});
+      if (!off.empty()) features.back()["properties"]["camera_off"] = std::move(off);
     }
   }
   return {{"type", "FeatureCollection"}, {"features", std::move(features)}};
@@ -317,6 +322,18 @@ Plan load_plan(const json& pj, const json& gj) {
       for (const auto& c : geometry.at("coordinates")) {
         part.wgs84.push_back(position(c, f + ".geometry.coordinates"));
         part.local.push_back(local(part.wgs84.back(), f + ".geometry.coordinates"));
+      }
+      if (props.contains("camera_off")) {
+        const auto& off = props.at("camera_off");
+        if (!off.is_array())
+          throw InputError(f + ".properties.camera_off", "expected an array of segment indices");
+        part.camera_off.assign(part.local.size() - 1, 0);
+        for (const auto& k : off) {
+          if (!k.is_number_unsigned() || k.get<std::size_t>() >= part.camera_off.size())
+            throw InputError(f + ".properties.camera_off",
+                             "expected segment indices below " + std::to_string(part.camera_off.size()));
+          part.camera_off[k.get<std::size_t>()] = 1;
+        }
       }
       it->parts.push_back(std::move(part));
     }

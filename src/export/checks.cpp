@@ -58,6 +58,9 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
                                          plan.mission.uavs.size()));
   if (!std::isfinite(opt.geofence_margin_m) || opt.geofence_margin_m < 0)
     throw InputError("geofence_margin_m", "must be >= 0");
+  if (!std::isfinite(opt.trajectory_step_s) || opt.trajectory_step_s < 0 ||
+      (opt.trajectory_step_s > 0 && opt.trajectory_step_s < 0.001))
+    throw InputError("trajectory_step_s", "must be 0 (the segment form) or a step of at least 0.001 s");
   CheckedPlan checked;
   checked.autopilot = export_autopilot(plan, opt);  // an unknown one refuses before anything
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)

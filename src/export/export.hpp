@@ -31,6 +31,9 @@ inline constexpr double kArduPilotMaxSpeed = 20.0;   ///< ArduPilot WPNAV_SPEED 
 struct ExportOptions {
   waypoints::AltitudeOptions altitude;
   trajectory::Options trajectory;
+  /// The trajectory format: 0 = the segment form (trajectory::segments_csv, the default); > 0 = the
+  /// trajectory sampled every this many seconds (trajectory::trajectory_csv). Same file name either way.
+  double trajectory_step_s = 0;
   /// The flight software the files are for: "px4", "ardupilot", "dji" or "litchi" (issue 31's interface);
   /// empty = "px4". Sets the .plan firmwareType.
   std::string autopilot;

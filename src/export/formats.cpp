@@ -68,7 +68,9 @@ void write_csv(const Plan& p, std::size_t i, const ExportOptions& opt, const std
 void write_trajectory(const Plan& p, std::size_t i, const ExportOptions& opt, const std::string& /*base*/,
                       Artifacts& out) {
   const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
-  put(out, "trajectory/" + p.uavs[i].id + ".csv", "text/csv", trajectory::trajectory_csv(p, traj.sample()));
+  put(out, "trajectory/" + p.uavs[i].id + ".csv", "text/csv",
+      opt.trajectory_step_s > 0 ? trajectory::trajectory_csv(p, traj.sample(opt.trajectory_step_s))
+                                : trajectory::segments_csv(p, traj));
 }
 
 }  // namespace
@@ -90,7 +92,9 @@ const std::vector<Format>& formats() {
       {"csv", "Mission items CSV", ".csv", "text/csv", "spreadsheets, scripts", true,
        "seq,role,command,frame,lat,lon,alt_m,param1..param4", &write_csv},
       {"trajectory", "Trajectory CSV", ".csv", "text/csv", "analysis, simulators", false,
-       "time-parameterised flight within the UAV's speed and acceleration limits", &write_trajectory},
+       "time-parameterised flight within the UAV's speed and acceleration limits: the segment form (one row "
+       "per breakpoint), or sampled with a step (docs/trajectory.md)",
+       &write_trajectory},
   };
   return table;
 }

@@ -2,6 +2,7 @@
 #include <cctype>
 
 #include "mission/parse_internal.hpp"
+#include "mission/pattern.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 
@@ -94,17 +95,27 @@ void parse_uavs(const json& j, Raw& raw) {
 
 Raw parse_v1(const json& j) {
   Raw raw;
-  reject_unknown(j,
-                 {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
-                  "planner", "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema"},
-                 "");
+  reject_unknown(
+      j,
+      {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode", "planner",
+       "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema", "corridor", "pattern"},
+      "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
-  if (!j.contains("area")) throw InputError("area", "missing");
-  for (auto& p : polygons_of(j["area"], "area"))
-    raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
-                                          ? "area.coordinates"
-                                          : idx("area.coordinates", raw.area.size())});
+  // a corridor (docs/patterns.md) is given instead of the area: its buffered line is the area
+  if (j.contains("corridor") && j.contains("area"))
+    throw InputError("corridor", "give either area or corridor, not both");
+  if (j.contains("corridor")) {
+    raw.corridor = mission::parse_corridor(j["corridor"]);
+    raw.area.push_back({mission::corridor_polygon(*raw.corridor), "corridor.line"});
+  }
+  if (j.contains("pattern")) raw.pattern = mission::parse_pattern(j["pattern"]);
+  if (!j.contains("area") && !raw.corridor) throw InputError("area", "missing (or give a corridor)");
+  if (!raw.corridor)
+    for (auto& p : polygons_of(j["area"], "area"))
+      raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
+                                            ? "area.coordinates"
+                                            : idx("area.coordinates", raw.area.size())});
   if (j.contains("no_fly_zones")) {
     const json& nz = j["no_fly_zones"];
     if (!nz.is_array()) throw InputError("no_fly_zones", "expected an array of Polygon objects");

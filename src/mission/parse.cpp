@@ -113,6 +113,8 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.seed = raw.seed;
   m.battery_reserve = raw.battery_reserve;
   m.terrain = raw.terrain;
+  m.corridor = raw.corridor;
+  m.pattern = raw.pattern;
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});
     for (std::size_t r = 1; r < np.poly.size(); ++r) {

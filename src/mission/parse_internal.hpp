@@ -78,6 +78,8 @@ struct Raw {
   double battery_reserve = kDefaultBatteryReserve;
   std::string format = "uavcover-v1";
   std::optional<Terrain> terrain;
+  std::optional<Corridor> corridor;  ///< docs/patterns.md: its buffer is `area`
+  std::optional<Pattern> pattern;
 };
 
 /// uavcover v1 (GeoJSON conventions).

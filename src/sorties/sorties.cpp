@@ -147,6 +147,10 @@ struct Layout {
                          src.local.begin() + static_cast<long>(to) + 1);
       piece.wgs84.assign(src.wgs84.begin() + static_cast<long>(from),
                          src.wgs84.begin() + static_cast<long>(to) + 1);
+      if (!src.camera_off.empty() && to > from)  // the camera-off flags of the piece's segments
+        piece.camera_off.assign(
+            src.camera_off.begin() + static_cast<long>(std::min(from, src.camera_off.size())),
+            src.camera_off.begin() + static_cast<long>(std::min(to, src.camera_off.size())));
       s.parts.push_back(std::move(piece));
       if (j < wp_cov[b])
         s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(cov_parts[j]) + 1,

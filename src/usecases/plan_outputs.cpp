@@ -154,6 +154,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     eo.warnings = &warnings;
     eo.kmz = options.kmz;
     eo.per_sortie = options.per_sortie;
+    eo.trajectory_step_s = options.trajectory_step_s;
     std::vector<std::string> missing;
     // one format at a time, so that a stop or the time limit lands between formats
     for (std::size_t k = 0; k < formats.size(); ++k) {

@@ -22,6 +22,8 @@ struct OutputOptions {
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
   bool kmz = false;                  ///< with "kml": also <id>.kmz
   bool per_sortie = false;           ///< exports per battery sortie (exporting::ExportOptions::per_sortie)
+  /// trajectory export: 0 = the segment form, > 0 = sampled at this step (ExportOptions::trajectory_step_s)
+  double trajectory_step_s = 0;
   /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
   /// that is no file name, ...) into a warning instead of failing the whole output (the server's jobs).
   bool refused_exports_are_warnings = false;

@@ -226,7 +226,8 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
       const bool local = part.local.size() == part.wgs84.size();
       for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
-        const bool leg = camera && local &&
+        // a turn or turnaround with the camera off (docs/patterns.md) is flown, not shot
+        const bool leg = camera && local && part.camera_on(k - 1) &&
                          photo::leg_images(std::hypot(part.local[k].x() - part.local[k - 1].x(),
                                                       part.local[k].y() - part.local[k - 1].y()),
                                            trigger) > 1;
