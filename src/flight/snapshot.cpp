@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 
 #include "evaluation/cost.hpp"
 #include "flight/runtime.hpp"
+#include "json/iso_time.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
 
@@ -19,14 +19,8 @@ using nlohmann::json;
 
 namespace {
 
-std::string iso_time(std::int64_t ms) {
-  if (ms <= 0) return "";
-  const std::time_t s = static_cast<std::time_t>(ms / 1000);
-  std::tm tm{};
-  gmtime_r(&s, &tm);
-  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1,
-                     tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<int>(ms % 1000));
-}
+/// A time of the snapshot, or "" when there is none (0).
+std::string time_or_empty(std::int64_t ms) { return ms <= 0 ? "" : iso_time(ms); }
 
 }  // namespace
 
@@ -200,7 +194,7 @@ json Flight::Impl::snapshot_locked() const {
         {"phase", u.phase},
         {"link",
          {{"state", u.link_state},
-          {"last_heard", u.last_heard_ms ? json(iso_time(u.last_heard_ms)) : json()},
+          {"last_heard", u.last_heard_ms ? json(time_or_empty(u.last_heard_ms)) : json()},
           {"rx", u.rx},
           {"tx", u.tx}}},
         {"armed", u.armed},
@@ -232,7 +226,7 @@ json Flight::Impl::snapshot_locked() const {
                   {"uav", a.uav},
                   {"other", a.other.empty() ? json() : json(a.other)},
                   {"message", a.message},
-                  {"since", iso_time(a.since_ms)},
+                  {"since", time_or_empty(a.since_ms)},
                   {"active", a.active}});
   json jr = json::array();
   for (const auto& r : reassignments) {
@@ -243,7 +237,7 @@ json Flight::Impl::snapshot_locked() const {
     json x{{"id", r.id},
            {"failed_uav", r.failed_uav},
            {"state", r.state},
-           {"at", iso_time(r.at_ms)},
+           {"at", time_or_empty(r.at_ms)},
            {"last_reached", r.last_reached},
            {"helpers", std::move(helpers)}};
     if (r.result) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "json/iso_time.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
 #include "uavcover/mission.hpp"
@@ -41,8 +42,8 @@ store::NewRevision prepare_mission(const nlohmann::json& document, store::Store&
 /// The same document resolved and parsed only (POST /missions/validate).
 uavcover::Mission resolve_mission(const nlohmann::json& document, store::Store& store);
 
-/// "2026-11-26T01:02:03.456Z" from Unix milliseconds.
-std::string iso_time(std::int64_t unix_ms);
+/// "2026-11-26T01:02:03.456Z" from Unix milliseconds (json/iso_time.hpp).
+using uavcover::iso_time;
 
 /// The Job JSON of docs/api.md; with `with_artifacts` false the "artifacts" member is left out (events).
 nlohmann::json job_json(const store::Job& job, bool with_artifacts = true);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "store/store.hpp"
@@ -12,5 +13,13 @@ namespace uavcover::store {
 std::unique_ptr<Store> open_sqlite(const std::string& path);
 /// A libpq connection URI.
 std::unique_ptr<Store> open_postgres(const std::string& uri);
+
+/// The rule for a job taken up again after its worker was gone (Store::claim, requeue at start): one
+/// that has had `max_attempts` attempts is marked failed instead, with this error.
+inline bool interrupted_too_often(int attempts, int max_attempts) { return attempts >= max_attempts; }
+/// The error of such a job: "the job was interrupted N times".
+inline nlohmann::json interrupted_error(int attempts) {
+  return {{"field", ""}, {"message", "the job was interrupted " + std::to_string(attempts) + " times"}};
+}
 
 }  // namespace uavcover::store

@@ -263,10 +263,6 @@ CatalogEntry entry_from(const Result& r, int row) {
   return CatalogEntry{r.i64(row, 0), r.str(row, 1), parse_json(r.str(row, 2)), r.i64(row, 3)};
 }
 
-nlohmann::json interrupted(int attempts) {
-  return {{"field", ""}, {"message", "the job was interrupted " + std::to_string(attempts) + " times"}};
-}
-
 class PostgresStore final : public Store {
  public:
   explicit PostgresStore(const std::string& uri) : pool_(uri, kPoolSize) { migrate(); }
@@ -480,11 +476,11 @@ class PostgresStore final : public Store {
                {integer(id)});
           continue;
         }
-        if (attempts >= max_attempts) {
+        if (interrupted_too_often(attempts, max_attempts)) {
           exec(c,
                "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
                "finished_ms = " NOW_MS ", " BUMP_UPDATED " WHERE id = $1",
-               {integer(id), text(interrupted(attempts).dump())});
+               {integer(id), text(interrupted_error(attempts).dump())});
           continue;
         }
         const auto j =
@@ -577,6 +573,7 @@ class PostgresStore final : public Store {
       exec(c,
            "UPDATE jobs SET state = 'cancelled', worker = '', lease_expires_ms = NULL, finished_ms = " NOW_MS
            ", " BUMP_UPDATED " WHERE state = 'running' AND cancel_requested");
+      // interrupted_too_often() (backends.hpp), in SQL
       const auto failed =
           exec(c, "SELECT id, attempts FROM jobs WHERE state = 'running' AND attempts >= $1 FOR UPDATE",
                {integer(max_attempts)});
@@ -584,7 +581,7 @@ class PostgresStore final : public Store {
         exec(c,
              "UPDATE jobs SET state = 'failed', error = $2, worker = '', lease_expires_ms = NULL, "
              "finished_ms = " NOW_MS ", " BUMP_UPDATED " WHERE id = $1",
-             {integer(failed.i64(i, 0)), text(interrupted(failed.i32(i, 1)).dump())});
+             {integer(failed.i64(i, 0)), text(interrupted_error(failed.i32(i, 1)).dump())});
       return exec(c,
                   "UPDATE jobs SET state = 'queued', worker = '', lease_expires_ms = NULL, progress = 0, "
                   "stage = '', " BUMP_UPDATED " WHERE state = 'running' RETURNING id")

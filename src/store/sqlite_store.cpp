@@ -720,10 +720,8 @@ class SqliteStore final : public Store {
         }
         if (!pick) return std::nullopt;
         const auto [id, attempts] = *pick;
-        if (attempts >= max_attempts) {
-          const nlohmann::json error = {
-              {"field", ""}, {"message", "the job was interrupted " + std::to_string(attempts) + " times"}};
-          const std::string text = error.dump();
+        if (interrupted_too_often(attempts, max_attempts)) {
+          const std::string text = interrupted_error(attempts).dump();
           Query q(c,
                   "UPDATE jobs SET state = 'failed', error = ?2, worker = '', lease_expires_ms = 0, "
                   "finished_ms = ?3, updated_ms = MAX(?3, updated_ms + 1) WHERE id = ?1");
@@ -854,10 +852,8 @@ class SqliteStore final : public Store {
       }
       int requeued = 0;
       for (const auto& [id, attempts] : running) {
-        if (attempts >= max_attempts) {
-          const nlohmann::json error = {
-              {"field", ""}, {"message", "the job was interrupted " + std::to_string(attempts) + " times"}};
-          const std::string text = error.dump();
+        if (interrupted_too_often(attempts, max_attempts)) {
+          const std::string text = interrupted_error(attempts).dump();
           Query q(c,
                   "UPDATE jobs SET state = 'failed', error = ?2, worker = '', lease_expires_ms = 0, "
                   "finished_ms = ?3, updated_ms = MAX(?3, updated_ms + 1) WHERE id = ?1");
