@@ -29,7 +29,7 @@ const Artifact* find(const Artifacts& as, const std::string& name) {
   return nullptr;
 }
 
-/// The missions of the test: no-fly zones, two planners, a DEM, five UAVs, and a dense field whose
+/// The missions of the test: no-fly zones, two planners, the mCPP input, five UAVs, and a dense field whose
 /// Litchi missions split at 99 waypoints.
 std::vector<std::pair<std::string, json>> missions() {
   std::vector<std::pair<std::string, json>> out;
@@ -37,7 +37,8 @@ std::vector<std::pair<std::string, json>> missions() {
   json b = example("olive-grove.json");
   b["planner"] = "boustrophedon";
   out.emplace_back("olive-grove boustrophedon", b);
-  out.emplace_back("hill-terrain", example("hill-terrain.json"));
+  // (a DEM mission is not planned by the server: it reads no DEM files)
+  out.emplace_back("mcpp-darp-input", example("mcpp-darp-input.json"));
   json five = json::parse(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
                                                    "mondinelli2025" / "rectangle_3uav.json"));
   five["uavs"].push_back({{"id", "blue"}, {"speed_mps", 4}, {"endurance_min", 20}});
