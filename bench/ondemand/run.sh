@@ -56,7 +56,7 @@ for k in $(seq "$jobs"); do
 import json,sys,datetime
 d=json.load(sys.stdin)
 t=lambda s: datetime.datetime.fromisoformat(s.replace("Z","+00:00")).timestamp()
-print(f"{t(d[\"finished\"])-t(d[\"started\"]):.2f}")')
+print("%.2f" % (t(d["finished"]) - t(d["started"])))')
   after=$(dbsize)
   echo "| plan job $k ($state): wall time, database growth | $wall s, $(((after - before) / 1000000)) MB |"
   before=$after
