@@ -72,6 +72,22 @@ struct Uav {
 
 inline constexpr double kDefaultBatteryReserve = 0.2;
 
+/// A corridor (docs/patterns.md), given instead of `area`: the centre line buffered by width_m / 2 with
+/// flat ends is the covered ground (parse_mission puts that polygon into Mission::area).
+struct Corridor {
+  std::vector<LonLat> line;  ///< the centre line, at least two distinct vertices
+  double width_m = 0.0;
+};
+
+/// The pattern options (docs/patterns.md): the mission's `pattern` block.
+struct Pattern {
+  bool crosshatch = false;             ///< a second sweep of each UAV's part at 90 degrees to the first
+  double turnaround_m = 0.0;           ///< legs extend beyond their ends by this much, camera off
+  std::string entry = "auto";          ///< first leg's start: auto (nearest the start), nw, ne, sw, se
+  bool alternate_transects = false;    ///< every other lane, then back for the rest
+  bool capture_in_turnaround = false;  ///< camera on in turns and turnarounds
+};
+
 /// A parsed, validated, normalised mission. Produced by parse_mission().
 struct Mission {
   std::string name;
@@ -97,6 +113,10 @@ struct Mission {
   std::string source_format = "uavcover-v1";  ///< or "mcpp-optimized-darp"
   /// Ground from a DEM (docs/photogrammetry.md): absent = flat ground, heights relative to take-off.
   std::optional<Terrain> terrain;
+  /// A corridor mission (docs/patterns.md): `area` is its buffered polygon.
+  std::optional<Corridor> corridor = {};
+  /// The pattern block; absent: the planners' own sweeps, camera on over every coverage segment.
+  std::optional<Pattern> pattern = {};
 };
 
 struct ParseOptions {

@@ -1,6 +1,7 @@
 // The plan: what uavcover gives back for a mission, whatever planner made it.
 #pragma once
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,6 +19,12 @@ struct PathPart {
   PartKind kind = PartKind::Coverage;
   std::vector<Point> local;   ///< ENU metres
   std::vector<LonLat> wgs84;  ///< the same vertices in WGS84
+  /// Coverage parts: one flag per segment of `local` (local.size() - 1), 1 where the camera is off (turns
+  /// and turnarounds, docs/patterns.md); empty: the camera is on over every segment.
+  std::vector<std::uint8_t> camera_off = {};
+  [[nodiscard]] bool camera_on(std::size_t segment) const {
+    return segment >= camera_off.size() || camera_off[segment] == 0;
+  }
 };
 
 /// One battery's flight of a UAV (docs/sorties.md): from take-off (the UAV's start) at its transition

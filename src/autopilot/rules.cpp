@@ -13,7 +13,7 @@
 
 namespace uavcover::autopilot {
 
-using namespace exporting;  // the waypoint model's command and frame numbers
+using namespace waypoints;  // the waypoint model's command and frame numbers
 
 namespace {
 

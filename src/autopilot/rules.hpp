@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "mavlink/messages.hpp"
 #include "uavcover/geometry.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::autopilot {
 
-using exporting::MissionItem;
+using waypoints::MissionItem;
 
 /// MAV_MISSION_INVALID_PARAM1 (+ n - 1 for param n, up to PARAM7 = 12); PARAM5_X and PARAM6_Y by name.
 inline constexpr std::uint8_t kMissionInvalidParam1 = 6;

@@ -76,6 +76,11 @@ const bool registered_list = CommandRegistry::add(26, [](CLI::App& app) {
         std::cout << "    planner_params." << prm.at("name").get<std::string>() << " ("
                   << prm.at("type").get<std::string>() << ", default " << prm.at("default").dump()
                   << "): " << prm.at("description").get<std::string>() << "\n";
+      // capabilities (docs/patterns.md): what the engine refuses for this planner
+      std::string yes, no;
+      for (const auto& [k, v] : p.schema.at("supports").items()) (v.get<bool>() ? yes : no) += " " + k;
+      std::cout << "    supports:" << (yes.empty() ? " -" : yes) << "\n";
+      if (!no.empty()) std::cout << "    not supported:" << no << "\n";
     }
     if (*json_out) std::cout << all.dump(1) << "\n";
   });

@@ -31,7 +31,6 @@ void run_export(ExportArgs& a) {
   } else {
     throw InputError("--corners", "must be 'stop' or 'fillet'");
   }
-  if (!(a.opt.trajectory.dt > 0)) throw InputError("--dt", "must be positive");
   if (a.opt.trajectory.densify_m < 0) throw InputError("--densify", "must be >= 0");
   if (a.opt.trajectory.fillet_radius_m < 0) throw InputError("--fillet-radius", "must be >= 0");
   const Plan plan = read_plan_dir(a.plan_dir);
@@ -54,12 +53,12 @@ void run_export(ExportArgs& a) {
   for (const auto& w : warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (global_flags().quiet) return;
   const auto altitudes =
-      exporting::resolve_altitudes(a.opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+      waypoints::resolve_altitudes(a.opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     if (exporting::idle(plan.uavs[i])) continue;
     std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",
                              plan.uavs[i].id,
-                             exporting::transition_altitude(altitudes, i, plan.mission.altitude_m),
+                             waypoints::transition_altitude(altitudes, i, plan.mission.altitude_m),
                              trajectory::flight_time_s(plan, i, a.opt.trajectory, altitudes));
   }
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
@@ -126,8 +125,11 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
                   "DJI WPML payloadEnumValue (-1 = the drone's own camera)")
       ->capture_default_str()
       ->check(integer_in(-1, 100'000));
-  cmd->add_option("--dt", args->opt.trajectory.dt, "Trajectory sampling step (s)")
-      ->capture_default_str()
+  cmd->add_option("--trajectory-step", args->opt.trajectory_step_s,
+                  "Trajectory: sample trajectory/<id>.csv every this many seconds; without it the file is "
+                  "the segment form, one row per breakpoint (docs/trajectory.md)")
+      ->check(number_in(0.001, 60));
+  cmd->add_option("--dt", args->opt.trajectory_step_s, "The old name of --trajectory-step")
       ->check(number_in(0.001, 60));
   cmd->add_option("--densify", args->opt.trajectory.densify_m,
                   "Trajectory: split legs longer than this (m, 0 = off)")
@@ -149,7 +151,9 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       "  OUT/export/<id>.wpml.kmz    DJI WPML (wpmz/template.kml, wpmz/waylines.wpml)\n"
       "  OUT/export/<id>.litchi.csv  Litchi mission CSV (<id>.1.litchi.csv, ... beyond 99 waypoints)\n"
       "  OUT/export/<id>.csv         mission items as CSV\n"
-      "  OUT/trajectory/<id>.csv     t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az sampled every --dt seconds\n"
+      "  OUT/trajectory/<id>.csv     the segment form: t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max,\n"
+      "                              one row per breakpoint (accelerate, cruise, decelerate, arc, end);\n"
+      "                              with --trajectory-step S: t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az every S s\n"
       "With --per-sortie, <id>.s1.<ext>, <id>.s2.<ext>, ... (one whole mission per battery sortie) replace\n"
       "<id>.<ext> for qgc, wpl, kml, dji, litchi and csv.\n"
       "Each UAV climbs to its own transition altitude (base + index * step) for transit legs and covers\n"

@@ -32,6 +32,7 @@ struct PlanArgs {
   bool no_evaluate = false;
   bool no_images = false;
   bool per_sortie = false;
+  double trajectory_step_s = 0;
 };
 
 void run_plan(const PlanArgs& a) {
@@ -50,6 +51,7 @@ void run_plan(const PlanArgs& a) {
   oo.images = !a.no_images;
   oo.exports = a.exports;
   oo.per_sortie = a.per_sortie;
+  oo.trajectory_step_s = a.trajectory_step_s;
   // what the exports would refuse after planning (transition altitudes over the ceiling) is refused now
   usecases::check_outputs(mission, oo);
   const Progress bar = make_progress_bar(quiet);
@@ -116,6 +118,11 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
       ->check(CLI::IsMember(exporting::known_formats()));
   cmd->add_flag("--per-sortie", args->per_sortie,
                 "With --export: one file per battery sortie, export/<id>.s<k>.<ext> (docs/sorties.md)");
+  cmd->add_option("--trajectory-step", args->trajectory_step_s,
+                  "With --export trajectory: sample trajectory/<id>.csv every this many seconds (t,x,y,z,lat,"
+                  "lon,vx,vy,vz,ax,ay,az); without it the file is the segment form, one row per breakpoint "
+                  "(docs/trajectory.md)")
+      ->check(number_in(0.001, 60));
   cmd->add_flag("--no-evaluate", args->no_evaluate, "Skip the coverage simulation and cost model");
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(

@@ -12,11 +12,11 @@
 #include "cli/interrupt.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "sim/sim_vehicle.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::cli {
 namespace {
@@ -131,7 +131,7 @@ void run_simulate(const SimulateArgs& a) {
     for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
       if (exporting::idle(plan.uavs[i])) continue;
       const LonLat start = plan.mission.uavs.at(i).start_resolved;
-      missions.push_back(mavlink::to_mission_items(exporting::mission_items(plan, i), start));
+      missions.push_back(mavlink::to_mission_items(waypoints::mission_items(plan, i), start));
       starts.push_back(start);
     }
     if (missions.empty()) throw InputError("--plan", "the plan has no UAV with a coverage path");

@@ -12,11 +12,11 @@
 #include "cli/mission_file.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::cli {
 namespace {
@@ -32,7 +32,7 @@ struct UploadArgs {
   int sysid = 255;
   int compid = 190;
   bool no_home = false;
-  exporting::AltitudeOptions altitude;
+  waypoints::AltitudeOptions altitude;
 };
 
 void run_upload(const UploadArgs& a) {
@@ -62,9 +62,9 @@ void run_upload(const UploadArgs& a) {
     std::cerr << fmt::format("uavcover: warning: UAV '{}' has no coverage path; nothing uploaded\n", a.uav);
     return;
   }
-  std::vector<exporting::MissionItem> exported;
+  std::vector<waypoints::MissionItem> exported;
   try {
-    exported = exporting::mission_items(plan, index, a.altitude);
+    exported = waypoints::mission_items(plan, index, a.altitude);
   } catch (const InputError& e) {
     // the library names its fields; on the command line they are these options
     const std::string problem = std::string(e.what()).substr(e.field().empty() ? 0 : e.field().size() + 2);

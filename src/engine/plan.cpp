@@ -12,11 +12,11 @@
 #include "engine/shares.hpp"
 #include "engine/test_hold.hpp"
 #include "evaluation/evaluate.hpp"
-#include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 
@@ -55,6 +55,21 @@ void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
     throw InputError("area", who + " plans one polygon; this area has " + std::to_string(m.area.size()));
   if (m.mode == Mode::Strict && !c.strict_mode) throw InputError("mode", who + " has no strict mode");
   if (m.mode == Mode::Coverage && !c.coverage_mode) throw InputError("mode", who + " has no coverage mode");
+  // the patterns (docs/patterns.md)
+  if (m.corridor && !c.corridor)
+    throw InputError("corridor", who + " does not plan corridors; choose boustrophedon or milp");
+  if (m.pattern) {
+    const Pattern& p = *m.pattern;
+    auto refuse = [&](bool asked, bool can, const std::string& field) {
+      if (asked && !can)
+        throw InputError("pattern." + field, who + " does not support it (uavcover planners)");
+    };
+    refuse(p.crosshatch, c.crosshatch, "crosshatch");
+    refuse(p.turnaround_m > 0.0, c.turnaround, "turnaround_m");
+    refuse(p.entry != "auto", c.entry, "entry");
+    refuse(p.alternate_transects, c.alternate_transects, "alternate_transects");
+    refuse(p.capture_in_turnaround, c.capture_in_turnaround, "capture_in_turnaround");
+  }
   if (!c.shares)
     for (std::size_t i = 1; i < m.uavs.size(); ++i)
       if (std::fabs(m.uavs[i].share - m.uavs[0].share) > 1e-9)
@@ -98,6 +113,11 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   problem.camera = out.mission.camera;
   problem.mode = out.mission.mode;
   problem.seed = out.mission.seed;
+  problem.pattern = out.mission.pattern;
+  if (out.mission.corridor) {
+    for (const auto& p : out.mission.corridor->line) problem.corridor_line.push_back(lm.frame.to_local(p));
+    problem.corridor_width_m = out.mission.corridor->width_m;
+  }
   std::mt19937_64 rng(out.mission.seed ^ 0x5eedf00dULL);
   // missing starts: spread over the free area by share (engine/shares.hpp), so that the division can
   // meet the shares; one UAV meets its share from anywhere and keeps the uniform draw
@@ -129,8 +149,10 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // a free area in several parts: every UAV's share over the parts, the planner on each part
   engine::test_hold(ctx, "planning", out.mission.name);
   if (ctx.stop_requested()) throw Cancelled();
+  // a corridor is planned along its line whole, even where no-fly zones cut it into parts
   std::optional<planners::Assignment> by_parts =
-      engine::plan_by_parts(*info, problem, out.mission.planner_params, ctx);
+      problem.corridor_line.empty() ? engine::plan_by_parts(*info, problem, out.mission.planner_params, ctx)
+                                    : std::nullopt;
   const planners::Assignment res =
       by_parts ? std::move(*by_parts) : info->create()->plan(problem, out.mission.planner_params, ctx);
   if (res.uavs.size() != out.mission.uavs.size())
@@ -141,17 +163,28 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   out.diagnostics = res.diagnostics;
   ctx.report("transit", 0.0);
 
-  auto make_part = [&](PartKind kind, std::vector<Point> pts) {
+  auto make_part = [&](PartKind kind, std::vector<Point> pts,
+                       const std::vector<std::uint8_t>* off = nullptr) {
     // long segments near the poles get vertices so that GeoJSON's lon/lat edges follow the local ones
-    PathPart part{kind, {}, {}};
+    PathPart part{kind, {}, {}, {}};
     part.wgs84 = geometry::to_wgs84_dense(pts, lm.frame, &part.local);
+    // the camera-off flags follow their segments into the dense polyline
+    if (off != nullptr && std::find(off->begin(), off->end(), 1) != off->end()) {
+      std::size_t orig = 0;
+      for (std::size_t j = 1; j < part.local.size(); ++j) {
+        part.camera_off.push_back(orig < off->size() ? (*off)[orig] : 0);
+        if (orig + 1 < pts.size() && part.local[j].x() == pts[orig + 1].x() &&
+            part.local[j].y() == pts[orig + 1].y())
+          ++orig;
+      }
+    }
     return part;
   };
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
   // UAVs can be separated there
-  exporting::AltitudeOptions altitudes;
+  waypoints::AltitudeOptions altitudes;
   try {
-    altitudes = exporting::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
+    altitudes = waypoints::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
                                              &out.warnings);
   } catch (const InputError& e) {
     altitudes.transition_ceiling_m = 0;
@@ -180,7 +213,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
     up.region = to_wgs84(r.region, lm.frame);
     up.regions = static_cast<int>(r.region.size());
     up.diagnostics = r.diagnostics;
-    up.transition_altitude_m = exporting::transition_altitude(altitudes, i, out.mission.altitude_m);
+    up.transition_altitude_m = waypoints::transition_altitude(altitudes, i, out.mission.altitude_m);
     Point here = problem.starts[i];
     auto transit_to = [&](Point target) {
       if (ctx.stop_requested()) throw Cancelled();
@@ -213,7 +246,8 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
       }
       ++parts_done;
       transit_to(cov.front());
-      up.parts.push_back(make_part(PartKind::Coverage, cov));
+      up.parts.push_back(
+          make_part(PartKind::Coverage, cov, c < r.camera_off.size() ? &r.camera_off[c] : nullptr));
       up.coverage_length_m += geometry::length(cov);
       up.turns += static_cast<int>(cov.size());
       here = cov.back();

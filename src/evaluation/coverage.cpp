@@ -231,6 +231,8 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
       };
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         if (k % 64 == 0) check();
+        // turns and turnarounds with the camera off see nothing (docs/patterns.md)
+        if (part.kind == PartKind::Coverage && !part.camera_on(k - 1)) continue;
         const Point a = part.local[k - 1], b = part.local[k];
         if (!options.widths) {
           const double w = res.uavs[u].footprint_m;

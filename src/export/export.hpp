@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "trajectory/trajectory.hpp"
 #include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::exporting {
 
@@ -29,8 +29,11 @@ inline constexpr double kArduPilotMaxSpeed = 20.0;   ///< ArduPilot WPNAV_SPEED 
 }  // namespace limits
 
 struct ExportOptions {
-  AltitudeOptions altitude;
+  waypoints::AltitudeOptions altitude;
   trajectory::Options trajectory;
+  /// The trajectory format: 0 = the segment form (trajectory::segments_csv, the default); > 0 = the
+  /// trajectory sampled every this many seconds (trajectory::trajectory_csv). Same file name either way.
+  double trajectory_step_s = 0;
   /// The flight software the files are for: "px4", "ardupilot", "dji" or "litchi" (issue 31's interface);
   /// empty = "px4". Sets the .plan firmwareType.
   std::string autopilot;
@@ -53,7 +56,7 @@ struct ExportOptions {
   std::vector<std::string>* warnings = nullptr;  ///< when set, receives every warning (clamps, skips)
 };
 
-/// The formats export_artifacts() knows, in a fixed order.
+/// The formats export_artifacts() knows, in a fixed order: the names of the table export/formats.hpp.
 const std::vector<std::string>& known_formats();
 
 /// The format names in `formats` (entries may hold comma-separated lists; case and blanks ignored;

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::exporting {
 
@@ -25,13 +25,14 @@ bool inside_ring(LonLat p, const GeoRing& ring);
 /// The inclusion fence of UAV `index`: a convex polygon (at most 16 vertices, not closed, CCW) that
 /// holds the mission area, the UAV's home and every positioned item at least `margin_m` metres from
 /// its edge. Being convex it also holds every leg between them.
-GeoRing inclusion_fence(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items,
+GeoRing inclusion_fence(const Plan& plan, std::size_t index, const std::vector<waypoints::MissionItem>& items,
                         double margin_m);
 
 /// The places of UAV `index`'s flight that lie inside a no-fly zone: home, every positioned item and
 /// points every `step_m` metres along the legs between them (home -> items -> home). One line each,
 /// empty when none.
 std::vector<std::string> no_fly_violations(const Plan& plan, std::size_t index,
-                                           const std::vector<MissionItem>& items, double step_m = 1.0);
+                                           const std::vector<waypoints::MissionItem>& items,
+                                           double step_m = 1.0);
 
 }  // namespace uavcover::exporting

@@ -14,6 +14,8 @@
 
 namespace uavcover::exporting {
 
+using namespace waypoints;  // the waypoint model the formats write
+
 namespace bgi = bg::index;
 
 struct RegionMap::Index {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::exporting {
 
@@ -38,7 +38,7 @@ struct SeparationOptions {
 /// Problems found, one line each (empty = separation holds): shared or too-close transition
 /// altitudes, transition altitudes not above the mission altitude, legs at mission altitude (other
 /// than coverage legs of one loop) entering another UAV's region.
-std::vector<std::string> check_separation(const Plan& plan, const AltitudeOptions& opt,
+std::vector<std::string> check_separation(const Plan& plan, const waypoints::AltitudeOptions& opt,
                                           const SeparationOptions& sep = {});
 
 /// Hazards that do not block an export: a UAV's home inside another UAV's region (its take-off and

@@ -72,8 +72,6 @@ std::string mode_name(std::uint8_t autopilot, std::uint32_t custom) {
   return custom < 5 ? kGeneric[custom] : "unknown";
 }
 
-bool airborne_phase(const std::string& p) { return p == "flying" || p == "paused" || p == "returning"; }
-
 std::string printable(std::string_view s) {
   std::string out;
   for (char c : s)

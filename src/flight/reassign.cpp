@@ -177,15 +177,15 @@ MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reach
 }
 
 Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
-                      const std::vector<Helper>& helpers, const exporting::AltitudeOptions& altitude,
+                      const std::vector<Helper>& helpers, const waypoints::AltitudeOptions& altitude,
                       const Context& ctx) {
   validate(plan, failed, helpers);
   const UavPlan& up = plan.uavs[failed];
   const int n = static_cast<int>(sorties::coverage_waypoints(up).size());
   check_last_reached(up, n, last_reached);
   // the helpers' transition altitudes in the full plan (InputError "altitude.*" when they cannot be had)
-  const exporting::AltitudeOptions resolved =
-      exporting::resolve_altitudes(altitude, plan.uavs.size(), plan.mission.altitude_m);
+  const waypoints::AltitudeOptions resolved =
+      waypoints::resolve_altitudes(altitude, plan.uavs.size(), plan.mission.altitude_m);
 
   Reassignment out;
   out.failed_uav = up.id;
@@ -249,8 +249,8 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
     work.coverage_length_m = hp.coverage_length_m;
     work.waypoints = static_cast<int>(sorties::coverage_waypoints(hp).size());
     // one mission per sortie, flown at the helper's transition altitude of the full plan
-    exporting::AltitudeOptions own = altitude;
-    own.transition_base_m = exporting::transition_altitude(resolved, index, plan.mission.altitude_m);
+    waypoints::AltitudeOptions own = altitude;
+    own.transition_base_m = waypoints::transition_altitude(resolved, index, plan.mission.altitude_m);
     std::vector<Sortie> sorties = hp.sorties;
     if (sorties.empty()) {  // a leg longer than one battery (plan() warned): one mission of it all
       Sortie whole;
@@ -265,7 +265,7 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
       Plan one = sorties::sortie_plan(sp, j, s);
       one.uavs = {one.uavs[j]};
       one.mission.uavs = {one.mission.uavs[j]};
-      auto items = exporting::mission_items(one, 0, own);
+      auto items = waypoints::mission_items(one, 0, own);
       for (auto& it : items)
         if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
       work.missions.push_back(std::move(items));

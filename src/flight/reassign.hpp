@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "uavcover/context.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::flight {
 
@@ -31,7 +31,7 @@ struct ReassignedWork {
   std::vector<Sortie> sorties;
   /// One per sortie, at the helper's transition altitude of the full plan; MissionItem::waypoint counts
   /// as `sorties` do.
-  std::vector<std::vector<exporting::MissionItem>> missions;
+  std::vector<std::vector<waypoints::MissionItem>> missions;
   double coverage_length_m = 0.0;
   int waypoints = 0;  ///< coverage waypoints
 };
@@ -64,7 +64,7 @@ MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reach
 /// (0, 1]) or "altitude.*". Empty work when nothing is left to cover. ctx: progress ("reassign",
 /// "reassign/<plan stage>") and stops (Cancelled).
 Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
-                      const std::vector<Helper>& helpers, const exporting::AltitudeOptions& altitude = {},
+                      const std::vector<Helper>& helpers, const waypoints::AltitudeOptions& altitude = {},
                       const Context& ctx = {});
 
 }  // namespace uavcover::flight

@@ -1,6 +1,7 @@
-// The flight runtime's internal state (docs/flights.md, "Runtime"): shared by flight.cpp (commands,
-// supervision, reassignment, snapshot) and link.cpp (one thread per vehicle: the MAVLink link,
-// telemetry, waypoint statuses). Everything under Impl::mutex.
+// The flight runtime's internal state (docs/flights.md, "Runtime"): shared by flight.cpp (records,
+// phases, the public class), missions.cpp (each UAV's missions, reassigned work), supervisor.cpp,
+// commands.cpp, snapshot.cpp (snapshot and restore) and link.cpp (one thread per vehicle: the MAVLink
+// link, telemetry, waypoint statuses). Everything under Impl::mutex.
 #pragma once
 
 #include <atomic>
@@ -15,12 +16,12 @@
 #include <thread>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "flight/flight.hpp"
 #include "flight/reassign.hpp"
 #include "geodesy/local_frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/udp.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::flight::detail {
 
@@ -46,7 +47,7 @@ struct MissionSpec {
   int reassignment = 0;    ///< reassigned: its id
   std::string state = "pending";  ///< pending, uploading, ready, flying, done, interrupted, skipped
   std::string waypoints;          ///< reassigned: statuses of first..last
-  std::vector<exporting::MissionItem> items;
+  std::vector<waypoints::MissionItem> items;
   // ETA: per item, the path length and coverage waypoints from that item to the end
   std::vector<double> rest_m;
   std::vector<int> rest_turns;
@@ -168,7 +169,7 @@ struct Flight::Impl {
                      float p2 = 0);
   void update_state();
   void supervise_locked(detail::Clock::time_point now);
-  detail::MissionSpec make_mission(std::size_t uav, std::vector<exporting::MissionItem> items) const;
+  detail::MissionSpec make_mission(std::size_t uav, std::vector<waypoints::MissionItem> items) const;
   [[nodiscard]] std::vector<detail::MissionSpec> own_missions(std::size_t uav, int from_waypoint) const;
   void apply_reassignment(detail::ReassignmentRt& r);
   [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,
@@ -188,5 +189,14 @@ struct Flight::Impl {
 };
 
 std::int64_t now_ms();
+
+namespace detail {
+
+/// Whether a phase is one in the air (flying, paused or returning).
+inline bool airborne_phase(const std::string& p) {
+  return p == "flying" || p == "paused" || p == "returning";
+}
+
+}  // namespace detail
 
 }  // namespace uavcover::flight

@@ -1,21 +1,16 @@
-// Reading and writing a plan directory: DIR/plan.json and DIR/paths.geojson.
+// Files: reading input files with a size cap, writing files atomically, writing a set of artifacts into a
+// folder, and reading a plan folder (DIR/plan.json and DIR/paths.geojson, decoded by codec/plan_codec.hpp).
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 #include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
 
 namespace uavcover::io {
-
-/// RFC 7946 FeatureCollection: per UAV LineStrings (kind coverage/transit, uav, share_requested,
-/// share_actual, length_m, turns) plus Polygon features for the area and no-fly zones (role).
-/// With `only_uav`, the lines of that UAV alone (the per-UAV GeoJSON export).
-nlohmann::json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav = std::nullopt);
 
 /// Default cap on the size of an input file (docs/limits.md).
 inline constexpr std::size_t kDefaultMaxInputBytes = std::size_t{64} << 20;
@@ -34,10 +29,6 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
 std::string read_text_file(const std::filesystem::path& path, const std::string& field,
                            std::size_t max_bytes);
 
-/// plan.json: normalised mission, spacing, GSD/footprint, placement, per-UAV and total metrics.
-/// `extra` entries (e.g. "coverage", "cost") are merged in at top level.
-nlohmann::json plan_json(const Plan& plan, const nlohmann::json& extra = nlohmann::json::object());
-
 /// Writes text to `path` atomically (temp file + rename), creating parent folders.
 void write_file_atomic(const std::filesystem::path& path, const std::string& content);
 
@@ -51,7 +42,5 @@ std::vector<std::filesystem::path> write_artifacts(const std::filesystem::path& 
 /// Reads DIR/plan.json and DIR/paths.geojson back into a Plan (mission, UAVs, parts with local
 /// and WGS84 coordinates). Throws InputError naming the file and field when they are unusable.
 Plan load_plan_dir(const std::filesystem::path& dir);
-/// The same from the two documents already parsed (a plan job's artifacts in the server's store).
-Plan load_plan(const nlohmann::json& plan_json, const nlohmann::json& paths_geojson);
 
 }  // namespace uavcover::io

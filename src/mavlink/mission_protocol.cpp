@@ -37,7 +37,7 @@ bool for_me(std::uint8_t target_system, std::uint8_t sysid) {
 
 }  // namespace
 
-MissionItemInt to_mission_item_int(const exporting::MissionItem& item, std::uint16_t seq) {
+MissionItemInt to_mission_item_int(const waypoints::MissionItem& item, std::uint16_t seq) {
   MissionItemInt m;
   m.seq = seq;
   m.frame = item.frame;
@@ -59,14 +59,14 @@ MissionItemInt to_mission_item_int(const exporting::MissionItem& item, std::uint
   return m;
 }
 
-std::vector<MissionItemInt> to_mission_items(const std::vector<exporting::MissionItem>& items,
+std::vector<MissionItemInt> to_mission_items(const std::vector<waypoints::MissionItem>& items,
                                              const std::optional<LonLat>& home) {
   std::vector<MissionItemInt> out;
   out.reserve(items.size() + 1);
   if (home) {
     MissionItemInt h;
     h.frame = 0;  // MAV_FRAME_GLOBAL
-    h.command = exporting::kNavWaypoint;
+    h.command = waypoints::kNavWaypoint;
     h.x = scaled(home->lat);
     h.y = scaled(home->lon);
     h.z = 0.0F;

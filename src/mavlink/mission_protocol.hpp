@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "mavlink/link.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/udp.hpp"
 #include "uavcover/geometry.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::mavlink {
 
@@ -32,11 +32,11 @@ inline constexpr std::chrono::milliseconds kItemTimeout{250};
 inline constexpr int kMaxRetries = 5;
 
 /// MISSION_ITEM_INT for one exported item: lat/lon * 1e7 (rounded) in global frames, as-is otherwise.
-MissionItemInt to_mission_item_int(const exporting::MissionItem& item, std::uint16_t seq);
+MissionItemInt to_mission_item_int(const waypoints::MissionItem& item, std::uint16_t seq);
 
 /// The items to upload. With `home` (ArduPilot: seq 0 is the home position) a MAV_CMD_NAV_WAYPOINT at
 /// the home position (frame MAV_FRAME_GLOBAL, altitude 0) is item 0 and the mission follows from seq 1.
-std::vector<MissionItemInt> to_mission_items(const std::vector<exporting::MissionItem>& items,
+std::vector<MissionItemInt> to_mission_items(const std::vector<waypoints::MissionItem>& items,
                                              const std::optional<LonLat>& home);
 
 struct UploadOptions {

@@ -1,5 +1,7 @@
 #include "mission/mission_json.hpp"
 
+#include "mission/pattern.hpp"
+
 #include <algorithm>
 #include <set>
 
@@ -115,6 +117,12 @@ json to_json(const Mission& m) {
   if (m.terrain)
     j["terrain"] = {
         {"dem", m.terrain->dem}, {"mode", m.terrain->mode}, {"tolerance_m", m.terrain->tolerance_m}};
+  // a corridor mission is written as its corridor (the area is its buffer, derived again on reading)
+  if (m.corridor) {
+    j.erase("area");
+    j["corridor"] = corridor_json(*m.corridor);
+  }
+  if (m.pattern) j["pattern"] = pattern_json(*m.pattern);
   return j;
 }
 

@@ -75,6 +75,10 @@ std::optional<Estimate> estimate(const Plan& plan) {
       if (corner && !same_place(*corner, part.wgs84.front())) corner.reset();
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         const double len = dist(part.local[k - 1], part.local[k]);
+        if (!part.camera_on(k - 1)) {  // a turn or turnaround with the camera off (docs/patterns.md)
+          corner.reset();
+          continue;
+        }
         if (len <= kMinLeg) continue;
         const int n = leg_images(len, trigger);
         ++u.legs;

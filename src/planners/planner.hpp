@@ -43,6 +43,12 @@ struct Problem {
   std::vector<UavFootprint> uav_footprints;
   Mode mode = Mode::Strict;
   std::uint64_t seed = 0;
+  /// A corridor mission (docs/patterns.md): its centre line in local metres and its width; `area` is
+  /// the buffered line. Empty: an area mission.
+  std::vector<Point> corridor_line = {};
+  double corridor_width_m = 0.0;
+  /// The mission's pattern block (the engine refuses the options the planner does not support).
+  std::optional<Pattern> pattern = {};
 };
 
 /// What a planner decides for one UAV.
@@ -53,6 +59,9 @@ struct UavAssignment {
   /// Coverage parts in flight order, each a polyline of turning waypoints (a closed loop repeats its
   /// first vertex). The engine joins them with transit legs routed around the no-fly zones.
   std::vector<std::vector<Point>> coverage;
+  /// Optional, parallel to `coverage`: per part, one flag per segment, 1 where the camera is off (turns,
+  /// turnarounds); a missing or empty entry: camera on over the whole part (PathPart::camera_off).
+  std::vector<std::vector<std::uint8_t>> camera_off = {};
   /// Battery sorties chosen by the planner (optional): the indices into `coverage` of the parts that
   /// begin a new sortie, strictly increasing, the first 0 (e.g. {0, 1, 2} for three routes that each
   /// start and end at the UAV's start). Each sortie flies out from the start, covers its parts in
@@ -99,6 +108,13 @@ struct Capabilities {
   bool coverage_mode = true;
   bool multiple_areas = true;  ///< plans areas made of several polygons
   bool best_so_far = false;    ///< returns its best complete plan when the time limit is reached
+  // the patterns (docs/patterns.md): mission field `corridor` and the `pattern.*` options
+  bool corridor = false;
+  bool crosshatch = false;
+  bool turnaround = false;  ///< pattern.turnaround_m > 0
+  bool entry = false;       ///< pattern.entry other than "auto"
+  bool alternate_transects = false;
+  bool capture_in_turnaround = false;
 };
 
 class Planner {

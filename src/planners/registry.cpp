@@ -170,7 +170,13 @@ nlohmann::json describe(const PlannerInfo& planner) {
             {"strict_mode", c.strict_mode},
             {"coverage_mode", c.coverage_mode},
             {"multiple_areas", c.multiple_areas},
-            {"best_so_far", c.best_so_far}}}};
+            {"best_so_far", c.best_so_far},
+            {"corridor", c.corridor},
+            {"crosshatch", c.crosshatch},
+            {"turnaround", c.turnaround},
+            {"entry", c.entry},
+            {"alternate_transects", c.alternate_transects},
+            {"capture_in_turnaround", c.capture_in_turnaround}}}};
 }
 
 }  // namespace uavcover::planners

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "evaluation/coverage.hpp"
-#include "export/mission_items.hpp"
 #include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::render {
 
@@ -56,9 +56,9 @@ struct StudyPoint {
 Artifact study_png(const std::vector<StudyPoint>& points, std::string name = "study.png", int width = 1200,
                    int height = 800, int recommended = 0, const std::string& title = "Multi-UAV study");
 
-/// Ground (filled) and flight height along one coverage leg (exporting::leg_profile): the waypoints
+/// Ground (filled) and flight height along one coverage leg (waypoints::leg_profile): the waypoints
 /// flown, the camera's height above the ground and the tolerance band around it.
-Artifact terrain_profile_png(const exporting::LegProfile& profile, std::string name = "terrain-profile.png",
+Artifact terrain_profile_png(const waypoints::LegProfile& profile, std::string name = "terrain-profile.png",
                              int width = 1400, int height = 700);
 
 /// The colour of UAV i (r, g, b in [0, 1]).

@@ -66,7 +66,10 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
   const auto paths = store_.get_artifact(job.id, "paths.geojson");
   if (!plan || !paths)
     throw OperationError("plan " + std::to_string(job.id) + " has no stored plan.json and paths.geojson");
-  usecases::BuiltExport built = usecases::build_export(plan->bytes, paths->bytes, format);
+  double step = 0;  // a plan job's trajectory_step_s: the sampled trajectory CSV
+  if (const auto it = job.params.find("trajectory_step_s"); it != job.params.end() && it->is_number())
+    step = it->get<double>();
+  usecases::BuiltExport built = usecases::build_export(plan->bytes, paths->bytes, format, step);
   auto e = std::make_shared<ExportEntry>();
   e->key = key;
   for (const auto& f : built.files) e->names.push_back(f.name);
@@ -96,7 +99,11 @@ std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, con
   const std::string prefix = store::plan_cache_prefix(job.artifacts);
   if (prefix.empty())
     throw OperationError("plan " + std::to_string(job.id) + " has no stored plan.json and paths.geojson");
-  const std::string key = prefix + "/" + format;
+  // the trajectory of a job with trajectory_step_s is sampled: its own entry
+  std::string key = prefix + "/" + format;
+  if (const auto it = job.params.find("trajectory_step_s");
+      format == "trajectory" && it != job.params.end() && it->is_number())
+    key += "@" + it->dump();
   std::shared_future<std::shared_ptr<const ExportEntry>> future;
   {
     std::unique_lock lock(mutex_);

@@ -1,6 +1,7 @@
 // FlightManager: live flights, their simulated fleets, and the writer that keeps their logs and
 // snapshots in the store.
 #include "server/flights.hpp"
+#include "codec/plan_codec.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -127,7 +128,7 @@ Plan load_job_plan(store::Store& store, const store::Job& job) {
   const json gj = json::parse(paths->bytes, nullptr, false);
   if (pj.is_discarded() || gj.is_discarded())
     throw store::StoreError("plan " + std::to_string(job.id) + ": a stored artifact is not JSON");
-  return io::load_plan(pj, gj);
+  return codec::load_plan(pj, gj);
 }
 
 json flight_json(const store::StoredFlight& row, const json& snapshot) {

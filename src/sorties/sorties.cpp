@@ -147,6 +147,10 @@ struct Layout {
                          src.local.begin() + static_cast<long>(to) + 1);
       piece.wgs84.assign(src.wgs84.begin() + static_cast<long>(from),
                          src.wgs84.begin() + static_cast<long>(to) + 1);
+      if (!src.camera_off.empty() && to > from)  // the camera-off flags of the piece's segments
+        piece.camera_off.assign(
+            src.camera_off.begin() + static_cast<long>(std::min(from, src.camera_off.size())),
+            src.camera_off.begin() + static_cast<long>(std::min(to, src.camera_off.size())));
       s.parts.push_back(std::move(piece));
       if (j < wp_cov[b])
         s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(cov_parts[j]) + 1,
@@ -392,12 +396,12 @@ std::vector<Sortie> resume_sorties(const Plan& plan, std::size_t index, int last
   return out;
 }
 
-std::vector<std::vector<exporting::MissionItem>> resume_items(const Plan& plan, std::size_t index,
+std::vector<std::vector<waypoints::MissionItem>> resume_items(const Plan& plan, std::size_t index,
                                                               int last_reached,
-                                                              const exporting::AltitudeOptions& altitude) {
-  std::vector<std::vector<exporting::MissionItem>> out;
+                                                              const waypoints::AltitudeOptions& altitude) {
+  std::vector<std::vector<waypoints::MissionItem>> out;
   for (const auto& s : resume_sorties(plan, index, last_reached)) {
-    auto items = exporting::mission_items(sortie_plan(plan, index, s), index, altitude);
+    auto items = waypoints::mission_items(sortie_plan(plan, index, s), index, altitude);
     for (auto& it : items)
       if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
     out.push_back(std::move(items));

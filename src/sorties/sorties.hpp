@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "geometry/geometry.hpp"
 #include "uavcover/context.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::sorties {
 
@@ -77,7 +77,7 @@ std::vector<Sortie> resume_sorties(const Plan& plan, std::size_t index, int last
 
 /// The mission items of resume_sorties(), one mission per sortie (take-off, transit at the UAV's
 /// transition altitude, coverage, return), as the exports build them.
-std::vector<std::vector<exporting::MissionItem>> resume_items(
-    const Plan& plan, std::size_t index, int last_reached, const exporting::AltitudeOptions& altitude = {});
+std::vector<std::vector<waypoints::MissionItem>> resume_items(
+    const Plan& plan, std::size_t index, int last_reached, const waypoints::AltitudeOptions& altitude = {});
 
 }  // namespace uavcover::sorties

@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 #include "geodesy/local_frame.hpp"
 #include "terrain/terrain.hpp"
@@ -191,6 +193,98 @@ Sample Trajectory::at(double t) const {
   return s;
 }
 
+const char* segment_kind_name(SegmentKind kind) {
+  switch (kind) {
+    case SegmentKind::Accelerate:
+      return "accelerate";
+    case SegmentKind::Cruise:
+      return "cruise";
+    case SegmentKind::Decelerate:
+      return "decelerate";
+    case SegmentKind::Arc:
+      return "arc";
+    case SegmentKind::End:
+      return "end";
+  }
+  return "?";
+}
+
+std::vector<Segment> Trajectory::segments() const {
+  std::vector<Segment> out;
+  // a phase that continues the law of the segment before it (the same kind and acceleration, and that
+  // law's state at its start) is not a new breakpoint: densified legs and long cruises stay one row
+  // (a 5 km cruise predicted from its first 10 m piece is off by about 1e-10 m: rounding of the directions)
+  constexpr double kSameP = 5e-10, kSameV = 1e-12;
+  auto continues = [&](const Segment& c) {
+    if (out.empty()) return false;
+    const Segment& r = out.back();
+    if (r.kind != c.kind || c.kind == SegmentKind::Arc || norm(sub(r.a, c.a)) > kSameV) return false;
+    const double s = c.t - r.t;
+    const Vec3 p = add(add(r.p, scale(r.v, s)), scale(r.a, 0.5 * s * s));
+    const Vec3 v = add(r.v, scale(r.a, s));
+    return norm(sub(p, c.p)) <= kSameP && norm(sub(v, c.v)) <= kSameV;
+  };
+  auto push = [&](Segment c) {
+    // a phase too short to move the clock has no instant of its own: the next one starts then
+    while (!out.empty() && out.back().t >= c.t) out.pop_back();
+    if (!continues(c)) out.push_back(c);
+  };
+  const double a = limits_.a_max;
+  for (const Piece& pc : pieces_) {
+    if (pc.arc) {
+      const double ac = pc.speed * pc.speed / pc.radius;
+      push({pc.t0, SegmentKind::Arc, sub(pc.center, scale(pc.u, pc.radius)), scale(pc.d1, pc.speed),
+            scale(pc.u, ac)});
+      continue;
+    }
+    // the same phase starts as at(): accelerate, cruise, decelerate (phases of no duration have none)
+    const double d_acc = pc.v_in * pc.t_acc + 0.5 * a * pc.t_acc * pc.t_acc;
+    if (pc.t_acc > 0)
+      push({pc.t0, SegmentKind::Accelerate, pc.start, scale(pc.dir, pc.v_in), scale(pc.dir, a)});
+    if (pc.t_cruise > 0)
+      push({pc.t0 + pc.t_acc, SegmentKind::Cruise, add(pc.start, scale(pc.dir, d_acc)),
+            scale(pc.dir, pc.v_peak), Vec3{0, 0, 0}});
+    if (pc.t_dec > 0)
+      push({pc.t0 + pc.t_acc + pc.t_cruise, SegmentKind::Decelerate,
+            add(pc.start, scale(pc.dir, d_acc + pc.v_peak * pc.t_cruise)), scale(pc.dir, pc.v_peak),
+            scale(pc.dir, -a)});
+  }
+  const Segment end{duration_, SegmentKind::End, at(duration_).p, Vec3{0, 0, 0}, Vec3{0, 0, 0}};
+  while (out.size() > 0 && out.back().t >= end.t && duration_ > 0) out.pop_back();
+  out.push_back(end);
+  return out;
+}
+
+Sample segment_at(const std::vector<Segment>& segments, double t) {
+  if (segments.empty()) throw std::invalid_argument("trajectory: no segments");
+  t = std::clamp(t, segments.front().t, segments.back().t);
+  auto it = std::upper_bound(segments.begin(), segments.end(), t,
+                             [](double x, const Segment& s) { return x < s.t; });
+  const std::size_t k = it == segments.begin() ? 0 : static_cast<std::size_t>(it - segments.begin()) - 1;
+  const Segment& g = segments[k];
+  Sample s;
+  s.t = t;
+  s.piece = static_cast<int>(k);
+  const double tau = t - g.t;
+  const double speed = norm(g.v), ac = norm(g.a);
+  if (g.kind == SegmentKind::End) {
+    s.p = g.p;
+  } else if (g.kind == SegmentKind::Arc && speed > 0 && ac > 0) {
+    const double r = speed * speed / ac;
+    const Vec3 u = scale(g.a, 1.0 / ac), d1 = scale(g.v, 1.0 / speed);
+    const Vec3 center = add(g.p, scale(u, r));
+    const double th = speed * tau / r, c = std::cos(th), sn = std::sin(th);
+    s.p = add(center, add(scale(u, -r * c), scale(d1, r * sn)));
+    s.v = add(scale(u, speed * sn), scale(d1, speed * c));
+    s.a = add(scale(u, ac * c), scale(d1, -ac * sn));
+  } else {
+    s.p = add(add(g.p, scale(g.v, tau)), scale(g.a, 0.5 * tau * tau));
+    s.v = add(g.v, scale(g.a, tau));
+    s.a = g.a;
+  }
+  return s;
+}
+
 std::vector<Sample> Trajectory::sample(double dt) const {
   if (!(dt > 0)) throw std::invalid_argument("trajectory: dt must be positive");
   const double need = std::floor(duration_ / dt) + 2;
@@ -215,19 +309,19 @@ std::vector<Sample> Trajectory::sample(double dt) const {
 }
 
 std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
-                                   const exporting::AltitudeOptions& altitudes) {
-  const auto items = exporting::mission_items(plan, index, altitudes);
+                                   const waypoints::AltitudeOptions& altitudes) {
+  const auto items = waypoints::mission_items(plan, index, altitudes);
   const geodesy::LocalFrame frame(plan.origin);
   const Point home = frame.to_local(plan.mission.uavs.at(index).start_resolved);
   // heights above take-off: with a DEM the items are above mean sea level, less the ground at take-off
   const double home_ground = terrain::home_ground(plan.mission, index);
   std::vector<Vec3> pts{{home.x(), home.y(), 0.0}};
   for (const auto& it : items) {
-    if (it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
-        it.command == exporting::kNavLand) {
+    if (it.command == waypoints::kNavWaypoint || it.command == waypoints::kNavTakeoff ||
+        it.command == waypoints::kNavLand) {
       const Point p = frame.to_local({it.lon, it.lat});
       const double z =
-          static_cast<double>(it.alt) - (it.frame == exporting::kFrameGlobal ? home_ground : 0.0);
+          static_cast<double>(it.alt) - (it.frame == waypoints::kFrameGlobal ? home_ground : 0.0);
       pts.push_back({p.x(), p.y(), z});
     }
   }
@@ -239,13 +333,13 @@ std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
 }
 
 Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options,
-                          const exporting::AltitudeOptions& altitudes) {
+                          const waypoints::AltitudeOptions& altitudes) {
   const Uav& u = plan.mission.uavs.at(index);
   return Trajectory(flight_waypoints(plan, index, altitudes), Limits{u.speed_mps, u.max_accel_mps2}, options);
 }
 
 double flight_time_s(const Plan& plan, std::size_t index, const Options& options,
-                     const exporting::AltitudeOptions& altitudes) {
+                     const waypoints::AltitudeOptions& altitudes) {
   return uav_trajectory(plan, index, options, altitudes).duration();
 }
 
@@ -259,6 +353,75 @@ std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples)
         "{:.6f},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.t, s.p[0],
         s.p[1], s.p[2], ll.lat, ll.lon, s.v[0], s.v[1], s.v[2], s.a[0], s.a[1], s.a[2]);
   }
+  return out;
+}
+
+std::string segments_csv(const Plan& plan, const Trajectory& trajectory) {
+  const geodesy::LocalFrame frame(plan.origin);
+  const auto segments = trajectory.segments();
+  const Limits& lim = trajectory.limits();
+  std::string out = std::string(kSegmentsHeader) + "\n";
+  out.reserve(segments.size() * 260);
+  for (const auto& g : segments) {
+    const LonLat ll = frame.to_wgs84({g.p[0], g.p[1]});
+    // "{}" is the shortest text that reads back to the same double
+    out += fmt::format("{},{},{},{},{},{:.9f},{:.9f},{},{},{},{},{},{},{},{}\n", g.t,
+                       segment_kind_name(g.kind), g.p[0], g.p[1], g.p[2], ll.lat, ll.lon, g.v[0], g.v[1],
+                       g.v[2], g.a[0], g.a[1], g.a[2], lim.v_max, lim.a_max);
+  }
+  return out;
+}
+
+std::vector<Segment> parse_segments_csv(const std::string& csv) {
+  std::vector<Segment> out;
+  std::string_view text(csv);
+  std::size_t line_no = 0;
+  auto fail = [&](const std::string& why) {
+    throw InputError("trajectory", fmt::format("line {}: {}", line_no, why));
+  };
+  while (!text.empty()) {
+    const std::size_t nl = text.find('\n');
+    std::string_view line = text.substr(0, nl);
+    text = nl == std::string_view::npos ? std::string_view{} : text.substr(nl + 1);
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line_no == 1) {
+      if (line != kSegmentsHeader) fail(fmt::format("expected the header \"{}\"", kSegmentsHeader));
+      continue;
+    }
+    if (line.empty()) continue;
+    std::vector<std::string_view> f;
+    for (std::size_t pos = 0;;) {
+      const std::size_t c = line.find(',', pos);
+      f.push_back(line.substr(pos, c == std::string_view::npos ? std::string_view::npos : c - pos));
+      if (c == std::string_view::npos) break;
+      pos = c + 1;
+    }
+    if (f.size() != 15) fail(fmt::format("expected 15 fields, got {}", f.size()));
+    auto num = [&](std::size_t i) {
+      double x = 0;
+      const auto r = std::from_chars(f[i].data(), f[i].data() + f[i].size(), x);
+      if (r.ec != std::errc() || r.ptr != f[i].data() + f[i].size() || !std::isfinite(x))
+        fail(fmt::format("field {} is not a number: \"{}\"", i + 1, f[i]));
+      return x;
+    };
+    Segment g;
+    g.t = num(0);
+    bool known = false;
+    for (const auto k : {SegmentKind::Accelerate, SegmentKind::Cruise, SegmentKind::Decelerate,
+                         SegmentKind::Arc, SegmentKind::End})
+      if (f[1] == segment_kind_name(k)) {
+        g.kind = k;
+        known = true;
+      }
+    if (!known) fail(fmt::format("unknown kind \"{}\"", f[1]));
+    g.p = {num(2), num(3), num(4)};
+    g.v = {num(7), num(8), num(9)};
+    g.a = {num(10), num(11), num(12)};
+    if (!out.empty() && !(g.t >= out.back().t)) fail("times must not decrease");
+    out.push_back(g);
+  }
+  if (out.empty()) throw InputError("trajectory", "no segments");
   return out;
 }
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "export/mission_items.hpp"
 #include "uavcover/plan.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover::trajectory {
 
@@ -52,6 +52,26 @@ struct Piece {
   double radius = 0, angle = 0, speed = 0;
 };
 
+/// The motion law of one segment of the segment form (docs/trajectory.md).
+enum class SegmentKind { Accelerate, Cruise, Decelerate, Arc, End };
+
+/// One breakpoint of the segment form: from `t` until the next breakpoint's time the UAV moves by the
+/// law `kind` from the state (p, v, a) it has at `t`: on a line p(t + s) = p + v s + a s^2 / 2 (a is
+/// +a_max, 0 or -a_max along the line); on an arc uniform circular motion, the centre at p + a |v|^2 /
+/// |a|^2 (radius |v|^2 / |a|). The last breakpoint (End) is the end of the flight, at rest.
+struct Segment {
+  double t = 0;
+  SegmentKind kind = SegmentKind::Cruise;
+  Vec3 p{}, v{}, a{};
+};
+
+/// "accelerate", "cruise", "decelerate", "arc", "end".
+const char* segment_kind_name(SegmentKind kind);
+
+/// The state at time t (clamped to [segments.front().t, segments.back().t]) by the law of the
+/// segment that holds t. Sample::piece is the segment's index.
+Sample segment_at(const std::vector<Segment>& segments, double t);
+
 /// Most samples one trajectory may have (about 55 hours at dt 0.1 s): sample() refuses more.
 inline constexpr double kMaxSamples = 2'000'000;
 
@@ -72,6 +92,12 @@ class Trajectory {
   [[nodiscard]] const std::vector<double>& corner_radii() const { return radii_; }
   [[nodiscard]] const std::vector<Piece>& pieces() const { return pieces_; }
   [[nodiscard]] const Limits& limits() const { return limits_; }
+  /// The segment form: one breakpoint wherever the motion law changes (the start of every
+  /// acceleration, cruise and deceleration phase and of every fillet arc) and one at the end. Phases
+  /// that continue one law across a straight-through (densified) waypoint are one segment, so the
+  /// count follows the turns, not the length or a sampling step. segment_at() gives at() again, to
+  /// within 1e-9 m and 1e-9 m/s.
+  [[nodiscard]] std::vector<Segment> segments() const;
 
  private:
   Limits limits_;
@@ -85,17 +111,29 @@ class Trajectory {
 /// 3D flight waypoints of UAV `index` in local metres: home on the ground, then every positioned
 /// mission item (take-off, transition, transit, coverage) in order, then home and the ground again.
 std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,
-                                   const exporting::AltitudeOptions& altitudes = {});
+                                   const waypoints::AltitudeOptions& altitudes = {});
 
 /// The trajectory of UAV `index` under its own speed_mps and max_accel_mps2.
 Trajectory uav_trajectory(const Plan& plan, std::size_t index, const Options& options = {},
-                          const exporting::AltitudeOptions& altitudes = {});
+                          const waypoints::AltitudeOptions& altitudes = {});
 
 /// Flight time (s) of UAV `index` along its trajectory: an alternative to the eq. 15 time model.
 double flight_time_s(const Plan& plan, std::size_t index, const Options& options = {},
-                     const exporting::AltitudeOptions& altitudes = {});
+                     const waypoints::AltitudeOptions& altitudes = {});
 
 /// CSV with header `t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az`, positions in the plan's local frame.
 std::string trajectory_csv(const Plan& plan, const std::vector<Sample>& samples);
+
+/// The header of segments_csv().
+inline constexpr const char* kSegmentsHeader = "t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max";
+
+/// The segment form as CSV (docs/trajectory.md): header kSegmentsHeader, one row per breakpoint,
+/// positions in the plan's local frame (ENU metres from plan.origin), every number but lat/lon in its
+/// shortest exact decimal form (it reads back to the same double), v_max and a_max the UAV's limits.
+std::string segments_csv(const Plan& plan, const Trajectory& trajectory);
+
+/// Reads segments_csv() back (lat, lon and the limits are not needed to recover the motion). Throws
+/// InputError naming "trajectory" on a malformed text.
+std::vector<Segment> parse_segments_csv(const std::string& csv);
 
 }  // namespace uavcover::trajectory

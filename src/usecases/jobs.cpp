@@ -108,8 +108,9 @@ Mission with_planner(const Mission& mission, const json& params) {
 }
 
 /// The outputs of a plan job: the CLI's `plan --export <every format>`, refusals as warnings.
-OutputOptions plan_job_outputs() {
+OutputOptions plan_job_outputs(const json& params) {
   OutputOptions oo;
+  if (params.contains("trajectory_step_s")) oo.trajectory_step_s = params["trajectory_step_s"].get<double>();
   oo.exports = exporting::known_formats();
   oo.kmz = true;
   oo.refused_exports_are_warnings = true;
@@ -128,11 +129,10 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   const Plan p = plan(m, po, job_progress(job, {}, 0.75));
   // a plan job stores what a plan is (plan.json, paths.geojson, the evaluation and the pictures); its
   // exports are made from them on first request (build_export(), docs/cache.md)
-  OutputOptions stored = plan_job_outputs();
+  OutputOptions stored = plan_job_outputs(params);
   stored.exports.clear();
-  PlanOutputs out = plan_outputs(
-      p, stored,
-      job_progress(job, {{"evaluation", 0.75, 0.95}, {"pictures", 0.95, 1.0}}, 1.0));
+  PlanOutputs out =
+      plan_outputs(p, stored, job_progress(job, {{"evaluation", 0.75, 0.95}, {"pictures", 0.95, 1.0}}, 1.0));
 
   // evaluation.json: the coverage and cost blocks of plan.json
   out.artifacts.push_back({"evaluation.json", "application/json", out.evaluation.dump(1) + "\n"});
@@ -203,7 +203,15 @@ json validate_job_params(JobType type, const Mission& mission, const json& param
   check_time_limit(params);
   switch (type) {
     case JobType::Plan: {
-      reject_unknown(params, {"planner", "planner_params", "seed", "time_limit_s"});
+      reject_unknown(params, {"planner", "planner_params", "seed", "time_limit_s", "trajectory_step_s"});
+      if (params.contains("trajectory_step_s")) {
+        const json& s = params["trajectory_step_s"];
+        if (!s.is_number() || !std::isfinite(s.get<double>()) || s.get<double>() < 0.001 ||
+            s.get<double>() > 60)
+          throw InputError("trajectory_step_s",
+                           "must be a number in [0.001, 60] seconds (the sampled trajectory CSV), got " +
+                               s.dump().substr(0, 40));
+      }
       std::string name = mission.planner;
       if (params.contains("planner")) {
         if (!params["planner"].is_string()) throw InputError("planner", "must be a planner name (a string)");
@@ -218,7 +226,7 @@ json validate_job_params(JobType type, const Mission& mission, const json& param
       params["planner"] = name;
       params["planner_params"] = planners::validate_params(info, given);
       // refused before planning: transition altitudes that cannot fit under the export's ceiling
-      check_outputs(mission, plan_job_outputs());
+      check_outputs(mission, plan_job_outputs(params));
       break;
     }
     case JobType::Study: {

@@ -1,4 +1,5 @@
 #include "usecases/plan_outputs.hpp"
+#include "codec/plan_codec.hpp"
 
 #include <algorithm>
 #include <map>
@@ -32,7 +33,7 @@ void check_outputs(const Mission& mission, const OutputOptions& options) {
   if (options.exports.empty()) return;
   (void)exporting::parse_formats(options.exports);
   // every export format flies the transition altitudes: the export's own rule, before any planning
-  (void)exporting::resolve_altitudes(exporting::AltitudeOptions{}, mission.uavs.size(), mission.altitude_m);
+  (void)waypoints::resolve_altitudes(waypoints::AltitudeOptions{}, mission.uavs.size(), mission.altitude_m);
 }
 
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
@@ -62,9 +63,9 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
       // the transition altitudes, corners under each UAV's v_max and a_max), through eq. 16-22
       // (the export's transition altitudes; a plan whose UAVs cannot be separated under the export's
       // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
-      exporting::AltitudeOptions altitudes;
+      waypoints::AltitudeOptions altitudes;
       try {
-        altitudes = exporting::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
+        altitudes = waypoints::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
       } catch (const InputError&) {
         altitudes.transition_ceiling_m = 0;
       }
@@ -91,7 +92,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     }
   }
   // with a DEM: what was read, and (with pictures) the profile of the leg terrain following changes most
-  std::optional<exporting::LegProfile> profile;
+  std::optional<waypoints::LegProfile> profile;
   bool profile_left_out = false;
   if (const HeightGrid* ground = terrain::grid(plan.mission)) {
     extra["terrain"] = {{"dem", ground->source},
@@ -107,7 +108,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
           break;
         }
         try {
-          auto lp = exporting::leg_profile(plan, i);
+          auto lp = waypoints::leg_profile(plan, i);
           if (lp && (!profile || lp->terrain_waypoints > profile->terrain_waypoints)) profile = std::move(lp);
         } catch (const InputError&) {
           // altitudes the export refuses: no profile (the export says why)
@@ -155,6 +156,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     eo.warnings = &warnings;
     eo.kmz = options.kmz;
     eo.per_sortie = options.per_sortie;
+    eo.trajectory_step_s = options.trajectory_step_s;
     std::vector<std::string> missing;
     // one format at a time, so that a stop or the time limit lands between formats
     for (std::size_t k = 0; k < formats.size(); ++k) {
@@ -180,14 +182,15 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     if (!missing.empty()) left_out.push_back("exports " + joined(missing));
   }
   if (ctx.stop_requested()) throw Cancelled();
-  nlohmann::json pj = io::plan_json(plan, extra);
+  nlohmann::json pj = codec::plan_json(plan, extra);
   if (!left_out.empty()) {
     const std::string w = "time limit reached after planning: left out " + joined(left_out) +
                           " (plan.json and paths.geojson are complete; raise the time limit for the rest)";
     out.warnings.push_back(w);
     pj["warnings"].push_back(w);
   }
-  out.artifacts.push_back({"paths.geojson", "application/geo+json", io::paths_geojson(plan).dump(1) + "\n"});
+  out.artifacts.push_back(
+      {"paths.geojson", "application/geo+json", codec::paths_geojson(plan).dump(1) + "\n"});
   out.artifacts.push_back({"plan.json", "application/json", pj.dump(1) + "\n"});
   out.evaluation = std::move(extra);
   out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(pictures.begin()),
@@ -201,13 +204,13 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
 std::string export_source_format(const std::string& format) { return format == "kmz" ? "kml" : format; }
 
 BuiltExport build_export(const std::string& plan_json_text, const std::string& paths_geojson_text,
-                         const std::string& format, const Context& ctx) {
+                         const std::string& format, double trajectory_step_s, const Context& ctx) {
   nlohmann::json pj, pg;
   Plan plan;
   try {
     pj = nlohmann::json::parse(plan_json_text);
     pg = nlohmann::json::parse(paths_geojson_text);
-    plan = io::load_plan(pj, pg);
+    plan = codec::load_plan(pj, pg);
   } catch (const nlohmann::json::exception& e) {
     throw OperationError(std::string("the stored plan cannot be read: ") + e.what());
   } catch (const InputError& e) {
@@ -220,6 +223,7 @@ BuiltExport build_export(const std::string& plan_json_text, const std::string& p
   std::vector<std::string> warnings;
   eo.warnings = &warnings;
   eo.kmz = true;
+  eo.trajectory_step_s = trajectory_step_s;  // the job's trajectory_step_s (0: the segment form)
   try {
     out.files = exporting::export_artifacts(plan, {format}, eo);
   } catch (const InputError& e) {

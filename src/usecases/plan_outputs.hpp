@@ -22,6 +22,8 @@ struct OutputOptions {
   std::vector<std::string> exports;  ///< export formats (exporting::known_formats())
   bool kmz = false;                  ///< with "kml": also <id>.kmz
   bool per_sortie = false;           ///< exports per battery sortie (exporting::ExportOptions::per_sortie)
+  /// trajectory export: 0 = the segment form, > 0 = sampled at this step (ExportOptions::trajectory_step_s)
+  double trajectory_step_s = 0;
   /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
   /// that is no file name, ...) into a warning instead of failing the whole output (the server's jobs).
   bool refused_exports_are_warnings = false;
@@ -45,7 +47,7 @@ struct PlanOutputs {
 
 /// Refuses, before any planning, what plan_outputs() would refuse after it (InputError naming the
 /// field, the same message): unknown export formats, and with exports transition altitudes that cannot
-/// fit under the export's ceiling (exporting::resolve_altitudes). Call it before plan().
+/// fit under the export's ceiling (waypoints::resolve_altitudes). Call it before plan().
 void check_outputs(const Mission& mission, const OutputOptions& options);
 
 /// Everything the plan folder holds. Stops and the time limit land in every stage (docs/stops.md): a
@@ -75,6 +77,6 @@ std::string export_source_format(const std::string& format);
 /// job's eager export of the same plan gave. A stop request throws Cancelled; OperationError when the
 /// documents are not a plan.
 BuiltExport build_export(const std::string& plan_json, const std::string& paths_geojson,
-                         const std::string& format, const Context& ctx = {});
+                         const std::string& format, double trajectory_step_s = 0, const Context& ctx = {});
 
 }  // namespace uavcover::usecases

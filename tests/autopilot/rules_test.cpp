@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/dem.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -28,12 +27,14 @@
 #include "support/files.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 namespace {
 
 using nlohmann::json;
 namespace ex = exporting;
+namespace wp = uavcover::waypoints;
 namespace rules = autopilot;
 namespace mav = mavlink;
 namespace fs = std::filesystem;
@@ -92,12 +93,12 @@ TEST(ConsumerRules, ArduPilotCommandsAndLocations) {
   EXPECT_EQ(rules::ardupilot_item_result(item(20, 1, 0, 0, 0, 0, 95.0, 200.0, kNaN)), mav::kMissionAccepted);
 }
 
-ex::MissionItem mi(std::uint16_t command, float p1, float p2, float p3, float p4, std::string role,
+wp::MissionItem mi(std::uint16_t command, float p1, float p2, float p3, float p4, std::string role,
                    double lat = 0, double lon = 0, float alt = 0) {
-  ex::MissionItem it;
+  wp::MissionItem it;
   it.command = command;
   it.frame =
-      (command == 16 || command == 21 || command == 22) ? ex::kFrameGlobalRelativeAlt : ex::kFrameMission;
+      (command == 16 || command == 21 || command == 22) ? wp::kFrameGlobalRelativeAlt : wp::kFrameMission;
   it.param1 = p1;
   it.param2 = p2;
   it.param3 = p3;
@@ -117,7 +118,7 @@ int fatal(const std::vector<rules::Problem>& ps) {
 
 TEST(ConsumerRules, WholeMissionRules) {
   const LonLat home{8.54, 47.39};
-  std::vector<ex::MissionItem> ok = {mi(22, 0, 0, 0, kNaN, "takeoff", 47.39, 8.54, 60),
+  std::vector<wp::MissionItem> ok = {mi(22, 0, 0, 0, kNaN, "takeoff", 47.39, 8.54, 60),
                                      mi(178, 1, 5, -1, 0, "speed"),
                                      mi(16, 0, 0, 0, kNaN, "transit", 47.391, 8.54, 60),
                                      mi(2000, 0, 0, 1, 0, "camera"), mi(20, 0, 0, 0, 0, "rtl")};
@@ -170,7 +171,7 @@ struct Shots {
   int wrong_camera = 0;  ///< IMAGE_START_CAPTURE for another camera instance than all (0)
   int holds = 0;         ///< captures made while stopped at a waypoint with a hold time
 };
-Shots fly_camera(const std::vector<ex::MissionItem>& items, const LonLat& origin) {
+Shots fly_camera(const std::vector<wp::MissionItem>& items, const LonLat& origin) {
   const geodesy::LocalFrame frame(origin);
   Shots out;
   double every = 0, travelled = 0;
@@ -193,7 +194,7 @@ Shots fly_camera(const std::vector<ex::MissionItem>& items, const LonLat& origin
     travelled = 0;
   };
   for (const auto& it : items) {
-    if (it.command == ex::kNavWaypoint || it.command == ex::kNavTakeoff || it.command == ex::kNavLand) {
+    if (it.command == wp::kNavWaypoint || it.command == wp::kNavTakeoff || it.command == wp::kNavLand) {
       const Point next = frame.to_local({it.lon, it.lat});
       if (have) {
         const double len = std::hypot(next.x() - pos.x(), next.y() - pos.y());
@@ -214,11 +215,11 @@ Shots fly_camera(const std::vector<ex::MissionItem>& items, const LonLat& origin
       alt = it.alt;
       hold = it.param1;
       have = true;
-    } else if (it.command == ex::kDoSetCamTriggDist) {
+    } else if (it.command == wp::kDoSetCamTriggDist) {
       every = it.param1;
       travelled = 0;
       if (it.param3 == 1.0f) shoot(pos, alt);
-    } else if (it.command == ex::kImageStartCapture) {
+    } else if (it.command == wp::kImageStartCapture) {
       if (it.param1 != 0.0f) {
         ++out.wrong_camera;
         continue;
@@ -286,7 +287,7 @@ void check_plan(const Plan& p, const std::string& what, Sweep& sweep) {
   const auto est = photo::estimate(p);
   for (std::size_t u = 0; u < p.uavs.size(); ++u) {
     if (ex::idle(p.uavs[u])) continue;
-    const auto items = ex::mission_items(p, u);
+    const auto items = wp::mission_items(p, u);
     ++sweep.missions;
     sweep.items += static_cast<int>(items.size());
     for (const auto& pr : rules::ardupilot_problems(items))
@@ -357,7 +358,7 @@ void check_variants(const Plan& base, const std::string& what, Sweep& sweep) {
         const auto list = p.uavs[u].sorties.empty() ? sorties::cut_sorties(p, u) : p.uavs[u].sorties;
         for (const auto& s : list) {
           const Plan sp = sorties::sortie_plan(p, u, s);
-          const auto items = ex::mission_items(sp, u);
+          const auto items = wp::mission_items(sp, u);
           ++sweep.missions;
           sweep.items += static_cast<int>(items.size());
           for (const auto& pr : rules::ardupilot_problems(items))

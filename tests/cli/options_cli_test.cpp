@@ -89,10 +89,10 @@ TEST(OptionsCli, ExportAndUploadOptionsAreRanged) {
     const char* value;
   };
   for (const Case& c :
-       {Case{"--dt", "0"}, Case{"--dt", "-0.1"}, Case{"--dt", "nan"}, Case{"--densify", "-1"},
-        Case{"--densify", "0.001"}, Case{"--fillet-radius", "-2"}, Case{"--transition-base", "-1"},
-        Case{"--transition-step", "inf"}, Case{"--firmware-type", "256"}, Case{"--vehicle-type", "-1"},
-        Case{"--corners", "round"}}) {
+       {Case{"--dt", "0"}, Case{"--dt", "-0.1"}, Case{"--dt", "nan"}, Case{"--trajectory-step", "0"},
+        Case{"--trajectory-step", "61"}, Case{"--densify", "-1"}, Case{"--densify", "0.001"},
+        Case{"--fillet-radius", "-2"}, Case{"--transition-base", "-1"}, Case{"--transition-step", "inf"},
+        Case{"--firmware-type", "256"}, Case{"--vehicle-type", "-1"}, Case{"--corners", "round"}}) {
     SCOPED_TRACE(std::string(c.option) + " " + c.value);
     expect_refused(run_cli(exp + c.option + " " + c.value), c.option);
   }

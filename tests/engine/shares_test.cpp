@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
+#include "codec/plan_codec.hpp"
 #include "engine/local_mission.hpp"
 #include "engine/shares.hpp"
 #include "geometry/geometry.hpp"
@@ -250,7 +251,7 @@ TEST(PartsShares, BandedFieldEveryPlannerWithinTwoPointsAndTransitAroundTheBand)
 TEST(PartsShares, SameSeedSamePlan) {
   for (json j : {islands(), banded()}) {
     const Mission m = with_planner(j, "darp");
-    EXPECT_EQ(io::paths_geojson(plan(m)).dump(), io::paths_geojson(plan(m)).dump());
+    EXPECT_EQ(codec::paths_geojson(plan(m)).dump(), codec::paths_geojson(plan(m)).dump());
   }
 }
 

@@ -46,8 +46,18 @@ TEST(ExportCli, PlanThenExportEveryFormat) {
     for (const std::string ext :
          {".plan", ".waypoints", ".kml", ".kmz", ".wpml.kmz", ".litchi.csv", ".csv", ".geojson"})
       EXPECT_TRUE(fs::exists(out / "export" / (id + ext))) << id << ext;
-    EXPECT_EQ(slurp(out / "trajectory" / (id + ".csv")).substr(0, 34), "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az\n");
+    EXPECT_EQ(slurp(out / "trajectory" / (id + ".csv")).substr(0, 51),
+              "t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max\n");
   }
+  // --trajectory-step (or --dt) gives the sampled CSV instead
+  const fs::path sampled = dir / "sampled";
+  ASSERT_EQ(run(cli + " -q export " + plan.string() + " -f trajectory --trajectory-step 0.5 --out " +
+                sampled.string()),
+            0);
+  const std::string s = slurp(sampled / "trajectory" / "a1.csv");
+  EXPECT_EQ(s.substr(0, 34), "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az\n");
+  EXPECT_NE(s.find("\n0.500000,"), std::string::npos);
+  EXPECT_EQ(s.find("\n0.100000,"), std::string::npos);
   // options reach the files: firmware type 3, transition altitude 55 m for the second UAV
   const std::string qgc = slurp(out / "export" / "b2.plan");
   EXPECT_NE(qgc.find("\"firmwareType\": 3"), std::string::npos);

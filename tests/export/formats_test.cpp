@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <zip.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -12,10 +13,12 @@
 #include "export/check.hpp"
 #include "export/export.hpp"
 #include "export/fixture.hpp"
+#include "trajectory/trajectory.hpp"
 #include "uavcover/error.hpp"
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::waypoints;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -412,7 +415,7 @@ TEST(Formats, ExportPlanWritesEveryFormatAndRejectsUnknownOnes) {
       EXPECT_TRUE(fs::exists(dir / "export" / (std::string(id) + ext))) << id << ext;
     const auto traj = lines(slurp(dir / "trajectory" / (std::string(id) + ".csv")));
     ASSERT_GT(traj.size(), 10u);
-    EXPECT_EQ(traj[0], "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az");
+    EXPECT_EQ(traj[0], "t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max");  // the segment form
   }
   EXPECT_EQ(files.size(), 16u);
   try {
@@ -465,4 +468,35 @@ TEST(Formats, LitchiWarnsBeyond99Waypoints) {
   EXPECT_EQ(missions[0].back(), missions[1].at(1));  // mission 2 starts where mission 1 ended
   EXPECT_TRUE(fs::exists(dir / "export" / "bravo.litchi.csv"));
   fs::remove_all(dir);
+}
+
+TEST(Formats, TrajectoryIsTheSegmentFormOrSampledAtTheChosenStep) {
+  const Plan plan = fixture::two_uav_plan(true);
+  for (std::size_t u = 0; u < 2; ++u) {
+    const std::string id = plan.uavs[u].id;
+    const auto traj =
+        trajectory::uav_trajectory(plan, u, {}, resolve_altitudes({}, 2, plan.mission.altitude_m));
+    // default: the segment form of the same trajectory
+    const auto seg = export_artifacts(plan, {"trajectory"});
+    const auto* f = check::find(seg, "trajectory/" + id + ".csv");
+    ASSERT_NE(f, nullptr);
+    EXPECT_EQ(f->bytes, trajectory::segments_csv(plan, traj));
+    // a step: the sampled CSV at that step
+    ExportOptions opt;
+    opt.trajectory_step_s = 0.1;
+    const auto sampled = export_artifacts(plan, {"trajectory"}, opt);
+    const auto* s = check::find(sampled, "trajectory/" + id + ".csv");
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->bytes, trajectory::trajectory_csv(plan, traj.sample(0.1)));
+  }
+  for (const double bad : {-1.0, 0.0005, std::nan("")}) {
+    ExportOptions opt;
+    opt.trajectory_step_s = bad;
+    try {
+      (void)export_artifacts(plan, {"trajectory"}, opt);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "trajectory_step_s");
+    }
+  }
 }

@@ -21,6 +21,7 @@
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::waypoints;
 namespace fs = std::filesystem;
 using nlohmann::json;
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "codec/plan_codec.hpp"
 #include "export/export.hpp"
 #include "export/separation.hpp"
 #include "io/plan_io.hpp"
@@ -41,8 +42,8 @@ TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
   const fs::path dir =
       fs::temp_directory_path() / ("uavcover_export_integration_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  io::write_file_atomic(dir / "paths.geojson", io::paths_geojson(planned).dump(1) + "\n");
-  io::write_file_atomic(dir / "plan.json", io::plan_json(planned).dump(1) + "\n");
+  io::write_file_atomic(dir / "paths.geojson", codec::paths_geojson(planned).dump(1) + "\n");
+  io::write_file_atomic(dir / "plan.json", codec::plan_json(planned).dump(1) + "\n");
   const Plan loaded = io::load_plan_dir(dir);
   ASSERT_EQ(loaded.uavs.size(), 2u);
 
@@ -65,8 +66,8 @@ TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
   }
   // the reloaded plan gives the same mission items as the planned one
   for (std::size_t u = 0; u < 2; ++u) {
-    const auto a = exporting::mission_items(planned, u);
-    const auto b = exporting::mission_items(loaded, u);
+    const auto a = waypoints::mission_items(planned, u);
+    const auto b = waypoints::mission_items(loaded, u);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k) {
       EXPECT_EQ(a[k].command, b[k].command);

@@ -17,6 +17,7 @@
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::waypoints;
 using nlohmann::json;
 
 namespace {
@@ -275,7 +276,7 @@ TEST(ExportProperty, RandomPlansGiveOutputsTheirConsumersAccept) {
       }
       // CSVs
       check_csv(check::find(a, base + ".csv")->bytes, 11, base + ".csv");
-      check_csv(check::find(a, "trajectory/" + id + ".csv")->bytes, 12, "trajectory/" + id + ".csv");
+      check_csv(check::find(a, "trajectory/" + id + ".csv")->bytes, 15, "trajectory/" + id + ".csv");
       files += 9 + static_cast<int>(litchi.size());
     }
     ASSERT_GT(flying, 0u);

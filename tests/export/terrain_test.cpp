@@ -9,19 +9,19 @@
 #include <regex>
 
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "io/dem.hpp"
 #include "support/files.hpp"
 #include "support/terrain_mission.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 namespace {
 
-using exporting::MissionItem;
 using testdem::Hill;
 using testdem::kOrigin;
 using testdem::TempDir;
+using waypoints::MissionItem;
 
 const Hill kHill{200, 60, 60, 0, 0};
 
@@ -36,8 +36,8 @@ Plan hill_plan(const TempDir& dir, const std::string& mode = "follow", double to
 }
 
 bool positioned(const MissionItem& it) {
-  return it.command == exporting::kNavWaypoint || it.command == exporting::kNavTakeoff ||
-         it.command == exporting::kNavLand;
+  return it.command == waypoints::kNavWaypoint || it.command == waypoints::kNavTakeoff ||
+         it.command == waypoints::kNavLand;
 }
 bool in_leg(const MissionItem& it) {
   return it.role == "coverage" || it.role == "terrain" || it.role == "capture";
@@ -69,10 +69,10 @@ void check_follow(const Plan& p, double tolerance) {
   const geodesy::LocalFrame hill_frame(kOrigin);
   int terrain_points = 0;
   for (std::size_t u = 0; u < p.uavs.size(); ++u) {
-    const auto items = exporting::mission_items(p, u);
+    const auto items = waypoints::mission_items(p, u);
     for (const auto& it : items) {
       if (positioned(it)) {
-        EXPECT_EQ(it.frame, exporting::kFrameGlobal);
+        EXPECT_EQ(it.frame, waypoints::kFrameGlobal);
       }
       terrain_points += it.role == "terrain" ? 1 : 0;
       if (it.role == "coverage" ||
@@ -113,7 +113,7 @@ TEST(Terrain, FollowOverAProjectedDemAndATighterTolerance) {
   auto count = [](const Plan& p) {
     std::size_t n = 0;
     for (std::size_t u = 0; u < p.uavs.size(); ++u)
-      for (const auto& it : exporting::mission_items(p, u)) n += it.role == "terrain" ? 1 : 0;
+      for (const auto& it : waypoints::mission_items(p, u)) n += it.role == "terrain" ? 1 : 0;
     return n;
   };
   EXPECT_GT(count(tight), count(loose));
@@ -124,12 +124,12 @@ TEST(Terrain, TransitClearsTheHighestGroundUnderItByTheTransitionAltitude) {
   const Plan p = hill_plan(dir, "follow");
   const HeightGrid& g = *p.mission.terrain->grid;
   const geodesy::LocalFrame f(p.origin);
-  const exporting::AltitudeOptions alt =
-      exporting::resolve_altitudes({}, p.uavs.size(), p.mission.altitude_m);
+  const waypoints::AltitudeOptions alt =
+      waypoints::resolve_altitudes({}, p.uavs.size(), p.mission.altitude_m);
   std::vector<double> transit;
   for (std::size_t u = 0; u < p.uavs.size(); ++u) {
-    const auto items = exporting::mission_items(p, u);
-    EXPECT_NEAR(items.front().alt, kHill.base + kHill.peak + exporting::transition_altitude(alt, u, 40.0),
+    const auto items = waypoints::mission_items(p, u);
+    EXPECT_NEAR(items.front().alt, kHill.base + kHill.peak + waypoints::transition_altitude(alt, u, 40.0),
                 0.6);
     transit.push_back(items.front().alt);
     int checked = 0;
@@ -146,7 +146,7 @@ TEST(Terrain, TransitClearsTheHighestGroundUnderItByTheTransitionAltitude) {
       }
       const bool descent = in_leg(*b) || in_leg(*a);  // the vertical descent to / climb from a leg
       if (descent) continue;
-      EXPECT_GE(std::min(a->alt, b->alt) - top, exporting::transition_altitude(alt, u, 40.0) - 1e-3);
+      EXPECT_GE(std::min(a->alt, b->alt) - top, waypoints::transition_altitude(alt, u, 40.0) - 1e-3);
       ++checked;
     }
     EXPECT_GT(checked, 0);
@@ -160,10 +160,10 @@ TEST(Terrain, ExportsCarryAbsoluteOrTakeOffRelativeHeights) {
   TempDir dir("terrain_exports");
   const Plan p = hill_plan(dir, "follow");
   const double home = p.mission.terrain->grid->at(p.mission.uavs[0].start_resolved);
-  const auto items = exporting::mission_items(p, 0);
+  const auto items = waypoints::mission_items(p, 0);
   std::vector<double> amsl;
   for (const auto& it : items)
-    if (it.command == exporting::kNavWaypoint) amsl.push_back(it.alt);
+    if (it.command == waypoints::kNavWaypoint) amsl.push_back(it.alt);
 
   const auto qgc = exporting::qgc_plan(p, 0);
   EXPECT_EQ(qgc["mission"]["globalPlanAltitudeMode"], 2);
@@ -223,7 +223,7 @@ TEST(Terrain, OffModeFliesFlatAboveTakeOffWithSafeTransit) {
   TempDir dir("terrain_off");
   const Plan p = hill_plan(dir, "off");
   const double home = p.mission.terrain->grid->at(p.mission.uavs[0].start_resolved);
-  for (const auto& it : exporting::mission_items(p, 0)) {
+  for (const auto& it : waypoints::mission_items(p, 0)) {
     EXPECT_NE(it.role, "terrain");
     if (it.role == "coverage") {
       EXPECT_NEAR(it.alt, home + 40.0, 1e-3);
@@ -235,9 +235,9 @@ TEST(Terrain, WithoutADemHeightsStayRelativeToTakeOff) {
   Mission m = parse_mission(testdem::mission_text("unused.tif"));
   m.terrain.reset();
   const Plan p = plan(m);
-  for (const auto& it : exporting::mission_items(p, 0)) {
+  for (const auto& it : waypoints::mission_items(p, 0)) {
     if (positioned(it)) {
-      EXPECT_EQ(it.frame, exporting::kFrameGlobalRelativeAlt);
+      EXPECT_EQ(it.frame, waypoints::kFrameGlobalRelativeAlt);
     }
     EXPECT_NE(it.role, "terrain");
     if (it.role == "coverage") {
@@ -249,7 +249,7 @@ TEST(Terrain, WithoutADemHeightsStayRelativeToTakeOff) {
   Plan q = p;
   q.mission.terrain = unread.terrain;
   try {
-    (void)exporting::mission_items(q, 0);
+    (void)waypoints::mission_items(q, 0);
     ADD_FAILURE() << "not refused";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "terrain.dem");

@@ -303,14 +303,14 @@ TEST(Reassign, HelpersCoverMostOfTheRemainderWhereverTheUavFails) {
 
 TEST(Reassign, HelpersKeepTheirTransitionAltitudes) {
   const Plan& p = olive_grove();
-  for (const exporting::AltitudeOptions& alt :
-       {exporting::AltitudeOptions{},
-        exporting::AltitudeOptions{.transition_base_m = 70, .transition_step_m = 15}}) {
+  for (const waypoints::AltitudeOptions& alt :
+       {waypoints::AltitudeOptions{},
+        waypoints::AltitudeOptions{.transition_base_m = 70, .transition_step_m = 15}}) {
     const auto r = flight::reassign(p, 1, 3, {{2, 0.8}, {0, 0.4}}, alt);
     ASSERT_FALSE(r.work.empty());
     for (const auto& wk : r.work) {
       // the helper's own take-off altitude in the full plan's missions
-      const auto own = exporting::mission_items(p, wk.index, alt);
+      const auto own = waypoints::mission_items(p, wk.index, alt);
       ASSERT_EQ(own.front().role, "takeoff");
       const float transit = own.front().alt;
       for (const auto& mission : wk.missions) {

@@ -11,10 +11,10 @@
 #include <sstream>
 #include <thread>
 
-#include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover;
 using namespace uavcover::mavlink;
@@ -86,7 +86,7 @@ TEST_F(CliUpload, UploadsTheExportedMissionWithHomeFirst) {
   v.join();
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("items accepted by system 1"), std::string::npos) << r.out;
-  const auto exported = exporting::mission_items(plan, index);
+  const auto exported = waypoints::mission_items(plan, index);
   const LonLat home = plan.mission.uavs[index].start_resolved;
   auto want = to_mission_items(exported, home);
   const auto& got = v.vehicle.mission();
@@ -107,9 +107,9 @@ TEST_F(CliUpload, UploadsTheExportedMissionWithHomeFirst) {
   // item 0: home; item 1: take-off at the UAV's transition altitude
   EXPECT_EQ(got[0].x, static_cast<std::int32_t>(std::llround(home.lat * 1e7)));
   EXPECT_EQ(got[0].y, static_cast<std::int32_t>(std::llround(home.lon * 1e7)));
-  EXPECT_EQ(got[1].command, exporting::kNavTakeoff);
+  EXPECT_EQ(got[1].command, waypoints::kNavTakeoff);
   EXPECT_FLOAT_EQ(got[1].z,
-                  static_cast<float>(exporting::transition_altitude({}, index, plan.mission.altitude_m)));
+                  static_cast<float>(waypoints::transition_altitude({}, index, plan.mission.altitude_m)));
 }
 
 TEST_F(CliUpload, NoHomeSendsTheItemsOnly) {
@@ -121,12 +121,12 @@ TEST_F(CliUpload, NoHomeSendsTheItemsOnly) {
   v.join();
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty());  // --quiet
-  exporting::AltitudeOptions alt;
+  waypoints::AltitudeOptions alt;
   alt.land_instead_of_rtl = true;
-  const auto exported = exporting::mission_items(plan, 0, alt);
+  const auto exported = waypoints::mission_items(plan, 0, alt);
   ASSERT_EQ(v.vehicle.mission().size(), exported.size());
-  EXPECT_EQ(v.vehicle.mission().front().command, exporting::kNavTakeoff);
-  EXPECT_EQ(v.vehicle.mission().back().command, exporting::kNavLand);
+  EXPECT_EQ(v.vehicle.mission().front().command, waypoints::kNavTakeoff);
+  EXPECT_EQ(v.vehicle.mission().back().command, waypoints::kNavLand);
 }
 
 TEST_F(CliUpload, BadInputIsExitCode2AndSilenceIs1) {

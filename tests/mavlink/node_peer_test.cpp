@@ -12,12 +12,12 @@
 #include <sstream>
 
 #include "export/fixture.hpp"
-#include "export/mission_items.hpp"
 #include "mavlink/frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
 #include "mavlink/test_util.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover::mavlink;
 namespace fs = std::filesystem;
@@ -366,7 +366,7 @@ TEST(NodeMavlinkPeer, UploadCarriesCameraTriggersAndGimbal) {
   SKIP_WITHOUT_NODE();
   const uavcover::Plan plan = uavcover::fixture::two_uav_plan(true);
   const std::vector<MissionItemInt> items =
-      to_mission_items(uavcover::exporting::mission_items(plan, 0), std::nullopt);
+      to_mission_items(uavcover::waypoints::mission_items(plan, 0), std::nullopt);
   const NodeUpload up = upload_to_node(items, "sequential");
   EXPECT_EQ(up.status, 0);
   ASSERT_TRUE(up.result.ok) << up.result.error;

@@ -20,28 +20,28 @@
 
 using namespace uavcover::mavlink;
 using namespace std::chrono_literals;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 
 namespace {
 
 const Endpoint kLoopback{"127.0.0.1", 0};
 
 std::vector<MissionItemInt> make_items(std::size_t n) {
-  std::vector<ex::MissionItem> items;
-  ex::MissionItem takeoff;
-  takeoff.command = ex::kNavTakeoff;
+  std::vector<wp::MissionItem> items;
+  wp::MissionItem takeoff;
+  takeoff.command = wp::kNavTakeoff;
   takeoff.alt = 60;
   items.push_back(takeoff);
   for (std::size_t i = 0; items.size() + 2 < n; ++i) {
-    ex::MissionItem wp;
+    wp::MissionItem wp;
     wp.lat = 47.3977420 + 1e-5 * static_cast<double>(i);
     wp.lon = 8.5455940 - 2e-5 * static_cast<double>(i);
     wp.alt = 40.0F + static_cast<float>(i % 3);
     items.push_back(wp);
   }
-  ex::MissionItem rtl;
-  rtl.command = ex::kNavReturnToLaunch;
-  rtl.frame = ex::kFrameMission;
+  wp::MissionItem rtl;
+  rtl.command = wp::kNavReturnToLaunch;
+  rtl.frame = wp::kFrameMission;
   items.push_back(rtl);
   return to_mission_items(items, uavcover::LonLat{8.5455, 47.3977});
 }

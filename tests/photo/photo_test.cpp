@@ -14,12 +14,12 @@
 #include <vector>
 
 #include "export/export.hpp"
-#include "export/mission_items.hpp"
 #include "geodesy/local_frame.hpp"
 #include "mission/mission_json.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 namespace {
@@ -258,7 +258,7 @@ TEST(Photo, TriggersOnEveryLegNeverInTransitInEveryFormat) {
     total += expected;
     // MAVLink items, the QGroundControl .plan and the Mission Planner .waypoints, read back
     std::vector<Item> items;
-    for (const auto& it : exporting::mission_items(p, u))
+    for (const auto& it : waypoints::mission_items(p, u))
       items.push_back({it.command, it.param1, it.param2, it.param3, it.param4, it.lat, it.lon, it.alt});
     EXPECT_EQ(fly_camera(items, p.origin, alt, false), expected) << "mission items, uav " << u;
     EXPECT_EQ(fly_camera(from_qgc(exporting::qgc_plan(p, u)), p.origin, alt, false), expected)
@@ -268,8 +268,8 @@ TEST(Photo, TriggersOnEveryLegNeverInTransitInEveryFormat) {
 
     // the gimbal is pitched before the first coverage waypoint
     bool gimbal = false;
-    for (const auto& it : exporting::mission_items(p, u)) {
-      if (it.command == exporting::kDoGimbalManagerPitchyaw) {
+    for (const auto& it : waypoints::mission_items(p, u)) {
+      if (it.command == waypoints::kDoGimbalManagerPitchyaw) {
         gimbal = true;
         EXPECT_FLOAT_EQ(it.param1, -90.0f);
       }
@@ -369,10 +369,10 @@ TEST(Photo, HoverAndCaptureStopsAtEveryShot) {
   const auto est = photo::estimate(p);
   ASSERT_TRUE(est.has_value());
   for (std::size_t u = 0; u < p.uavs.size(); ++u) {
-    const auto items = exporting::mission_items(p, u);
+    const auto items = waypoints::mission_items(p, u);
     int captures = 0, holds = 0;
     for (std::size_t k = 0; k < items.size(); ++k) {
-      if (items[k].command == exporting::kImageStartCapture) {
+      if (items[k].command == waypoints::kImageStartCapture) {
         ++captures;
         // issue 34: the hold belongs to the waypoint; the capture's param1 is the camera instance (0 = all)
         // and param3 one image
@@ -380,17 +380,17 @@ TEST(Photo, HoverAndCaptureStopsAtEveryShot) {
         EXPECT_EQ(items[k].param3, 1.0f) << "item " << k;
         // right after its stop (a waypoint with the hold time), never a second capture at the same stop
         ASSERT_GT(k, 0u);
-        EXPECT_EQ(items[k - 1].command, exporting::kNavWaypoint) << "item " << k;
+        EXPECT_EQ(items[k - 1].command, waypoints::kNavWaypoint) << "item " << k;
         EXPECT_FLOAT_EQ(items[k - 1].param1, static_cast<float>(photo::kHoverHoldS));
         EXPECT_FLOAT_EQ(items[k - 1].alt, static_cast<float>(p.mission.altitude_m));
       }
-      if (items[k].command == exporting::kDoSetCamTriggDist) {
+      if (items[k].command == waypoints::kDoSetCamTriggDist) {
         ADD_FAILURE() << "distance trigger in hover capture";
       }
-      if (items[k].command == exporting::kDoGimbalManagerPitchyaw) {
+      if (items[k].command == waypoints::kDoGimbalManagerPitchyaw) {
         EXPECT_FLOAT_EQ(items[k].param1, -75.0f);
       }
-      holds += items[k].command == exporting::kNavWaypoint && items[k].param1 > 0;
+      holds += items[k].command == waypoints::kNavWaypoint && items[k].param1 > 0;
     }
     EXPECT_EQ(captures, formula_images(p, u, d));
     EXPECT_EQ(captures, est->uavs[u].images);
@@ -418,9 +418,9 @@ TEST(Photo, NoCameraNoEstimate) {
   doc["spacing_m"] = 10;
   const Plan p = plan(parse_mission(doc.dump()));
   EXPECT_FALSE(photo::estimate(p).has_value());
-  for (const auto& it : exporting::mission_items(p, 0)) {
-    EXPECT_NE(it.command, exporting::kDoSetCamTriggDist);
-    EXPECT_NE(it.command, exporting::kDoGimbalManagerPitchyaw);
+  for (const auto& it : waypoints::mission_items(p, 0)) {
+    EXPECT_NE(it.command, waypoints::kDoSetCamTriggDist);
+    EXPECT_NE(it.command, waypoints::kDoGimbalManagerPitchyaw);
   }
 }
 

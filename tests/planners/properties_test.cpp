@@ -13,6 +13,7 @@
 #include <memory>
 #include <thread>
 
+#include "codec/plan_codec.hpp"
 #include "engine/local_mission.hpp"
 #include "export/export.hpp"
 #include "geometry/geometry.hpp"
@@ -135,7 +136,7 @@ TEST_P(PlannerProperties, SharesFollowTheRequestWhereSupported) {
 
 TEST_P(PlannerProperties, TheSameSeedGivesTheSamePlan) {
   const Plan again = plan(mission_);
-  EXPECT_EQ(io::paths_geojson(again).dump(), io::paths_geojson(plan_).dump());
+  EXPECT_EQ(codec::paths_geojson(again).dump(), codec::paths_geojson(plan_).dump());
 }
 
 TEST_P(PlannerProperties, AStopEndsPlanningWithCancelled) {

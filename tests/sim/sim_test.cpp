@@ -14,18 +14,18 @@
 #include <thread>
 
 #include "autopilot/rules.hpp"
-#include "export/mission_items.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "sim/sim_vehicle.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover;
 using namespace uavcover::mavlink;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 
 namespace {
 
@@ -35,16 +35,16 @@ const LonLat kHome{22.95, 40.60};
 // about 1.2 km and 160 s.
 std::vector<MissionItemInt> square_mission(int per_side = 1, double side = 300.0, double speed = 10.0) {
   geodesy::LocalFrame f(kHome);
-  std::vector<ex::MissionItem> items;
-  ex::MissionItem takeoff;
-  takeoff.command = ex::kNavTakeoff;
+  std::vector<wp::MissionItem> items;
+  wp::MissionItem takeoff;
+  takeoff.command = wp::kNavTakeoff;
   takeoff.lat = kHome.lat;
   takeoff.lon = kHome.lon;
   takeoff.alt = 30;
   items.push_back(takeoff);
-  ex::MissionItem spd;
-  spd.command = ex::kDoChangeSpeed;
-  spd.frame = ex::kFrameMission;
+  wp::MissionItem spd;
+  spd.command = wp::kDoChangeSpeed;
+  spd.frame = wp::kFrameMission;
   spd.param1 = 1;
   spd.param2 = static_cast<float>(speed);
   spd.param3 = -1;
@@ -57,16 +57,16 @@ std::vector<MissionItemInt> square_mission(int per_side = 1, double side = 300.0
                           corners[c - 1].second + u * (corners[c].second - corners[c - 1].second));
     }
   for (const auto& [x, y] : points) {
-    ex::MissionItem wp;
+    wp::MissionItem wp;
     const LonLat ll = f.to_wgs84(Point(x, y));
     wp.lat = ll.lat;
     wp.lon = ll.lon;
     wp.alt = 30;
     items.push_back(wp);
   }
-  ex::MissionItem rtl;
-  rtl.command = ex::kNavReturnToLaunch;
-  rtl.frame = ex::kFrameMission;
+  wp::MissionItem rtl;
+  rtl.command = wp::kNavReturnToLaunch;
+  rtl.frame = wp::kFrameMission;
   items.push_back(rtl);
   return to_mission_items(items, kHome);
 }
@@ -180,7 +180,7 @@ TEST(SimFleet, UploadedPlanIsFlownInOrderAndEndsLanded) {
                     (dir / "plan").string() + "'"),
             0);
   const Plan plan = io::load_plan_dir(dir / "plan");
-  const std::size_t count = ex::mission_items(plan, 0).size() + 1;  // + home as item 0
+  const std::size_t count = wp::mission_items(plan, 0).size() + 1;  // + home as item 0
 
   RunningFleet f({config(1)}, 50.0, 3 * 3600.0);
   const std::uint16_t port = f.vehicle(0).port();
@@ -499,17 +499,17 @@ TEST(SimFleet, RefusesWhatArduPilotRefuses) {
     std::optional<std::uint8_t> ack;  ///< expected refusal, none = accepted
   };
   const std::vector<Case> cases = {
-      {nan, nan, ex::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 2}},
-      {0, nan, ex::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 3}},
+      {nan, nan, wp::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 2}},
+      {0, nan, wp::kDoGimbalManagerPitchyaw, std::uint8_t{autopilot::kMissionInvalidParam1 + 3}},
       {0, 0, 31999, std::uint8_t{kMissionUnsupported}},
-      {0, 0, ex::kDoGimbalManagerPitchyaw, std::nullopt},
+      {0, 0, wp::kDoGimbalManagerPitchyaw, std::nullopt},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "command " << c.command << ", params 3/4 " << c.p3 << " " << c.p4);
     auto items = square_mission();  // home, take-off, speed, 3 waypoints, RTL
     MissionItemInt gimbal;
     gimbal.command = c.command;
-    gimbal.frame = ex::kFrameMission;
+    gimbal.frame = wp::kFrameMission;
     gimbal.param1 = -90;
     gimbal.param3 = c.p3;
     gimbal.param4 = c.p4;

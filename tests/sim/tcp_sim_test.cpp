@@ -11,17 +11,17 @@
 #include <sstream>
 #include <thread>
 
-#include "export/mission_items.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
 #include "sim/sim_vehicle.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover;
 using namespace uavcover::mavlink;
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-namespace ex = uavcover::exporting;
+namespace wp = uavcover::waypoints;
 
 namespace {
 
@@ -114,7 +114,7 @@ TEST_F(SimOverTcp, UploadWithTheCliThenFlyTheMissionOverTheSameTransport) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("items accepted by system 1"), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("to tcp:127.0.0.1:" + std::to_string(port)), std::string::npos) << r.err;
-  const std::size_t count = ex::mission_items(plan_, 0).size() + 1;  // + home
+  const std::size_t count = wp::mission_items(plan_, 0).size() + 1;  // + home
 
   // a ground station connects (the CLI's connection is gone: the vehicle takes the new client)
   TcpClientLink gcs(Endpoint{"127.0.0.1", port}, 255, 190);

@@ -1,6 +1,7 @@
 // Battery sorties and resume (docs/sorties.md) on planned missions: the olive grove example, a
 // rectangle of the thesis and a region of the paper's evaluation.
 #include "sorties/sorties.hpp"
+#include "codec/plan_codec.hpp"
 
 #include <gtest/gtest.h>
 
@@ -408,18 +409,18 @@ std::filesystem::path temp_dir(const std::string& name) {
 
 void write_plan_dir(const Plan& p, const std::filesystem::path& dir, json plan_json) {
   io::write_file_atomic(dir / "plan.json", plan_json.dump(1));
-  io::write_file_atomic(dir / "paths.geojson", io::paths_geojson(p).dump(1));
+  io::write_file_atomic(dir / "paths.geojson", codec::paths_geojson(p).dump(1));
 }
 
 TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
   const Plan p = with_endurance(olive_grove(), 12.0);
   const auto dir = temp_dir("roundtrip");
-  const json pj = io::plan_json(p);
+  const json pj = codec::plan_json(p);
   ASSERT_TRUE(pj.at("uavs")[0].contains("sorties"));
   EXPECT_EQ(pj.at("uavs")[0].at("batteries"), p.uavs[0].sorties.size());
   write_plan_dir(p, dir, pj);
   // the paths are unchanged by the sorties (the golden DARP references stay byte-identical)
-  EXPECT_EQ(io::paths_geojson(p).dump(), io::paths_geojson(olive_grove()).dump());
+  EXPECT_EQ(codec::paths_geojson(p).dump(), codec::paths_geojson(olive_grove()).dump());
   const Plan back = io::load_plan_dir(dir);
   ASSERT_EQ(back.uavs.size(), p.uavs.size());
   for (std::size_t i = 0; i < p.uavs.size(); ++i) {
@@ -435,7 +436,7 @@ TEST(Sorties, PlanJsonRoundTripAndOldFolders) {
     expect_valid_sorties(back, i);
   }
   // written again: the same sorties
-  EXPECT_EQ(io::plan_json(back).at("uavs")[1].at("sorties").size(), pj.at("uavs")[1].at("sorties").size());
+  EXPECT_EQ(codec::plan_json(back).at("uavs")[1].at("sorties").size(), pj.at("uavs")[1].at("sorties").size());
 
   // an old plan folder (no sorties): they are cut on reading, as plan() would
   json old = pj;
@@ -533,7 +534,7 @@ TEST(Sorties, PerSortieExportsAreWholeMissions) {
       EXPECT_EQ(rows.back()[3], "20");
       // the sortie's coverage waypoints, as the mission items give them
       const Plan sp = sorties::sortie_plan(p, i, p.uavs[i].sorties[k]);
-      for (const auto& it : exporting::mission_items(sp, i))
+      for (const auto& it : waypoints::mission_items(sp, i))
         if (it.waypoint >= 0) covered.push_back(it.waypoint + p.uavs[i].sorties[k].first_waypoint);
     }
     // the sorties' missions visit every coverage waypoint in order, joins repeated
@@ -597,9 +598,9 @@ TEST(Sorties, ResumeFliesTheRestOnce) {
       for (int g = 0; g <= r; ++g) waypoints.insert(g);
       for (const auto& items : missions) {
         ASSERT_GE(items.size(), 3u);
-        EXPECT_EQ(items.front().command, exporting::kNavTakeoff);
+        EXPECT_EQ(items.front().command, waypoints::kNavTakeoff);
         EXPECT_FLOAT_EQ(items.front().alt, static_cast<float>(up.transition_altitude_m));
-        EXPECT_EQ(items.back().command, exporting::kNavReturnToLaunch);
+        EXPECT_EQ(items.back().command, waypoints::kNavReturnToLaunch);
         for (const auto& it : items)
           if (it.waypoint >= 0) waypoints.insert(it.waypoint);
       }

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -217,7 +220,7 @@ TEST(Trajectory, PlanTrajectoriesWithTransitionAltitudes) {
     EXPECT_EQ(w.back()[2], 0.0);
     double zmax = 0;
     for (const auto& p : w) zmax = std::max(zmax, p[2]);
-    EXPECT_DOUBLE_EQ(zmax, exporting::transition_altitude({}, u, plan.mission.altitude_m));
+    EXPECT_DOUBLE_EQ(zmax, waypoints::transition_altitude({}, u, plan.mission.altitude_m));
     EXPECT_DOUBLE_EQ(flight_time_s(plan, u), t.duration());
     // the flight takes longer than flying the 3D waypoint polyline at v_max
     double len = 0;
@@ -278,4 +281,132 @@ TEST(Trajectory, SampleCountIsBounded) {
   const Trajectory t({{0, 0, 0}, {2e6, 0, 0}}, Limits{1.0, 2.0});
   EXPECT_THROW((void)t.sample(0.1), uavcover::InputError);
   EXPECT_NO_THROW((void)t.sample(2000.0));
+}
+
+namespace {
+
+/// The segment form gives at() again at many instants: in every piece, at its ends and between.
+double worst_recovery(const Trajectory& t, const std::vector<Segment>& g, double* worst_v = nullptr) {
+  std::vector<double> times;
+  for (const auto& pc : t.pieces())
+    for (int k = 0; k <= 16; ++k) times.push_back(pc.t0 + pc.duration * k / 16.0);
+  for (int k = 0; k <= 5000; ++k) times.push_back(t.duration() * k / 5000.0);
+  double wp = 0, wv = 0;
+  for (const double x : times) {
+    const Sample a = t.at(x), b = segment_at(g, x);
+    wp = std::max(wp, dist(a.p, b.p));
+    wv = std::max(wv, dist(a.v, b.v));
+    // the acceleration is the same law's (it jumps only at breakpoints, where either side is right;
+    // the end breakpoint is at rest)
+    if (x < t.duration() && dist(a.a, b.a) > 1e-6) {
+      const Sample lo = t.at(x - 1e-7), hi = t.at(x + 1e-7);
+      EXPECT_TRUE(dist(lo.a, b.a) < 1e-6 || dist(hi.a, b.a) < 1e-6) << "t=" << x;
+    }
+  }
+  if (worst_v) *worst_v = wv;
+  return wp;
+}
+
+}  // namespace
+
+TEST(TrajectorySegments, RecoverTheTrajectoryAtEveryInstant) {
+  std::mt19937_64 rng(20261201);
+  std::uniform_real_distribution<double> coord(-30, 30), len(0.05, 1.0), speed(1, 12), accel(0.5, 5),
+      radius(0, 6);
+  for (int trial = 0; trial < 60; ++trial) {
+    std::vector<Vec3> w{{0, 0, 0}};
+    const int n = 2 + trial % 9;
+    for (int i = 0; i < n; ++i) {
+      const double f = trial % 3 == 0 ? len(rng) : trial % 5 == 0 ? 40.0 : 1.0;
+      w.push_back({w.back()[0] + f * coord(rng), w.back()[1] + f * coord(rng),
+                   std::max(0.0, w.back()[2] + f * coord(rng) / 3)});
+    }
+    Options opt;
+    opt.corners = trial % 4 == 3 ? CornerMode::Stop : CornerMode::Fillet;
+    opt.fillet_radius_m = radius(rng);
+    opt.densify_m = trial % 2 == 0 ? 10.0 : 0.0;
+    const Trajectory t(w, {speed(rng), accel(rng)}, opt);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const auto g = t.segments();
+    ASSERT_GE(g.size(), 1u);
+    EXPECT_EQ(g.back().kind, SegmentKind::End);
+    EXPECT_EQ(g.front().t, 0.0);
+    EXPECT_EQ(g.back().t, t.duration());
+    for (std::size_t k = 1; k < g.size(); ++k) EXPECT_GT(g[k].t, g[k - 1].t);
+    double wv = 0;
+    EXPECT_LE(worst_recovery(t, g, &wv), 1e-9);
+    EXPECT_LE(wv, 1e-9);
+    // never more breakpoints than phases: at most three per line piece and one per arc, plus the end
+    std::size_t phases = 1;
+    for (const auto& pc : t.pieces()) phases += pc.arc ? 1 : 3;
+    EXPECT_LE(g.size(), phases);
+  }
+}
+
+TEST(TrajectorySegments, ADensifiedLegIsOneAccelerationCruiseAndDeceleration) {
+  // 2 km straight at 5 m/s, 2 m/s^2, densified every 10 m: 200 pieces, four breakpoints
+  const Trajectory t({{0, 0, 0}, {2000, 0, 0}}, Limits{5.0, 2.0});
+  EXPECT_EQ(t.pieces().size(), 200u);
+  const auto g = t.segments();
+  ASSERT_EQ(g.size(), 4u);
+  EXPECT_EQ(g[0].kind, SegmentKind::Accelerate);
+  EXPECT_EQ(g[1].kind, SegmentKind::Cruise);
+  EXPECT_EQ(g[2].kind, SegmentKind::Decelerate);
+  EXPECT_EQ(g[3].kind, SegmentKind::End);
+  EXPECT_NEAR(g[1].t, 2.5, 1e-12);  // v_max / a_max
+  EXPECT_NEAR(g[1].p[0], 6.25, 1e-9);
+  EXPECT_NEAR(g[3].t, 2000.0 / 5.0 + 2.5, 1e-9);
+  EXPECT_LE(worst_recovery(t, g), 1e-9);
+}
+
+TEST(TrajectorySegments, CsvReadsBackToTheSameDoubles) {
+  const Plan plan = fixture::two_uav_plan();
+  for (std::size_t u = 0; u < 2; ++u) {
+    const Trajectory t = uav_trajectory(plan, u);
+    const std::string csv = segments_csv(plan, t);
+    EXPECT_EQ(csv.substr(0, csv.find('\n')), kSegmentsHeader);
+    const auto g = t.segments();
+    const auto back = parse_segments_csv(csv);
+    ASSERT_EQ(back.size(), g.size());
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      EXPECT_EQ(back[k].t, g[k].t);
+      EXPECT_EQ(back[k].kind, g[k].kind);
+      EXPECT_EQ(back[k].p, g[k].p);
+      EXPECT_EQ(back[k].v, g[k].v);
+      EXPECT_EQ(back[k].a, g[k].a);
+    }
+    // an arc for each filleted corner, and the flight recovered from the file alone
+    EXPECT_GT(std::count_if(g.begin(), g.end(), [](const Segment& s) { return s.kind == SegmentKind::Arc; }),
+              0);
+    EXPECT_LE(worst_recovery(t, back), 1e-9);
+    // the limits are the UAV's
+    const std::string row =
+        csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+    EXPECT_TRUE(row.ends_with(
+        fmt::format(",{},{}", plan.mission.uavs[u].speed_mps, plan.mission.uavs[u].max_accel_mps2)))
+        << row;
+  }
+}
+
+TEST(TrajectorySegments, MalformedCsvIsRefusedNamingTheLine) {
+  const Plan plan = fixture::two_uav_plan();
+  const std::string csv = segments_csv(plan, uav_trajectory(plan, 0));
+  auto refused = [](const std::string& text, const std::string& what) {
+    try {
+      (void)parse_segments_csv(text);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const uavcover::InputError& e) {
+      EXPECT_EQ(e.field(), "trajectory");
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused("t,x\n", "line 1");
+  refused(std::string(kSegmentsHeader) + "\n", "no segments");
+  refused(std::string(kSegmentsHeader) + "\n0,cruise,1,2\n", "line 2: expected 15 fields");
+  refused(std::string(kSegmentsHeader) + "\n0,hover,0,0,0,0,0,0,0,0,0,0,0,5,2\n", "unknown kind");
+  refused(std::string(kSegmentsHeader) + "\n0,cruise,x,0,0,0,0,0,0,0,0,0,0,5,2\n", "field 3");
+  refused(std::string(kSegmentsHeader) +
+              "\n1,cruise,0,0,0,0,0,0,0,0,0,0,0,5,2\n0,end,0,0,0,0,0,0,0,0,0,0,0,5,2\n",
+          "line 3: times must not decrease");
+  EXPECT_NO_THROW((void)parse_segments_csv(csv));
 }

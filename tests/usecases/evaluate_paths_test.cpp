@@ -1,6 +1,7 @@
 // `uavcover evaluate` as a use case (src/usecases/evaluate_paths.cpp): GeoJSON paths matched to the
 // mission's UAVs and swept with each UAV's own footprint.
 #include "usecases/evaluate_paths.hpp"
+#include "codec/plan_codec.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@ TEST(EvaluatePaths, EachFlightIsSweptWithItsUavsOwnCamera) {
   // mission where bravo's own camera sees 25 m across (the mission's: 74.5 m)
   const Plan& p = testing::olive_grove_plan();
   const Plan own = testing::olive_grove_with_own_camera(1, 25.0);
-  const std::string geojson = io::paths_geojson(p).dump();
+  const std::string geojson = codec::paths_geojson(p).dump();
   const auto before = usecases::evaluate_paths(p.mission, geojson, {});
   const auto after = usecases::evaluate_paths(own.mission, geojson, {});
   ASSERT_EQ(after.evaluation.coverage.uavs.size(), 3u);
@@ -46,7 +47,7 @@ TEST(EvaluatePaths, EachFlightIsSweptWithItsUavsOwnCamera) {
 TEST(EvaluatePaths, FlightsTakeTheCameraOfTheUavTheyAreMatchedTo) {
   // the paths name their UAVs: listed in another order, bravo's flight still gets bravo's camera
   const Plan own = testing::olive_grove_with_own_camera(1, 25.0);
-  nlohmann::json g = io::paths_geojson(own);
+  nlohmann::json g = codec::paths_geojson(own);
   std::reverse(g["features"].begin(), g["features"].end());
   const auto r = usecases::evaluate_paths(own.mission, g.dump(), {});
   bool seen = false;

@@ -57,6 +57,10 @@ TEST(JobParams, DefaultsAreFilledAndBadOnesNamed) {
   EXPECT_EQ(field_of(JobType::Plan, m, {{"time_limit_s", 0}}), "time_limit_s");
   EXPECT_EQ(field_of(JobType::Plan, m, {{"time_limit_s", 1e9}}), "time_limit_s");
   EXPECT_EQ(field_of(JobType::Plan, m, {{"planner_params", {{"bogus", 1}}}}), "planner_params.bogus");
+  EXPECT_EQ(field_of(JobType::Plan, m, {{"trajectory_step_s", 0}}), "trajectory_step_s");
+  EXPECT_EQ(field_of(JobType::Plan, m, {{"trajectory_step_s", 61}}), "trajectory_step_s");
+  EXPECT_EQ(field_of(JobType::Plan, m, {{"trajectory_step_s", "0.1"}}), "trajectory_step_s");
+  EXPECT_EQ(field_of(JobType::Plan, m, {{"trajectory_step_s", 0.5}}), "(accepted)");
   EXPECT_EQ(field_of(JobType::Study, m, json::object()), "uavs");
   EXPECT_EQ(field_of(JobType::Study, m, {{"uavs", "0..3"}}), "uavs");
   EXPECT_EQ(field_of(JobType::Study, m, {{"uavs", "1..3"}}), "(accepted)");
@@ -245,4 +249,21 @@ TEST(Jobs, ACatalogUavsCameraBecomesItsOwnCameraAtTheMissionsAltitude) {
   // a mission without a camera block (spacing given) has no camera to share: the UAVs get none
   json spaced = {{"spacing_m", 20}, {"uavs", {{{"catalog_id", 3}}}}};
   EXPECT_FALSE(usecases::resolve_catalog_refs(spaced, uavs, cams)["uavs"][0].contains("camera"));
+}
+
+TEST(Jobs, APlanJobsTrajectoryIsTheSegmentFormOrSampledAtItsStep) {
+  const Mission m = rectangle();
+  auto trajectory_of = [&](const json& given) {
+    const auto r =
+        usecases::run_job(JobType::Plan, m, usecases::validate_job_params(JobType::Plan, m, given), {});
+    for (const auto& a : r.artifacts)
+      if (a.name == "trajectory/" + m.uavs[0].id + ".csv") return a.bytes;
+    return std::string();
+  };
+  const std::string segments = trajectory_of({{"seed", 7}});
+  EXPECT_TRUE(segments.starts_with("t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max\n"));
+  const std::string sampled = trajectory_of({{"seed", 7}, {"trajectory_step_s", 0.5}});
+  EXPECT_TRUE(sampled.starts_with("t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az\n0.000000,"));
+  EXPECT_NE(sampled.find("\n0.500000,"), std::string::npos);
+  EXPECT_LT(segments.size(), sampled.size());
 }

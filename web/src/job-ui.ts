@@ -3,17 +3,9 @@
 // <prefix>-cancel.
 import { api, ApiError } from './api.ts';
 import { collection, events, terminal, type Job } from './events.ts';
+import { el } from './dom.ts';
 
-export function el<K extends keyof HTMLElementTagNameMap>(
-  tag: K,
-  attrs: Record<string, string> = {},
-  text?: string,
-): HTMLElementTagNameMap[K] {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  if (text !== undefined) e.textContent = text;
-  return e;
-}
+export { el };
 
 /** An error in words: the message, and the field it names. */
 export function errorText(e: { message?: string; field?: string } | null | undefined): string {

@@ -81,7 +81,7 @@ export function withNfz(doc: MissionDoc, polys: PolygonCoords[]): MissionDoc {
 
 /** [minlon, minlat, maxlon, maxlat] of the area and no-fly zones, or null */
 export function docBbox(doc: MissionDoc | null): [number, number, number, number] | null {
-  const pts = [...areaPolygons(doc), ...nfzPolygons(doc)].flat(2);
+  const pts = [...areaPolygons(doc), ...nfzPolygons(doc)].flat(2).concat(corridorOf(doc)?.line ?? []);
   if (pts.length === 0) return null;
   let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
   for (const [x, y] of pts) {
@@ -305,4 +305,78 @@ export function humanMessage(path: string, message: string, doc: MissionDoc | nu
   let text = message;
   if (path && text.startsWith(`${path}: `)) text = text.slice(path.length + 2);
   return text.replace(/\b(?:uavs\[\d+\](?:\.[A-Za-z_]+)*|camera\.[A-Za-z_]+|area(?:\.coordinates)?(?:\[\d+\])+|no_fly_zones(?:\[\d+\])+|planner_params\.[A-Za-z_]+)/g, (p) => fieldLabel(p, doc));
+}
+
+// ---------------------------------------------------------------- patterns (docs/patterns.md)
+
+export interface Corridor {
+  line: Position[];
+  width_m: number;
+}
+
+/** the document's corridor (line and width), or null */
+export function corridorOf(doc: MissionDoc | null): Corridor | null {
+  const c = doc?.corridor as { line?: GeoLike; width_m?: unknown } | undefined;
+  if (!c || typeof c !== 'object' || !c.line || c.line.type !== 'LineString' || !Array.isArray(c.line.coordinates)) return null;
+  const line = (c.line.coordinates as unknown[]).filter(isPosition).map((p) => [p[0], p[1]] as Position);
+  return { line, width_m: typeof c.width_m === 'number' ? c.width_m : 0 };
+}
+
+/** a copy of the document as a corridor mission (the area removed), or, with line null, without one */
+export function withCorridor(doc: MissionDoc, line: Position[] | null, width_m: number): MissionDoc {
+  const out = { ...doc };
+  if (line === null) {
+    delete out.corridor;
+    return out;
+  }
+  delete out.area;
+  out.corridor = { line: { type: 'LineString', coordinates: line }, width_m };
+  return out;
+}
+
+/** the pattern options the web app edits, with the server's defaults */
+export interface PatternOptions {
+  crosshatch: boolean;
+  turnaround_m: number;
+  entry: 'auto' | 'nw' | 'ne' | 'sw' | 'se';
+  alternate_transects: boolean;
+  capture_in_turnaround: boolean;
+}
+export const PATTERN_DEFAULTS: PatternOptions = {
+  crosshatch: false,
+  turnaround_m: 0,
+  entry: 'auto',
+  alternate_transects: false,
+  capture_in_turnaround: false,
+};
+
+/** the document's pattern block with the defaults filled in (null: no block) */
+export function patternOf(doc: MissionDoc | null): PatternOptions | null {
+  const p = doc?.pattern as Record<string, unknown> | undefined;
+  if (!p || typeof p !== 'object') return null;
+  const out: PatternOptions = { ...PATTERN_DEFAULTS };
+  if (typeof p.crosshatch === 'boolean') out.crosshatch = p.crosshatch;
+  if (typeof p.turnaround_m === 'number') out.turnaround_m = p.turnaround_m;
+  if (typeof p.entry === 'string' && ['auto', 'nw', 'ne', 'sw', 'se'].includes(p.entry)) out.entry = p.entry as PatternOptions['entry'];
+  if (typeof p.alternate_transects === 'boolean') out.alternate_transects = p.alternate_transects;
+  if (typeof p.capture_in_turnaround === 'boolean') out.capture_in_turnaround = p.capture_in_turnaround;
+  return out;
+}
+
+/** a copy of the document with these pattern options: only the ones not at their default are written; the
+ * other fields of the block (e.g. oblique) are kept; null removes the block */
+export function withPattern(doc: MissionDoc, opts: Partial<PatternOptions> | null): MissionDoc {
+  const out = { ...doc };
+  if (opts === null) {
+    delete out.pattern;
+    return out;
+  }
+  const block: Record<string, unknown> = { ...((doc.pattern as Record<string, unknown> | undefined) ?? {}) };
+  for (const k of Object.keys(PATTERN_DEFAULTS) as (keyof PatternOptions)[]) {
+    if (!(k in opts)) continue;
+    if (opts[k] === PATTERN_DEFAULTS[k]) delete block[k];
+    else block[k] = opts[k];
+  }
+  out.pattern = block;
+  return out;
 }

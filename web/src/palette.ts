@@ -1,4 +1,4 @@
-// The UAV colours of the CLI's pictures (src/render/render.cpp, uav_colour): ten colours, in order,
+// The UAV colours of the CLI's pictures (src/render/canvas.cpp, uav_colour): ten colours, in order,
 // then darker rounds of the same ten (x0.6 for the 2nd, 4th, ... round; x0.8 for the 3rd, 5th, ...).
 export const PALETTE: ReadonlyArray<readonly [number, number, number]> = [
   [0.12, 0.47, 0.71],

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 
 #include "planners/boustrophedon/decomposition.hpp"
 #include "planners/boustrophedon/division.hpp"
 #include "planners/boustrophedon/ordering.hpp"
 #include "planners/boustrophedon/sweep.hpp"
+#include "planners/corridor/corridor.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::planners {
@@ -164,6 +166,7 @@ class BoustrophedonPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
                                 const Context& ctx) const override {
+    if (!problem.corridor_line.empty()) return corridor::plan(problem, ctx);
     // its cell decomposition grows with the square of the zones (50 zones: 6 s, 100: 25 s): refuse
     // what it cannot plan in seconds rather than hang
     if (problem.no_fly.size() > kMaxNoFlyZones)
@@ -234,6 +237,7 @@ class BoustrophedonPlanner final : public Planner {
     env.stops.add(p.no_fly);
     env.no_fly_edges.add(p.no_fly);
     SweepOptions opt{p.spacing_m, footprint, p.mode, n == 1};
+    opt.pattern = p.pattern ? &*p.pattern : nullptr;
 
     const double eps = std::min(0.1, 0.01 * p.spacing_m);  // gap between UAVs' paths along borders
     for (std::size_t k = 0; k < n; ++k) {
@@ -255,36 +259,90 @@ class BoustrophedonPlanner final : public Planner {
       env.others = p.mode == Mode::Coverage && n > 1 ? &others : nullptr;
 
       const Layout lay = best_layout(planned, p.spacing_m, fixed, ctx, f0, f0 + 0.6 * (f1 - f0));
+      // crosshatch (docs/patterns.md): a second sweep of the same part, every cell at 90 degrees to the first
+      std::optional<Layout> cross;
+      if (p.pattern && p.pattern->crosshatch)
+        cross = best_layout(planned, p.spacing_m, std::fmod(lay.angle + kPi / 2, kPi), ctx, f0, f0);
       std::vector<std::array<std::vector<Point>, 2>> paths;
+      std::vector<std::array<std::vector<std::uint8_t>, 2>> flags;
       std::vector<CellEnds> ends;
       nlohmann::json cells = nlohmann::json::array();
       int legs = 0;
-      for (std::size_t c = 0; c < lay.sweeps.size(); ++c) {
+      std::vector<const CellSweep*> sweeps;
+      for (const auto& s : lay.sweeps) sweeps.push_back(&s);
+      const std::size_t first_sweep = sweeps.size();
+      if (cross)
+        for (const auto& s : cross->sweeps) sweeps.push_back(&s);
+      std::vector<std::size_t> second;  // indices into paths of the second sweep's cells
+      for (std::size_t c = 0; c < sweeps.size(); ++c) {
         ctx.check();
-        paths.push_back(lawnmower(lay.sweeps[c], opt, env, ctx));
+        flags.emplace_back();
+        paths.push_back(lawnmower(*sweeps[c], opt, env, ctx, &flags.back()));
         const auto& pa = paths.back();
         if (pa[0].empty() || pa[1].empty()) {
           paths.pop_back();
+          flags.pop_back();
+          continue;
+        }
+        if (c >= first_sweep) {
+          second.push_back(paths.size() - 1);
           continue;
         }
         CellEnds e;
         e.entry = {pa[0].front(), pa[0].back(), pa[1].front(), pa[1].back()};
         e.exit = {pa[0].back(), pa[0].front(), pa[1].back(), pa[1].front()};
         ends.push_back(e);
-        legs += lay.sweeps[c].legs;
-        cells.push_back({{"angle_deg", to_bearing(lay.sweeps[c].angle)},
-                         {"legs", lay.sweeps[c].legs},
-                         {"area_m2", area(lay.sweeps[c].mono)}});
+        legs += sweeps[c]->legs;
+        cells.push_back({{"angle_deg", to_bearing(sweeps[c]->angle)},
+                         {"legs", sweeps[c]->legs},
+                         {"area_m2", area(sweeps[c]->mono)}});
       }
       ctx.report(kStage, f0 + 0.8 * (f1 - f0));
-      const Tour tour = order_cells(ends, p.starts[k], ctx);
+      // entry (docs/patterns.md): the tour starts from the region's corner that way, else nearest the start
+      Point entry = p.starts[k];
+      if (p.pattern && p.pattern->entry != "auto") {
+        Box box;
+        bg::envelope(planned, box);
+        const bool north = p.pattern->entry[0] == 'n', east = p.pattern->entry[1] == 'e';
+        entry = Point{east ? box.max_corner().x() : box.min_corner().x(),
+                      north ? box.max_corner().y() : box.min_corner().y()};
+      }
+      auto fly = [&](const std::vector<CellEnds>& e, const std::vector<std::size_t>& which, Point from,
+                     nlohmann::json& order) {
+        const Tour tour = order_cells(e, from, ctx);
+        for (std::size_t i = 0; i < tour.order.size(); ++i) {
+          const int way = tour.variant[i];
+          const std::size_t c = which[static_cast<std::size_t>(tour.order[i])];
+          auto path = paths[c][static_cast<std::size_t>(way / 2)];
+          auto off = flags[c][static_cast<std::size_t>(way / 2)];
+          if (way % 2 == 1) {
+            std::reverse(path.begin(), path.end());
+            std::reverse(off.begin(), off.end());
+          }
+          ua.coverage.push_back(std::move(path));
+          ua.camera_off.push_back(std::move(off));
+          order.push_back(tour.order[i]);
+        }
+        return tour;
+      };
+      std::vector<std::size_t> first_cells(ends.size());
+      std::iota(first_cells.begin(), first_cells.end(), 0);
       nlohmann::json order = nlohmann::json::array();
-      for (std::size_t i = 0; i < tour.order.size(); ++i) {
-        const int way = tour.variant[i];
-        auto path = paths[static_cast<std::size_t>(tour.order[i])][static_cast<std::size_t>(way / 2)];
-        if (way % 2 == 1) std::reverse(path.begin(), path.end());
-        ua.coverage.push_back(std::move(path));
-        order.push_back(tour.order[i]);
+      const Tour tour = fly(ends, first_cells, entry, order);
+      if (!second.empty()) {
+        std::vector<CellEnds> e2;
+        for (std::size_t c : second) {
+          const auto& pa = paths[c];
+          CellEnds e;
+          e.entry = {pa[0].front(), pa[0].back(), pa[1].front(), pa[1].back()};
+          e.exit = {pa[0].back(), pa[0].front(), pa[1].back(), pa[1].front()};
+          e2.push_back(e);
+        }
+        nlohmann::json order2 = nlohmann::json::array();
+        const Point from = ua.coverage.empty() ? entry : ua.coverage.back().back();
+        fly(e2, second, from, order2);
+        cells.push_back(
+            {{"crosshatch_angle_deg", to_bearing(cross->angle)}, {"cell_order", std::move(order2)}});
       }
       ua.diagnostics = {{"decomposition_angle_deg", to_bearing(lay.angle)},
                         {"cells", std::move(cells)},
@@ -317,6 +375,8 @@ PlannerInfo boustrophedon_planner_info() {
       "absent: chosen per cell to minimise turns";
   info.params.push_back(std::move(angle));
   info.supports = Capabilities{true, true, true, true, true, false};
+  info.supports.corridor = info.supports.crosshatch = info.supports.turnaround = info.supports.entry =
+      info.supports.alternate_transects = info.supports.capture_in_turnaround = true;
   info.create = [] { return std::make_unique<BoustrophedonPlanner>(); };
   return info;
 }

@@ -114,7 +114,8 @@ CellSweep choose_direction(const Monotone& cell, const Frame& frame, double pref
 }
 
 std::array<std::vector<Point>, 2> lawnmower(const CellSweep& sweep, const SweepOptions& opt,
-                                            const Surroundings& env, const Context& ctx) {
+                                            const Surroundings& env, const Context& ctx,
+                                            std::array<std::vector<std::uint8_t>, 2>* camera_off) {
   const Frame f(sweep.angle);
   const Monotone& m = sweep.mono;
   const std::vector<double> xs = leg_positions(m.xmin(), m.xmax(), opt.spacing);
@@ -175,6 +176,68 @@ std::array<std::vector<Point>, 2> lawnmower(const CellSweep& sweep, const SweepO
     return true;
   };
   std::array<std::vector<Point>, 2> out;
+  if (opt.pattern != nullptr) {
+    // the pattern options (docs/patterns.md): lanes in order (every other one first with alternate
+    // transects), each extended at both ends by the turnaround (up to a no-fly zone), the camera off over
+    // turns and turnarounds unless capture_in_turnaround
+    const Pattern& pat = *opt.pattern;
+    const std::uint8_t turn_off = pat.capture_in_turnaround ? 0 : 1;
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < xs.size(); k += pat.alternate_transects ? 2 : 1) order.push_back(k);
+    if (pat.alternate_transects)
+      for (std::size_t k = xs.size(); k-- > 0;)
+        if (k % 2 == 1) order.push_back(k);
+    auto reach = [&](Point p, Point u, double len) {  // how far the turnaround goes before a no-fly zone
+      if (len <= 0) return 0.0;
+      const Point far{p.x() + len * u.x(), p.y() + len * u.y()};
+      if (auto hit = env.no_fly_edges.first_hit(p, far, 1e-4 / len)) return std::max(0.0, *hit * len - 0.01);
+      return len;
+    };
+    for (int v = 0; v < 2; ++v) {
+      auto& path = out[static_cast<std::size_t>(v)];
+      std::vector<std::uint8_t> off;
+      auto push = [&](Point p, std::uint8_t flag) {
+        if (!path.empty() && dist(path.back(), p) <= 1e-9) return;
+        if (!path.empty()) off.push_back(flag);
+        path.push_back(p);
+      };
+      const End* prev_end = nullptr;
+      bool prev_up = false;
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        const std::size_t k = order[i];
+        const bool going_up = ((i % 2 == 0) == (v == 0));
+        const End& from = going_up ? lows[k] : highs[k];
+        const End& to = going_up ? highs[k] : lows[k];
+        const Point u = going_up ? up : Point{-up.x(), -up.y()};
+        const double r0 = reach(from.ext, {-u.x(), -u.y()}, pat.turnaround_m);
+        const double r1 = reach(to.ext, u, pat.turnaround_m);
+        const Point pre{from.ext.x() - r0 * u.x(), from.ext.y() - r0 * u.y()};
+        const Point post{to.ext.x() + r1 * u.x(), to.ext.y() + r1 * u.y()};
+        if (prev_end != nullptr) {
+          // the turn: straight where it may go, else back to the strict ends and along the boundary
+          const bool adjacent = std::max(k, order[i - 1]) - std::min(k, order[i - 1]) == 1;
+          const bool plain = pat.turnaround_m <= 0 && !prev_end->extended && !from.extended && adjacent;
+          if (plain || !connection_ok(path.back(), pre)) {
+            push(prev_end->strict, turn_off);
+            const Point a = prev_end->frame_pt, b = from.frame_pt;
+            const auto& chain = prev_up ? m.upper : m.lower;
+            std::vector<Point> mid = a.x() < b.x() ? taut(chain, a, b, prev_up) : taut(chain, b, a, prev_up);
+            if (a.x() >= b.x()) std::reverse(mid.begin(), mid.end());
+            for (const auto& q : mid) push(f.from(q), turn_off);
+            push(from.strict, turn_off);
+          }
+        }
+        push(pre, turn_off);
+        push(from.ext, turn_off);
+        push(to.ext, 0);
+        push(post, turn_off);
+        prev_end = &to;
+        prev_up = going_up;
+      }
+      if (camera_off != nullptr) (*camera_off)[static_cast<std::size_t>(v)] = std::move(off);
+    }
+    return out;
+  }
   for (int v = 0; v < 2; ++v) {
     auto& path = out[static_cast<std::size_t>(v)];
     path.reserve(2 * xs.size() + 2);

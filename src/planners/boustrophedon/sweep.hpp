@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct SweepOptions {
   double footprint = 0.0;
   Mode mode = Mode::Strict;
   bool overhang = true;  ///< coverage mode: extend further where the edge is shallow (one UAV)
+  /// The mission's pattern options (docs/patterns.md): turnaround_m, alternate_transects and the camera
+  /// off in turns unless capture_in_turnaround. Null: the plain lawnmower, camera on throughout.
+  const Pattern* pattern = nullptr;
 };
 
 /// Legs at `spacing` (at most) across [xmin, xmax], the outer ones half a spacing in.
@@ -48,7 +52,9 @@ CellSweep choose_direction(const Monotone& cell, const Frame& frame, double pref
 
 /// Lawnmower paths of a cell: [0] starts at the leftmost leg going up, [1] going down. Each path
 /// may be flown backwards, so four entries and exits are offered.
+/// With a pattern, `camera_off` receives per path one flag per segment (1: camera off).
 std::array<std::vector<Point>, 2> lawnmower(const CellSweep& sweep, const SweepOptions& opt,
-                                            const Surroundings& env, const Context& ctx);
+                                            const Surroundings& env, const Context& ctx,
+                                            std::array<std::vector<std::uint8_t>, 2>* camera_off = nullptr);
 
 }  // namespace uavcover::planners::boustro

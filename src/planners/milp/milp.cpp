@@ -1,5 +1,7 @@
 #include "planners/milp/milp.hpp"
 
+#include "planners/corridor/corridor.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -623,6 +625,20 @@ class MilpPlanner final : public Planner {
  public:
   [[nodiscard]] Assignment plan(const Problem& p, const nlohmann::json& params,
                                 const Context& ctx) const override {
+    // a corridor: its lanes cut across by share (docs/patterns.md), the same for every lane planner
+    if (!p.corridor_line.empty()) return corridor::plan(p, ctx);
+    if (p.pattern) {  // its MILP orders fixed line segments: the options are for its corridors only
+      const Pattern& pt = *p.pattern;
+      const char* asked = pt.crosshatch              ? "crosshatch"
+                          : pt.turnaround_m > 0      ? "turnaround_m"
+                          : pt.entry != "auto"       ? "entry"
+                          : pt.alternate_transects   ? "alternate_transects"
+                          : pt.capture_in_turnaround ? "capture_in_turnaround"
+                                                     : nullptr;
+      if (asked != nullptr)
+        throw InputError(std::string("pattern.") + asked,
+                         "planner \"milp\" supports the pattern options for corridors only");
+    }
     stop_check(ctx);
     ctx.report(kStage, 0.0);
     const std::size_t m = p.starts.size();
@@ -898,6 +914,9 @@ PlannerInfo milp_planner_info() {
             "non-nearby penalty)"),
   };
   info.supports = Capabilities{true, true, true, true, true, true};
+  // the pattern options on corridors only (an area mission asking for one is refused by plan())
+  info.supports.corridor = info.supports.crosshatch = info.supports.turnaround = info.supports.entry =
+      info.supports.alternate_transects = info.supports.capture_in_turnaround = true;
   info.create = [] { return std::make_unique<MilpPlanner>(); };
   return info;
 }

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "codec/plan_codec.hpp"
 #include "io/plan_io.hpp"
 #include "support/files.hpp"
 #include "uavcover/uavcover.hpp"
@@ -24,7 +25,8 @@ TEST_P(DarpGolden, PathsAreByteIdenticalToThePreInterfaceEngine) {
   const Plan p = plan(m);
   const std::string expected = uavcover::testing::slurp(kGolden / golden);
   ASSERT_FALSE(expected.empty()) << golden;
-  EXPECT_TRUE(io::paths_geojson(p).dump(1) + "\n" == expected) << mission_file << " differs from " << golden;
+  EXPECT_TRUE(codec::paths_geojson(p).dump(1) + "\n" == expected)
+      << mission_file << " differs from " << golden;
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -3,6 +3,7 @@
 // shares that always sum to 100 %, camera/altitude/overlap with spacing, GSD and footprint computed by
 // the server (POST /missions/validate), mode, planner and its parameters, seed; save revision by
 // revision. The state's mission document is always what the operator sees.
+import { el } from '../dom.ts';
 import L from 'leaflet';
 import '@geoman-io/leaflet-geoman-free';
 import '@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css';
@@ -10,6 +11,7 @@ import { api, ApiError } from '../api.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
 import {
   areaPolygons,
+  corridorOf,
   geojsonPolygons,
   fieldLabel,
   humanMessage,
@@ -17,11 +19,17 @@ import {
   newDraft,
   nextUavId,
   nfzPolygons,
+  PATTERN_DEFAULTS,
+  patternOf,
   polygonsOf,
   withArea,
+  withCorridor,
   withNfz,
+  withPattern,
   type MissionDoc,
+  type PatternOptions,
   type PolygonCoords,
+  type Position,
 } from '../mission-doc.ts';
 import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
@@ -61,17 +69,6 @@ interface Validated {
 type Uav = Record<string, unknown>;
 type Kind = 'area' | 'nfz';
 
-function el<K extends keyof HTMLElementTagNameMap>(
-  tag: K,
-  props: Partial<Record<string, string>> = {},
-  text?: string,
-): HTMLElementTagNameMap[K] {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(props)) if (v !== undefined) e.setAttribute(k, v);
-  if (text !== undefined) e.textContent = text;
-  return e;
-}
-
 function num(s: string): number | undefined {
   if (s.trim() === '') return undefined;
   const x = Number(s);
@@ -85,7 +82,7 @@ function round(x: number, digits: number): number {
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
-// the area and no-fly zones as the CLI's pictures draw them (src/render/render.cpp draw_plan)
+// the area and no-fly zones as the CLI's pictures draw them (src/render/plan_map.cpp draw_plan)
 const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
 const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
 
@@ -113,7 +110,8 @@ class DefinePanel {
   private areaLayers: L.Polygon[] = [];
   private nfzLayers: L.Polygon[] = [];
   private startLayer = L.layerGroup();
-  private drawKind: Kind | 'cut' | null = null;
+  private drawKind: Kind | 'cut' | 'corridor' | null = null;
+  private corridorLayer: L.Polyline | null = null;
   private placing: number | null = null;
   private selLayer: L.Polygon | null = null;
   private selVertex: { layer: L.Polygon; path: number[]; el?: HTMLElement } | null = null;
@@ -130,6 +128,13 @@ class DefinePanel {
   private drawAreaBtn!: HTMLButtonElement;
   private drawNfzBtn!: HTMLButtonElement;
   private cutBtn!: HTMLButtonElement;
+  // the pattern (docs/patterns.md): area or corridor, the corridor's line and width, the options
+  private patternSelect!: HTMLSelectElement;
+  private corridorBtn!: HTMLButtonElement;
+  private widthInput!: HTMLInputElement;
+  private corridorRow!: HTMLElement;
+  private corridorInfo!: HTMLElement;
+  private patternInputs: Partial<Record<keyof PatternOptions, HTMLInputElement | HTMLSelectElement>> = {};
   private uavRows!: HTMLElement;
   private uavSelect!: HTMLSelectElement;
   private cameraSelect!: HTMLSelectElement;
@@ -222,6 +227,8 @@ class DefinePanel {
       el('p', { class: 'define-small muted' }, 'Drag a vertex to move it, the middle of an edge to add one; click a vertex or shape then Delete to remove it. Esc cancels drawing, Ctrl-Z undoes.'),
     );
 
+    this.buildPattern();
+
     // UAVs
     const uavs = this.section('UAVs');
     uavs.dataset.anchor = 'uavs';
@@ -299,6 +306,86 @@ class DefinePanel {
       this.commit(d);
     });
     this.field(plan, 'Seed', 'seed', this.seedInput);
+  }
+
+  /** the Pattern section: area or corridor (drawn as a polyline, with its width), and the options */
+  private buildPattern(): void {
+    const sec = this.section('Pattern');
+    sec.dataset.anchor = 'corridor pattern';
+    this.patternSelect = el('select', { 'data-testid': 'pattern-kind', 'aria-label': 'Pattern' });
+    for (const [v, t] of [
+      ['area', 'Area: a grid over the drawn polygons'],
+      ['corridor', 'Corridor: lanes along a drawn line'],
+    ])
+      this.patternSelect.appendChild(el('option', { value: v }, t));
+    this.patternSelect.addEventListener('change', () => {
+      if (this.patternSelect.value === 'area') this.commit(withCorridor(this.doc, null, 0));
+      this.renderPattern();
+      this.renderMap();
+    });
+    this.field(sec, 'Pattern', 'corridor', this.patternSelect);
+    this.corridorRow = el('div', { class: 'define-corridor' });
+    const tools = el('div', { class: 'define-tools' });
+    this.corridorBtn = el('button', { type: 'button', 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line');
+    this.corridorBtn.addEventListener('click', () => this.startDraw('corridor'));
+    tools.appendChild(this.corridorBtn);
+    this.corridorRow.appendChild(tools);
+    this.widthInput = el('input', { type: 'number', min: '1', max: '5000', step: 'any', value: '100', 'data-testid': 'corridor-width' });
+    this.widthInput.addEventListener('change', () => {
+      const c = corridorOf(this.doc);
+      const w = num(this.widthInput.value);
+      if (c && w !== undefined) this.commit(withCorridor(this.doc, c.line, w));
+      this.renderMap();
+    });
+    this.field(this.corridorRow, 'Width', 'corridor.width_m', this.widthInput, 'm');
+    this.corridorInfo = el('p', { class: 'define-small muted', 'data-testid': 'corridor-info' });
+    this.corridorRow.appendChild(this.corridorInfo);
+    sec.appendChild(this.corridorRow);
+    // the options; a changed one writes the pattern block (defaults are left out)
+    const opts = el('div', { class: 'define-pattern-options', 'data-testid': 'pattern-options' });
+    const check = (key: keyof PatternOptions, label: string, title: string) => {
+      const i = el('input', { type: 'checkbox', 'data-testid': `pattern-${key}`, title });
+      i.addEventListener('change', () => this.commit(withPattern(this.doc, { [key]: i.checked })));
+      this.field(opts, label, `pattern.${key}`, i);
+      this.patternInputs[key] = i;
+    };
+    check('crosshatch', 'Crosshatch', 'sweep every part twice, the second time at 90° (double grid)');
+    const ta = el('input', { type: 'number', min: '0', max: '500', step: 'any', placeholder: '0', 'data-testid': 'pattern-turnaround_m', title: 'legs extend beyond the area by this much, camera off' });
+    ta.addEventListener('change', () => this.commit(withPattern(this.doc, { turnaround_m: num(ta.value) ?? 0 })));
+    this.field(opts, 'Turnaround', 'pattern.turnaround_m', ta, 'm');
+    this.patternInputs.turnaround_m = ta;
+    const entry = el('select', { 'data-testid': 'pattern-entry' });
+    for (const [v, t] of [
+      ['auto', 'nearest the start'],
+      ['nw', 'north-west'],
+      ['ne', 'north-east'],
+      ['sw', 'south-west'],
+      ['se', 'south-east'],
+    ])
+      entry.appendChild(el('option', { value: v }, t));
+    entry.addEventListener('change', () => this.commit(withPattern(this.doc, { entry: entry.value as PatternOptions['entry'] })));
+    this.field(opts, 'Entry', 'pattern.entry', entry);
+    this.patternInputs.entry = entry;
+    check('alternate_transects', 'Alternate transects', 'every other lane, then back for the rest (fixed-wing turns)');
+    check('capture_in_turnaround', 'Camera in turns', 'keep the camera on in turns and turnarounds');
+    sec.append(opts, el('p', { class: 'define-small muted' }, 'Corridors and the options need a lane planner (boustrophedon, or milp for corridors): see “uavcover planners”.'));
+  }
+
+  private renderPattern(): void {
+    const c = corridorOf(this.doc);
+    const corridor = c !== null || this.patternSelect.value === 'corridor';
+    this.patternSelect.value = corridor ? 'corridor' : 'area';
+    this.corridorRow.hidden = !corridor;
+    if (c) this.widthInput.value = String(c.width_m);
+    this.corridorInfo.textContent = c
+      ? `Centre line of ${c.line.length} vertices, ${c.width_m} m wide.`
+      : 'No corridor yet: press “Draw corridor line” and click its vertices on the map.';
+    const p = patternOf(this.doc) ?? PATTERN_DEFAULTS;
+    for (const [k, i] of Object.entries(this.patternInputs) as [keyof PatternOptions, HTMLInputElement | HTMLSelectElement][]) {
+      const v = p[k];
+      if (i instanceof HTMLInputElement && i.type === 'checkbox') i.checked = v === true;
+      else i.value = k === 'turnaround_m' && v === 0 ? '' : String(v);
+    }
   }
 
   // ---------------------------------------------------------------- catalogs
@@ -411,6 +498,7 @@ class DefinePanel {
     const d = this.doc;
     this.nameInput.value = typeof d.name === 'string' ? d.name : '';
     this.renderArea();
+    this.renderPattern();
     this.renderUavs();
     this.refreshCamera();
     this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
@@ -776,7 +864,7 @@ class DefinePanel {
   private async validate(): Promise<void> {
     const seq = ++this.validateSeq;
     const doc = this.doc;
-    if (areaPolygons(doc).length === 0) {
+    if (areaPolygons(doc).length === 0 && !corridorOf(doc)) {
       this.clearErrors();
       for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
       this.spacingValue.title = 'draw the area first';
@@ -890,6 +978,17 @@ class DefinePanel {
     map.pm.setGlobalOptions({ snappable: true, snapDistance: 15, allowSelfIntersection: false } as L.PM.GlobalOptions);
     map.on('pm:create', (e) => {
       const kind = this.drawKind;
+      if (kind === 'corridor') {
+        this.drawKind = null;
+        this.updateButtons();
+        const layer = e.layer as L.Polyline;
+        const line = (layer.getLatLngs() as L.LatLng[]).map((ll) => [round(ll.lng, 7), round(ll.lat, 7)] as Position);
+        layer.remove();
+        this.commit(withCorridor(this.doc, line, num(this.widthInput.value) ?? 100));
+        this.renderPattern();
+        this.renderMap();
+        return;
+      }
       if (kind !== 'area' && kind !== 'nfz') return; // not drawn by this tab
       this.drawKind = null;
       this.updateButtons();
@@ -954,6 +1053,17 @@ class DefinePanel {
     };
     for (const p of areaPolygons(this.doc)) add(p, 'area');
     for (const p of nfzPolygons(this.doc)) add(p, 'nfz');
+    // the corridor: its centre line (the buffered ground is drawn by the plan)
+    this.corridorLayer = null;
+    const c = corridorOf(this.doc);
+    if (c && c.line.length >= 2) {
+      this.corridorLayer = L.polyline(
+        c.line.map(([x, y]) => [y, x] as L.LatLngTuple),
+        { color: AREA_STROKE, weight: 3, dashArray: '8 6', pmIgnore: true } as L.PolylineOptions,
+      );
+      this.corridorLayer.bindTooltip(`corridor, ${c.width_m} m wide`, { sticky: true, className: 'define-tip' });
+      this.corridorLayer.addTo(this.group);
+    }
     this.renderStarts();
     this.setEditing(this.visible);
     this.renderArea();
@@ -1056,13 +1166,22 @@ class DefinePanel {
     this.syncFromLayers();
   }
 
-  private startDraw(kind: Kind | 'cut'): void {
+  private startDraw(kind: Kind | 'cut' | 'corridor'): void {
     const map = this.app.map;
     const wasSame = this.drawKind === kind;
     this.cancelModes();
     if (wasSame) return; // the button toggles
     this.select(null);
-    if (kind === 'cut') {
+    if (kind === 'corridor') {
+      this.drawKind = 'corridor';
+      map.pm.enableDraw('Line', {
+        snappable: true,
+        snapDistance: 15,
+        pathOptions: { color: AREA_STROKE, weight: 3 },
+        templineStyle: { color: AREA_STROKE },
+        hintlineStyle: { color: AREA_STROKE, dashArray: '5 5' },
+      } as L.PM.DrawModeOptions);
+    } else if (kind === 'cut') {
       if (this.areaLayers.length === 0) {
         this.flash('Draw the area first.');
         return;
@@ -1097,6 +1216,7 @@ class DefinePanel {
     this.drawAreaBtn.classList.toggle('active', this.drawKind === 'area');
     this.drawNfzBtn.classList.toggle('active', this.drawKind === 'nfz');
     this.cutBtn.classList.toggle('active', this.drawKind === 'cut');
+    this.corridorBtn.classList.toggle('active', this.drawKind === 'corridor');
     this.app.map.getContainer().classList.toggle('define-drawing', this.drawKind !== null);
   }
 

@@ -2,6 +2,7 @@
 // duplicate, rename, delete, export; import a file by drag and drop (or a file picker); new mission.
 import L from 'leaflet';
 import { api, ApiError } from '../api.ts';
+import { el } from '../dom.ts';
 import { confirmDiscard } from '../discard.ts';
 import { catalogEditor } from '../catalog-editor.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
@@ -25,17 +26,6 @@ interface Mission extends MissionSummary {
 }
 
 const PAGE = 20;
-
-function el<K extends keyof HTMLElementTagNameMap>(
-  tag: K,
-  props: Partial<Record<string, string>> = {},
-  text?: string,
-): HTMLElementTagNameMap[K] {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(props)) if (v !== undefined) e.setAttribute(k, v);
-  if (text !== undefined) e.textContent = text;
-  return e;
-}
 
 /** a server error in words */
 export function errorText(e: unknown): string {

@@ -1,11 +1,11 @@
-// palette.ts: the CLI's colours (src/render/render.cpp uav_colour), in order.
+// palette.ts: the CLI's colours (src/render/canvas.cpp uav_colour), in order.
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
 import { PALETTE, uavColour } from '../../src/palette.ts';
 
-test('the palette is render.cpp\'s, in order', () => {
-  const cpp = readFileSync(new URL('../../../src/render/render.cpp', import.meta.url), 'utf8');
+test('the palette is canvas.cpp\'s, in order', () => {
+  const cpp = readFileSync(new URL('../../../src/render/canvas.cpp', import.meta.url), 'utf8');
   const block = cpp.slice(cpp.indexOf('Rgb uav_colour('));
   const body = block.slice(block.indexOf('{', block.indexOf('palette[]')), block.indexOf('};'));
   const triples = [...body.matchAll(/\{([\d.]+),\s*([\d.]+),\s*([\d.]+)\}/g)].map((m) => m.slice(1, 4).map(Number));

@@ -1,6 +1,6 @@
 // Mission items with transition altitudes (Hong et al. 2021 §2.3): take-off straight to the UAV's own
 // transition altitude, transit legs at it, coverage at mission altitude, climb back, return, RTL/land.
-#include "export/mission_items.hpp"
+#include "waypoints/waypoints.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,7 @@
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
-namespace uavcover::exporting {
+namespace uavcover::waypoints {
 
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m) {
   const double base =
@@ -226,7 +226,8 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
       // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
       const bool local = part.local.size() == part.wgs84.size();
       for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
-        const bool leg = camera && local &&
+        // a turn or turnaround with the camera off (docs/patterns.md) is flown, not shot
+        const bool leg = camera && local && part.camera_on(k - 1) &&
                          photo::leg_images(std::hypot(part.local[k].x() - part.local[k - 1].x(),
                                                       part.local[k].y() - part.local[k - 1].y()),
                                            trigger) > 1;
@@ -328,4 +329,4 @@ std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const
   return best;
 }
 
-}  // namespace uavcover::exporting
+}  // namespace uavcover::waypoints

@@ -12,7 +12,7 @@
 
 #include "uavcover/plan.hpp"
 
-namespace uavcover::exporting {
+namespace uavcover::waypoints {
 
 /// MAV_CMD numbers used here.
 enum MavCmd : std::uint16_t {
@@ -101,4 +101,4 @@ struct LegProfile {
 /// its mission items; std::nullopt without a DEM or without coverage.
 std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
 
-}  // namespace uavcover::exporting
+}  // namespace uavcover::waypoints

@@ -4,11 +4,12 @@
 
 #include "export/export.hpp"
 #include "export/fixture.hpp"
-#include "export/mission_items.hpp"
 #include "export/separation.hpp"
+#include "waypoints/waypoints.hpp"
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::waypoints;
 
 namespace {
 

@@ -1,0 +1,106 @@
+#include "export/checks.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "autopilot/rules.hpp"
+#include "export/geofence.hpp"
+#include "export/separation.hpp"
+#include "terrain/terrain.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::exporting {
+
+using namespace waypoints;  // the waypoint model the formats write
+using nlohmann::json;
+
+/// UAV ids are used unchanged in file names: the parser's id rule, checked again here for plan
+/// folders that did not come through it.
+bool usable_id(const std::string& id) {
+  if (id.empty() || id.size() > 64 || id.front() == '.') return false;
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+  });
+}
+
+/// The autopilots' upload rules (src/autopilot/rules.hpp) on the MAVLink items of UAV `i` of `p` (what the
+/// .plan, .waypoints, CSV and `uavcover upload` carry): a rule the autopilots refuse the mission for
+/// refuses the export; the limits that depend on the vehicle's configuration (item capacity, PX4's
+/// distance parameters) warn, for the autopilot the export is for.
+void check_consumers(const Plan& p, std::size_t i, const std::vector<MissionItem>& items,
+                     const std::string& autopilot, std::vector<std::string>& warnings) {
+  const std::string& id = p.uavs[i].id;
+  const LonLat home = p.mission.uavs[i].start_resolved;
+  struct Consumer {
+    const char* name;
+    std::vector<autopilot::Problem> problems;
+    bool warn;
+  };
+  const Consumer consumers[] = {
+      {"ArduPilot", autopilot::ardupilot_problems(items), autopilot == "ardupilot"},
+      {"PX4", autopilot::px4_problems(items, home, terrain::home_ground(p.mission, i)), autopilot == "px4"}};
+  for (const Consumer& c : consumers)
+    for (const autopilot::Problem& pr : c.problems) {
+      if (pr.fatal)
+        throw InputError("autopilot", fmt::format("uav '{}': {} would refuse the mission: {}", id, c.name,
+                                                  autopilot::describe(pr, items)));
+      if (c.warn)
+        warnings.push_back(fmt::format("uav '{}': {}: {}", id, c.name, autopilot::describe(pr, items)));
+    }
+}
+
+CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::string>& warnings) {
+  if (plan.uavs.size() != plan.mission.uavs.size())
+    throw InputError("uavs", fmt::format("the plan has {} UAV plans for {} mission UAVs", plan.uavs.size(),
+                                         plan.mission.uavs.size()));
+  if (!std::isfinite(opt.geofence_margin_m) || opt.geofence_margin_m < 0)
+    throw InputError("geofence_margin_m", "must be >= 0");
+  if (!std::isfinite(opt.trajectory_step_s) || opt.trajectory_step_s < 0 ||
+      (opt.trajectory_step_s > 0 && opt.trajectory_step_s < 0.001))
+    throw InputError("trajectory_step_s", "must be 0 (the segment form) or a step of at least 0.001 s");
+  CheckedPlan checked;
+  checked.autopilot = export_autopilot(plan, opt);  // an unknown one refuses before anything
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i)
+    if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
+      throw InputError(fmt::format("uavs[{}].id", i),
+                       "not usable as a file name (1 to 64 of A-Z a-z 0-9 _ - ., not starting with '.')");
+  opt.altitude = resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m, &warnings);
+  if (opt.check_separation) {
+    const auto problems = check_separation(plan, opt.altitude);
+    if (!problems.empty()) throw InputError("separation", problems.front());
+  }
+  for (const auto& w : separation_warnings(plan)) warnings.push_back(w);
+  // idle UAVs (no coverage part) are skipped: a take-off-and-return mission is not worth flying
+  for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
+    if (idle(plan.uavs[i])) {
+      warnings.push_back(
+          fmt::format("uav '{}': no coverage parts, nothing exported for it", plan.uavs[i].id));
+      continue;
+    }
+    checked.flown.push_back(i);
+    const auto items = mission_items(plan, i, opt.altitude);
+    const auto violations = no_fly_violations(plan, i, items);
+    if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+    if (!opt.per_sortie) check_consumers(plan, i, items, checked.autopilot, warnings);
+  }
+  if (checked.flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
+  if (opt.per_sortie)
+    for (const std::size_t i : checked.flown) {
+      auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
+      for (const auto& s : list) {
+        const Plan sp = sorties::sortie_plan(plan, i, s);
+        const auto items = mission_items(sp, i, opt.altitude);
+        const auto violations = no_fly_violations(sp, i, items);
+        if (!violations.empty())
+          throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+        check_consumers(sp, i, items, checked.autopilot, warnings);
+      }
+      checked.sorties[i] = std::move(list);
+    }
+  return checked;
+}
+
+}  // namespace uavcover::exporting

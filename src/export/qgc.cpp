@@ -1,0 +1,103 @@
+#include "export/export.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "export/geofence.hpp"
+#include "export/support.hpp"
+#include "terrain/terrain.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::exporting {
+
+using namespace waypoints;  // the waypoint model the formats write
+using nlohmann::json;
+
+std::string export_autopilot(const Plan& /*plan*/, const ExportOptions& opt) {
+  if (opt.autopilot.empty()) return "px4";
+  for (const char* a : {"px4", "ardupilot", "dji", "litchi"})
+    if (opt.autopilot == a) return opt.autopilot;
+  std::string shown = opt.autopilot.substr(0, 64);
+  for (char& c : shown)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  throw InputError("autopilot", "must be 'px4', 'ardupilot', 'dji' or 'litchi', got '" + shown + "'");
+}
+
+int qgc_firmware_type(const Plan& plan, const ExportOptions& opt) {
+  const std::string autopilot = export_autopilot(plan, opt);  // validated even when overridden
+  if (opt.qgc_firmware_type >= 0) return opt.qgc_firmware_type;
+  return autopilot == "ardupilot" ? 3 : 12;
+}
+
+json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
+  const int firmware = qgc_firmware_type(plan, opt);
+  const auto items = mission_items(plan, index, opt.altitude);
+  const Uav& uav = plan.mission.uavs.at(index);
+  json jitems = json::array();
+  int seq = 1;
+  for (const auto& it : items) {
+    json j;
+    j["type"] = "SimpleItem";
+    j["autoContinue"] = it.autocontinue;
+    j["command"] = it.command;
+    j["doJumpId"] = seq++;
+    j["frame"] = it.frame;
+    if (has_position(it)) {
+      j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4),
+                     it.lat,          it.lon,          it.alt};
+      j["Altitude"] = it.alt;
+      j["AltitudeMode"] = it.frame == kFrameGlobal ? 2 : 1;  // QGC AltMode: 2 absolute (AMSL), 1 relative
+      j["AMSLAltAboveTerrain"] = nullptr;
+    } else {
+      j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4), 0, 0, 0};
+    }
+    jitems.push_back(j);
+  }
+  const bool px4 = firmware == 12;
+  const bool ardupilot = firmware == 3;
+  if (px4 && uav.speed_mps > limits::kPx4DefaultMaxSpeed)
+    warn(opt,
+         fmt::format("uav '{}': speed {} m/s is above PX4's default MPC_XY_VEL_MAX ({} m/s), which caps it",
+                     uav.id, uav.speed_mps, limits::kPx4DefaultMaxSpeed));
+  if (ardupilot && uav.speed_mps > limits::kArduPilotMaxSpeed)
+    warn(opt, fmt::format("uav '{}': speed {} m/s is above ArduPilot's WPNAV_SPEED range (at most {} m/s)",
+                          uav.id, uav.speed_mps, limits::kArduPilotMaxSpeed));
+  const LonLat home = uav.start_resolved;
+  // geofence: one convex inclusion polygon around everything flown (area, home, take-off, transit and
+  // coverage waypoints, with a margin), the no-fly zones as exclusions; [lat, lon] vertices, not closed
+  json polygons = json::array();
+  auto fence = [&](const GeoRing& ring, bool inclusion) {
+    json pts = json::array();
+    std::size_t n = ring.size();
+    if (n >= 2 && ring.front().lat == ring.back().lat && ring.front().lon == ring.back().lon) --n;
+    if (n < 3) return std::size_t{0};
+    for (std::size_t k = 0; k < n; ++k) pts.push_back({ring[k].lat, ring[k].lon});
+    polygons.push_back({{"inclusion", inclusion}, {"polygon", pts}, {"version", 1}});
+    return n;
+  };
+  std::size_t vertices = fence(inclusion_fence(plan, index, items, opt.geofence_margin_m), true);
+  for (const auto& poly : plan.mission.no_fly_zones)
+    if (!poly.empty()) vertices += fence(poly.front(), false);
+  if (px4 && vertices > kPx4MaxFenceVertices)
+    warn(opt, fmt::format("uav '{}': the geofence has {} vertices, PX4 stores at most {}", uav.id, vertices,
+                          kPx4MaxFenceVertices));
+  return {{"fileType", "Plan"},
+          {"version", 1},
+          {"groundStation", "QGroundControl"},
+          {"mission",
+           {{"version", 2},
+            {"firmwareType", firmware},
+            {"vehicleType", opt.qgc_vehicle_type},
+            {"globalPlanAltitudeMode", terrain::grid(plan.mission) != nullptr ? 2 : 1},
+            {"cruiseSpeed", uav.speed_mps},
+            {"hoverSpeed", uav.speed_mps},
+            {"plannedHomePosition", {home.lat, home.lon, terrain::home_ground(plan.mission, index)}},
+            {"items", jitems}}},
+          {"geoFence", {{"version", 2}, {"circles", json::array()}, {"polygons", polygons}}},
+          {"rallyPoints", {{"version", 2}, {"points", json::array()}}}};
+}
+
+}  // namespace uavcover::exporting

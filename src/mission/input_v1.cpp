@@ -1,0 +1,164 @@
+// The uavcover v1 input format (GeoJSON conventions): its members, the UAV list and the terrain block.
+#include <cctype>
+
+#include "mission/parse_internal.hpp"
+#include "mission/pattern.hpp"
+#include "planners/planner.hpp"
+#include "uavcover/error.hpp"
+
+namespace uavcover::mission::detail {
+
+namespace {
+
+// The terrain block: a DEM file name (read later by io::load_terrain), the mode and the tolerance.
+Terrain parse_terrain(const json& j) {
+  if (!j.is_object()) throw InputError("terrain", std::string("expected an object, got ") + type_name(j));
+  reject_unknown(j, {"dem", "mode", "tolerance_m"}, "terrain.");
+  if (!j.contains("dem")) throw InputError("terrain.dem", "missing: name the GeoTIFF elevation model");
+  Terrain t;
+  t.dem = str(j["dem"], "terrain.dem");
+  if (t.dem.empty() || t.dem.size() > 4096)
+    throw InputError("terrain.dem", "must name a file (1 to 4096 bytes)");
+  if (t.dem.find('\0') != std::string::npos)
+    throw InputError("terrain.dem", "must not contain NUL characters");
+  if (j.contains("mode")) {
+    const json& m = j["mode"];
+    if (!m.is_string() || (m != "follow" && m != "off"))
+      throw InputError("terrain.mode", "must be \"follow\" or \"off\", got " + m.dump());
+    t.mode = m.get<std::string>();
+  }
+  if (j.contains("tolerance_m"))
+    t.tolerance_m = in_range(j["tolerance_m"], "terrain.tolerance_m", 0.1, 100.0);
+  return t;
+}
+
+}  // namespace
+
+void parse_uavs(const json& j, Raw& raw) {
+  if (j.is_number_integer() || j.is_number_unsigned()) {
+    const auto n = j.get<long long>();
+    if (n <= 0) throw InputError("uavs", "at least one UAV is needed");
+    if (n > 200) throw InputError("uavs", "at most 200 UAVs are supported, got " + std::to_string(n));
+    raw.uav_count = static_cast<std::size_t>(n);
+    for (std::size_t i = 0; i < raw.uav_count; ++i) {
+      Uav u;
+      u.id = "uav" + std::to_string(i + 1);
+      raw.uavs.push_back(u);
+      raw.shares.emplace_back();
+    }
+    return;
+  }
+  if (!j.is_array())
+    throw InputError("uavs", std::string("expected a count or an array of UAVs, got ") + type_name(j));
+  if (j.empty()) throw InputError("uavs", "at least one UAV is needed");
+  if (j.size() > 200) throw InputError("uavs", "at most 200 UAVs are supported");
+  std::set<std::string> ids;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string f = idx("uavs", i);
+    const json& ju = j[i];
+    if (!ju.is_object()) throw InputError(f, std::string("expected an object, got ") + type_name(ju));
+    reject_unknown(ju,
+                   {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1",
+                    "turn_c2", "camera"},
+                   f + ".");
+    Uav u;
+    u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
+    check_id(u.id, f + ".id");
+    std::string folded = u.id;
+    for (char& ch : folded) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!ids.insert(folded).second)
+      throw InputError(f + ".id",
+                       "duplicate id \"" + u.id +
+                           "\" (ids name output files, so they must differ in more than letter case)");
+    if (ju.contains("start")) u.start = position(ju["start"], f + ".start");
+    std::optional<double> share;
+    if (ju.contains("share")) {
+      share = number(ju["share"], f + ".share");
+      if (*share < 0) throw InputError(f + ".share", "must not be negative, got " + ju["share"].dump());
+    }
+    if (ju.contains("speed_mps")) u.speed_mps = in_range(ju["speed_mps"], f + ".speed_mps", 1e-3, 100.0);
+    if (ju.contains("max_accel_mps2"))
+      u.max_accel_mps2 = in_range(ju["max_accel_mps2"], f + ".max_accel_mps2", 1e-3, 100.0);
+    if (ju.contains("endurance_min"))
+      u.endurance_min = in_range(ju["endurance_min"], f + ".endurance_min", 0.1, 10000.0);
+    if (ju.contains("turn_c1")) u.turn_c1 = in_range(ju["turn_c1"], f + ".turn_c1", 0.0, 1000.0);
+    if (ju.contains("turn_c2")) u.turn_c2 = in_range(ju["turn_c2"], f + ".turn_c2", 1e-6, 1000.0);
+    if (ju.contains("camera")) {
+      u.camera = parse_camera(ju["camera"], f + ".camera");
+      u.camera_geometry = camera_geometry(*u.camera, f + ".camera");
+    }
+    raw.uavs.push_back(u);
+    raw.shares.push_back(share);
+  }
+  raw.uav_count = raw.uavs.size();
+}
+
+Raw parse_v1(const json& j) {
+  Raw raw;
+  reject_unknown(
+      j,
+      {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode", "planner",
+       "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema", "corridor", "pattern"},
+      "");
+  if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
+  if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
+  // a corridor (docs/patterns.md) is given instead of the area: its buffered line is the area
+  if (j.contains("corridor") && j.contains("area"))
+    throw InputError("corridor", "give either area or corridor, not both");
+  if (j.contains("corridor")) {
+    raw.corridor = mission::parse_corridor(j["corridor"]);
+    raw.area.push_back({mission::corridor_polygon(*raw.corridor), "corridor.line"});
+  }
+  if (j.contains("pattern")) raw.pattern = mission::parse_pattern(j["pattern"]);
+  if (!j.contains("area") && !raw.corridor) throw InputError("area", "missing (or give a corridor)");
+  if (!raw.corridor)
+    for (auto& p : polygons_of(j["area"], "area"))
+      raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
+                                            ? "area.coordinates"
+                                            : idx("area.coordinates", raw.area.size())});
+  if (j.contains("no_fly_zones")) {
+    const json& nz = j["no_fly_zones"];
+    if (!nz.is_array()) throw InputError("no_fly_zones", "expected an array of Polygon objects");
+    for (std::size_t i = 0; i < nz.size(); ++i) {
+      const std::string f = idx("no_fly_zones", i);
+      auto polys = polygons_of(nz[i], f);
+      for (std::size_t k = 0; k < polys.size(); ++k)
+        raw.nfz.push_back(
+            {std::move(polys[k]), polys.size() == 1 ? f + ".coordinates" : idx(f + ".coordinates", k)});
+    }
+  }
+  if (j.contains("spacing_m") && j.contains("camera"))
+    throw InputError("spacing_m", "give either spacing_m or camera, not both");
+  if (j.contains("spacing_m")) raw.spacing = positive(j["spacing_m"], "spacing_m");
+  if (j.contains("camera")) raw.camera = parse_camera(j["camera"], "camera");
+  if (!raw.spacing && !raw.camera) throw InputError("spacing_m", "missing: give spacing_m or a camera block");
+  if (j.contains("altitude_m")) raw.altitude = in_range(j["altitude_m"], "altitude_m", 1.0, 10000.0);
+  if (j.contains("terrain")) raw.terrain = parse_terrain(j["terrain"]);
+  if (!j.contains("uavs")) throw InputError("uavs", "missing");
+  parse_uavs(j["uavs"], raw);
+  if (j.contains("mode")) {
+    const std::string m = str(j["mode"], "mode");
+    if (m == "strict")
+      raw.mode = Mode::Strict;
+    else if (m == "coverage")
+      raw.mode = Mode::Coverage;
+    else
+      throw InputError("mode", "expected \"strict\" or \"coverage\", got \"" + m + "\"");
+  }
+  if (j.contains("planner")) {
+    raw.planner = str(j["planner"], "planner");
+  }
+  (void)planners::require(raw.planner);
+  if (j.contains("planner_params")) raw.planner_params = j["planner_params"];
+  if (j.contains("seed")) {
+    // nlohmann stores every non-negative JSON integer as unsigned
+    if (!j["seed"].is_number_unsigned()) throw InputError("seed", "expected a non-negative integer");
+    raw.seed = j["seed"].get<std::uint64_t>();
+  }
+  // a sortie keeps at least 10 % of a battery for flying (docs/sorties.md)
+  if (j.contains("battery_reserve"))
+    raw.battery_reserve = in_range(j["battery_reserve"], "battery_reserve", 0.0, 0.9);
+  return raw;
+}
+
+}  // namespace uavcover::mission::detail
