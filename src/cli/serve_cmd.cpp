@@ -31,6 +31,9 @@ struct ServeArgs {
   std::size_t max_body = std::size_t{10} << 20;
   int max_queued = 100;
   int lease_ms = 10000;
+  int keep_plans = 0;
+  int export_cache_mb = 128;
+  int export_threads = 2;
   bool log_json = false;
 };
 
@@ -97,6 +100,9 @@ void run_serve(const ServeArgs& a) {
   if (a.seed_dir) opt.seed_dir = std::filesystem::path(*a.seed_dir);
   opt.max_queued = a.max_queued;
   opt.lease_ms = a.lease_ms;
+  opt.keep_plans = a.keep_plans;
+  opt.export_cache_bytes = std::int64_t{a.export_cache_mb} << 20;
+  opt.export_threads = a.export_threads;
   if (a.log_json) spdlog::set_pattern("%v");  // the request lines are whole JSON objects
   server::serve(opt);
 }
@@ -130,6 +136,19 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
                   "taken up again after it)")
       ->capture_default_str()
       ->check(integer_in(1000, 600000));
+  cmd->add_option("--keep-plans", args->keep_plans,
+                  "Keep each mission's newest N done plans; older ones are deleted, oldest first, except "
+                  "those a flight uses (0: keep all; docs/cache.md)")
+      ->capture_default_str()
+      ->check(integer_in(0, 1000000));
+  cmd->add_option("--export-cache-mb", args->export_cache_mb,
+                  "Size cap of the export cache in MiB: exports are made on first request and cached, the "
+                  "least recently used go first (docs/cache.md)")
+      ->capture_default_str()
+      ->check(integer_in(1, 1048576));
+  cmd->add_option("--export-threads", args->export_threads, "Threads that make exports on request")
+      ->capture_default_str()
+      ->check(integer_in(1, 64));
   cmd->add_flag("--log-json", args->log_json, "Log one JSON object per line");
   cmd->footer(
       "Every response carries X-Request-Id; GET /healthz, /readyz and /metrics are for operations.\n"

@@ -24,11 +24,14 @@ struct ApiConfig {
 };
 
 class FlightManager;
+class ExportService;
 
 struct ApiContext {
   store::Store& store;
   ApiConfig config;
   FlightManager* flights;  ///< the live flights (src/server/flights.hpp); null: the flight routes answer 503
+  /// Exports made on demand (src/server/exports.hpp); null: the export routes answer 503.
+  ExportService* exports = nullptr;
 };
 
 /// Registers every /api/v1 route of docs/api.md on `router`. Handlers answer every error as the JSON

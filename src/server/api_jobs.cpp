@@ -6,10 +6,12 @@
 #include <charconv>
 
 #include "server/api_internal.hpp"
+#include "server/exports.hpp"
 #include "server/worker.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover::server {
 
@@ -91,6 +93,8 @@ store::Job get_job_or_404(ApiContext& ctx, store::Id id, store::JobKind kind) {
   return *std::move(job);
 }
 
+Response file_response(Artifact&& artifact, const std::string& name, bool attachment);
+
 /// A finished job's artifact (409 while the job is not done, 404 when it has no such artifact).
 Response artifact_response(ApiContext& ctx, const store::Job& job, const std::string& name, bool attachment) {
   if (job.state != store::JobState::Done)
@@ -98,6 +102,11 @@ Response artifact_response(ApiContext& ctx, const store::Job& job, const std::st
                     "the job is " + store::to_string(job.state) + "; its artifacts exist once it is done");
   auto artifact = ctx.store.get_artifact(job.id, name);
   if (!artifact) throw HttpError(404, "artifact", "the job has no artifact " + name);
+  return file_response(std::move(*artifact), name, attachment);
+}
+
+Response file_response(Artifact&& artifact_in, const std::string& name, bool attachment) {
+  auto artifact = std::optional<Artifact>(std::move(artifact_in));
   Response r;
   r.content_type = artifact->media_type.empty() ? "application/octet-stream" : artifact->media_type;
   r.body = std::move(artifact->bytes);
@@ -130,14 +139,26 @@ Response export_response(ApiContext& ctx, const Request& req) {
                     "the job is " + store::to_string(job.state) + "; its artifacts exist once it is done");
   const auto uav_it = req.query.find("uav");
   const std::string uav = uav_it == req.query.end() ? std::string() : uav_it->second;
-  const auto names = artifact_names(job);
-  if (const auto name = usecases::export_artifact_name(names, format, uav))
-    return artifact_response(ctx, job, *name, true);
+  // made from the stored plan on first request, then cached (docs/cache.md)
+  if (ctx.exports == nullptr) throw HttpError(503, "", "this server makes no exports");
+  const std::string source = usecases::export_source_format(format);
+  const auto entry = ctx.exports->get(job, source);
+  if (!entry->refused.empty())
+    throw HttpError(404, "format", "the plan has no " + format + " export: " + entry->refused);
+  const auto& names = entry->names;
+  if (const auto name = usecases::export_artifact_name(names, format, uav)) {
+    auto file = ctx.exports->read(*entry, job, source, *name);
+    if (!file) throw HttpError(404, "artifact", "the job has no artifact " + *name);
+    Response r = file_response(std::move(*file), *name, true);
+    // the exporter's warnings (clamped speeds, skipped UAVs, separation hazards), ASCII JSON
+    if (!entry->warnings.empty())
+      r.headers.emplace_back("X-Export-Warnings", nlohmann::json(entry->warnings).dump(-1, ' ', true));
+    return r;
+  }
   std::vector<std::string> flying;
   for (const auto& id : result_uavs(job))
     if (usecases::export_artifact_name(names, format, id)) flying.push_back(id);
-  if (flying.empty())
-    throw HttpError(404, "format", "the plan has no " + format + " export (see the job's warnings)");
+  if (flying.empty()) throw HttpError(404, "format", "the plan has no " + format + " export");
   if (uav.empty())
     throw HttpError(422, "uav", "the plan has several flying UAVs; give one of: " + join(flying));
   throw HttpError(404, "uav",
@@ -294,9 +315,19 @@ void add_job_routes(Router& router, ApiContext& ctx) {
                }));
     router.add("DELETE", base, guarded([&ctx, kind](const Request& req) {
                  const store::Id id = id_param(req, "id");
-                 get_job_or_404(ctx, id, kind);
-                 ctx.store.request_cancel(id);
-                 return Response::json(200, job_json(get_job_or_404(ctx, id, kind)));
+                 const store::Job job = get_job_or_404(ctx, id, kind);
+                 if (!store::terminal(job.state)) {
+                   // queued or running: cancelled (it ends cancelled in whichever stage it is)
+                   ctx.store.request_cancel(id);
+                   return Response::json(200, job_json(get_job_or_404(ctx, id, kind)));
+                 }
+                 // finished: deleted with its artifacts and cached exports (never one a flight uses)
+                 try {
+                   ctx.store.delete_job(id);
+                 } catch (const store::Conflict& e) {
+                   throw HttpError(409, "id", e.what());
+                 }
+                 return no_content();
                }));
     auto file_route = [&](const std::string& name, const std::string& path) {
       router.add("GET", path, guarded([&ctx, kind, name](const Request& req) {

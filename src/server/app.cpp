@@ -13,6 +13,7 @@
 #include "json/strict.hpp"
 #include "server/api.hpp"
 #include "server/events.hpp"
+#include "server/exports.hpp"
 #include "server/flights.hpp"
 #include "server/metrics.hpp"
 #include "server/worker.hpp"
@@ -83,6 +84,9 @@ void serve(const ServeOptions& options) {
       if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
     }
     if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
+    // blobs nothing refers to (left by an older version's deletions) go
+    if (const auto orphans = store->collect_orphan_blobs(); orphans > 0)
+      spdlog::info("{} orphan blob(s) collected", orphans);
   } catch (const store::StoreError& e) {
     // the first writes: a database that opens but cannot be written fails here, not as "internal error"
     throw OperationError("cannot write the " + store->backend() + " database: " + e.what());
@@ -92,7 +96,11 @@ void serve(const ServeOptions& options) {
   flight_limits.allow_remote = options.http.token.has_value();  // vehicles beyond loopback need the token
   FlightManager flights(*store, flight_limits);
   flights.start();  // the flights that were flying when the server stopped are followed again
-  ApiContext ctx{*store, ApiConfig{}, &flights};
+  ExportConfig ec;
+  ec.threads = options.export_threads;
+  ec.cache_cap_bytes = options.export_cache_bytes;
+  ExportService exports(*store, ec);
+  ApiContext ctx{*store, ApiConfig{}, &flights, &exports};
   ctx.config.max_queued = options.max_queued;
   ctx.config.max_body_bytes = options.http.max_body;
   ctx.config.planner_threads = options.workers > 0
@@ -119,6 +127,7 @@ void serve(const ServeOptions& options) {
                                    : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   wc.lease = std::chrono::milliseconds(std::max(options.lease_ms, 100));
   wc.max_attempts = kMaxAttempts;
+  wc.keep_plans = options.keep_plans;
   wc.on_job_finished = [](const store::Job& job, store::JobState state, double seconds) {
     if (job.kind == store::JobKind::Plan && state == store::JobState::Done) observe_plan_duration(seconds);
   };

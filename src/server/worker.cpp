@@ -123,6 +123,16 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
       spdlog::error("worker {}: {}: cannot record the end: {}", name_, label, e.what());
       return;
     }
+    if (state == store::JobState::Done && job.kind == store::JobKind::Plan && config_.keep_plans > 0) {
+      try {
+        const auto gone = store_.prune_plans(job.mission_id, config_.keep_plans);
+        if (!gone.empty())
+          spdlog::info("worker {}: mission {}: {} older plan(s) deleted (--keep-plans {})", name_,
+                       job.mission_id, gone.size(), config_.keep_plans);
+      } catch (const std::exception& e) {
+        spdlog::warn("worker {}: mission {}: retention failed: {}", name_, job.mission_id, e.what());
+      }
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     spdlog::info("worker {}: {} {} in {:.3f} s", name_, label, store::to_string(state), seconds);
     if (config_.on_job_finished) config_.on_job_finished(job, state, seconds);

@@ -25,6 +25,9 @@ struct WorkerConfig {
   int max_attempts = 3;
   std::chrono::milliseconds heartbeat{200};  ///< at most a quarter of the lease is used
   std::chrono::milliseconds idle{150};       ///< wait between claims when the queue is empty
+  /// Retention: after a plan job ends done, its mission's done plans beyond the newest `keep_plans`
+  /// are deleted, oldest first, except those a flight uses (store::Store::prune_plans). 0: all kept.
+  int keep_plans = 0;
   /// Called after a job ended and was recorded (state done, failed or cancelled), with its run time.
   std::function<void(const store::Job& job, store::JobState state, double seconds)> on_job_finished;
 };

@@ -25,6 +25,7 @@ using pg::text;
 #define BUMP_UPDATED "updated_ms = GREATEST(" NOW_MS ", updated_ms + 1)"
 
 constexpr std::int64_t kMigrationLock = 0x7561766376657221;  // "uavcver!"
+constexpr std::int64_t kCacheLock = 0x7561766361636821;      // "uavcach!": writers of the export cache
 constexpr std::int64_t kEnqueueLock = 0x7561766371756575;    // "uavcqueu"
 constexpr std::size_t kPoolSize = 8;
 
@@ -134,6 +135,25 @@ CREATE TABLE flight_log (
 );
 )sql";
 
+// Migration 4: outputs on demand (issue 27, docs/cache.md), as the SQLite backend's: the export cache,
+// and the exports older versions stored with each plan job go with the blobs nothing refers to.
+const char* const kSchemaV4 = R"sql(
+CREATE TABLE export_cache (
+  key TEXT NOT NULL,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL REFERENCES blobs(sha256),
+  size BIGINT NOT NULL,
+  used BIGINT NOT NULL,  -- the order of use: the greatest was used last
+  PRIMARY KEY (key, name)
+);
+CREATE INDEX export_cache_used ON export_cache (used, key);
+CREATE INDEX export_cache_blob ON export_cache (sha256);
+DELETE FROM job_artifacts WHERE job_id IN (SELECT id FROM jobs WHERE kind = 'plan')
+  AND (left(name, 7) = 'export/' OR left(name, 11) = 'trajectory/');
+DELETE FROM blobs b WHERE NOT EXISTS (SELECT 1 FROM job_artifacts a WHERE a.sha256 = b.sha256);
+)sql";
+
 Id insert_entry(PGconn* c, const char* kind, const std::string& name, const nlohmann::json& data) {
   return exec(c,
               "INSERT INTO catalog (kind, name, data, updated_ms) VALUES ($1, $2, $3, " NOW_MS
@@ -195,8 +215,9 @@ const Migration kMigrations[] = {
     {1, [](PGconn* c) { pg::exec_script(c, kSchemaV1); }},
     {2, seed_catalogs},
     {3, [](PGconn* c) { pg::exec_script(c, kSchemaV3); }},
+    {4, [](PGconn* c) { pg::exec_script(c, kSchemaV4); }},
 };
-constexpr int kLatestVersion = 3;
+constexpr int kLatestVersion = 4;
 
 // ---- rows ----
 
@@ -381,8 +402,15 @@ class PostgresStore final : public Store {
           f.rows() > 0)
         throw Conflict("mission " + std::to_string(mission) + " has a flight that is not done or aborted (" +
                        std::to_string(f.i64(0, 0)) + ")");
+      std::vector<std::string> shas;
+      const auto b = exec(c,
+                          "SELECT DISTINCT a.sha256 FROM job_artifacts a JOIN jobs j ON j.id = a.job_id "
+                          "WHERE j.mission_id = $1",
+                          {integer(mission)});
+      for (int i = 0; i < b.rows(); ++i) shas.push_back(b.str(i, 0));
       exec(c, "DELETE FROM jobs WHERE mission_id = $1", {integer(mission)});
       exec(c, "DELETE FROM missions WHERE id = $1", {integer(mission)});
+      collect(c, shas);  // blobs no other job and no cache entry refers to any more
       return true;
     });
   }
@@ -610,6 +638,180 @@ class PostgresStore final : public Store {
                {integer(job), text(name)}, true);
       if (r.rows() == 0) return std::nullopt;
       return Artifact{name, r.str(0, 0), r.str(0, 1)};
+    });
+  }
+
+  // ---- retention and the export cache ----
+
+  /// The blobs among `shas` nothing refers to any more are deleted.
+  static void collect(PGconn* c, const std::vector<std::string>& shas) {
+    if (shas.empty()) return;
+    std::string list = "{";
+    for (const auto& s : shas) list += (list.size() > 1 ? "," : "") + s;  // hex digits only
+    list += "}";
+    exec(c,
+         "DELETE FROM blobs b WHERE b.sha256 = ANY($1::text[]) "
+         "AND NOT EXISTS (SELECT 1 FROM job_artifacts a WHERE a.sha256 = b.sha256) "
+         "AND NOT EXISTS (SELECT 1 FROM export_cache e WHERE e.sha256 = b.sha256)",
+         {text(list)});
+  }
+
+  static void delete_job_rows(PGconn* c, Id job) {
+    const auto r =
+        exec(c, "SELECT name, media_type, sha256, size FROM job_artifacts WHERE job_id = $1", {integer(job)});
+    std::vector<ArtifactRef> refs;
+    std::vector<std::string> shas;
+    std::string plan_sha, paths_sha;
+    for (int i = 0; i < r.rows(); ++i) {
+      refs.push_back({r.str(i, 0), r.str(i, 1), r.str(i, 2), r.i64(i, 3)});
+      shas.push_back(refs.back().sha256);
+      if (refs.back().name == "plan.json") plan_sha = refs.back().sha256;
+      if (refs.back().name == "paths.geojson") paths_sha = refs.back().sha256;
+    }
+    exec(c, "DELETE FROM jobs WHERE id = $1", {integer(job)});
+    const std::string prefix = plan_cache_prefix(refs);
+    if (!prefix.empty() &&
+        exec(c,
+             "SELECT 1 FROM job_artifacts a JOIN job_artifacts b ON b.job_id = a.job_id WHERE a.name = "
+             "'plan.json' AND a.sha256 = $1 AND b.name = 'paths.geojson' AND b.sha256 = $2 LIMIT 1",
+             {text(plan_sha), text(paths_sha)})
+                .rows() == 0) {
+      const auto e =
+          exec(c, "DELETE FROM export_cache WHERE left(key, 65) = $1 RETURNING sha256", {text(prefix + "/")});
+      for (int i = 0; i < e.rows(); ++i) shas.push_back(e.str(i, 0));
+    }
+    collect(c, shas);
+  }
+
+  static void check_deletable(PGconn* c, Id job) {
+    const auto r = exec(c, "SELECT state FROM jobs WHERE id = $1 FOR UPDATE", {integer(job)});
+    if (r.rows() == 0) throw NotFound("job " + std::to_string(job) + " does not exist");
+    const JobState state = job_state_from_string(r.str(0, 0));
+    if (!terminal(state))
+      throw Conflict("job " + std::to_string(job) + " is " + to_string(state) + "; cancel it first");
+    const auto f = exec(c, "SELECT id FROM flights WHERE plan_id = $1 ORDER BY id LIMIT 1", {integer(job)});
+    if (f.rows() > 0)
+      throw Conflict("plan " + std::to_string(job) + " is used by flight " + std::to_string(f.i64(0, 0)) +
+                     "; delete its flights first");
+  }
+
+  void delete_job(Id job) override {
+    transaction([&](PGconn* c) {
+      check_deletable(c, job);
+      delete_job_rows(c, job);
+      return true;
+    });
+  }
+
+  std::vector<Id> prune_plans(Id mission, int keep) override {
+    keep = std::max(keep, 0);
+    return transaction([&](PGconn* c) {
+      const auto r = exec(c,
+                          "SELECT id FROM jobs j WHERE mission_id = $1 AND kind = 'plan' AND state = 'done' "
+                          "AND NOT EXISTS (SELECT 1 FROM flights f WHERE f.plan_id = j.id) "
+                          "AND id NOT IN (SELECT id FROM jobs WHERE mission_id = $1 AND kind = 'plan' AND "
+                          "state = 'done' ORDER BY created_ms DESC, id DESC LIMIT $2) "
+                          "ORDER BY created_ms, id FOR UPDATE",
+                          {integer(mission), integer(keep)});
+      std::vector<Id> victims;
+      for (int i = 0; i < r.rows(); ++i) victims.push_back(r.i64(i, 0));
+      for (const Id id : victims) delete_job_rows(c, id);
+      return victims;
+    });
+  }
+
+  std::int64_t collect_orphan_blobs() override {
+    return transaction([](PGconn* c) {
+      return static_cast<std::int64_t>(
+          exec(c,
+               "DELETE FROM blobs b WHERE NOT EXISTS (SELECT 1 FROM job_artifacts a WHERE a.sha256 = "
+               "b.sha256) "
+               "AND NOT EXISTS (SELECT 1 FROM export_cache e WHERE e.sha256 = b.sha256) RETURNING 1")
+              .rows());
+    });
+  }
+
+  std::optional<std::vector<ArtifactRef>> cache_entry(const std::string& key) override {
+    return transaction([&](PGconn* c) -> std::optional<std::vector<ArtifactRef>> {
+      const auto r = exec(c,
+                          "UPDATE export_cache SET used = (SELECT max(used) + 1 FROM export_cache) "
+                          "WHERE key = $1 RETURNING name, media_type, sha256, size",
+                          {text(key)});
+      if (r.rows() == 0) return std::nullopt;
+      std::vector<ArtifactRef> refs;
+      for (int i = 0; i < r.rows(); ++i) refs.push_back({r.str(i, 0), r.str(i, 1), r.str(i, 2), r.i64(i, 3)});
+      std::sort(refs.begin(), refs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+      return refs;
+    });
+  }
+
+  std::optional<Artifact> cached_file(const std::string& key, const std::string& name) override {
+    return read([&](PGconn* c) -> std::optional<Artifact> {
+      const auto r =
+          exec(c,
+               "SELECT e.media_type, b.data FROM export_cache e JOIN blobs b ON b.sha256 = e.sha256 "
+               "WHERE e.key = $1 AND e.name = $2",
+               {text(key), text(name)}, true);
+      if (r.rows() == 0) return std::nullopt;
+      return Artifact{name, r.str(0, 0), r.str(0, 1)};
+    });
+  }
+
+  bool put_cache(const std::string& key, const Artifacts& files, std::int64_t cap_bytes) override {
+    std::int64_t total = 0;
+    for (const auto& f : files) total += static_cast<std::int64_t>(f.bytes.size());
+    if (files.empty() || total > cap_bytes) return false;
+    std::vector<std::size_t> order(files.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return files[a].bytes < files[b].bytes; });
+    return transaction([&](PGconn* c) {
+      // one writer of the cache at a time across servers (the eviction reads the whole cache's size)
+      exec(c, "SELECT pg_advisory_xact_lock($1)", {integer(kCacheLock)});
+      std::vector<std::string> shas;
+      const auto old = exec(c, "DELETE FROM export_cache WHERE key = $1 RETURNING sha256", {text(key)});
+      for (int i = 0; i < old.rows(); ++i) shas.push_back(old.str(i, 0));
+      const std::int64_t use = exec(c, "SELECT coalesce(max(used), 0) + 1 FROM export_cache").i64(0, 0);
+      for (const std::size_t i : order) {
+        const Artifact& a = files[i];
+        exec(c,
+             "WITH b AS (SELECT encode(sha256($4::bytea), 'hex') AS h, $4::bytea AS d), "
+             "ins AS (INSERT INTO blobs (sha256, size, data) SELECT h, length(d), d FROM b "
+             "ON CONFLICT (sha256) DO NOTHING) "
+             "INSERT INTO export_cache (key, name, media_type, sha256, size, used) "
+             "SELECT $1, $2, $3, h, length(d), $5::bigint FROM b",
+             {text(key), text(a.name), text(a.media_type), pg::bytes(a.bytes), integer(use)});
+      }
+      std::int64_t held = exec(c, "SELECT coalesce(sum(size), 0)::bigint FROM export_cache").i64(0, 0);
+      while (held > cap_bytes) {
+        const auto v = exec(c,
+                            "SELECT key FROM export_cache WHERE key <> $1 GROUP BY key ORDER BY max(used), "
+                            "key LIMIT 1",
+                            {text(key)});
+        if (v.rows() == 0) break;
+        const auto gone =
+            exec(c, "DELETE FROM export_cache WHERE key = $1 RETURNING sha256, size", {text(v.str(0, 0))});
+        for (int i = 0; i < gone.rows(); ++i) {
+          shas.push_back(gone.str(i, 0));
+          held -= gone.i64(i, 1);
+        }
+      }
+      collect(c, shas);
+      return true;
+    });
+  }
+
+  std::pair<std::int64_t, std::int64_t> count_blobs() override {
+    return read([](PGconn* c) {
+      const auto r = exec(c, "SELECT count(*), coalesce(sum(size), 0)::bigint FROM blobs");
+      return std::pair<std::int64_t, std::int64_t>{r.i64(0, 0), r.i64(0, 1)};
+    });
+  }
+
+  std::pair<std::int64_t, std::int64_t> cache_size() override {
+    return read([](PGconn* c) {
+      const auto r = exec(c, "SELECT coalesce(sum(size), 0)::bigint, count(DISTINCT key) FROM export_cache");
+      return std::pair<std::int64_t, std::int64_t>{r.i64(0, 0), r.i64(0, 1)};
     });
   }
 

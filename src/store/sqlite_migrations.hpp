@@ -8,7 +8,7 @@
 
 namespace uavcover::store::sqlite_schema {
 
-inline constexpr std::array<std::string_view, 3> kMigrations{
+inline constexpr std::array<std::string_view, 4> kMigrations{
     // 1: missions with revisions, the job queue, artifacts over content-addressed blobs, catalogs, meta
     R"sql(
 CREATE TABLE missions (
@@ -145,6 +145,26 @@ CREATE TABLE flight_log (
   data TEXT NOT NULL,
   PRIMARY KEY (flight_id, seq)
 ) WITHOUT ROWID;
+)sql",
+    // 4: outputs on demand (issue 27, docs/cache.md): a plan job stores its plan, evaluation and
+    // pictures; exports are made on first request into a content-addressed cache with a size cap. The
+    // exports older versions stored with each plan job go (they are made again, byte for byte, on
+    // request), and so do the blobs nothing refers to any more.
+    R"sql(
+CREATE TABLE export_cache (
+  key TEXT NOT NULL,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL REFERENCES blobs(sha256),
+  size INTEGER NOT NULL,
+  used INTEGER NOT NULL,  -- the order of use: the greatest was used last
+  PRIMARY KEY (key, name)
+);
+CREATE INDEX export_cache_used ON export_cache(used, key);
+CREATE INDEX export_cache_sha256 ON export_cache(sha256);
+DELETE FROM job_artifacts WHERE job_id IN (SELECT id FROM jobs WHERE kind = 'plan')
+  AND (substr(name, 1, 7) = 'export/' OR substr(name, 1, 11) = 'trajectory/');
+DELETE FROM blobs WHERE sha256 NOT IN (SELECT sha256 FROM job_artifacts);
 )sql",
 };
 

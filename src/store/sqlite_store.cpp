@@ -82,6 +82,8 @@ class Connection {
       if (!memory) {
         exec("PRAGMA journal_mode = WAL");
         exec("PRAGMA synchronous = FULL");
+        // a checkpointed WAL is cut back to this size, so one large write does not keep its size
+        exec("PRAGMA journal_size_limit = 16777216");
       }
     } catch (const StoreError& e) {
       sqlite3_close_v2(db_);  // the destructor does not run for a throwing constructor
@@ -610,13 +612,8 @@ class SqliteStore final : public Store {
       }
       Query d(c, "DELETE FROM missions WHERE id = ?1");
       d.bind(1, mission).run();
-      // blobs no other job refers to any more
-      for (const auto& sha : blobs) {
-        Query b(c,
-                "DELETE FROM blobs WHERE sha256 = ?1 AND NOT EXISTS (SELECT 1 FROM job_artifacts WHERE "
-                "sha256 = ?1)");
-        b.bind(1, sha).run();
-      }
+      // blobs no other job and no cache entry refers to any more
+      collect(c, blobs);
       return 0;
     });
   }
@@ -889,6 +886,221 @@ class SqliteStore final : public Store {
       q.bind(1, job).bind(2, name);
       if (!q.step()) return std::nullopt;
       return Artifact{name, q.text(0), q.blob(1)};
+    });
+  }
+
+  // ---- retention and the export cache ----
+
+  /// The blobs among `shas` nothing refers to any more are deleted.
+  static void collect(Connection& c, const std::vector<std::string>& shas) {
+    for (const auto& sha : shas) {
+      Query b(c,
+              "DELETE FROM blobs WHERE sha256 = ?1 AND NOT EXISTS (SELECT 1 FROM job_artifacts WHERE "
+              "sha256 = ?1) AND NOT EXISTS (SELECT 1 FROM export_cache WHERE sha256 = ?1)");
+      b.bind(1, sha).run();
+    }
+  }
+
+  /// Deletes a terminal job without flights (checked by the caller), its artifacts, its plan's cache
+  /// entries when no other job holds that plan, and the blobs left without a reference.
+  static void delete_job_rows(Connection& c, Id job) {
+    std::vector<ArtifactRef> refs;
+    {
+      Query q(c, "SELECT name, media_type, sha256, size FROM job_artifacts WHERE job_id = ?1");
+      q.bind(1, job);
+      while (q.step()) refs.push_back({q.text(0), q.text(1), q.text(2), q.i64(3)});
+    }
+    std::vector<std::string> shas;
+    for (const auto& r : refs) shas.push_back(r.sha256);
+    {
+      Query d(c, "DELETE FROM jobs WHERE id = ?1");
+      d.bind(1, job).run();
+    }
+    const std::string prefix = plan_cache_prefix(refs);
+    const std::string like = prefix + "/";
+    if (!prefix.empty()) {
+      std::string plan_sha, paths_sha;
+      for (const auto& r : refs) {
+        if (r.name == "plan.json") plan_sha = r.sha256;
+        if (r.name == "paths.geojson") paths_sha = r.sha256;
+      }
+      Query other(
+          c,
+          "SELECT 1 FROM job_artifacts a JOIN job_artifacts b ON b.job_id = a.job_id "
+          "WHERE a.name = 'plan.json' AND a.sha256 = ?1 AND b.name = 'paths.geojson' AND b.sha256 = ?2 "
+          "LIMIT 1");
+      other.bind(1, plan_sha).bind(2, paths_sha);
+      if (!other.step()) {
+        {
+          Query q(c, "SELECT sha256 FROM export_cache WHERE substr(key, 1, 65) = ?1");
+          q.bind(1, like);
+          while (q.step()) shas.push_back(q.text(0));
+        }
+        Query d(c, "DELETE FROM export_cache WHERE substr(key, 1, 65) = ?1");
+        d.bind(1, like).run();
+      }
+    }
+    collect(c, shas);
+  }
+
+  /// Conflict unless the job is terminal and no flight of it exists; NotFound.
+  static void check_deletable(Connection& c, Id job) {
+    Query q(c, "SELECT state FROM jobs WHERE id = ?1");
+    q.bind(1, job);
+    if (!q.step()) throw NotFound("job " + std::to_string(job) + " does not exist");
+    const JobState state = job_state_from_string(q.text(0));
+    if (!terminal(state))
+      throw Conflict("job " + std::to_string(job) + " is " + to_string(state) + "; cancel it first");
+    Query f(c, "SELECT id FROM flights WHERE plan_id = ?1 ORDER BY id LIMIT 1");
+    f.bind(1, job);
+    if (f.step())
+      throw Conflict("plan " + std::to_string(job) + " is used by flight " + std::to_string(f.i64(0)) +
+                     "; delete its flights first");
+  }
+
+  void delete_job(Id job) override {
+    write([&](Connection& c) {
+      check_deletable(c, job);
+      delete_job_rows(c, job);
+      return 0;
+    });
+  }
+
+  std::vector<Id> prune_plans(Id mission, int keep) override {
+    keep = std::max(keep, 0);
+    return write([&](Connection& c) {
+      std::vector<Id> victims;
+      {
+        // the done plans beyond the newest `keep`, oldest first, without flights
+        Query q(
+            c,
+            "SELECT id FROM jobs j WHERE mission_id = ?1 AND kind = 'plan' AND state = 'done' "
+            "AND NOT EXISTS (SELECT 1 FROM flights f WHERE f.plan_id = j.id) "
+            "AND id NOT IN (SELECT id FROM jobs WHERE mission_id = ?1 AND kind = 'plan' AND state = 'done' "
+            "ORDER BY created_ms DESC, id DESC LIMIT ?2) ORDER BY created_ms, id");
+        q.bind(1, mission).bind(2, static_cast<std::int64_t>(keep));
+        while (q.step()) victims.push_back(q.i64(0));
+      }
+      for (const Id id : victims) delete_job_rows(c, id);
+      return victims;
+    });
+  }
+
+  std::int64_t collect_orphan_blobs() override {
+    return write([](Connection& c) {
+      Query q(c,
+              "DELETE FROM blobs WHERE sha256 NOT IN (SELECT sha256 FROM job_artifacts) AND sha256 NOT IN "
+              "(SELECT sha256 FROM export_cache)");
+      q.run();
+      return static_cast<std::int64_t>(sqlite3_changes64(c.db()));
+    });
+  }
+
+  std::optional<std::vector<ArtifactRef>> cache_entry(const std::string& key) override {
+    return write([&](Connection& c) -> std::optional<std::vector<ArtifactRef>> {
+      std::vector<ArtifactRef> refs;
+      {
+        Query q(c, "SELECT name, media_type, sha256, size FROM export_cache WHERE key = ?1 ORDER BY name");
+        q.bind(1, key);
+        while (q.step()) refs.push_back({q.text(0), q.text(1), q.text(2), q.i64(3)});
+      }
+      if (refs.empty()) return std::nullopt;
+      Query u(c, "UPDATE export_cache SET used = (SELECT MAX(used) + 1 FROM export_cache) WHERE key = ?1");
+      u.bind(1, key).run();
+      return refs;
+    });
+  }
+
+  std::optional<Artifact> cached_file(const std::string& key, const std::string& name) override {
+    return read([&](Connection& c) -> std::optional<Artifact> {
+      Query q(c,
+              "SELECT e.media_type, b.bytes FROM export_cache e JOIN blobs b ON b.sha256 = e.sha256 "
+              "WHERE e.key = ?1 AND e.name = ?2");
+      q.bind(1, key).bind(2, name);
+      if (!q.step()) return std::nullopt;
+      return Artifact{name, q.text(0), q.blob(1)};
+    });
+  }
+
+  bool put_cache(const std::string& key, const Artifacts& files, std::int64_t cap_bytes) override {
+    std::int64_t total = 0;
+    std::vector<std::string> hashes;
+    for (const auto& f : files) {
+      total += static_cast<std::int64_t>(f.bytes.size());
+      hashes.push_back(sha256_hex(f.bytes));
+    }
+    if (files.empty() || total > cap_bytes) return false;
+    return write([&](Connection& c) {
+      std::vector<std::string> shas;
+      {
+        Query q(c, "SELECT sha256 FROM export_cache WHERE key = ?1");
+        q.bind(1, key);
+        while (q.step()) shas.push_back(q.text(0));
+        Query d(c, "DELETE FROM export_cache WHERE key = ?1");
+        d.bind(1, key).run();
+      }
+      std::int64_t use = 0;
+      {
+        Query q(c, "SELECT COALESCE(MAX(used), 0) + 1 FROM export_cache");
+        q.step();
+        use = q.i64(0);
+      }
+      for (std::size_t i = 0; i < files.size(); ++i) {
+        {
+          Query q(c, "INSERT INTO blobs (sha256, bytes) VALUES (?1, ?2) ON CONFLICT (sha256) DO NOTHING");
+          q.bind(1, hashes[i]).bind_blob(2, files[i].bytes).run();
+        }
+        Query q(c,
+                "INSERT INTO export_cache (key, name, media_type, sha256, size, used) VALUES "
+                "(?1, ?2, ?3, ?4, ?5, ?6)");
+        q.bind(1, key).bind(2, files[i].name).bind(3, files[i].media_type).bind(4, hashes[i]);
+        q.bind(5, static_cast<std::int64_t>(files[i].bytes.size())).bind(6, use).run();
+      }
+      // least recently used entries go while the cache is over its cap
+      std::int64_t held = 0;
+      {
+        Query q(c, "SELECT COALESCE(SUM(size), 0) FROM export_cache");
+        q.step();
+        held = q.i64(0);
+      }
+      while (held > cap_bytes) {
+        std::string victim;
+        {
+          Query q(
+              c, "SELECT key FROM export_cache WHERE key <> ?1 GROUP BY key ORDER BY MAX(used), key LIMIT 1");
+          q.bind(1, key);
+          if (!q.step()) break;
+          victim = q.text(0);
+        }
+        {
+          Query q(c, "SELECT sha256, size FROM export_cache WHERE key = ?1");
+          q.bind(1, victim);
+          while (q.step()) {
+            shas.push_back(q.text(0));
+            held -= q.i64(1);
+          }
+        }
+        Query d(c, "DELETE FROM export_cache WHERE key = ?1");
+        d.bind(1, victim).run();
+      }
+      collect(c, shas);
+      return true;
+    });
+  }
+
+  std::pair<std::int64_t, std::int64_t> count_blobs() override {
+    return read([](Connection& c) {
+      Query q(c, "SELECT COUNT(*), COALESCE(SUM(length(bytes)), 0) FROM blobs");
+      q.step();
+      return std::pair<std::int64_t, std::int64_t>{q.i64(0), q.i64(1)};
+    });
+  }
+
+  std::pair<std::int64_t, std::int64_t> cache_size() override {
+    return read([](Connection& c) {
+      Query q(c, "SELECT COALESCE(SUM(size), 0), COUNT(DISTINCT key) FROM export_cache");
+      q.step();
+      return std::pair<std::int64_t, std::int64_t>{q.i64(0), q.i64(1)};
     });
   }
 

@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "store/backends.hpp"
+#include "store/sha256.hpp"
 
 namespace uavcover::store {
 namespace {
@@ -24,6 +25,16 @@ JobState job_state_from_string(const std::string& s) {
   for (std::size_t i = 0; i < kStates.size(); ++i)
     if (kStates[i] == s) return static_cast<JobState>(i);
   throw std::invalid_argument("unknown job state \"" + s + "\"");
+}
+
+std::string plan_cache_prefix(const std::vector<ArtifactRef>& artifacts) {
+  std::string plan, paths;
+  for (const auto& a : artifacts) {
+    if (a.name == "plan.json") plan = a.sha256;
+    if (a.name == "paths.geojson") paths = a.sha256;
+  }
+  if (plan.empty() || paths.empty()) return {};
+  return sha256_hex(plan + "\n" + paths);
 }
 
 void JobCounts::add(JobState state, std::int64_t n) {

@@ -15,6 +15,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uavcover/artifact.hpp"
@@ -258,6 +259,34 @@ class Store {
   /// An artifact of a job: its bytes and media type. Empty when missing.
   virtual std::optional<Artifact> get_artifact(Id job, const std::string& name) = 0;
 
+  // retention (docs/cache.md)
+  /// Deletes a finished job (done, failed or cancelled) with its artifacts and, when no other job holds
+  /// the same plan, the plan's export cache entries; blobs nothing refers to any more are collected.
+  /// NotFound; Conflict while it is queued or running, or while a flight of it exists (its log and
+  /// flown coverage refer to the plan: delete the flight first).
+  virtual void delete_job(Id job) = 0;
+  /// Retention: deletes the mission's done plan jobs beyond its newest `keep` (oldest first), never one
+  /// a flight uses, as delete_job() does. Returns the ids deleted, oldest first.
+  virtual std::vector<Id> prune_plans(Id mission, int keep) = 0;
+  /// Deletes the blobs no job artifact and no cache entry refers to. Returns how many.
+  virtual std::int64_t collect_orphan_blobs() = 0;
+  /// The number of stored blobs and the sum of their sizes.
+  [[nodiscard]] virtual std::pair<std::int64_t, std::int64_t> count_blobs() = 0;
+
+  // the export cache: files made on demand from a stored plan, content-addressed (docs/cache.md)
+  /// The files cached under `key` (names, media types, SHA-256, sizes; in name order), and the entry is
+  /// marked the most recently used; empty when nothing is cached under it.
+  virtual std::optional<std::vector<ArtifactRef>> cache_entry(const std::string& key) = 0;
+  /// One file of a cache entry, or empty.
+  virtual std::optional<Artifact> cached_file(const std::string& key, const std::string& name) = 0;
+  /// Stores `files` under `key` (replacing what it held) in one transaction, then evicts the least
+  /// recently used other entries while the cache holds more than `cap_bytes` (the sum of its files'
+  /// sizes), and collects their blobs. An entry larger than the cap on its own is not stored.
+  /// Returns whether it was stored.
+  virtual bool put_cache(const std::string& key, const Artifacts& files, std::int64_t cap_bytes) = 0;
+  /// The sum of the sizes of the cached files, and the number of entries.
+  [[nodiscard]] virtual std::pair<std::int64_t, std::int64_t> cache_size() = 0;
+
   // catalogs
   virtual Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) = 0;
   virtual std::optional<CatalogEntry> get_entry(CatalogKind kind, Id id) = 0;
@@ -288,6 +317,11 @@ class Store {
   /// True exactly once per database: the caller then seeds it (example missions). Atomic.
   virtual bool claim_first_start() = 0;
 };
+
+/// The export cache's key prefix of a plan job: the SHA-256 of its plan.json and paths.geojson blobs
+/// (hex, 64 characters), so that two jobs with the same plan share their exports; empty when the job
+/// has not both. Cache keys are "<prefix>/<format>".
+std::string plan_cache_prefix(const std::vector<ArtifactRef>& artifacts);
 
 /// Opens (and migrates) a store: "sqlite:PATH" (the folder is created), "sqlite::memory:" for tests,
 /// or a libpq URI "postgresql://..." / "postgres://...". StoreError with the reason when it cannot.

@@ -11,7 +11,6 @@
 #include <tuple>
 
 #include "export/export.hpp"
-#include "export/zip.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -128,24 +127,15 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   const Context job = limited(ctx, params);
   // planning: the planner's stages share [0, 0.75]; then evaluation, pictures and exports
   const Plan p = plan(m, po, job_progress(job, {}, 0.75));
-  PlanOutputs out = plan_outputs(
-      p, plan_job_outputs(params),
-      job_progress(job, {{"evaluation", 0.75, 0.9}, {"pictures", 0.9, 0.95}, {"exports", 0.95, 1.0}}, 1.0));
+  // a plan job stores what a plan is (plan.json, paths.geojson, the evaluation and the pictures); its
+  // exports are made from them on first request (build_export(), docs/cache.md)
+  OutputOptions stored = plan_job_outputs(params);
+  stored.exports.clear();
+  PlanOutputs out =
+      plan_outputs(p, stored, job_progress(job, {{"evaluation", 0.75, 0.95}, {"pictures", 0.95, 1.0}}, 1.0));
 
   // evaluation.json: the coverage and cost blocks of plan.json
   out.artifacts.push_back({"evaluation.json", "application/json", out.evaluation.dump(1) + "\n"});
-
-  // Litchi missions of more than 99 waypoints come in parts: one zip per UAV holds them all
-  std::map<std::string, std::map<std::string, std::string>> litchi_parts;
-  for (const auto& a : out.artifacts)
-    if (a.name.starts_with("export/") && a.name.ends_with(".litchi.csv")) {
-      const std::string stem = a.name.substr(7, a.name.size() - 7 - 11);  // "<id>" or "<id>.<k>"
-      const auto dot = stem.rfind('.');
-      if (dot != std::string::npos && stem.find_first_not_of("0123456789", dot + 1) == std::string::npos)
-        litchi_parts[stem.substr(0, dot)][a.name.substr(7)] = a.bytes;
-    }
-  for (const auto& [id, parts] : litchi_parts)
-    out.artifacts.push_back({"export/" + id + ".litchi.zip", "application/zip", exporting::zip_bytes(parts)});
 
   json uavs = json::array();
   double length = 0;

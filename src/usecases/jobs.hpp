@@ -33,9 +33,9 @@ struct JobResult {
 /// Runs a job on the mission (already parsed) with validated params. ctx: progress, stop token; the
 /// params' time_limit_s is applied here. Throws what the facade throws (InputError, Cancelled,
 /// TimeLimitReached, OperationError).
-/// Plan artifacts: those of the CLI's `plan --export <every format>` (plan.json, paths.geojson,
-/// evaluation.json, plan.png, plan.svg, heatmap.png, histogram.png, export/..., trajectory/...).
-/// When an export format refuses the plan (e.g. altitude limits) its reason is a warning.
+/// Plan artifacts: what a plan is, those of the CLI's `plan` (plan.json, paths.geojson, evaluation.json,
+/// plan.png, plan.svg, heatmap.png, heatmap-overlay.png, histogram.png). Its exports are made from the
+/// stored plan.json and paths.geojson on request (build_export(), docs/cache.md).
 JobResult run_job(JobType type, const Mission& mission, const nlohmann::json& params, const Context& ctx);
 
 /// The artifact name serving GET /plans/{id}/exports/{format}?uav=ID: "export/<uav>.plan" for qgc, etc.

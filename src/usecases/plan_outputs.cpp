@@ -2,9 +2,11 @@
 #include "codec/plan_codec.hpp"
 
 #include <algorithm>
+#include <map>
 
 #include "engine/test_hold.hpp"
 #include "export/export.hpp"
+#include "export/zip.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
 #include "render/render.hpp"
@@ -196,6 +198,72 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
   out.artifacts.insert(out.artifacts.end(), std::make_move_iterator(exported.begin()),
                        std::make_move_iterator(exported.end()));
   out.left_out = std::move(left_out);
+  return out;
+}
+
+std::string export_source_format(const std::string& format) { return format == "kmz" ? "kml" : format; }
+
+BuiltExport build_export(const std::string& plan_json_text, const std::string& paths_geojson_text,
+                         const std::string& format, double trajectory_step_s, const Context& ctx) {
+  nlohmann::json pj, pg;
+  Plan plan;
+  try {
+    pj = nlohmann::json::parse(plan_json_text);
+    pg = nlohmann::json::parse(paths_geojson_text);
+    plan = codec::load_plan(pj, pg);
+  } catch (const nlohmann::json::exception& e) {
+    throw OperationError(std::string("the stored plan cannot be read: ") + e.what());
+  } catch (const InputError& e) {
+    throw OperationError(std::string("the stored plan cannot be read: ") + e.what());
+  }
+  if (ctx.stop_requested()) throw Cancelled();
+  BuiltExport out;
+  // a plan job's export options (plan_job_outputs() in jobs.cpp): every .kml with its .kmz
+  exporting::ExportOptions eo;
+  std::vector<std::string> warnings;
+  eo.warnings = &warnings;
+  eo.kmz = true;
+  eo.trajectory_step_s = trajectory_step_s;  // the job's trajectory_step_s (0: the segment form)
+  try {
+    out.files = exporting::export_artifacts(plan, {format}, eo);
+  } catch (const InputError& e) {
+    out.refused_field = e.field();
+    out.refused = e.what();
+    return out;
+  }
+  for (auto& w : warnings)
+    if (std::find(out.warnings.begin(), out.warnings.end(), w) == out.warnings.end())
+      out.warnings.push_back(std::move(w));
+  if (format == "geojson") {
+    // the per-UAV document is the UAV's part of the stored paths.geojson: the same features with the
+    // lengths measured on the planner's own coordinates (a plan read back from WGS84 measures its
+    // parts again in a projected frame, a few 1e-10 m apart)
+    for (auto& f : out.files) {
+      const std::string id = f.name.substr(7, f.name.size() - 7 - 8);  // export/<id>.geojson
+      nlohmann::json doc = pg;
+      nlohmann::json kept = nlohmann::json::array();
+      for (auto& feature : doc["features"]) {
+        const auto& props = feature["properties"];
+        if (!props.contains("uav") || props["uav"] == id) kept.push_back(std::move(feature));
+      }
+      doc["features"] = std::move(kept);
+      f.bytes = doc.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    }
+  }
+  if (format == "litchi") {
+    // Litchi missions of more than 99 waypoints come in parts: one zip per UAV holds them all
+    std::map<std::string, std::map<std::string, std::string>> parts;
+    for (const auto& a : out.files)
+      if (a.name.starts_with("export/") && a.name.ends_with(".litchi.csv")) {
+        const std::string stem = a.name.substr(7, a.name.size() - 7 - 11);  // "<id>" or "<id>.<k>"
+        const auto dot = stem.rfind('.');
+        if (dot != std::string::npos && stem.find_first_not_of("0123456789", dot + 1) == std::string::npos)
+          parts[stem.substr(0, dot)][a.name.substr(7)] = a.bytes;
+      }
+    for (const auto& [id, files] : parts)
+      out.files.push_back({"export/" + id + ".litchi.zip", "application/zip", exporting::zip_bytes(files)});
+  }
+  if (ctx.stop_requested()) throw Cancelled();
   return out;
 }
 

@@ -57,4 +57,26 @@ void check_outputs(const Mission& mission, const OutputOptions& options);
 /// "pictures" or "exports" (engine/test_hold.hpp).
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx = {});
 
+/// One export format of a stored plan, made on demand (the server's exports, docs/cache.md).
+struct BuiltExport {
+  /// Every flying UAV's files of the format, as a plan job made them eagerly before: names
+  /// export/<id>.<ext> and trajectory/<id>.csv; with "kml" also <id>.kmz; a Litchi mission split in
+  /// parts also comes as export/<id>.litchi.zip. Empty when refused.
+  Artifacts files;
+  std::vector<std::string> warnings;  ///< the exporter's (clamps, skipped UAVs, separation hazards)
+  /// When the format refuses the plan (altitude limits, no-fly zones, ...): the field and the reason.
+  std::string refused_field, refused;
+};
+
+/// The export format that makes the API format `format` of GET /plans/{id}/exports/{format}: "kml" for
+/// "kmz" (a .kmz comes with each .kml), else `format` itself.
+std::string export_source_format(const std::string& format);
+
+/// Makes export format `format` (one of exporting::known_formats()) of the plan stored as plan.json and
+/// paths.geojson (the texts a plan job stored), with the options of a plan job: the same bytes a plan
+/// job's eager export of the same plan gave. A stop request throws Cancelled; OperationError when the
+/// documents are not a plan.
+BuiltExport build_export(const std::string& plan_json, const std::string& paths_geojson,
+                         const std::string& format, double trajectory_step_s = 0, const Context& ctx = {});
+
 }  // namespace uavcover::usecases

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "server/api.hpp"
+#include "server/exports.hpp"
 #include "server/flights.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
@@ -74,7 +75,8 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
     limits.max_live = 4;
     flights_ = std::make_unique<FlightManager>(*store_, limits);
     flights_->start();
-    ctx_ = std::make_unique<ApiContext>(ApiContext{*store_, ApiConfig{}, flights_.get()});
+    exports_ = std::make_unique<ExportService>(*store_, export_config_);
+    ctx_ = std::make_unique<ApiContext>(ApiContext{*store_, ApiConfig{}, flights_.get(), exports_.get()});
     ctx_->config.max_queued = max_queued;
     router_ = std::make_unique<Router>();
     add_api_routes(*router_, *ctx_);
@@ -82,6 +84,7 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
   void close() {
     router_.reset();
     ctx_.reset();
+    exports_.reset();
     flights_.reset();
     store_.reset();
     if (!url_.empty()) uavcover::testing::remove_test_store(url_);
@@ -125,6 +128,8 @@ class ApiTest : public ::testing::TestWithParam<std::string> {
   std::string url_;
   std::unique_ptr<store::Store> store_;
   std::unique_ptr<FlightManager> flights_;
+  ExportConfig export_config_;  ///< the next open()'s export service
+  std::unique_ptr<ExportService> exports_;
   std::unique_ptr<ApiContext> ctx_;
   std::unique_ptr<Router> router_;
 };

@@ -2,8 +2,11 @@
 // mission and seed, its artifacts served, and a long plan cancelled through DELETE.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <thread>
 
 #include "server/api_fixture.hpp"
@@ -262,6 +265,103 @@ TEST_P(WorkerTest, AJobThePlannerRefusesFailsNamingTheField) {
 }  // namespace uavcover::server::testing
 
 namespace uavcover::server::testing {
+// ---- exports on demand and retention (issue 27, docs/cache.md) ----
+
+TEST_P(WorkerTest, ExportsAreMadeOnRequestOnceForConcurrentCallsAndEqualTheCliExports) {
+  // every build waits at the hook until the test lets it go
+  std::mutex m;
+  std::condition_variable cv;
+  bool go = false;
+  export_config_.before_build = [&](const std::string&) {
+    std::unique_lock lock(m);
+    cv.wait(lock, [&] { return go; });
+  };
+  close();
+  open();
+  const auto [blobs0, bytes0] = store_->count_blobs();
+  const auto mission_id = create_mission(olive_grove());
+  Answer a = call("POST", "/api/v1/missions/" + std::to_string(mission_id) + "/plans", R"({"seed": 7})");
+  ASSERT_EQ(a.status, 202) << a.body;
+  const store::Id id = a.json().at("id").get<store::Id>();
+  const std::string url = "/api/v1/plans/" + std::to_string(id);
+  start_workers();
+  const json job = wait_job(url, terminal);
+  ASSERT_EQ(job.at("state"), "done") << job.dump();
+  pool_->stop();
+  for (const auto& art : job.at("artifacts"))
+    EXPECT_FALSE(art.at("name").get<std::string>().starts_with("export/"))
+        << "exports are not made by the job";
+  EXPECT_EQ(exports_->builds(), 0);
+
+  // four concurrent first requests of one export: one build, the same bytes
+  const std::string key = store::plan_cache_prefix(store_->get_job(id)->artifacts) + "/qgc";
+  std::vector<Answer> answers(4);
+  std::vector<std::thread> callers;
+  for (auto& answer : answers)
+    callers.emplace_back([&] { answer = call("GET", url + "/exports/qgc?uav=alpha"); });
+  while (exports_->waiting(key) < 4) std::this_thread::yield();  // all four wait for the one build
+  EXPECT_EQ(exports_->builds(), 1);
+  {
+    std::lock_guard lock(m);
+    go = true;
+  }
+  cv.notify_all();
+  for (auto& t : callers) t.join();
+  for (const auto& answer : answers) {
+    ASSERT_EQ(answer.status, 200) << answer.body;
+    EXPECT_EQ(answer.body, answers[0].body);
+  }
+  EXPECT_EQ(exports_->builds(), 1);
+  EXPECT_TRUE(store_->cache_entry(key)) << "cached";
+  EXPECT_EQ(call("GET", url + "/exports/qgc?uav=bravo").status, 200);
+  EXPECT_EQ(exports_->builds(), 1) << "the other UAVs' files came with the same build";
+
+  // every format of every UAV: the bytes of the CLI's eager export of the same mission and seed
+  const auto out = dir_ / "cli";
+  const auto mission_file = dir_ / "mission.json";
+  {
+    std::ofstream f(mission_file);
+    f << olive_grove();
+  }
+  const std::string cmd = std::string("\"") + UAVCOVER_CLI + "\" plan \"" + mission_file.string() +
+                          "\" --out \"" + out.string() +
+                          "\" --seed 7 --quiet --export geojson,qgc,wpl,kml,dji,litchi,csv,trajectory";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const std::map<std::string, std::string> files{
+      {"qgc", "export/{}.plan"},        {"wpl", "export/{}.waypoints"},     {"kml", "export/{}.kml"},
+      {"dji", "export/{}.wpml.kmz"},    {"litchi", "export/{}.litchi.csv"}, {"csv", "export/{}.csv"},
+      {"geojson", "export/{}.geojson"}, {"trajectory", "trajectory/{}.csv"}};
+  int compared = 0;
+  for (const char* uav : {"alpha", "bravo", "charlie"})
+    for (const auto& [format, pattern] : files) {
+      std::string file = pattern;
+      file.replace(file.find("{}"), 2, uav);
+      a = call("GET", url + "/exports/" + format + "?uav=" + uav);
+      ASSERT_EQ(a.status, 200) << format << " " << uav << ": " << a.body;
+      EXPECT_TRUE(a.body == uavcover::testing::slurp(out / file)) << file << " differs from the CLI's";
+      ++compared;
+    }
+  EXPECT_EQ(compared, 24);
+  a = call("GET", url + "/exports/kmz?uav=alpha");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.body.substr(0, 2), "PK");
+
+  // a plan a flight uses cannot be deleted; once its flight is gone it is, with its cache and blobs
+  store::NewFlight nf;
+  nf.plan_id = id;
+  const store::Id flight = store_->create_flight(nf);
+  a = call("DELETE", url);
+  EXPECT_EQ(a.status, 409) << a.body;
+  EXPECT_EQ(a.error_field(), "id");
+  store_->delete_flight(flight);
+  a = call("DELETE", url);
+  EXPECT_EQ(a.status, 204) << a.body;
+  EXPECT_EQ(call("GET", url).status, 404);
+  EXPECT_EQ(call("GET", url + "/exports/qgc?uav=alpha").status, 404);
+  EXPECT_FALSE(store_->cache_entry(key)) << "its exports are gone";
+  EXPECT_EQ(store_->count_blobs(), std::make_pair(blobs0, bytes0)) << "and every blob of its own";
+}
+
 INSTANTIATE_TEST_SUITE_P(Stores, WorkerTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          backend_name);
 }  // namespace uavcover::server::testing

@@ -1014,6 +1014,171 @@ TEST_P(StoreConformance, KillNineWhileAppendingLosesNoAcknowledgedFlightRecord) 
   EXPECT_EQ(store_->get_flight(f)->log_records, static_cast<std::int64_t>(page.items.size()));
 }
 
+// ---- retention and the export cache (issue 27, docs/cache.md) ----
+
+namespace {
+
+/// A done plan job with the given artifacts.
+Id done_plan_with(Store& s, Id m, const Artifacts& artifacts) {
+  NewJob j;
+  j.mission_id = m;
+  j.revision = 1;
+  const Id id = s.enqueue(j, 1000000);
+  const auto claimed = s.claim_job("test-plan", 60s, 3);
+  EXPECT_TRUE(claimed && claimed->id == id);
+  EXPECT_TRUE(s.finish_job(id, "test-plan", JobState::Done, {}, nullptr, artifacts));
+  return id;
+}
+
+Artifacts plan_files(const std::string& plan, const std::string& tag) {
+  return {{"plan.json", "application/json", plan},
+          {"paths.geojson", "application/geo+json", "{\"paths\":\"" + plan + "\"}"},
+          {"plan.png", "image/png", "png of " + tag}};
+}
+
+}  // namespace
+
+TEST_P(StoreConformance, DeleteJobTakesItsArtifactsAndCacheAndRefusesWhileAFlightUsesIt) {
+  const Id m = mission();
+  const auto [blobs0, bytes0] = store_->count_blobs();
+  const std::string plan = unique_name("plan");
+  const Id a = done_plan_with(*store_, m, plan_files(plan, unique_name("a")));
+  const Id b = done_plan_with(*store_, m, plan_files(plan, unique_name("b")));  // the same plan
+  const std::string prefix = plan_cache_prefix(store_->get_job(a)->artifacts);
+  ASSERT_EQ(prefix.size(), 64u);
+  EXPECT_EQ(prefix, plan_cache_prefix(store_->get_job(b)->artifacts)) << "content-addressed";
+  const std::string key = prefix + "/qgc";
+  ASSERT_TRUE(
+      store_->put_cache(key, {{"export/x.plan", "application/json", unique_name("qgc bytes")}}, 1 << 20));
+  EXPECT_EQ(store_->count_blobs().first, blobs0 + 5) << "plan.json, paths.geojson, two pictures, one export";
+
+  // a plan a flight uses is refused, until the flight is deleted
+  NewFlight nf;
+  nf.plan_id = a;
+  const Id f = store_->create_flight(nf);
+  EXPECT_THROW(store_->delete_job(a), Conflict);
+  store_->delete_flight(f);
+  store_->delete_job(a);
+  EXPECT_FALSE(store_->get_job(a));
+  EXPECT_FALSE(store_->get_artifact(a, "plan.json"));
+  EXPECT_THROW(store_->delete_job(a), NotFound);
+  EXPECT_TRUE(store_->cache_entry(key)) << "job b holds the same plan: its exports stay";
+  EXPECT_EQ(store_->count_blobs().first, blobs0 + 4) << "a's own picture is collected";
+  EXPECT_TRUE(store_->get_artifact(b, "plan.json"));
+
+  store_->delete_job(b);
+  EXPECT_FALSE(store_->cache_entry(key)) << "no job holds the plan any more: its exports go";
+  EXPECT_EQ(store_->count_blobs(), std::make_pair(blobs0, bytes0)) << "every blob of theirs is collected";
+  EXPECT_EQ(store_->collect_orphan_blobs(), 0) << "nothing left behind";
+
+  // queued and running jobs are cancelled, not deleted
+  const Id q = job(m);
+  EXPECT_THROW(store_->delete_job(q), Conflict);
+  store_->request_cancel(q);
+  store_->delete_job(q);  // cancelled: terminal
+  EXPECT_FALSE(store_->get_job(q));
+  EXPECT_THROW(store_->delete_job(987654321), NotFound);
+}
+
+TEST_P(StoreConformance, PrunePlansDeletesTheOldestDonePlansButNeverOneAFlightUses) {
+  const Id m = mission();
+  const Id other = mission();
+  std::vector<Id> plans;
+  for (int i = 0; i < 5; ++i)
+    plans.push_back(done_plan_with(*store_, m, plan_files(unique_name("p"), unique_name("t"))));
+  const Id foreign = done_plan_with(*store_, other, plan_files(unique_name("o"), unique_name("t")));
+  const Id failed = job(m);
+  ASSERT_EQ(store_->claim_job("w", 60s, 3)->id, failed);
+  ASSERT_TRUE(store_->finish_job(failed, "w", JobState::Failed, {}, {{"field", ""}, {"message", "x"}}, {}));
+  NewFlight nf;
+  nf.plan_id = plans[0];  // the oldest flies
+  store_->create_flight(nf);
+  const auto blobs = store_->count_blobs().first;
+
+  EXPECT_EQ(store_->prune_plans(m, 2), (std::vector<Id>{plans[1], plans[2]})) << "oldest first";
+  for (const Id kept : {plans[0], plans[3], plans[4], foreign, failed})
+    EXPECT_TRUE(store_->get_job(kept)) << kept;
+  for (const Id gone : {plans[1], plans[2]}) EXPECT_FALSE(store_->get_job(gone)) << gone;
+  EXPECT_EQ(store_->count_blobs().first, blobs - 6) << "their blobs are collected";
+  EXPECT_TRUE(store_->prune_plans(m, 2).empty()) << "the newest two and the flown one stay";
+  EXPECT_EQ(store_->prune_plans(m, 0), (std::vector<Id>{plans[3], plans[4]}));
+  EXPECT_TRUE(store_->get_job(plans[0])) << "a plan a flight uses is never pruned";
+}
+
+TEST_P(StoreConformance, TheExportCacheEvictsTheLeastRecentlyUsedUnderItsCap) {
+  const std::string p = unique_name("cache");
+  auto files = [&](const std::string& k, std::size_t n) {
+    return Artifacts{{"export/" + k + ".a", "text/plain", std::string(n, 'a') + k},
+                     {"export/" + k + ".b", "text/plain", std::string(n, 'b') + k}};
+  };
+  const std::int64_t cap = 1000;
+  ASSERT_TRUE(store_->put_cache(p + "/1", files("1", 200), cap));
+  ASSERT_TRUE(store_->put_cache(p + "/2", files("2", 200), cap));
+  const auto blobs = store_->count_blobs().first;
+  ASSERT_TRUE(store_->cache_entry(p + "/1"));  // used: 2 is now the least recently used
+  ASSERT_TRUE(store_->put_cache(p + "/3", files("3", 200), cap));
+  EXPECT_FALSE(store_->cache_entry(p + "/2")) << "the least recently used went";
+  const auto one = store_->cache_entry(p + "/1");
+  ASSERT_TRUE(one);
+  ASSERT_EQ(one->size(), 2u);
+  EXPECT_EQ((*one)[0].name, "export/1.a");
+  EXPECT_EQ((*one)[0].size, 201);
+  EXPECT_EQ(store_->cached_file(p + "/1", "export/1.b")->bytes, std::string(200, 'b') + "1");
+  EXPECT_TRUE(store_->cache_entry(p + "/3"));
+  EXPECT_EQ(store_->count_blobs().first, blobs) << "2's blobs went, 3's came";
+  const auto [held, entries] = store_->cache_size();
+  EXPECT_LE(held, cap);
+  EXPECT_EQ(held, 4 * 201);
+  EXPECT_EQ(entries, 2);
+  // an entry larger than the cap alone is not stored, and evicts nothing
+  EXPECT_FALSE(store_->put_cache(p + "/big", files("big", 600), cap));
+  EXPECT_FALSE(store_->cache_entry(p + "/big"));
+  EXPECT_EQ(store_->cache_size().second, 2);
+  // storing a key again replaces its files
+  ASSERT_TRUE(store_->put_cache(p + "/3", {{"export/3.c", "text/plain", "c"}}, cap));
+  EXPECT_EQ(store_->cache_entry(p + "/3")->size(), 1u);
+  EXPECT_FALSE(store_->cached_file(p + "/3", "export/3.a"));
+  EXPECT_EQ(store_->collect_orphan_blobs(), 0);
+}
+
+TEST_P(StoreConformance, KillNineWhileCachingLosesNoAcknowledgedEntryAndLeavesNoPartOne) {
+  const std::string p = unique_name("k9");
+  store_.reset();
+  int acknowledged = 0;
+  auto files = [](int i) {
+    Artifacts a;
+    for (int k = 0; k < 4; ++k)
+      a.push_back({"export/" + std::to_string(k) + ".x", "text/plain",
+                   std::string(5000 + i, static_cast<char>('a' + k)) + std::to_string(i)});
+    return a;
+  };
+  ASSERT_TRUE(uavcover::testing::kill_nine_during(
+      [&](const std::function<void(std::int64_t)>& ack) {
+        auto s = uavcover::testing::open_test_store(url_);
+        for (int i = 0;; ++i) {
+          s->put_cache(p + "/" + std::to_string(i), files(i), std::int64_t{1} << 30);
+          ack(i);
+        }
+      },
+      [&](std::int64_t last) {
+        acknowledged = static_cast<int>(last);
+        return last >= 40;
+      }))
+      << "the child stopped early";
+  store_ = uavcover::testing::open_test_store(url_);
+  for (int i = 0;; ++i) {
+    const auto e = store_->cache_entry(p + "/" + std::to_string(i));
+    if (!e) {
+      EXPECT_GT(i, acknowledged) << "acknowledged entry " << i << " lost";
+      break;
+    }
+    ASSERT_EQ(e->size(), 4u) << "entry " << i << " is all or nothing";
+    for (const auto& f : files(i))
+      EXPECT_TRUE(store_->cached_file(p + "/" + std::to_string(i), f.name)->bytes == f.bytes);
+  }
+  EXPECT_EQ(store_->collect_orphan_blobs(), 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, StoreConformance,
                          ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          [](const ::testing::TestParamInfo<std::string>& info) {

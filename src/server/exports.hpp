@@ -1,0 +1,77 @@
+// Exports on demand (issue 27, docs/cache.md): a plan job stores its plan; every export format is made
+// from the stored plan.json and paths.geojson when it is first asked for, on a bounded pool of its own
+// (never on an I/O or handler thread's own account: the handler waits for the pool), once for any
+// number of concurrent first requests, and kept in the store's content-addressed export cache under
+// a size cap (least recently used entries go first).
+#pragma once
+
+#include <boost/asio/thread_pool.hpp>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "store/store.hpp"
+#include "uavcover/artifact.hpp"
+
+namespace uavcover::server {
+
+struct ExportConfig {
+  int threads = 2;                                         ///< the pool's threads (--export-threads)
+  std::int64_t cache_cap_bytes = std::int64_t{128} << 20;  ///< the cache's size cap (--export-cache-mb)
+  /// Test hook: called on the pool before each build with the cache key (a test holds a build here).
+  std::function<void(const std::string& key)> before_build;
+};
+
+/// One export format of one plan: the files' names, its warnings or its refusal.
+struct ExportEntry {
+  std::string key;                     ///< "<plan prefix>/<format>"
+  std::vector<std::string> names;      ///< export/<id>.<ext>, trajectory/<id>.csv, ...
+  std::vector<std::string> warnings;   ///< the exporter's
+  std::string refused_field, refused;  ///< when the format refuses the plan
+  /// The files, when just built (and possibly not cached: over the cap, or the store failed).
+  std::shared_ptr<const Artifacts> files;
+};
+
+class ExportService {
+ public:
+  ExportService(store::Store& store, ExportConfig config);
+  ~ExportService();  ///< waits for the builds under way
+  ExportService(const ExportService&) = delete;
+  ExportService& operator=(const ExportService&) = delete;
+
+  /// Export format `format` (exporting::known_formats(): "kml" also holds the .kmz) of the done plan job
+  /// `job`: from the cache, else built on the pool and cached. Concurrent callers for the same plan and
+  /// format share one build. Throws OperationError when the job has no stored plan, StoreError.
+  std::shared_ptr<const ExportEntry> get(const store::Job& job, const std::string& format);
+  /// The file `name` of an entry get() gave (built again when the cache evicted it meanwhile), or empty
+  /// when the entry has no such file.
+  std::optional<Artifact> read(const ExportEntry& entry, const store::Job& job, const std::string& format,
+                               const std::string& name);
+
+  /// Builds done since start (tests: concurrent first requests build once).
+  [[nodiscard]] std::int64_t builds() const;
+  /// Callers waiting for the build of `key` right now (tests).
+  [[nodiscard]] int waiting(const std::string& key) const;
+
+ private:
+  std::shared_ptr<const ExportEntry> build(const store::Job& job, const std::string& key,
+                                           const std::string& format);
+  std::shared_ptr<const ExportEntry> from_cache(const std::string& key);
+
+  store::Store& store_;
+  ExportConfig config_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_future<std::shared_ptr<const ExportEntry>>> inflight_;
+  std::map<std::string, int> waiting_;
+  std::int64_t builds_ = 0;
+  boost::asio::thread_pool pool_;
+};
+
+}  // namespace uavcover::server
