@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "export/export.hpp"
+#include "export/separation.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -154,6 +155,9 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
   }
   std::vector<std::string> warnings = p.warnings;
   warnings.insert(warnings.end(), out.warnings.begin(), out.warnings.end());
+  // the hazards every export warns about (a UAV taking off inside another's region, ...) belong to the
+  // plan: the job reports them at once, not only with an export made later (X-Export-Warnings)
+  for (auto& w : exporting::separation_warnings(p)) warnings.push_back(std::move(w));
   json metrics = {{"length_m", length}, {"turns", turns}, {"compute_time_s", p.compute_time_s}};
   if (out.poc >= 0) {
     metrics["poc"] = out.poc;

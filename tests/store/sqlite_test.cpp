@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "store/backends.hpp"
+#include "store/sqlite_migrations.hpp"
 #include "test_backends.hpp"
 
 using namespace uavcover;
@@ -21,6 +22,9 @@ using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
 namespace {
+
+// every migration of src/store/sqlite_migrations.hpp runs on a fresh database
+constexpr int kMigrationCount = static_cast<int>(store::sqlite_schema::kMigrations.size());
 
 NewRevision revision(const std::string& name) {
   NewRevision r;
@@ -69,17 +73,17 @@ TEST(SqliteStore, CreatesItsFolderAndUsesWal) {
   EXPECT_TRUE(fs::exists(nested));
   EXPECT_EQ(s->backend(), "sqlite");
   EXPECT_TRUE(s->ping());
-  EXPECT_EQ(s->schema_version(), 3);
+  EXPECT_EQ(s->schema_version(), kMigrationCount);
   s->create_mission(revision("wal"));
   EXPECT_EQ(scalar(nested, "SELECT journal_mode = 'wal' FROM pragma_journal_mode"), 1);
-  EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM schema_migrations"), 3);
+  EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM schema_migrations"), kMigrationCount);
   EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM catalog WHERE kind = 'uav'"), 4);
   EXPECT_EQ(scalar(nested, "SELECT COUNT(*) FROM catalog WHERE kind = 'camera'"), 5);
 }
 
 TEST(SqliteStore, MemoryDatabaseWorksFromSeveralThreads) {
   auto s = open_sqlite(":memory:");
-  EXPECT_EQ(s->schema_version(), 3);
+  EXPECT_EQ(s->schema_version(), kMigrationCount);
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t)
     threads.emplace_back([&] {
@@ -189,7 +193,7 @@ TEST(SqliteStore, KillNineDuringWritesLosesNothingAcknowledged) {
     ASSERT_TRUE(m) << "acknowledged mission " << acknowledged[i] << " lost";
     EXPECT_EQ(m->name, "burst " + std::to_string(i));
   }
-  EXPECT_EQ(s->schema_version(), 3);
+  EXPECT_EQ(s->schema_version(), kMigrationCount);
   EXPECT_EQ(scalar(tmp.path(), "SELECT COUNT(*) FROM pragma_integrity_check WHERE integrity_check <> 'ok'"),
             0);
 }

@@ -256,7 +256,16 @@ TEST(Jobs, APlanJobsTrajectoryIsTheSegmentFormOrSampledAtItsStep) {
   auto trajectory_of = [&](const json& given) {
     const auto r =
         usecases::run_job(JobType::Plan, m, usecases::validate_job_params(JobType::Plan, m, given), {});
-    for (const auto& a : r.artifacts)
+    // a plan job stores no exports: the trajectory is made on request from the stored plan, with the
+    // job's trajectory_step_s (0 = the segment form)
+    std::string plan_json, paths;
+    for (const auto& a : r.artifacts) {
+      if (a.name == "plan.json") plan_json = a.bytes;
+      if (a.name == "paths.geojson") paths = a.bytes;
+    }
+    const double step = given.contains("trajectory_step_s") ? given["trajectory_step_s"].get<double>() : 0.0;
+    const auto built = usecases::build_export(plan_json, paths, "trajectory", step);
+    for (const auto& a : built.files)
       if (a.name == "trajectory/" + m.uavs[0].id + ".csv") return a.bytes;
     return std::string();
   };

@@ -46,6 +46,12 @@ std::vector<std::pair<std::string, json>> missions() {
   five["spacing_m"] = 4;  // > 99 waypoints per UAV: Litchi parts
   five["seed"] = 5;
   out.emplace_back("rectangle 5 UAVs dense", five);
+  // one UAV over the olive grove at 12 m: more than 99 waypoints, so Litchi missions in parts (a zip)
+  json grove = example("olive-grove.json");
+  grove["uavs"] = json::array({grove["uavs"][0]});
+  grove.erase("camera");
+  grove["spacing_m"] = 12;
+  out.emplace_back("olive grove 1 UAV at 12 m", grove);
   return out;
 }
 
