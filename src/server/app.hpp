@@ -20,7 +20,7 @@ struct ServeOptions {
   int lease_ms = 10000;  ///< job lease (tests shorten it)
   int keep_plans = 0;    ///< retention: each mission's newest N done plans are kept (0: all)
   std::int64_t export_cache_bytes = std::int64_t{128} << 20;  ///< the export cache's size cap
-  int export_threads = 2;                                       ///< the pool that makes exports
+  int export_threads = 2;                                     ///< the pool that makes exports
 };
 
 /// Blocks until the server is stopped. Throws InputError / OperationError.

@@ -275,13 +275,15 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
     auto shared = std::make_shared<Request>(std::move(req));
     const std::string method = std::string(parser_->get().method_string());
     auto self = shared_from_this();
-    const bool posted = core_.post_bounded(pool, load, max, [self, shared, fn, route, method, version, keep] {
-      Response out = run_guarded(fn, *shared, route);
-      net::post(self->stream_.get_executor(), [self, shared, out = std::move(out), route, method, version,
-                                               keep]() mutable {
-        self->answer(shared->request_id, method, route, shared->path, std::move(out), version, keep);
-      });
-    });
+    const bool posted = core_.post_bounded(
+        pool, load, max, [self, shared, fn, route, method, version, keep](Core::PoolSlot& slot) {
+          Response out = run_guarded(fn, *shared, route);
+          slot.release();  // before the answer: a client that has it may ask again at once
+          net::post(self->stream_.get_executor(), [self, shared, out = std::move(out), route, method, version,
+                                                   keep]() mutable {
+            self->answer(shared->request_id, method, route, shared->path, std::move(out), version, keep);
+          });
+        });
     if (posted) return Dispatched::Deferred;
     req = std::move(*shared);
     res = Response::error(503, "", "the server is busy; try again later");

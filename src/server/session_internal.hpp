@@ -22,6 +22,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "server/events.hpp"
@@ -165,7 +166,27 @@ struct Core {
   std::mutex pool_mutex;
   bool pools_closed = false;  ///< set before the pools are joined: nothing is posted afterwards
 
-  /// Posts `work` to `pool` unless `load` would exceed `max` or the server stops; false then.
+  /// A request's place in a bounded pool's `load`, given back once: by release() (before the answer is
+  /// handed to the connection, so that a client that has its answer and asks again is not told the pool
+  /// is busy), or at the latest when the work ends.
+  class PoolSlot {
+   public:
+    explicit PoolSlot(std::atomic<std::size_t>& load) : load_(load) {}
+    PoolSlot(const PoolSlot&) = delete;
+    PoolSlot& operator=(const PoolSlot&) = delete;
+    ~PoolSlot() { release(); }
+    void release() {
+      if (held_) load_.fetch_sub(1);
+      held_ = false;
+    }
+
+   private:
+    std::atomic<std::size_t>& load_;
+    bool held_ = true;
+  };
+
+  /// Posts `work` to `pool` unless `load` would exceed `max` or the server stops; false then. `work` is
+  /// called with its PoolSlot when it takes one (`work(slot)`), else with nothing.
   template <class Work>
   bool post_bounded(net::thread_pool& pool, std::atomic<std::size_t>& load, std::size_t max, Work&& work) {
     const std::lock_guard lock(pool_mutex);
@@ -175,11 +196,11 @@ struct Core {
       return false;
     }
     net::post(pool, [&load, work = std::forward<Work>(work)]() mutable {
-      struct Done {
-        std::atomic<std::size_t>& load;
-        ~Done() { load.fetch_sub(1); }
-      } done{load};
-      work();
+      PoolSlot slot(load);
+      if constexpr (std::is_invocable_v<Work&, PoolSlot&>)
+        work(slot);
+      else
+        work();
     });
     return true;
   }
