@@ -5,6 +5,7 @@
 #include <functional>
 #include "codec/plan_codec.hpp"
 
+#include "support/errors.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -20,14 +21,7 @@ Plan small_plan() {
   return plan(m);
 }
 
-std::string field_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.field();
-  }
-  return "(no error)";
-}
+using uavcover::testing::field_of;
 
 }  // namespace
 

@@ -16,6 +16,7 @@
 #include "flight/runtime.hpp"
 #include "sim/sim_vehicle.hpp"
 #include "sorties/sorties.hpp"
+#include "support/errors.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 
@@ -592,14 +593,7 @@ TEST(Flight, CommandsRefusedInTheWrongStateAndUnknownUav) {
             std::string::npos);
 }
 
-std::string field_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.field();
-  }
-  return "<no error>";
-}
+using uavcover::testing::field_of;
 
 // Issue 34: TCP (connect, listen) and serial endpoints, and their contradictions named.
 TEST(FlightConfig, TcpAndSerialEndpoints) {

@@ -16,6 +16,7 @@
 #include "mavlink/stream.hpp"
 #include "mavlink/test_util.hpp"
 #include "mavlink/udp.hpp"
+#include "support/errors.hpp"
 #include "uavcover/error.hpp"
 
 using namespace uavcover::mavlink;
@@ -112,14 +113,7 @@ class FdLink final : public Link {
   int fd_;
 };
 
-std::string field_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const uavcover::InputError& e) {
-    return e.field();
-  }
-  return "(no error)";
-}
+using uavcover::testing::field_of;
 
 }  // namespace
 

@@ -13,6 +13,7 @@
 #include "evaluation/evaluate.hpp"
 #include "export/export.hpp"
 #include "geodesy/local_frame.hpp"
+#include "support/errors.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
 #include "waypoints/waypoints.hpp"
@@ -104,14 +105,7 @@ bool same_up_to_symmetry(const std::vector<long>& got, const std::vector<long>& 
   return false;
 }
 
-std::string field_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.field();
-  }
-  return "(no error)";
-}
+using uavcover::testing::field_of;
 
 }  // namespace
 
