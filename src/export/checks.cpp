@@ -73,6 +73,13 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
     if (!problems.empty()) throw InputError("separation", problems.front());
   }
   for (const auto& w : separation_warnings(plan)) warnings.push_back(w);
+  // UAV i's mission items in `p` (the plan or one sortie's), refused when they fly through a no-fly zone
+  auto items_clear_of_zones = [&](const Plan& p, std::size_t i) {
+    auto items = mission_items(p, i, opt.altitude);
+    const auto violations = no_fly_violations(p, i, items);
+    if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+    return items;
+  };
   // idle UAVs (no coverage part) are skipped: a take-off-and-return mission is not worth flying
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     if (idle(plan.uavs[i])) {
@@ -81,9 +88,7 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
       continue;
     }
     checked.flown.push_back(i);
-    const auto items = mission_items(plan, i, opt.altitude);
-    const auto violations = no_fly_violations(plan, i, items);
-    if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
+    const auto items = items_clear_of_zones(plan, i);
     if (!opt.per_sortie) check_consumers(plan, i, items, checked.autopilot, warnings);
   }
   if (checked.flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
@@ -92,11 +97,7 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
       auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
       for (const auto& s : list) {
         const Plan sp = sorties::sortie_plan(plan, i, s);
-        const auto items = mission_items(sp, i, opt.altitude);
-        const auto violations = no_fly_violations(sp, i, items);
-        if (!violations.empty())
-          throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
-        check_consumers(sp, i, items, checked.autopilot, warnings);
+        check_consumers(sp, i, items_clear_of_zones(sp, i), checked.autopilot, warnings);
       }
       checked.sorties[i] = std::move(list);
     }
