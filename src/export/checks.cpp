@@ -88,16 +88,19 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
       continue;
     }
     checked.flown.push_back(i);
-    const auto items = items_clear_of_zones(plan, i);
+    auto items = items_clear_of_zones(plan, i);
     if (!opt.per_sortie) check_consumers(plan, i, items, checked.autopilot, warnings);
+    checked.items[i] = std::move(items);
   }
   if (checked.flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
   if (opt.per_sortie)
     for (const std::size_t i : checked.flown) {
       auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
-      for (const auto& s : list) {
-        const Plan sp = sorties::sortie_plan(plan, i, s);
-        check_consumers(sp, i, items_clear_of_zones(sp, i), checked.autopilot, warnings);
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const Plan sp = sorties::sortie_plan(plan, i, list[k]);
+        auto items = items_clear_of_zones(sp, i);
+        check_consumers(sp, i, items, checked.autopilot, warnings);
+        checked.sortie_items[{i, k}] = std::move(items);
       }
       checked.sorties[i] = std::move(list);
     }

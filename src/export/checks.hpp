@@ -29,6 +29,10 @@ struct CheckedPlan {
   std::vector<std::size_t> flown;  ///< the UAVs with coverage, in plan order (idle ones are skipped)
   /// With per_sortie: each flown UAV's sorties (cut now when the plan has none, e.g. built by hand).
   std::map<std::size_t, std::vector<Sortie>> sorties;
+  /// Each flown UAV's mission items in the plan, and with per_sortie in each of its sorties (by the
+  /// sortie's position in `sorties`), as the checks made them: the writers' ExportOptions::items.
+  std::map<std::size_t, std::vector<waypoints::MissionItem>> items;
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<waypoints::MissionItem>> sortie_items;
 };
 
 /// Runs every check of an export of `plan` with `opt`; resolves opt.altitude (resolve_altitudes) in

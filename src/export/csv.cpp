@@ -14,7 +14,7 @@ using namespace waypoints;  // the waypoint model the formats write
 using nlohmann::json;
 
 std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = mission_items(plan, index, opt.altitude);
+  const auto items = items_of(plan, index, opt, opt.altitude);
   std::string out = "seq,role,command,frame,lat,lon,alt_m,param1,param2,param3,param4\n";
   int seq = 1;
   for (const auto& it : items)

@@ -51,7 +51,7 @@ std::string file_suffix(const std::string& id) {
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const AltitudeOptions altitudes =
       resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
-  const auto items = above_takeoff(plan, index, mission_items(plan, index, altitudes));
+  const auto items = above_takeoff(plan, index, items_of(plan, index, opt, altitudes));
   const auto wps = flown_waypoints(items);
   const UavPlan& up = plan.uavs.at(index);
   check_heights(plan, index, wps, limits::kDjiMaxHeight, "DJI WPML");

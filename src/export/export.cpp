@@ -58,13 +58,19 @@ Artifacts CheckedExport::write(const std::vector<std::string>& formats,
     for (const std::size_t i : checked.flown) {
       const std::string& id = plan.uavs[i].id;
       if (!split) {
+        opt.items = &checked.items.at(i);
         f.write(plan, i, opt, "export/" + id, out);
         continue;
       }
-      for (const auto& s : checked.sorties.at(i))
-        f.write(sorties::sortie_plan(plan, i, s), i, opt, fmt::format("export/{}.s{}", id, s.index + 1), out);
+      const auto& list = checked.sorties.at(i);
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        opt.items = &checked.sortie_items.at({i, k});
+        f.write(sorties::sortie_plan(plan, i, list[k]), i, opt,
+                fmt::format("export/{}.s{}", id, list[k].index + 1), out);
+      }
     }
   }
+  opt.items = nullptr;
   // ids are kept unchanged, so two ids can still name one file ("a.wpml" kml/kmz vs "a" dji)
   std::map<std::string, std::size_t> seen;
   for (std::size_t k = 0; k < out.size(); ++k) {

@@ -55,6 +55,10 @@ struct ExportOptions {
   /// trajectory stay one file per UAV.
   bool per_sortie = false;
   std::vector<std::string>* warnings = nullptr;  ///< when set, receives every warning (clamps, skips)
+  /// The mission items of the UAV being written, for the plan (or sortie) being written, as the checks
+  /// made them (CheckedExport sets it for each writer call: the items are made once per UAV per export,
+  /// not once per format); null: the writer makes them.
+  const std::vector<waypoints::MissionItem>* items = nullptr;
 };
 
 /// The formats export_artifacts() knows, in a fixed order: the names of the table export/formats.hpp.

@@ -48,7 +48,7 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   const std::string mode = amsl ? "absolute" : opt.kml_altitude_mode;
   const AltitudeOptions altitudes =
       resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
-  const auto items = mission_items(plan, index, altitudes);
+  const auto items = items_of(plan, index, opt, altitudes);
   const UavPlan& up = plan.uavs.at(index);
   const LonLat home = plan.mission.uavs.at(index).start_resolved;
   std::string s =

@@ -15,7 +15,7 @@ using namespace waypoints;  // the waypoint model the formats write
 using nlohmann::json;
 
 std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = above_takeoff(plan, index, mission_items(plan, index, opt.altitude));
+  const auto items = above_takeoff(plan, index, items_of(plan, index, opt, opt.altitude));
   const auto wps = flown_waypoints(items);
   check_heights(plan, index, wps, limits::kLitchiMaxAltitude, "Litchi");
   const double speed = speed_within(plan, index, limits::kLitchiMaxSpeed, "Litchi", opt);

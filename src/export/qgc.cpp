@@ -34,7 +34,7 @@ int qgc_firmware_type(const Plan& plan, const ExportOptions& opt) {
 
 json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const int firmware = qgc_firmware_type(plan, opt);
-  const auto items = mission_items(plan, index, opt.altitude);
+  const auto items = items_of(plan, index, opt, opt.altitude);
   const Uav& uav = plan.mission.uavs.at(index);
   json jitems = json::array();
   int seq = 1;

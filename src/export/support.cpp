@@ -15,6 +15,12 @@ namespace uavcover::exporting {
 using namespace waypoints;  // the waypoint model the formats write
 using nlohmann::json;
 
+std::vector<MissionItem> items_of(const Plan& plan, std::size_t index, const ExportOptions& opt,
+                                  const AltitudeOptions& altitudes) {
+  if (opt.items != nullptr) return *opt.items;
+  return mission_items(plan, index, altitudes);
+}
+
 bool has_position(const MissionItem& it) {
   return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
 }

@@ -38,6 +38,11 @@ nlohmann::json jnum(double v);
 /// JSON text and a newline; invalid UTF-8 in names (a tampered plan) is replaced rather than thrown on.
 std::string dump(const nlohmann::json& doc, int indent);
 
+/// UAV `index`'s mission items in `plan`: opt.items when the checks made them (with opt.altitude
+/// resolved, which is then `altitudes`), else made with `altitudes`.
+std::vector<waypoints::MissionItem> items_of(const Plan& plan, std::size_t index, const ExportOptions& opt,
+                                             const waypoints::AltitudeOptions& altitudes);
+
 /// Adds a warning to opt.warnings when set.
 void warn(const ExportOptions& opt, std::string message);
 

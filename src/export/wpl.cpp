@@ -16,7 +16,7 @@ using namespace waypoints;  // the waypoint model the formats write
 using nlohmann::json;
 
 std::string wpl_text(const Plan& plan, std::size_t index, const ExportOptions& opt) {
-  const auto items = mission_items(plan, index, opt.altitude);
+  const auto items = items_of(plan, index, opt, opt.altitude);
   const Uav& uav = plan.mission.uavs.at(index);
   if (uav.speed_mps > limits::kArduPilotMaxSpeed)
     warn(opt, fmt::format("uav '{}': speed {} m/s is above ArduPilot's WPNAV_SPEED range (at most {} m/s)",
