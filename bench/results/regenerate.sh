@@ -6,6 +6,7 @@
 # usage: bench/results/regenerate.sh [NAME...]     (default: every NAME below; BUILD_DIR=build)
 #   compare      bench/compare/run.sh         -> compare.md, compare-rectangle.png   (~2 min CPU)
 #   paper        bench/paper/run.sh           -> paper.md                             (~1 min)
+#   papers       bench/papers/run.sh          -> papers.md (the papers' tables, Table 3 ablation; ~3 min)
 #   milp         bench/milp/run.sh            -> milp-compare.md                      (~1 min)
 #   hard-shapes  bench/hard_shapes/run.sh     -> hard-shapes.md                       (~2 min)
 #   smt          bench/smt/run.sh             -> smt.md                               (~15 min: 25-min flight limits)
@@ -21,7 +22,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$repo"
 build="${BUILD_DIR:-build}"
 names=("$@")
-[[ ${#names[@]} -gt 0 ]] || names=(compare paper milp hard-shapes smt spiral readme server sim)
+[[ ${#names[@]} -gt 0 ]] || names=(compare paper papers milp hard-shapes smt spiral readme server sim)
 UAVCOVER_BENCH=ON BUILD_DIR="$build" scripts/build uavcover >/dev/null
 commit="$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src include tests bench || echo '+changes')"
 
@@ -48,6 +49,7 @@ for name in "${names[@]}"; do
   case "$name" in
     compare) bash bench/compare/run.sh "$build" >/dev/null; stamp compare.md ;;
     paper) bash bench/paper/run.sh "$build" >/dev/null; stamp paper.md ;;
+    papers) bash bench/papers/run.sh "$build" >/dev/null ;;  # papers.md carries its own date and commit
     milp) bash bench/milp/run.sh "$build" >/dev/null; stamp milp-compare.md ;;
     hard-shapes) bash bench/hard_shapes/run.sh "$build" >/dev/null; stamp hard-shapes.md ;;
     smt) bash bench/smt/run.sh "$build" >/dev/null; stamp smt.md ;;

@@ -353,6 +353,29 @@ TEST_P(ApiTest, PlannerThreadsAreBoundedByTheServer) {
   EXPECT_EQ(a.status, 202) << a.body;
 }
 
+TEST_P(ApiTest, DarpObjectiveParamsAreListedAndRefusedByName) {
+  const auto id = create_mission(olive_grove());
+  const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";
+  const json planners = call("GET", "/api/v1/planners").json();
+  json objective;
+  for (const auto& p : planners.at("items"))
+    if (p.at("name") == "darp")
+      for (const auto& q : p.at("schema").at("params"))
+        if (q.at("name") == "objective") objective = q;
+  ASSERT_FALSE(objective.is_null()) << planners.dump();
+  EXPECT_EQ(objective.at("default"), "uavcover");
+  EXPECT_EQ(objective.at("enum"), json({"uavcover", "paper"}));
+  Answer a = call("POST", plans, R"({"planner": "darp", "planner_params": {"j_weight_a": 1.5}})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "planner_params.j_weight_a");
+  a = call("POST", plans, R"({"planner": "darp", "planner_params": {"objective": "theirs"}})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "planner_params.objective");
+  a = call("POST", plans,
+           R"({"planner": "darp", "planner_params": {"objective": "paper", "j_weight_c": 0}})");
+  EXPECT_EQ(a.status, 202) << a.body;
+}
+
 TEST_P(ApiTest, JobCreationValidatesParameters) {
   const auto id = create_mission(olive_grove());
   const std::string plans = "/api/v1/missions/" + std::to_string(id) + "/plans";

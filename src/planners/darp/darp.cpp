@@ -40,6 +40,10 @@ class DarpPlanner final : public Planner {
     opt.optimise_placement = params.at("optimise_placement").get<bool>();
     opt.extend_legs = params.at("extend_legs").get<bool>();
     opt.shift_legs = params.at("shift_legs").get<bool>();
+    opt.paper_objective = params.at("objective").get<std::string>() == "paper";
+    opt.j_weight_a = params.at("j_weight_a").get<double>();
+    opt.j_weight_b = params.at("j_weight_b").get<double>();
+    opt.j_weight_c = params.at("j_weight_c").get<double>();
     const darp::Output res = darp::run(in, opt, ctx);
 
     Assignment out;
@@ -123,6 +127,35 @@ PlannerInfo darp_planner_info() {
        {},
        "move the legs along the area's edge outward, up to 0.45 spacing, until their swath reaches the "
        "boundary (strict: staying inside; never into a no-fly zone)"},
+      {"objective",
+       T::String,
+       "uavcover",
+       {},
+       {},
+       {"uavcover", "paper"},
+       "what the grid placement maximises: \"uavcover\", the paper's J plus a swept-footprint coverage "
+       "estimate minus a path-length term; \"paper\", the paper's J = a J1 + b J2 - c J3 alone (eq. 7)"},
+      {"j_weight_a",
+       T::Number,
+       grid::Weights{}.a,
+       0.0,
+       1.0,
+       {},
+       "weight a of J1 (nodes in the area, eq. 8) in the paper's J = a J1 + b J2 - c J3"},
+      {"j_weight_b",
+       T::Number,
+       grid::Weights{}.b,
+       0.0,
+       1.0,
+       {},
+       "weight b of J2 (area over the grid-snapped bounding box, eq. 9) in J"},
+      {"j_weight_c",
+       T::Number,
+       grid::Weights{}.c,
+       0.0,
+       1.0,
+       {},
+       "weight c of the penalty J3 (unequal margins, eq. 10) in J"},
   };
   info.supports = {.shares = true,
                    .no_fly_zones = true,

@@ -119,6 +119,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   popt.optimise = options.optimise_placement;
   popt.seed = input.seed;
   popt.stop_early = stop_early;
+  popt.on_evaluation = options.on_placement_evaluation;
   if (input.mode == Mode::Coverage) {
     // coverage mode: the path may leave the area, so reward coverage first, and weigh the length a little.
     // With shifted legs (LegExtender::shift) coverage weight 25 gave 99.45 % PoC, 81.1 turns, 25.95 km on
@@ -134,6 +135,17 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     // olive grove 8 points of PoC (0.943 -> 0.865, Reassign.HelpersCoverTheRemainder...): the shorter grids
     // leave more of a small irregular area's edge unflown.
     popt.weights.length_weight = 3.6;
+  }
+  popt.weights.a = options.j_weight_a;
+  popt.weights.b = options.j_weight_b;
+  popt.weights.c = options.j_weight_c;
+  if (options.paper_objective) {
+    // the paper's J alone (eq. 7 and the authors' disconnected penalty): no coverage estimate, no length
+    // term, and the search's best is kept (re-ranking by the finer estimate would add nothing to J)
+    popt.weights.coverage_weight = 0.0;
+    popt.weights.length_weight = 0.0;
+    popt.rerank = 1;
+    prep.estimate_coverage = false;
   }
   grid::PlacementResult pr =
       grid::optimise_placement(prep, popt, [&](double f) { ctx.report("placement", f); });

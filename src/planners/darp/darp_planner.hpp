@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,17 @@ struct Options {
   bool optimise_placement = true;
   bool extend_legs = true;  ///< lengthen U-turns at the region's edge toward the boundary (extend.hpp)
   bool shift_legs = true;   ///< move legs along the region's outer edge outward (LegExtender::shift)
+  /// The placement objective (planner_params.objective): false ("uavcover") maximises J plus the
+  /// coverage estimate minus the length term (grid::Weights); true ("paper") maximises the paper's J
+  /// alone (eq. 7, with the authors' disconnected-grid penalty): coverage_weight = length_weight = 0,
+  /// and the search's best is kept without the coverage re-ranking.
+  bool paper_objective = false;
+  /// The weights a, b, c of J = a J1 + b J2 - c J3 (planner_params.j_weight_a, _b, _c), both objectives.
+  double j_weight_a = grid::Weights{}.a;
+  double j_weight_b = grid::Weights{}.b;
+  double j_weight_c = grid::Weights{}.c;
+  /// Every placement the search evaluates (grid::PlacementOptions::on_evaluation); empty: none.
+  std::function<void(double, double, double, const grid::Score&)> on_placement_evaluation;
 };
 
 struct Input {
@@ -71,13 +83,13 @@ struct Output {
 ///
 /// Output::grid: mega-cell (r, c) has its lower-left corner at
 ///   origin + R(rotation_deg) * (c * cell_m, r * cell_m)   (local ENU metres, R = rotation CCW),
-/// owner is row-major. Output::placement holds the paper's J = 0.68 J1 + 0.32 J2 - 0.25 J3 (-0.5 when
-/// the free grid has more components than the free space) of the chosen placement; the search
-/// itself maximises J plus a swept-footprint coverage estimate minus a path-length term (see
-/// grid/grid.hpp, grid::Weights). Warnings: starts outside the free grid, DARP not meeting the
-/// share tolerance (2 % of each UAV's own share, at least one cell; converged = false, best connected
-/// division used), UAVs
-/// without cells, shares that a split free space cannot honour.
+/// owner is row-major. Output::placement holds the paper's J = a J1 + b J2 - c J3 (by default 0.68,
+/// 0.32, 0.25; -0.5 when the free grid has more components than the free space) of the chosen placement;
+/// the search itself maximises J plus a swept-footprint coverage estimate minus a path-length term (see
+/// grid/grid.hpp, grid::Weights), or J alone with Options::paper_objective. Warnings: starts outside
+/// the free grid, DARP not meeting the share tolerance (2 % of each UAV's own share, at least one cell;
+/// converged = false, best connected division used), UAVs without cells, shares that a split free
+/// space cannot honour.
 /// Progress goes to ctx; a stop request throws Cancelled; when the time is up the placement search
 /// and the division end early with their best result so far (stopped_early).
 Output run(const Input& input, const Options& options, const Context& ctx);

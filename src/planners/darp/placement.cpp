@@ -37,6 +37,7 @@ PlacementResult optimise_placement(const Prepared& prep, const PlacementOptions&
       if (!stopped && opt.stop_early && opt.stop_early()) stopped = true, budget = evals;
     }
     Candidate c{sx, sy, th, score(prep, rasterize(prep, sx, sy, th), opt.weights)};
+    if (opt.on_evaluation) opt.on_evaluation(sx, sy, th, c.s);
     return c;
   };
   // better: higher J, then more free cells, then the earlier candidate (deterministic)

@@ -31,6 +31,9 @@ struct PlacementOptions {
   int rerank = 24;
   /// Polled between evaluations: true ends the search early with the best placement so far.
   std::function<bool()> stop_early;
+  /// Called with every placement the search evaluates (shift x, shift y, rotation, its score), in order;
+  /// lets a caller see the candidates the chosen one was picked from.
+  std::function<void(double, double, double, const Score&)> on_evaluation;
 };
 
 struct PlacementResult {
