@@ -5,19 +5,19 @@
 // both, the server's selected. Screenshot tiles-offline-1440x900.png in $UAVCOVER_WEB_ARTIFACTS.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, rmSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import * as h from './harness.mjs';
 
-let server, browser, tmp, meta;
+let server, browser, tmp, meta, file;
 const problems = [];
 const TILE = /\/tiles\/(\d+)\/(\d+)\/(\d+)$/;
 
 before(async () => {
   tmp = mkdtempSync(join(tmpdir(), 'uavcover-tiles-e2e-'));
-  const file = join(tmp, 'hill.mbtiles');
+  file = join(tmp, 'hill.mbtiles');
   execFileSync('python3', [join(h.repo, 'scripts/make-tiles'), join(h.repo, 'examples/hill-dem.tif'), file, '--hillshade', '--z-factor', '3', '--max-zoom', '17'], { stdio: 'pipe' });
   server = await h.startServer({ extraArgs: ['--tiles', file] });
   browser = await h.launchBrowser();
@@ -137,4 +137,40 @@ test('with online tiles too, a layer control offers both, the server\'s selected
   await settled(page);
   assert.ok((await drawnTiles(page)).length > 0);
   await page.context().close();
+});
+
+test('over HTTP: HEAD, bad coordinates, and the token like every other route', async () => {
+  const tokenFile = join(tmp, 'token');
+  const token = 'offline-tiles-token-0123456789';
+  writeFileSync(tokenFile, `${token}\n`);
+  const guarded = await h.startServer({ extraArgs: ['--tiles', file, '--token-file', tokenFile] });
+  try {
+    const z = meta.maxzoom, n = 2 ** z, lat = (40.6035 * Math.PI) / 180;
+    const x = Math.floor(((22.906 + 180) / 360) * n), y = Math.floor(((1 - Math.asinh(Math.tan(lat)) / Math.PI) / 2) * n);
+    const auth = { Authorization: `Bearer ${token}` };
+    const denied = await fetch(`${guarded.base}/tiles/${z}/${x}/${y}`);
+    assert.equal(denied.status, 401);
+    assert.equal((await denied.json()).error.field, 'authorization');
+    assert.equal((await fetch(`${guarded.base}/tiles/metadata.json`)).status, 401);
+    const got = await fetch(`${guarded.base}/tiles/${z}/${x}/${y}.png`, { headers: auth });
+    assert.equal(got.status, 200);
+    assert.equal(got.headers.get('content-type'), 'image/png');
+    assert.equal(got.headers.get('cache-control'), 'max-age=86400');
+    const bytes = Buffer.from(await got.arrayBuffer());
+    assert.deepEqual([...bytes.subarray(0, 4)], [0x89, 0x50, 0x4e, 0x47]);
+    const head = await fetch(`${guarded.base}/tiles/${z}/${x}/${y}`, { method: 'HEAD', headers: auth });
+    assert.equal(head.status, 200);
+    assert.equal(Number(head.headers.get('content-length')), bytes.length);
+    assert.equal((await head.arrayBuffer()).byteLength, 0);
+    for (const [path, field] of [[`/tiles/31/0/0`, 'z'], [`/tiles/${z}/${n}/0`, 'x'], [`/tiles/${z}/0/y`, 'y']]) {
+      const bad = await fetch(`${guarded.base}${path}`, { headers: auth });
+      assert.equal(bad.status, 400, path);
+      assert.equal((await bad.json()).error.field, field, path);
+    }
+    const absent = await fetch(`${guarded.base}/tiles/${z}/${x}/${n - 1 - y}`, { headers: auth });
+    assert.equal(absent.status, 404);
+    assert.ok((await absent.json()).error.message);
+  } finally {
+    await guarded.stop();
+  }
 });
