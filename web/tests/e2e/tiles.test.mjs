@@ -5,7 +5,7 @@
 // both, the server's selected. Screenshot tiles-offline-1440x900.png in $UAVCOVER_WEB_ARTIFACTS.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
@@ -136,6 +136,29 @@ test('with online tiles too, a layer control offers both, the server\'s selected
   await labels.nth(0).click();
   await settled(page);
   assert.ok((await drawnTiles(page)).length > 0);
+  await page.context().close();
+});
+
+test('the comparison\'s side-by-side maps draw the server\'s tiles too', async () => {
+  const olive = JSON.parse(readFileSync(join(h.repo, 'examples/olive-grove.json'), 'utf8'));
+  const m = await server.api('/missions', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ ...olive, name: 'tiles compare' }) });
+  const { page } = await open(`?tiles=off&mission=${m.id}#plan`);
+  await page.click('[data-testid=compare-section] > summary');
+  await page.waitForSelector('[data-testid=compare-planner][data-planner=darp]');
+  for (const cb of await page.locator('[data-testid=compare-planner]').all()) await cb.setChecked(['darp', 'boustrophedon'].includes(await cb.getAttribute('data-planner')));
+  await page.click('[data-testid=compare-start]');
+  await page.waitForSelector('[data-testid=compare-side-by-side]:not([disabled])', { timeout: 180000 });
+  await page.click('[data-testid=compare-side-by-side]');
+  await page.waitForFunction(
+    () => {
+      const maps = [...document.querySelectorAll('[data-testid=compare-maps] .plan-overlay-map')];
+      return maps.length === 2 && maps.every((el) => [...el.querySelectorAll('.offline-tiles img.leaflet-tile-loaded')].some((i) => i.naturalWidth > 0 && new URL(i.src).pathname.startsWith('/tiles/')));
+    },
+    null,
+    { timeout: 30000 },
+  );
+  await page.waitForTimeout(400);
+  await h.shot(page, 'tiles-offline-side-by-side');
   await page.context().close();
 });
 
