@@ -108,6 +108,11 @@ TEST_F(MbTilesTest, TheExampleDemsHillshadeHasItsMetadata) {
   EXPECT_GT(b[3], kDemLat);
   EXPECT_NEAR(b[2] - b[0], 1200.0 / (111320.0 * std::cos(kDemLat * M_PI / 180)), 0.002);
   EXPECT_NEAR(b[3] - b[1], 1200.0 / 111320.0, 0.002);
+  // scripts/make-tiles adds the centre: the middle of the bounds, two levels above the finest
+  ASSERT_TRUE(i.center.has_value());
+  EXPECT_NEAR((*i.center)[0], (b[0] + b[2]) / 2, 1e-6);
+  EXPECT_NEAR((*i.center)[1], (b[1] + b[3]) / 2, 1e-6);
+  EXPECT_EQ((*i.center)[2], kTilesMaxZoom - 2);
 }
 
 TEST_F(MbTilesTest, XyzRowsAreTheFilesTmsRowsFlipped) {

@@ -97,6 +97,9 @@ TEST_P(TilesApi, MetadataSaysWhereTheTilesAre) {
   EXPECT_GT(b[2], kDemLon);
   EXPECT_LT(b[1], kDemLat);
   EXPECT_GT(b[3], kDemLat);
+  const auto c = j.at("center").get<std::vector<double>>();
+  ASSERT_EQ(c.size(), 3U);
+  EXPECT_TRUE(b[0] < c[0] && c[0] < b[2] && b[1] < c[1] && c[1] < b[3]);
 }
 
 TEST_P(TilesApi, WithoutTilesTheMetadataSaysSoAndTilesAre404) {
