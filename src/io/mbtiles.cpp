@@ -183,6 +183,9 @@ std::shared_ptr<MbTiles> MbTiles::open(const std::filesystem::path& file, const 
   if (tile_media_type(format).empty())
     throw InputError(field, name + " holds tiles of format '" + format.substr(0, 40) +
                                 "', not a raster format (png, jpg or webp): vector tiles are not served");
+  // the bytes have the last word among the raster formats (GDAL 3.6 writes "png" for WebP tiles), so
+  // that Content-Type is right
+  if (const std::string bytes_say = sniff(first_tile); !bytes_say.empty()) format = bytes_say;
   info.format = format;
   info.media_type = tile_media_type(format);
   auto minzoom = meta.count("minzoom") ? integer(meta["minzoom"]) : std::nullopt;

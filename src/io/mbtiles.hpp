@@ -38,7 +38,8 @@ class MbTiles {
  public:
   /// Opens `file` read-only and checks it: an SQLite database with the tables metadata(name, value)
   /// and tiles(zoom_level, tile_column, tile_row, tile_data), a raster format (metadata "format" png,
-  /// jpg or webp; without it, the first tile's bytes tell), zoom levels in 0..30. InputError naming
+  /// jpg or webp; the first tile's bytes tell when they are one of these, as GDAL 3.6 writes "png" for
+  /// WebP tiles), zoom levels in 0..30. InputError naming
   /// `field` otherwise. At most `max_connections` (at least 1) readers run at once; more wait.
   static std::shared_ptr<MbTiles> open(const std::filesystem::path& file,
                                        const std::string& field = "--tiles", std::size_t max_connections = 4);

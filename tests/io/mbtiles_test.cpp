@@ -222,6 +222,19 @@ TEST(MbTiles, MalformedFilesAreRefusedNamingTiles) {
   EXPECT_NE(refusal(d / "zoom.mbtiles").find("zoom levels"), std::string::npos);
 }
 
+TEST(MbTiles, TheTilesBytesOverruleAWrongRasterFormat) {
+  TempDir dir("mbtiles_wrong_format");
+  const auto file = dir.path / "webp.mbtiles";
+  make_db(file,
+          "CREATE TABLE metadata (name TEXT, value TEXT);"
+          "CREATE TABLE tiles (zoom_level INTEGER, tile_column INTEGER, tile_row INTEGER, tile_data BLOB);"
+          "INSERT INTO metadata VALUES ('format', 'png');"  // as GDAL 3.6 writes it for WebP tiles
+          "INSERT INTO tiles VALUES (1, 0, 0, X'52494646000000005745425056503820');");
+  const auto tiles = io::MbTiles::open(file);
+  EXPECT_EQ(tiles->info().format, "webp");
+  EXPECT_EQ(tiles->info().media_type, "image/webp");
+}
+
 TEST(MbTiles, WithoutFormatOrZoomMetadataTheTilesTell) {
   TempDir dir("mbtiles_sniff");
   const auto file = dir.path / "sniff.mbtiles";
