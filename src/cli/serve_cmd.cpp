@@ -26,6 +26,7 @@ struct ServeArgs {
   std::optional<std::string> token_file;
   std::optional<std::string> static_dir;
   std::optional<std::string> seed_dir;
+  std::optional<std::string> tiles;
   std::optional<std::string> cors_origin;
   std::vector<std::string> allowed_hosts;
   std::size_t max_body = std::size_t{10} << 20;
@@ -98,6 +99,7 @@ void run_serve(const ServeArgs& a) {
   opt.db_url = a.db;
   opt.workers = a.workers;
   if (a.seed_dir) opt.seed_dir = std::filesystem::path(*a.seed_dir);
+  if (a.tiles) opt.tiles = std::filesystem::path(*a.tiles);
   opt.max_queued = a.max_queued;
   opt.lease_ms = a.lease_ms;
   opt.keep_plans = a.keep_plans;
@@ -120,6 +122,10 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
                   "File holding the bearer token (at least 16 characters) every request must carry");
   cmd->add_option("--static", args->static_dir, "Serve the web app: the files in this folder, read at start");
   cmd->add_option("--seed-dir", args->seed_dir, "Mission files stored when the database is first created");
+  cmd->add_option(
+      "--tiles", args->tiles,
+      "Serve the map's tiles from this raster MBTiles file (png, jpg, webp) at /tiles/{z}/{x}/{y}; "
+      "the web app then needs no internet for its map (scripts/make-tiles; docs/offline-maps.md)");
   cmd->add_option("--cors-origin", args->cors_origin,
                   "Allow browser requests from this origin (CORS); other foreign origins get 403");
   cmd->add_option("--allowed-host", args->allowed_hosts,

@@ -92,6 +92,7 @@ void add_api_routes(Router& router, ApiContext& ctx) {
   detail::add_job_routes(router, ctx);
   detail::add_catalog_routes(router, ctx);
   detail::add_flight_routes(router, ctx);
+  detail::add_tile_routes(router, ctx);
   router.add("GET", detail::kApi + "/planners", guarded([](const Request&) {
                nlohmann::json items = nlohmann::json::array();
                for (const auto& p : available_planners())

@@ -25,6 +25,11 @@ struct ApiConfig {
 
 class FlightManager;
 class ExportService;
+}  // namespace uavcover::server
+namespace uavcover::io {
+class MbTiles;
+}  // namespace uavcover::io
+namespace uavcover::server {
 
 struct ApiContext {
   store::Store& store;
@@ -32,10 +37,14 @@ struct ApiContext {
   FlightManager* flights;  ///< the live flights (src/server/flights.hpp); null: the flight routes answer 503
   /// Exports made on demand (src/server/exports.hpp); null: the export routes answer 503.
   ExportService* exports = nullptr;
+  /// The map tiles of `uavcover serve --tiles FILE.mbtiles` (src/io/mbtiles.hpp); null: /tiles/metadata.json
+  /// says none are available and /tiles/{z}/{x}/{y} answers 404.
+  const io::MbTiles* tiles = nullptr;
 };
 
-/// Registers every /api/v1 route of docs/api.md on `router`. Handlers answer every error as the JSON
-/// error body themselves (HttpError, store errors, InputError); `ctx` must outlive the router.
+/// Registers every /api/v1 route of docs/api.md and the /tiles routes on `router`. Handlers answer every
+/// error as the JSON error body themselves (HttpError, store errors, InputError); `ctx` must outlive the
+/// router.
 void add_api_routes(Router& router, ApiContext& ctx);
 
 /// A submitted mission document made ready to store: catalog references resolved through the store's

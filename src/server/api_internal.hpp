@@ -31,5 +31,7 @@ void add_mission_routes(Router& router, ApiContext& ctx);
 void add_job_routes(Router& router, ApiContext& ctx);
 void add_catalog_routes(Router& router, ApiContext& ctx);
 void add_flight_routes(Router& router, ApiContext& ctx);
+/// GET /tiles/metadata.json and /tiles/{z}/{x}/{y} (docs/offline-maps.md), from ctx.tiles.
+void add_tile_routes(Router& router, ApiContext& ctx);
 
 }  // namespace uavcover::server::detail

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "io/folder.hpp"
+#include "io/mbtiles.hpp"
 #include "io/plan_io.hpp"
 #include "json/strict.hpp"
 #include "server/api.hpp"
@@ -69,6 +70,14 @@ void seed_missions(store::Store& store, const std::filesystem::path& dir) {
 }  // namespace
 
 void serve(const ServeOptions& options) {
+  // the tiles first: a file that is not a raster MBTiles stops the start (InputError naming --tiles)
+  std::shared_ptr<io::MbTiles> tiles;
+  if (options.tiles) {
+    tiles = io::MbTiles::open(*options.tiles, "--tiles",
+                              static_cast<std::size_t>(std::max(1, options.http.handler_threads)));
+    const auto& i = tiles->info();
+    spdlog::info("map tiles: {} ({}, zoom {}..{})", options.tiles->string(), i.format, i.minzoom, i.maxzoom);
+  }
   std::unique_ptr<store::Store> store;
   try {
     store = store::open_store(options.db_url);
@@ -100,7 +109,7 @@ void serve(const ServeOptions& options) {
   ec.threads = options.export_threads;
   ec.cache_cap_bytes = options.export_cache_bytes;
   ExportService exports(*store, ec);
-  ApiContext ctx{*store, ApiConfig{}, &flights, &exports};
+  ApiContext ctx{*store, ApiConfig{}, &flights, &exports, tiles.get()};
   ctx.config.max_queued = options.max_queued;
   ctx.config.max_body_bytes = options.http.max_body;
   ctx.config.planner_threads = options.workers > 0

@@ -21,6 +21,8 @@ struct ServeOptions {
   int keep_plans = 0;    ///< retention: each mission's newest N done plans are kept (0: all)
   std::int64_t export_cache_bytes = std::int64_t{128} << 20;  ///< the export cache's size cap
   int export_threads = 2;                                     ///< the pool that makes exports
+  /// `--tiles FILE.mbtiles`: raster map tiles served at /tiles/{z}/{x}/{y} (docs/offline-maps.md)
+  std::optional<std::filesystem::path> tiles;
 };
 
 /// Blocks until the server is stopped. Throws InputError / OperationError.

@@ -4,7 +4,7 @@ import L from 'leaflet';
 import { api, API, ApiError } from './api.ts';
 import type { Job } from './events.ts';
 import { el, errorText, JobView } from './job-ui.ts';
-import { tileUrl } from './map.ts';
+import { baseTileLayer } from './map.ts';
 import { drawPlan } from './plan-layers.ts';
 import { dropPlan, loadPlan, type PreparedPlan } from './plan-source.ts';
 
@@ -113,7 +113,6 @@ function sideBySide(plans: { planner: string; prepared: PreparedPlan }[]): void 
   overlay.append(bar, grid);
   document.body.append(overlay);
   const maps: L.Map[] = [];
-  const url = tileUrl(window.location.search);
   let bounds: L.LatLngBounds | null = null;
   const cells: HTMLElement[] = [];
   for (const p of plans) {
@@ -131,7 +130,7 @@ function sideBySide(plans: { planner: string; prepared: PreparedPlan }[]): void 
   const size = cells.reduce((s, c) => L.point(Math.min(s.x, c.clientWidth), Math.min(s.y, c.clientHeight)), L.point(Infinity, Infinity));
   for (const [i, p] of plans.entries()) {
     const m = L.map(cells[i], { preferCanvas: true, zoomSnap: 0.25, zoomAnimation: false, fadeAnimation: false, markerZoomAnimation: false, inertia: false });
-    if (url) L.tileLayer(url, { maxZoom: 20, attribution: '&copy; OpenStreetMap contributors' }).addTo(m);
+    baseTileLayer()?.addTo(m);
     L.control.scale({ imperial: false }).addTo(m);
     if (bounds) {
       // the largest zoom at which the union of the plans fits the smallest map, with a margin
