@@ -152,7 +152,8 @@ void check(const Request& req, const Response& res) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  spdlog::set_level(spdlog::level::off);
+  // FUZZ_API_VERBOSE: the server's own log too (what an unhandled exception was)
+  spdlog::set_level(std::getenv("FUZZ_API_VERBOSE") != nullptr ? spdlog::level::info : spdlog::level::off);
   return 0;
 }
 
