@@ -72,10 +72,10 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
                   "Plan folder written by `uavcover plan` (plan.json, paths.geojson)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--format,-f", args->formats,
-                  "Formats, comma-separated: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
+  cmd->add_option("--format,-f", args->formats, "Formats, comma-separated: " + exporting::format_list())
       ->required()
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(export_format());
   cmd->add_option("--out,-o", args->out,
                   "Output folder (default: PLAN_DIR); files go to OUT/export/ and OUT/trajectory/")
       ->check(output_folder());
@@ -112,9 +112,9 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       ->capture_default_str()
       ->check(integer_in(0, 255));
   cmd->add_flag("--kmz", args->opt.kmz, "Also write <id>.kmz next to each <id>.kml");
-  cmd->add_flag("--per-sortie", args->opt.per_sortie,
-                "One file per battery sortie for qgc, wpl, kml, dji, litchi, csv: <id>.s<k>.<ext> "
-                "(docs/sorties.md)");
+  cmd->add_flag(
+      "--per-sortie", args->opt.per_sortie,
+      "One file per battery sortie for " + per_sortie_format_list() + ": <id>.s<k>.<ext> (docs/sorties.md)");
   cmd->add_option("--dji-drone", args->opt.dji_drone_enum, "DJI WPML droneEnumValue (77 Mavic 3 Enterprise)")
       ->capture_default_str()
       ->check(integer_in(0, 100'000));
@@ -142,7 +142,7 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       ->capture_default_str()
       ->check(number_in(0, 1'000));
   cmd->footer(
-      "Outputs (one file per UAV, named by its id):\n"
+      std::string("Outputs (one file per UAV, named by its id):\n") +
       "  OUT/export/<id>.geojson     RFC 7946 FeatureCollection (area, no-fly zones, the UAV's path)\n"
       "  OUT/export/<id>.plan        QGroundControl plan (takeoff 22, waypoints 16 frame 3, speed 178,\n"
       "                              camera trigger 206, RTL 20 / land 21, geofence)\n"
@@ -155,7 +155,9 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       "                              one row per breakpoint (accelerate, cruise, decelerate, arc, end);\n"
       "                              with --trajectory-step S: t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az every S s\n"
       "With --per-sortie, <id>.s1.<ext>, <id>.s2.<ext>, ... (one whole mission per battery sortie) replace\n"
-      "<id>.<ext> for qgc, wpl, kml, dji, litchi and csv.\n"
+      "<id>.<ext> for " +
+      per_sortie_format_list() +
+      ".\n"
       "Each UAV climbs to its own transition altitude (base + index * step) for transit legs and covers\n"
       "at the mission altitude (Hong et al. 2021 §2.3), under --transition-ceiling.\n"
       "UAVs without coverage parts are skipped with a warning; values beyond a consumer's limits are\n"

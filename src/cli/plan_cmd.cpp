@@ -112,12 +112,14 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
   cmd->add_option("--max-cells", args->max_cells, "Refuse missions whose grid needs more cells than this")
       ->capture_default_str()
       ->check(integer_in<std::size_t>(1, kMaxCellsLimit));
-  cmd->add_option("--export", args->exports,
-                  "Also export these formats: geojson, qgc, wpl, kml, dji, litchi, csv, trajectory")
+  cmd->add_option(
+         "--export", args->exports,
+         "Also export these formats, comma-separated: " + exporting::format_list() + " (docs/exports.md)")
       ->delimiter(',')
-      ->check(CLI::IsMember(exporting::known_formats()));
+      ->check(export_format());
   cmd->add_flag("--per-sortie", args->per_sortie,
-                "With --export: one file per battery sortie, export/<id>.s<k>.<ext> (docs/sorties.md)");
+                "With --export: one file per battery sortie for " + per_sortie_format_list() +
+                    ", export/<id>.s<k>.<ext> (docs/sorties.md)");
   cmd->add_option("--trajectory-step", args->trajectory_step_s,
                   "With --export trajectory: sample trajectory/<id>.csv every this many seconds (t,x,y,z,lat,"
                   "lon,vx,vy,vz,ax,ay,az); without it the file is the segment form, one row per breakpoint "

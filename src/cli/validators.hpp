@@ -18,6 +18,9 @@
 #include <string>
 #include <string_view>
 
+#include "export/formats.hpp"
+#include "uavcover/error.hpp"
+
 namespace uavcover::cli {
 
 namespace detail {
@@ -103,6 +106,30 @@ inline std::string output_folder_problem(const std::string& out) {
 /// An output folder (see output_folder_problem), checked before any work is done.
 inline CLI::Validator output_folder() {
   return CLI::Validator([](std::string& s) { return output_folder_problem(s); }, "DIR", "output_folder");
+}
+
+/// One entry of --format / --export: a format of the export table (exporting::formats(); any case),
+/// refused with the table's names ("unknown format \"gpx\" (known: geojson, qgc, ...)").
+inline CLI::Validator export_format() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        try {
+          (void)exporting::parse_formats({s});
+          return "";
+        } catch (const InputError& e) {
+          const std::string what = e.what();
+          return e.field().empty() ? what : what.substr(e.field().size() + 2);
+        }
+      },
+      "{" + exporting::format_list() + "}", "export_format");
+}
+
+/// "qgc, wpl, ..." : the formats that ExportOptions::per_sortie splits (Format::per_sortie).
+inline std::string per_sortie_format_list() {
+  std::string list;
+  for (const auto& f : exporting::formats())
+    if (f.per_sortie) list += (list.empty() ? "" : ", ") + std::string(f.name);
+  return list;
 }
 
 }  // namespace uavcover::cli

@@ -4,10 +4,12 @@
 
 #include <chrono>
 
+#include "export/formats.hpp"
 #include "json/strict.hpp"
 #include "server/api_internal.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover::server {
 
@@ -98,6 +100,11 @@ void add_api_routes(Router& router, ApiContext& ctx) {
                for (const auto& p : available_planners())
                  items.push_back({{"name", p.name}, {"summary", p.summary}, {"schema", p.schema}});
                return Response::json(200, {{"items", items}});
+             }));
+  // the export format table (export/formats.hpp) and the server's export routes made from it
+  router.add("GET", detail::kApi + "/formats", guarded([](const Request&) {
+               return Response::json(
+                   200, {{"items", exporting::formats_json()}, {"routes", usecases::export_routes_json()}});
              }));
   router.add("GET", detail::kApi + "/openapi.json", guarded([](const Request&) {
                Response r;

@@ -33,8 +33,6 @@ namespace {
 const std::array<std::string, 5> kImages{"plan.png", "plan.svg", "heatmap.png", "heatmap-overlay.png",
                                          "histogram.png"};
 const std::array<std::string, 3> kPlanFiles{"plan.json", "paths.geojson", "evaluation.json"};
-const std::array<std::string, 9> kExportFormats{"qgc",    "wpl", "kml",     "kmz",       "dji",
-                                                "litchi", "csv", "geojson", "trajectory"};
 const std::array<std::string, 2> kStudyFiles{"study.json", "study.png"};
 const std::array<std::string, 3> kCompareFiles{"compare.json", "compare.md", "compare.png"};
 
@@ -68,7 +66,8 @@ nlohmann::json artifact_url(const store::Job& job, const std::string& name,
     case store::JobKind::Plan:
       if (contains(kPlanFiles, name)) return base + "/" + name;
       if (contains(kImages, name)) return base + "/images/" + name;
-      for (const auto& format : kExportFormats) {
+      for (const auto& route : usecases::export_routes()) {
+        const std::string& format = route.name;
         if (usecases::export_artifact_name(names, format, "") == name) return base + "/exports/" + format;
         for (const auto& uav : uavs)
           if (usecases::export_artifact_name(names, format, uav) == name)
@@ -130,10 +129,10 @@ std::string join(const std::vector<std::string>& v) {
 Response export_response(ApiContext& ctx, const Request& req) {
   const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
   const std::string format = req.params.at("format");
-  if (!contains(kExportFormats, format))
+  if (usecases::find_export_route(format) == nullptr)
     throw HttpError(404, "format",
-                    "unknown export format \"" + format.substr(0, 40) +
-                        "\"; expected one of qgc, wpl, kml, kmz, dji, litchi, csv, geojson, trajectory");
+                    "unknown export format \"" + format.substr(0, 40) + "\"; expected one of " +
+                        usecases::export_route_list());
   if (job.state != store::JobState::Done)
     throw HttpError(409, "state",
                     "the job is " + store::to_string(job.state) + "; its artifacts exist once it is done");

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <tuple>
@@ -273,18 +272,13 @@ JobResult run_job(JobType type, const Mission& mission, const json& params, cons
 
 std::optional<std::string> export_artifact_name(const std::vector<std::string>& names,
                                                 const std::string& format, const std::string& uav) {
-  // the file of each format, in order of preference (Litchi: the zip of all parts when split)
-  static const std::map<std::string, std::vector<std::string>> patterns{
-      {"qgc", {"export/{}.plan"}},          {"wpl", {"export/{}.waypoints"}},
-      {"kml", {"export/{}.kml"}},           {"kmz", {"export/{}.kmz"}},
-      {"dji", {"export/{}.wpml.kmz"}},      {"litchi", {"export/{}.litchi.zip", "export/{}.litchi.csv"}},
-      {"csv", {"export/{}.csv"}},           {"geojson", {"export/{}.geojson"}},
-      {"trajectory", {"trajectory/{}.csv"}}};
-  const auto it = patterns.find(format);
-  if (it == patterns.end()) return std::nullopt;
+  // the file of each route, in order of preference (Litchi: the zip of all parts when split)
+  const ExportRoute* route = find_export_route(format);
+  if (route == nullptr) return std::nullopt;
+  const std::vector<std::string>& patterns = route->files;
   auto has = [&](const std::string& n) { return std::find(names.begin(), names.end(), n) != names.end(); };
   if (!uav.empty()) {
-    for (const auto& pattern : it->second) {
+    for (const auto& pattern : patterns) {
       const std::string n = fmt::format(fmt::runtime(pattern), uav);
       if (has(n)) return n;
     }
@@ -292,7 +286,7 @@ std::optional<std::string> export_artifact_name(const std::vector<std::string>& 
   }
   // no UAV named: the one UAV's file, when exactly one UAV has one
   std::optional<std::string> found;
-  for (const auto& pattern : it->second) {
+  for (const auto& pattern : patterns) {
     const auto brace = pattern.find("{}");
     const std::string prefix = pattern.substr(0, brace), suffix = pattern.substr(brace + 2);
     for (const auto& n : names) {

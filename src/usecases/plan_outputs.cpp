@@ -7,6 +7,7 @@
 
 #include "engine/test_hold.hpp"
 #include "export/export.hpp"
+#include "export/formats.hpp"
 #include "export/zip.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
@@ -217,7 +218,51 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
   return out;
 }
 
-std::string export_source_format(const std::string& format) { return format == "kmz" ? "kml" : format; }
+const std::vector<ExportRoute>& export_routes() {
+  static const std::vector<ExportRoute> routes = [] {
+    std::vector<ExportRoute> r;
+    for (const exporting::Format& f : exporting::formats()) {
+      ExportRoute route{std::string(f.name), std::string(f.name), std::string(f.title), {}};
+      if (f.name == "trajectory") {
+        route.files = {"trajectory/{}" + std::string(f.extension)};  // its writer names its own file
+      } else if (f.name == "litchi") {
+        // a mission split in parts is served as the zip of them all (build_export)
+        route.files = {"export/{}.litchi.zip", "export/{}" + std::string(f.extension)};
+      } else {
+        route.files = {"export/{}" + std::string(f.extension)};
+      }
+      r.push_back(std::move(route));
+      // a plan job builds "kml" with ExportOptions::kmz: each .kml comes with its .kmz
+      if (f.name == "kml") r.push_back({"kmz", std::string(f.name), "KMZ (zipped KML)", {"export/{}.kmz"}});
+    }
+    return r;
+  }();
+  return routes;
+}
+
+const ExportRoute* find_export_route(std::string_view name) {
+  for (const ExportRoute& r : export_routes())
+    if (r.name == name) return &r;
+  return nullptr;
+}
+
+std::string export_route_list() {
+  std::vector<std::string> names;
+  for (const ExportRoute& r : export_routes()) names.push_back(r.name);
+  return joined(names);
+}
+
+nlohmann::json export_routes_json() {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ExportRoute& r : export_routes())
+    out.push_back({{"name", r.name}, {"format", r.format}, {"title", r.title}});
+  return out;
+}
+
+std::string export_source_format(const std::string& format) {
+  const ExportRoute* route = find_export_route(format);
+  return route == nullptr ? format : route->format;
+}
 
 BuiltExport build_export(const std::string& plan_json_text, const std::string& paths_geojson_text,
                          const std::string& format, double trajectory_step_s, const Context& ctx) {

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "evaluation/evaluate.hpp"
@@ -68,8 +69,29 @@ struct BuiltExport {
   std::string refused_field, refused;
 };
 
+/// One route of GET /plans/{id}/exports/{format}: a format of the table (exporting::formats()), or "kmz",
+/// the .kmz a plan job's build of "kml" makes next to each .kml.
+struct ExportRoute {
+  std::string name;    ///< the route's {format}: "qgc", ..., "kmz"
+  std::string format;  ///< the table's format whose build makes its files: "kml" for "kmz", else `name`
+  std::string title;   ///< for people (the table's title): the web app's button
+  /// The artifact names of the route's file for UAV "{}", in order of preference: "export/{}.plan";
+  /// Litchi's zip of a split mission before its single CSV; the trajectory's "trajectory/{}.csv".
+  std::vector<std::string> files;
+};
+
+/// The server's export routes, from the table and in its order, with "kmz" right after "kml". Every
+/// list of them (the router's error text, GET /api/v1/formats, the OpenAPI enum's test) is this one.
+const std::vector<ExportRoute>& export_routes();
+/// The route of that name, or nullptr.
+const ExportRoute* find_export_route(std::string_view name);
+/// "geojson, qgc, ..., kml, kmz, ..." for error texts.
+std::string export_route_list();
+/// [{"name", "format", "title"}, ...] for GET /api/v1/formats.
+nlohmann::json export_routes_json();
+
 /// The export format that makes the API format `format` of GET /plans/{id}/exports/{format}: "kml" for
-/// "kmz" (a .kmz comes with each .kml), else `format` itself.
+/// "kmz" (a .kmz comes with each .kml), else `format` itself (ExportRoute::format).
 std::string export_source_format(const std::string& format);
 
 /// Makes export format `format` (one of exporting::known_formats()) of the plan stored as plan.json and

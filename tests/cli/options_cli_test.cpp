@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include "cli/cli_support.hpp"
+#include "export/formats.hpp"
 
 using namespace uavcover::testing;
 using nlohmann::json;
@@ -105,6 +106,45 @@ TEST(OptionsCli, ExportAndUploadOptionsAreRanged) {
     expect_refused(run_cli(up + c.option + " " + c.value), c.option);
   }
   EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  fs::remove_all(dir);
+}
+
+// --format (export) and --export (plan) take the formats of the one table (export/formats.hpp): the
+// help lists them, any of them is accepted while the command line is read, anything else is exit 2
+// naming the option with the table's names, before any work.
+TEST(OptionsCli, FormatChoicesAreTheExportTable) {
+  namespace ex = uavcover::exporting;
+  const auto dir = temp_dir("formats");  // exists, so PLAN_DIR's own check passes
+  const std::string known = "(known: " + ex::format_list() + ")";
+  for (const std::string& cmd :
+       {"export " + q(dir) + " --format",
+        "plan " + example("olive-grove.json").string() + " --out " + q(dir / "out") + " --export"}) {
+    SCOPED_TRACE(cmd);
+    const std::string option = cmd.substr(cmd.rfind(' ') + 1);
+    for (const char* bad : {"gpx", "qgc,gpx", "'QGC, gpx'", "kmz", "''"}) {
+      SCOPED_TRACE(bad);
+      const auto r = run_cli(cmd + " " + bad);
+      expect_refused(r, option);
+      if (std::string(bad) != "''") {
+        EXPECT_NE(r.output.find(known), std::string::npos) << r.output;
+      }
+    }
+    // the help names every format of the table
+    const auto help = run_cli(cmd.substr(0, cmd.find(' ')) + " --help");
+    EXPECT_EQ(help.exit_code, 0) << help.output;
+    EXPECT_NE(help.output.find(ex::format_list()), std::string::npos) << help.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  // every format of the table gets past the option's check (export: then the empty folder is refused,
+  // as a plan folder, not as a format)
+  for (const auto& f : ex::formats()) {
+    const auto r = run_cli("export " + q(dir) + " --format " + std::string(f.name));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output.find("--format: "), std::string::npos) << f.name << ": " << r.output;
+  }
+  // names are read as the library reads them: any case, blanks around
+  const auto r = run_cli("export " + q(dir) + " --format ' QGC,Kml'");
+  EXPECT_EQ(r.output.find("--format: "), std::string::npos) << r.output;
   fs::remove_all(dir);
 }
 

@@ -2,6 +2,7 @@
 // creation, and the error codes with their JSON bodies naming the field.
 #include <regex>
 
+#include "export/formats.hpp"
 #include "server/api_fixture.hpp"
 #include "uavcover/mission.hpp"
 
@@ -511,6 +512,56 @@ TEST_P(ApiTest, PlannersAreListed) {
     EXPECT_TRUE(p.at("schema").is_object());
   }
   EXPECT_NE(std::find(names.begin(), names.end(), "darp"), names.end());
+}
+
+TEST_P(ApiTest, FormatsAreTheExportTableAndTheRoutesMadeFromIt) {
+  const Answer a = call("GET", "/api/v1/formats");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.content_type, "application/json");
+  const json listed = a.json();
+  // items: the table itself, row by row
+  ASSERT_EQ(listed.at("items"), exporting::formats_json());
+  std::vector<std::string> names;
+  for (const auto& f : listed.at("items")) {
+    names.push_back(f.at("name"));
+    for (const char* key : {"title", "extension", "media_type", "consumers", "limits"})
+      EXPECT_FALSE(f.at(key).get<std::string>().empty()) << f.at("name") << " " << key;
+    EXPECT_TRUE(f.at("per_sortie").is_boolean());
+  }
+  EXPECT_EQ(names, exporting::known_formats());
+  // routes: every format of the table, in its order, and kmz (made by kml) right after kml
+  std::vector<std::string> routes, expected;
+  for (const auto& r : listed.at("routes")) {
+    routes.push_back(r.at("name"));
+    EXPECT_NE(exporting::find_format(r.at("format").get<std::string>()), nullptr) << r;
+    EXPECT_FALSE(r.at("title").get<std::string>().empty()) << r;
+    if (r.at("name") != "kmz") {
+      EXPECT_EQ(r.at("format"), r.at("name"));
+      EXPECT_EQ(r.at("title"), exporting::find_format(r.at("name").get<std::string>())->title);
+    } else {
+      EXPECT_EQ(r.at("format"), "kml");
+    }
+  }
+  for (const auto& n : names) {
+    expected.push_back(n);
+    if (n == "kml") expected.push_back("kmz");
+  }
+  EXPECT_EQ(routes, expected);
+
+  // an unknown export route is 404 naming the field, its text lists exactly these routes
+  const auto id = create_mission(olive_grove());
+  const auto plan = call("POST", "/api/v1/missions/" + std::to_string(id) + "/plans").json().at("id");
+  const Answer bad = call("GET", "/api/v1/plans/" + std::to_string(plan.get<long long>()) + "/exports/gpx");
+  EXPECT_EQ(bad.status, 404) << bad.body;
+  EXPECT_EQ(bad.error_field(), "format");
+  std::string list;
+  for (const auto& r : routes) list += (list.empty() ? "" : ", ") + r;
+  EXPECT_EQ(bad.json().at("error").at("message"), "unknown export format \"gpx\"; expected one of " + list);
+  // a route of the list is known (the plan is queued: 409, not 404)
+  for (const auto& r : routes)
+    EXPECT_EQ(call("GET", "/api/v1/plans/" + std::to_string(plan.get<long long>()) + "/exports/" + r).status,
+              409)
+        << r;
 }
 
 TEST_P(ApiTest, ValidateGivesTheLibrarysDerivedValuesWithoutStoring) {

@@ -1,8 +1,10 @@
 // The embedded OpenAPI document parses, is OpenAPI 3.0.3 and describes exactly the routes registered.
+#include <algorithm>
 #include <set>
 
 #include "json/strict.hpp"
 #include "server/api_fixture.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover::server::testing {
 namespace {
@@ -62,6 +64,25 @@ TEST_P(ApiTest, OpenApiDocumentDescribesEveryRoute) {
       for (const auto& v : *node) stack.push_back(&v);
     }
   }
+}
+
+// The enum of GET /plans/{id}/exports/{format} is the server's export routes, made from the format table:
+// a format added to the table (or a route) and not to src/server/openapi.json fails here.
+TEST_P(ApiTest, OpenApiExportEnumIsTheExportRoutes) {
+  const nlohmann::json doc = strict::parse_json(call("GET", "/api/v1/openapi.json").body, "openapi.json");
+  const auto& params = doc.at("paths").at("/api/v1/plans/{id}/exports/{format}").at("parameters");
+  const auto it =
+      std::find_if(params.begin(), params.end(), [](const auto& p) { return p.at("name") == "format"; });
+  ASSERT_NE(it, params.end());
+  std::vector<std::string> documented, served;
+  for (const auto& name : it->at("schema").at("enum")) documented.push_back(name);
+  for (const auto& route : usecases::export_routes()) served.push_back(route.name);
+  EXPECT_EQ(documented, served);
+  // and GET /api/v1/formats gives the same routes
+  std::vector<std::string> listed;
+  const nlohmann::json formats = call("GET", "/api/v1/formats").json();
+  for (const auto& r : formats.at("routes")) listed.push_back(r.at("name"));
+  EXPECT_EQ(listed, served);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <stop_token>
 #include <thread>
 
+#include "export/export.hpp"
 #include "support/files.hpp"
 #include "uavcover/uavcover.hpp"
 #include "usecases/jobs.hpp"
@@ -87,12 +88,19 @@ TEST(Jobs, PlanJobGivesTheCliArtifactsEveryExportAndMetrics) {
     return std::string();
   };
   std::vector<std::string> exported;
-  for (const char* f : {"qgc", "wpl", "kml", "dji", "litchi", "csv", "geojson", "trajectory"})
+  for (const auto& f : exporting::known_formats())
     for (const auto& file : usecases::build_export(bytes_of("plan.json"), bytes_of("paths.geojson"), f).files)
       exported.push_back(file.name);
+  // every route of the server (the table's formats and kmz) finds each UAV's file among them, and every
+  // file made is served by a route
+  std::set<std::string> served;
   for (const auto& u : m.uavs)
-    for (const char* f : {"qgc", "wpl", "kml", "kmz", "dji", "litchi", "csv", "geojson", "trajectory"})
-      EXPECT_TRUE(usecases::export_artifact_name(exported, f, u.id).has_value()) << f << " " << u.id;
+    for (const auto& route : usecases::export_routes()) {
+      const auto name = usecases::export_artifact_name(exported, route.name, u.id);
+      EXPECT_TRUE(name.has_value()) << route.name << " " << u.id;
+      if (name) served.insert(*name);
+    }
+  for (const auto& n : exported) EXPECT_TRUE(served.count(n)) << n << " is served by no route";
   EXPECT_EQ(r.result.at("seed"), 7);
   EXPECT_EQ(r.result.at("uavs").size(), m.uavs.size());
   EXPECT_GT(r.result.at("metrics").at("poc").get<double>(), 0.9);

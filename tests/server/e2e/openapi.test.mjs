@@ -121,6 +121,7 @@ eachBackend(describe, (backend) => {
     assert.equal((await call('POST', '/api/v1/uavs', { body: { name: 'bad', speed_mps: -1 } })).status, 422);
     // operations
     await call('GET', '/api/v1/planners');
+    await call('GET', '/api/v1/formats');
     // the mission goes last (its jobs are finished)
     const del = await api(server, 'DELETE', `/api/v1/missions/${id}`, { check: false });
     assert.equal(del.status, 204);

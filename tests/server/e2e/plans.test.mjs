@@ -158,7 +158,18 @@ eachBackend(describe, (backend) => {
     assert.match(e.message, /alpha/);
     // a UAV the plan does not have: no such export (404), naming the field
     assertError(await api(server, 'GET', `/api/v1/plans/${id}/exports/qgc?uav=zulu`), 404, 'uav');
-    assertError(await api(server, 'GET', `/api/v1/plans/${id}/exports/nope?uav=alpha`), 404);
+    const nope = assertError(await api(server, 'GET', `/api/v1/plans/${id}/exports/nope?uav=alpha`), 404, 'format');
+    // every route GET /api/v1/formats lists is served, and the unknown one's message lists exactly them
+    const formats = await api(server, 'GET', '/api/v1/formats');
+    assert.equal(formats.status, 200, formats.text);
+    const routes = formats.json.routes.map((r) => r.name);
+    assert.ok(routes.includes('kmz') && routes.includes('trajectory'), routes.join(' '));
+    assert.ok(nope.message.endsWith(`expected one of ${routes.join(', ')}`), nope.message);
+    for (const route of routes) {
+      const r = await api(server, 'GET', `/api/v1/plans/${id}/exports/${route}?uav=bravo`);
+      assert.equal(r.status, 200, `${route}: ${r.text.slice(0, 200)}`);
+      assert.ok(r.bytes.length > 0, route);
+    }
     assertError(await api(server, 'GET', `/api/v1/plans/${id}/images/nope.png`), 404);
   });
 
