@@ -8,7 +8,9 @@
 // ("/api/v1/missions?name=x&limit=3"; "/api/v1/" is prepended when it does not start with '/'), decoded
 // by the transport's decode_target(); the rest is the body.
 // The store holds the seeded catalogs, mission 1 (two UAVs, alpha and bravo), a done plan (job 1) with
-// artifacts and exports, and a done study (job 2). Requests change it (missions are created, jobs queued),
+// the artifacts a real plan job of it stores (planned once per process, with usecases::run_job), a
+// done study (job 2), and an export service: GET /plans/1/exports/{format} makes the exports of the
+// stored plan on request, as the server does. Requests change it (missions are created, jobs queued),
 // so it is opened afresh every kRunsPerStore inputs: memory stays bounded and ids stay small.
 #include <spdlog/spdlog.h>
 
@@ -23,9 +25,12 @@
 #include <string_view>
 
 #include "server/api.hpp"
+#include "server/exports.hpp"
 #include "server/flights.hpp"
 #include "server/http.hpp"
 #include "store/store.hpp"
+#include "uavcover/mission.hpp"
+#include "usecases/jobs.hpp"
 
 namespace {
 
@@ -72,9 +77,22 @@ void finish(store::Store& s, store::JobKind kind, const nlohmann::json& params, 
     std::abort();
 }
 
+/// The plan job of the mission, planned once per process (what a worker would store).
+const uavcover::usecases::JobResult& planned() {
+  static const uavcover::usecases::JobResult result = [] {
+    namespace usecases = uavcover::usecases;
+    const uavcover::Mission mission = uavcover::parse_mission(kMission);
+    const nlohmann::json params =
+        usecases::validate_job_params(usecases::JobType::Plan, mission, {{"planner", "darp"}, {"seed", 42}});
+    return usecases::run_job(usecases::JobType::Plan, mission, params, {});
+  }();
+  return result;
+}
+
 struct World {
   std::unique_ptr<store::Store> store;
   std::unique_ptr<uavcover::server::FlightManager> flights;
+  std::unique_ptr<uavcover::server::ExportService> exports;
   std::unique_ptr<uavcover::server::ApiContext> ctx;
   std::unique_ptr<uavcover::server::Router> router;
 
@@ -84,25 +102,19 @@ struct World {
     uavcover::server::FlightLimits limits;
     limits.max_live = 0;
     flights = std::make_unique<uavcover::server::FlightManager>(*store, limits);
+    uavcover::server::ExportConfig export_config;
+    export_config.threads = 1;
+    exports = std::make_unique<uavcover::server::ExportService>(*store, export_config);
     ctx = std::make_unique<uavcover::server::ApiContext>(
-        uavcover::server::ApiContext{*store, uavcover::server::ApiConfig{}, flights.get()});
+        uavcover::server::ApiContext{*store, uavcover::server::ApiConfig{}, flights.get(), exports.get()});
     ctx->config.max_queued = kMaxQueued;
     ctx->config.max_body_bytes = 64 * 1024;
     router = std::make_unique<uavcover::server::Router>();
     uavcover::server::add_api_routes(*router, *ctx);
     const auto doc = nlohmann::json::parse(kMission);
     if (store->create_mission(uavcover::server::prepare_mission(doc, *store)) != 1) std::abort();
-    finish(*store, store::JobKind::Plan, {{"planner", "darp"}, {"seed", 42}},
-           {{"planner", "darp"},
-            {"uavs", {{{"id", "alpha"}}, {{"id", "bravo"}}}},
-            {"metrics", {{"coverage", 1.0}}},
-            {"warnings", {"kml: altitude limit"}}},
-           {{"plan.json", "application/json", "{}"},
-            {"plan.png", "image/png", "\x89PNG"},
-            {"export/alpha.plan", "application/json", "{}"},
-            {"export/bravo.plan", "application/json", "{}"},
-            {"export/alpha.kml", "application/vnd.google-earth.kml+xml", "<kml/>"},
-            {"trajectory/alpha.csv", "text/csv", "t,x\n"}});
+    const auto& plan = planned();
+    finish(*store, store::JobKind::Plan, {{"planner", "darp"}, {"seed", 42}}, plan.result, plan.artifacts);
     finish(*store, store::JobKind::Study, {{"uavs", "1..2"}}, {{"metrics", {}}},
            {{"study.json", "application/json", "{}"}});
   }

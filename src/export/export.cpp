@@ -23,15 +23,34 @@ bool idle(const UavPlan& uav) {
                       [](const PathPart& p) { return p.kind == PartKind::Coverage && !p.wgs84.empty(); });
 }
 
-Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
-                           const ExportOptions& options) {
-  const std::vector<std::string> wanted = parse_formats(formats);
-  // warnings go to the caller only when the whole export succeeds
+struct CheckedExport::State {
+  const Plan& plan;
+  ExportOptions opt;  ///< altitudes resolved by the checks
   std::vector<std::string> warnings;
-  ExportOptions opt = options;
-  opt.warnings = &warnings;
-  const CheckedPlan checked = check_plan(plan, opt, warnings);
+  CheckedPlan checked;
+};
 
+CheckedExport::CheckedExport(const Plan& plan, const ExportOptions& opt)
+    : s_(std::make_unique<State>(State{plan, opt, {}, {}})) {
+  s_->opt.warnings = &s_->warnings;
+  s_->checked = check_plan(plan, s_->opt, s_->warnings);
+  s_->opt.warnings = nullptr;
+}
+
+CheckedExport::~CheckedExport() = default;
+CheckedExport::CheckedExport(CheckedExport&&) noexcept = default;
+
+const std::vector<std::string>& CheckedExport::warnings() const { return s_->warnings; }
+
+Artifacts CheckedExport::write(const std::vector<std::string>& formats,
+                               std::vector<std::string>* warnings) const {
+  const std::vector<std::string> wanted = parse_formats(formats);
+  const Plan& plan = s_->plan;
+  const CheckedPlan& checked = s_->checked;
+  // the writers' warnings go to the caller only when the whole write succeeds
+  std::vector<std::string> written;
+  ExportOptions opt = s_->opt;
+  opt.warnings = &written;
   Artifacts out;
   for (const auto& name : wanted) {
     const Format& f = *find_format(name);
@@ -54,6 +73,17 @@ Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& for
       throw InputError("uavs", fmt::format("two exports would both be written to {}: rename one of the UAVs",
                                            out[k].name));
   }
+  if (warnings != nullptr) warnings->insert(warnings->end(), written.begin(), written.end());
+  return out;
+}
+
+Artifacts export_artifacts(const Plan& plan, const std::vector<std::string>& formats,
+                           const ExportOptions& options) {
+  parse_formats(formats);  // an unknown format refuses before the checks run
+  const CheckedExport checked(plan, options);
+  std::vector<std::string> warnings = checked.warnings();
+  Artifacts out = checked.write(formats, &warnings);
+  // warnings go to the caller only when the whole export succeeds
   if (options.warnings != nullptr)
     options.warnings->insert(options.warnings->end(), warnings.begin(), warnings.end());
   return out;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -93,6 +94,32 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
 std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
 /// Plain CSV of the mission items (seq,role,command,frame,lat,lon,alt_m,param1..param4).
 std::string waypoints_csv(const Plan& plan, std::size_t index, const ExportOptions& opt = {});
+
+struct CheckedPlan;
+
+/// An export of `plan` with `opt` whose checks (ids, altitudes, separation, no-fly zones, the autopilots'
+/// upload rules: the same as export_artifacts') have run once; any number of formats are then written
+/// from it without running them again (issue 27: the checks once per plan, not once per format).
+/// Holds `plan` by reference: it must outlive this.
+class CheckedExport {
+ public:
+  /// Throws InputError naming the field for the first problem.
+  CheckedExport(const Plan& plan, const ExportOptions& opt);
+  ~CheckedExport();
+  CheckedExport(CheckedExport&&) noexcept;
+  CheckedExport& operator=(CheckedExport&&) = delete;
+  /// The checks' warnings (altitudes, separation hazards, idle UAVs skipped, upload limits).
+  [[nodiscard]] const std::vector<std::string>& warnings() const;
+  /// The files of `formats` (parse_formats()) for every flown UAV; the writers' warnings (clamped
+  /// speeds, ...) are appended to `warnings` when given. Throws InputError for an unknown format or when
+  /// two files would have one name; nothing is produced then.
+  [[nodiscard]] Artifacts write(const std::vector<std::string>& formats,
+                                std::vector<std::string>* warnings = nullptr) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
 
 /// Every requested format (names from known_formats(), see parse_formats()) for every UAV that has
 /// coverage parts, as artifacts. Throws InputError for an unknown format, unusable options, UAV ids

@@ -117,7 +117,12 @@ void add_catalog_routes(Router& router, ApiContext& ctx) {
     const std::string base = kApi + (kind == store::CatalogKind::Uav ? "/uavs" : "/cameras");
     router.add("POST", base, guarded([&ctx, kind, base](const Request& req) {
                  const auto [name, data] = validate_entry(kind, parse_body(req, ctx, false), ctx);
-                 const store::Id id = ctx.store.create_entry(kind, name, data);
+                 store::Id id = 0;
+                 try {
+                   id = ctx.store.create_entry(kind, name, data);
+                 } catch (const store::Conflict& e) {
+                   throw HttpError(409, "camera_id", e.what());  // its camera deleted meanwhile
+                 }
                  Response r = Response::json(201, {{"id", id}});
                  r.headers.emplace_back("Location", base + "/" + std::to_string(id));
                  return r;
@@ -139,29 +144,24 @@ void add_catalog_routes(Router& router, ApiContext& ctx) {
                  } catch (const store::NotFound&) {
                    throw HttpError(404, "id",
                                    std::string("no ") + kind_name(kind) + " " + std::to_string(id));
+                 } catch (const store::Conflict& e) {
+                   throw HttpError(409, "camera_id", e.what());  // its camera deleted meanwhile
                  }
                  return Response::json(200, entry_json(get_or_404(ctx, kind, id)));
                }));
-    router.add(
-        "DELETE", base + "/{id}", guarded([&ctx, kind](const Request& req) {
-          const store::Id id = id_param(req, "id");
-          if (kind == store::CatalogKind::Camera) {
-            // a UAV carrying the camera would be left with a dangling camera_id
-            for (const auto& uav : ctx.store.list_entries(store::CatalogKind::Uav)) {
-              const auto it = uav.data.find("camera_id");
-              if (it != uav.data.end() && it->is_number_integer() && it->get<std::int64_t>() == id)
-                throw HttpError(409, "id",
-                                "camera " + std::to_string(id) + " is used by UAV " + std::to_string(uav.id) +
-                                    " (\"" + uav.name.substr(0, 80) + "\"): change or delete that UAV first");
-            }
-          }
-          try {
-            ctx.store.delete_entry(kind, id);
-          } catch (const store::NotFound&) {
-            throw HttpError(404, "id", std::string("no ") + kind_name(kind) + " " + std::to_string(id));
-          }
-          return no_content();
-        }));
+    router.add("DELETE", base + "/{id}", guarded([&ctx, kind](const Request& req) {
+                 const store::Id id = id_param(req, "id");
+                 try {
+                   // one transaction: refused (Conflict) while a UAV carries the camera (store/backends.hpp)
+                   ctx.store.delete_entry(kind, id);
+                 } catch (const store::NotFound&) {
+                   throw HttpError(404, "id",
+                                   std::string("no ") + kind_name(kind) + " " + std::to_string(id));
+                 } catch (const store::Conflict& e) {
+                   throw HttpError(409, "id", e.what());
+                 }
+                 return no_content();
+               }));
   }
 }
 

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "store/backends.hpp"
+#include "store/catalog_seed.hpp"
 #include "store/pg_pool.hpp"
 
 namespace uavcover::store {
@@ -162,48 +163,12 @@ Id insert_entry(PGconn* c, const char* kind, const std::string& name, const nloh
       .i64(0, 0);
 }
 
-// Migration 2: the UAV and camera catalogs the first start offers, the same entries as the SQLite
-// backend's (sqlite_migrations.hpp): datasheet values, hfov_deg the horizontal field of view
-// 2·atan(sensor width / 2·focal length), the paper's cost per minute (eq. 21) for every UAV.
+// Migration 2: the UAV and camera catalogs the first start offers (store/catalog_seed.hpp, the same
+// table as the SQLite backend's).
 void seed_catalogs(PGconn* c) {
-  using nlohmann::json;
-  struct Camera {
-    const char* name;
-    double sw, f;
-    int px;
-    double hfov;
-  };
-  const Camera cameras[] = {{"DJI Phantom 4 Pro camera", 13.2, 8.8, 5472, 73.7},
-                            {"DJI Mavic 3 Enterprise wide camera", 17.3, 12.29, 5280, 70.3},
-                            {"DJI Zenmuse P1 (35 mm lens)", 35.9, 35.0, 8192, 54.3},
-                            {"Sony RX1R II", 35.9, 35.0, 7952, 54.3},
-                            {"MicaSense RedEdge-MX", 4.8, 5.4, 1280, 47.2}};
-  std::map<std::string, Id> camera_ids;
-  for (const auto& k : cameras)
-    camera_ids[k.name] = insert_entry(c, "camera", k.name,
-                                      {{"name", k.name},
-                                       {"sensor_width_mm", k.sw},
-                                       {"focal_length_mm", k.f},
-                                       {"image_width_px", k.px},
-                                       {"hfov_deg", k.hfov}});
-  struct Uav {
-    const char* name;
-    double speed, accel, endurance;
-    const char* camera;
-  };
-  const Uav uavs[] = {{"DJI Phantom 4 Pro V2.0", 10, 4, 28, "DJI Phantom 4 Pro camera"},
-                      {"DJI Mavic 3 Enterprise", 12, 5, 42, "DJI Mavic 3 Enterprise wide camera"},
-                      {"DJI Matrice 300 RTK", 15, 5, 55, "DJI Zenmuse P1 (35 mm lens)"},
-                      {"Generic quadrotor", 5, 2, 25, nullptr}};
-  for (const auto& u : uavs) {
-    json data = {{"name", u.name},
-                 {"speed_mps", u.speed},
-                 {"max_accel_mps2", u.accel},
-                 {"endurance_min", u.endurance},
-                 {"cost_per_min_eur", 0.017228}};
-    if (u.camera != nullptr) data["camera_id"] = camera_ids.at(u.camera);
-    insert_entry(c, "uav", u.name, data);
-  }
+  catalog_seed::seed([c](const char* kind, std::string_view name, const nlohmann::json& data) {
+    return insert_entry(c, kind, std::string(name), data);
+  });
 }
 
 struct Migration {
@@ -817,8 +782,21 @@ class PostgresStore final : public Store {
 
   // ---- catalogs ----
 
+  /// A UAV's camera_id names a camera that exists; FOR SHARE holds it until this transaction ends, so a
+  /// camera's delete (which takes the row's lock) waits for the UAV and then sees it.
+  static void check_camera_ref(PGconn* c, CatalogKind kind, const nlohmann::json& data) {
+    const Id camera = camera_ref(kind, data);
+    if (camera == 0) return;
+    if (exec(c, "SELECT id FROM catalog WHERE kind = 'camera' AND id = $1 FOR SHARE", {integer(camera)})
+            .rows() == 0)
+      throw Conflict(camera_missing_text(camera));
+  }
+
   Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) override {
-    return transaction([&](PGconn* c) { return insert_entry(c, kind_name(kind), name, data); });
+    return transaction([&](PGconn* c) {
+      check_camera_ref(c, kind, data);
+      return insert_entry(c, kind_name(kind), name, data);
+    });
   }
 
   std::optional<CatalogEntry> get_entry(CatalogKind kind, Id id) override {
@@ -842,6 +820,7 @@ class PostgresStore final : public Store {
 
   void update_entry(CatalogKind kind, Id id, const std::string& name, const nlohmann::json& data) override {
     transaction([&](PGconn* c) {
+      check_camera_ref(c, kind, data);
       if (exec(c,
                "UPDATE catalog SET name = $3, data = $4, " BUMP_UPDATED
                " WHERE kind = $1 AND id = $2 RETURNING id",
@@ -858,6 +837,15 @@ class PostgresStore final : public Store {
                {text(kind_name(kind)), integer(id)})
               .rows() == 0)
         throw NotFound(std::string(kind_name(kind)) + " " + std::to_string(id) + " does not exist");
+      if (kind == CatalogKind::Camera) {
+        // after the delete took the row's lock (a UAV naming it committed first, or waits and then
+        // finds it gone): this statement's snapshot sees every UAV that names it; one rolls it back
+        const auto users = exec(c,
+                                "SELECT id, name FROM catalog WHERE kind = 'uav' AND "
+                                "(data::jsonb -> 'camera_id') = to_jsonb($1::bigint) ORDER BY id LIMIT 1",
+                                {integer(id)});
+        if (users.rows() > 0) throw Conflict(camera_in_use_text(id, users.i64(0, 0), users.str(0, 1)));
+      }
       return true;
     });
   }

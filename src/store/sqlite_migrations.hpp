@@ -8,6 +8,9 @@
 
 namespace uavcover::store::sqlite_schema {
 
+/// The migration that seeds the catalogs (from store/catalog_seed.hpp, in C++).
+inline constexpr int kSeedMigration = 2;
+
 inline constexpr std::array<std::string_view, 4> kMigrations{
     // 1: missions with revisions, the job queue, artifacts over content-addressed blobs, catalogs, meta
     R"sql(
@@ -85,38 +88,10 @@ CREATE TABLE meta (
   value TEXT NOT NULL
 );
 )sql",
-    // 2: the catalogs' first entries: real cameras (datasheet values; hfov_deg is the horizontal field
-    // of view, 2·atan(sensor width / 2·focal length)) and real UAVs, each with its camera. The cost per
-    // minute is the paper's (eq. 21) for all: it is the operator's to set.
+    // 2: the catalogs' first entries, real cameras and UAVs (store/catalog_seed.hpp, the one table both
+    // backends seed from): inserted by SqliteStore::migrate() after this empty script (kSeedMigration)
     R"sql(
-INSERT INTO catalog (kind, name, data, updated_ms)
-SELECT 'camera', c.name,
-       json_object('name', c.name, 'sensor_width_mm', c.sw, 'focal_length_mm', c.f,
-                   'image_width_px', c.px, 'hfov_deg', c.hfov),
-       CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER)
-FROM (SELECT 1 AS o, 'DJI Phantom 4 Pro camera' AS name, 13.2 AS sw, 8.8 AS f, 5472 AS px, 73.7 AS hfov
-      UNION ALL SELECT 2, 'DJI Mavic 3 Enterprise wide camera', 17.3, 12.29, 5280, 70.3
-      UNION ALL SELECT 3, 'DJI Zenmuse P1 (35 mm lens)', 35.9, 35.0, 8192, 54.3
-      UNION ALL SELECT 4, 'Sony RX1R II', 35.9, 35.0, 7952, 54.3
-      UNION ALL SELECT 5, 'MicaSense RedEdge-MX', 4.8, 5.4, 1280, 47.2) AS c
-ORDER BY c.o;
-
-INSERT INTO catalog (kind, name, data, updated_ms)
-SELECT 'uav', u.name,
-       CASE WHEN u.camera IS NULL
-         THEN json_object('name', u.name, 'speed_mps', u.speed, 'max_accel_mps2', u.accel,
-                          'endurance_min', u.endurance, 'cost_per_min_eur', 0.017228)
-         ELSE json_object('name', u.name, 'speed_mps', u.speed, 'max_accel_mps2', u.accel,
-                          'endurance_min', u.endurance, 'cost_per_min_eur', 0.017228,
-                          'camera_id', (SELECT id FROM catalog WHERE kind = 'camera' AND name = u.camera))
-       END,
-       CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER)
-FROM (SELECT 1 AS o, 'DJI Phantom 4 Pro V2.0' AS name, 10 AS speed, 4 AS accel, 28 AS endurance,
-             'DJI Phantom 4 Pro camera' AS camera
-      UNION ALL SELECT 2, 'DJI Mavic 3 Enterprise', 12, 5, 42, 'DJI Mavic 3 Enterprise wide camera'
-      UNION ALL SELECT 3, 'DJI Matrice 300 RTK', 15, 5, 55, 'DJI Zenmuse P1 (35 mm lens)'
-      UNION ALL SELECT 4, 'Generic quadrotor', 5, 2, 25, NULL) AS u
-ORDER BY u.o;
+-- the catalogs' first entries: store/catalog_seed.hpp
 )sql",
     // 3: flights of done plans (docs/flights.md) and their logs; both go with their plan job
     R"sql(

@@ -21,6 +21,7 @@
 #include <unordered_map>
 
 #include "store/backends.hpp"
+#include "store/catalog_seed.hpp"
 #include "store/sha256.hpp"
 #include "store/sqlite_migrations.hpp"
 
@@ -389,6 +390,13 @@ class SqliteStore final : public Store {
       const std::string sql(sqlite_schema::kMigrations[static_cast<std::size_t>(version - 1)]);
       try {
         c.exec(sql.c_str());
+        if (version == sqlite_schema::kSeedMigration)
+          catalog_seed::seed([&c](const char* kind, std::string_view name, const nlohmann::json& data) {
+            const std::string text = data.dump();
+            Query q(c, "INSERT INTO catalog (kind, name, data, updated_ms) VALUES (?1, ?2, ?3, ?4)");
+            q.bind(1, kind).bind(2, name).bind(3, text).bind(4, now_ms()).run();
+            return static_cast<Id>(sqlite3_last_insert_rowid(c.db()));
+          });
       } catch (const StoreError& e) {
         throw StoreError("schema migration " + std::to_string(version) + " failed: " + e.what());
       }
@@ -1106,9 +1114,20 @@ class SqliteStore final : public Store {
 
   // ---- catalogs ----
 
+  /// A UAV's camera_id names a camera that exists, in the transaction that writes the UAV (a camera
+  /// deleted meanwhile is seen: writes are serialised).
+  static void check_camera_ref(Connection& c, CatalogKind kind, const nlohmann::json& data) {
+    const Id camera = camera_ref(kind, data);
+    if (camera == 0) return;
+    Query q(c, "SELECT 1 FROM catalog WHERE kind = 'camera' AND id = ?1");
+    q.bind(1, camera);
+    if (!q.step()) throw Conflict(camera_missing_text(camera));
+  }
+
   Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) override {
     const std::string text = data.dump();
     return write([&](Connection& c) {
+      check_camera_ref(c, kind, data);
       Query q(c, "INSERT INTO catalog (kind, name, data, updated_ms) VALUES (?1, ?2, ?3, ?4)");
       q.bind(1, catalog_text(kind)).bind(2, name).bind(3, text).bind(4, now_ms()).run();
       return static_cast<Id>(sqlite3_last_insert_rowid(c.db()));
@@ -1137,6 +1156,7 @@ class SqliteStore final : public Store {
   void update_entry(CatalogKind kind, Id id, const std::string& name, const nlohmann::json& data) override {
     const std::string text = data.dump();
     write([&](Connection& c) {
+      check_camera_ref(c, kind, data);
       Query q(c,
               "UPDATE catalog SET name = ?3, data = ?4, updated_ms = MAX(?5, updated_ms + 1) "
               "WHERE kind = ?1 AND id = ?2");
@@ -1153,6 +1173,14 @@ class SqliteStore final : public Store {
       q.bind(1, catalog_text(kind)).bind(2, id);
       if (q.run() == 0)
         throw NotFound(std::string(catalog_text(kind)) + " " + std::to_string(id) + " does not exist");
+      if (kind == CatalogKind::Camera) {
+        // in the same transaction: the delete rolls back when a UAV carries the camera
+        Query users(c,
+                    "SELECT id, name FROM catalog WHERE kind = 'uav' AND "
+                    "json_extract(data, '$.camera_id') = ?1 ORDER BY id LIMIT 1");
+        users.bind(1, id);
+        if (users.step()) throw Conflict(camera_in_use_text(id, users.i64(0), users.text(1)));
+      }
       return 0;
     });
   }

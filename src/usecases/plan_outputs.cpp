@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 
 #include "engine/test_hold.hpp"
 #include "export/export.hpp"
@@ -167,6 +168,15 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     eo.per_sortie = options.per_sortie;
     eo.trajectory_step_s = options.trajectory_step_s;
     std::vector<std::string> missing;
+    // the checks (separation, no-fly zones, upload rules) once for every format
+    std::optional<exporting::CheckedExport> checked;
+    std::string refused;
+    try {
+      checked.emplace(plan, eo);
+    } catch (const InputError& e) {
+      if (!options.refused_exports_are_warnings) throw;
+      refused = e.what();
+    }
     // one format at a time, so that a stop or the time limit lands between formats
     for (std::size_t k = 0; k < formats.size(); ++k) {
       const std::string& format = formats[k];
@@ -174,8 +184,14 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
         missing.push_back(format);
         continue;
       }
+      if (!checked) {
+        warnings.push_back(format + " export refused: " + refused);
+        continue;
+      }
       try {
-        auto files = exporting::export_artifacts(plan, {format}, eo);
+        std::vector<std::string> format_warnings = checked->warnings();
+        auto files = checked->write({format}, &format_warnings);
+        warnings.insert(warnings.end(), format_warnings.begin(), format_warnings.end());
         exported.insert(exported.end(), std::make_move_iterator(files.begin()),
                         std::make_move_iterator(files.end()));
       } catch (const InputError& e) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -684,6 +685,71 @@ TEST_P(StoreConformance, CatalogEntriesCanBeCreatedChangedAndDeleted) {
   EXPECT_FALSE(store_->get_entry(CatalogKind::Uav, id));
   EXPECT_THROW(store_->delete_entry(CatalogKind::Uav, id), NotFound);
   EXPECT_EQ(store_->list_entries(CatalogKind::Uav).size(), before);
+}
+
+// issue 28: a camera that a UAV carries cannot be deleted, and a UAV cannot name a camera that is gone,
+// each checked in the writing transaction, so no race between the two leaves a dangling camera_id
+TEST_P(StoreConformance, NoUavIsLeftWithADeletedCamera) {
+  const nlohmann::json camera = {{"name", "cam"}, {"sensor_width_mm", 13.2}, {"focal_length_mm", 8.8}};
+  auto uav = [&](Id camera_id) {
+    return nlohmann::json{{"name", "carrier"},   {"speed_mps", 8},        {"max_accel_mps2", 3},
+                          {"endurance_min", 30}, {"cost_per_min_eur", 1}, {"camera_id", camera_id}};
+  };
+  const Id used = store_->create_entry(CatalogKind::Camera, unique_name("cam"), camera);
+  const Id carrier = store_->create_entry(CatalogKind::Uav, unique_name("carrier"), uav(used));
+  try {
+    store_->delete_entry(CatalogKind::Camera, used);
+    ADD_FAILURE() << "a camera a UAV carries was deleted";
+  } catch (const Conflict& e) {
+    EXPECT_NE(std::string(e.what()).find("used by UAV " + std::to_string(carrier)), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(store_->get_entry(CatalogKind::Camera, used)) << "the refused delete rolled back";
+  const Id gone = store_->create_entry(CatalogKind::Camera, unique_name("cam"), camera);
+  store_->delete_entry(CatalogKind::Camera, gone);
+  EXPECT_THROW(store_->create_entry(CatalogKind::Uav, unique_name("x"), uav(gone)), Conflict);
+  EXPECT_THROW(store_->update_entry(CatalogKind::Uav, carrier, "carrier", uav(gone)), Conflict);
+  EXPECT_EQ(store_->get_entry(CatalogKind::Uav, carrier)->data.at("camera_id"), used) << "unchanged";
+  // a camera freed by its UAV can go
+  store_->update_entry(CatalogKind::Uav, carrier, "carrier", {{"name", "carrier"}, {"speed_mps", 8}});
+  store_->delete_entry(CatalogKind::Camera, used);
+
+  // the race: a UAV naming a camera and the camera's delete, at once; exactly one of them wins
+  int uavs_won = 0, deletes_won = 0;
+  for (int round = 0; round < 40; ++round) {
+    const Id k = store_->create_entry(CatalogKind::Camera, unique_name("race"), camera);
+    std::optional<Id> made;
+    bool deleted = false;
+    std::thread a([&] {
+      try {
+        made = store_->create_entry(CatalogKind::Uav, unique_name("racer"), uav(k));
+      } catch (const Conflict&) {
+      }
+    });
+    std::thread b([&] {
+      try {
+        store_->delete_entry(CatalogKind::Camera, k);
+        deleted = true;
+      } catch (const Conflict&) {
+      }
+    });
+    a.join();
+    b.join();
+    ASSERT_NE(made.has_value(), deleted) << "round " << round << ": both or neither won";
+    if (made) {
+      ++uavs_won;
+      EXPECT_TRUE(store_->get_entry(CatalogKind::Camera, k));
+      store_->delete_entry(CatalogKind::Uav, *made);
+    } else {
+      ++deletes_won;
+    }
+  }
+  for (const auto& u : store_->list_entries(CatalogKind::Uav)) {
+    if (u.data.contains("camera_id")) {
+      EXPECT_TRUE(store_->get_entry(CatalogKind::Camera, u.data["camera_id"].get<Id>())) << u.name;
+    }
+  }
+  EXPECT_EQ(uavs_won + deletes_won, 40);
 }
 
 // ---- first start, reopening ----
