@@ -168,14 +168,17 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     eo.per_sortie = options.per_sortie;
     eo.trajectory_step_s = options.trajectory_step_s;
     std::vector<std::string> missing;
-    // the checks (separation, no-fly zones, upload rules) once for every format
+    // the checks (separation, no-fly zones, upload rules) once for every format; not begun when the
+    // time is already up (every format is then left out below) or a stop was requested
     std::optional<exporting::CheckedExport> checked;
     std::string refused;
-    try {
-      checked.emplace(plan, eo);
-    } catch (const InputError& e) {
-      if (!options.refused_exports_are_warnings) throw;
-      refused = e.what();
+    if (!out_of_time()) {
+      try {
+        checked.emplace(plan, eo);
+      } catch (const InputError& e) {
+        if (!options.refused_exports_are_warnings) throw;
+        refused = e.what();
+      }
     }
     // one format at a time, so that a stop or the time limit lands between formats
     for (std::size_t k = 0; k < formats.size(); ++k) {
