@@ -36,16 +36,20 @@ struct PlanArgs {
 };
 
 void run_plan(const PlanArgs& a) {
-  ParseOptions po;
-  po.max_cells = a.max_cells;
-  const Mission mission = read_mission(a.mission, po);
-  PlanOptions opt;
-  opt.seed = a.seed;
   const bool quiet = global_flags().quiet;
   std::optional<Context::Clock::duration> limit;
   if (a.time_limit_s)
     limit =
         std::chrono::duration_cast<Context::Clock::duration>(std::chrono::duration<double>(*a.time_limit_s));
+  const Progress bar = make_progress_bar(quiet);
+  // one context for the whole command, its time limit counted from here (reading the mission too):
+  // Ctrl-C and the time limit land in every stage, the writing too
+  const Context ctx(bar, interrupt_token(), limit);
+  ParseOptions po;
+  po.max_cells = a.max_cells;
+  const Mission mission = read_mission(a.mission, po);
+  PlanOptions opt;
+  opt.seed = a.seed;
   usecases::OutputOptions oo;
   oo.evaluate = !a.no_evaluate;
   oo.images = !a.no_images;
@@ -54,14 +58,11 @@ void run_plan(const PlanArgs& a) {
   oo.trajectory_step_s = a.trajectory_step_s;
   // what the exports would refuse after planning (transition altitudes over the ceiling) is refused now
   usecases::check_outputs(mission, oo);
-  const Progress bar = make_progress_bar(quiet);
   Plan result;
   usecases::PlanOutputs outputs;
   std::vector<std::filesystem::path> files;
   const std::filesystem::path dir(a.out);
   try {
-    // one context for the whole command: Ctrl-C and the time limit land in every stage, the writing too
-    const Context ctx(bar, interrupt_token(), limit);
     result = plan(mission, opt, ctx);
     outputs = usecases::plan_outputs(result, oo, ctx);
     files = io::write_artifacts(dir, outputs.artifacts, ctx);

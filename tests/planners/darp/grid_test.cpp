@@ -190,6 +190,45 @@ TEST(Placement, ImprovesOnTheDefaultAndIsDeterministic) {
   EXPECT_LT(std::min(std::fabs(th - 9.64), std::fabs(th - 9.64 - 90)), 6.0) << th;
 }
 
+// A stop_early that fires (the time limit, less the time the finishing stages need) is asked before
+// every evaluation, not every 8th, and ends the re-ranking too: the search evaluates once more at most
+// and the result is the best placement seen, on its own grid.
+TEST(Placement, StopEarlyIsAskedBeforeEveryEvaluationAndEndsTheReranking) {
+  Polygon poly;
+  poly.outer() = {{0, 0}, {530, 90}, {610, 420}, {140, 470}, {-60, 260}, {0, 0}};
+  bg::correct(poly);
+  const Prepared p = prep_of({poly}, {}, 20, Mode::Strict);
+  for (const int fire_at : {1, 3, 11}) {
+    PlacementOptions o;
+    o.seed = 3;
+    int asked = 0, asked_after = 0;
+    o.stop_early = [&] {
+      ++asked;
+      if (asked > fire_at) ++asked_after;
+      return asked >= fire_at;
+    };
+    const PlacementResult r = optimise_placement(p, o);
+    // asked before the 2nd, 3rd, ... evaluation; the one it fired before is still made
+    EXPECT_EQ(r.placement.evaluations, fire_at + 1) << fire_at;
+    EXPECT_EQ(asked_after, 0) << "asked again after it fired (the re-ranking ran): " << fire_at;
+    const Score s = score(p, r.grid, o.weights);
+    EXPECT_NEAR(r.placement.J, s.J, 1e-12);
+    EXPECT_GE(s.key, score(p, rasterize(p, 0, 0, 0), o.weights).key);
+  }
+  // never firing: the whole budget, then the re-ranking asks once per candidate
+  PlacementOptions o;
+  o.seed = 3;
+  int asked = 0;
+  o.stop_early = [&] { return ++asked < 0; };
+  const PlacementResult full = optimise_placement(p, o);
+  EXPECT_GT(asked, full.placement.evaluations - 1);
+  PlacementOptions plain;
+  plain.seed = 3;
+  const PlacementResult same = optimise_placement(p, plain);
+  EXPECT_EQ(full.grid.free, same.grid.free);
+  EXPECT_EQ(full.placement.rotation_deg, same.placement.rotation_deg);
+}
+
 TEST(Placement, DisabledKeepsTheIdentity) {
   const Prepared p = prep_of({rect(0, 0, 300, 200)}, {}, 20, Mode::Strict);
   PlacementOptions o;
