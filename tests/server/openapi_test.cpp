@@ -39,13 +39,24 @@ TEST_P(ApiTest, OpenApiDocumentDescribesEveryRoute) {
       EXPECT_TRUE(response.contains("description")) << method << " " << pattern << " " << code;
     }
     EXPECT_TRUE(has_success) << method << " " << pattern;
+    // the transport's own answers, before any route: a foreign Origin or Host
+    if (pattern != "/api/v1/events") {
+      EXPECT_TRUE(op["responses"].contains("403")) << method << " " << pattern << ": no 403 (foreign Origin)";
+      EXPECT_TRUE(op["responses"].contains("421")) << method << " " << pattern << ": no 421 (foreign Host)";
+    }
+    // HEAD is served for every GET route (the GET's headers, no body): documented beside it
+    if (method == "GET" && pattern != "/api/v1/events") {
+      EXPECT_TRUE(paths[pattern].contains("head")) << "HEAD " << pattern << " is not documented";
+    }
   }
   // and nothing documented under /api/v1 that is not served (the transport serves the events)
   for (const auto& [pattern, item] : paths.items()) {
     if (!pattern.starts_with("/api/v1/") || pattern == "/api/v1/events") continue;
     for (const auto& [method, op] : item.items())
       if (method != "parameters") {
-        EXPECT_TRUE(registered.contains({method, pattern})) << method << " " << pattern << " is not served";
+        // HEAD is the transport's, served wherever GET is
+        const std::string served = method == "head" ? std::string("get") : method;
+        EXPECT_TRUE(registered.contains({served, pattern})) << method << " " << pattern << " is not served";
       }
   }
   // every $ref points at a schema that exists
