@@ -8,10 +8,10 @@
 // ("/api/v1/missions?name=x&limit=3"; "/api/v1/" is prepended when it does not start with '/'), decoded
 // by the transport's decode_target(); the rest is the body.
 // The store holds the seeded catalogs, mission 1 (two UAVs, alpha and bravo), a done plan (job 1) with
-// the artifacts a real plan job of it stores (planned once per process, with usecases::run_job), a
-// done study (job 2), and an export service: GET /plans/1/exports/{format} makes the exports of the
-// stored plan on request, as the server does. Requests change it (missions are created, jobs queued),
-// so it is opened afresh every kRunsPerStore inputs: memory stays bounded and ids stay small.
+// the plan a real plan job of it stores (planned once per process with the facade and
+// usecases::plan_outputs), a done study (job 2), and an export service: GET /plans/1/exports/{format} makes
+// the exports of the stored plan on request, as the server does. Requests change it (missions are created,
+// jobs queued), so it is opened afresh every kRunsPerStore inputs: memory stays bounded and ids stay small.
 #include <spdlog/spdlog.h>
 
 #include <array>
@@ -30,7 +30,9 @@
 #include "server/http.hpp"
 #include "store/store.hpp"
 #include "uavcover/mission.hpp"
+#include "uavcover/uavcover.hpp"
 #include "usecases/jobs.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace {
 
@@ -77,14 +79,24 @@ void finish(store::Store& s, store::JobKind kind, const nlohmann::json& params, 
     std::abort();
 }
 
-/// The plan job of the mission, planned once per process (what a worker would store).
+/// The plan job of the mission, planned once per process: the stored plan (plan.json, paths.geojson)
+/// that a worker's plan job stores and the exports are made from, with the job's result fields the API
+/// reads. No pictures (Cairo's font cache is never freed, which LeakSanitizer reports).
 const uavcover::usecases::JobResult& planned() {
   static const uavcover::usecases::JobResult result = [] {
-    namespace usecases = uavcover::usecases;
-    const uavcover::Mission mission = uavcover::parse_mission(kMission);
-    const nlohmann::json params =
-        usecases::validate_job_params(usecases::JobType::Plan, mission, {{"planner", "darp"}, {"seed", 42}});
-    return usecases::run_job(usecases::JobType::Plan, mission, params, {});
+    const uavcover::Plan p = uavcover::plan(uavcover::parse_mission(kMission));
+    uavcover::usecases::OutputOptions oo;
+    oo.images = false;
+    uavcover::usecases::JobResult r;
+    r.artifacts = uavcover::usecases::plan_outputs(p, oo).artifacts;
+    nlohmann::json uavs = nlohmann::json::array();
+    for (const auto& u : p.uavs) uavs.push_back({{"id", u.id}});
+    r.result = {{"planner", p.planner},
+                {"complete", p.complete},
+                {"uavs", std::move(uavs)},
+                {"metrics", {{"coverage", 1.0}}},
+                {"warnings", p.warnings}};
+    return r;
   }();
   return result;
 }
