@@ -28,8 +28,9 @@ Camera parse_camera(const json& j, const std::string& field) {
   Camera c;
   c.altitude_m = positive(j["altitude_m"], field + ".altitude_m");
   const bool fov = j.contains("hfov_deg") || j.contains("overlap") || j.contains("vfov_deg");
+  // image_width_px belongs to both: the paper's GSD (eq. 23) is the footprint over it
   const bool qgc = j.contains("sensor_width_mm") || j.contains("focal_length_mm") ||
-                   j.contains("image_width_px") || j.contains("side_overlap") ||
+                   (j.contains("image_width_px") && !fov) || j.contains("side_overlap") ||
                    j.contains("sensor_height_mm") || j.contains("image_height_px");
   if (fov == qgc)
     throw InputError(field,
@@ -42,7 +43,11 @@ Camera parse_camera(const json& j, const std::string& field) {
   if (fov) {
     c.hfov_deg = number(need("hfov_deg"), field + ".hfov_deg");
     if (*c.hfov_deg <= 0 || *c.hfov_deg >= 180) throw InputError(field + ".hfov_deg", "must be in (0, 180)");
-    c.overlap = in_range(need("overlap"), field + ".overlap", 0.0, 1.0, true);
+    // the paper's percentage of overlap po (eq. 13-14): the overlap on both sides of an image, so in
+    // [0, 2); its search-and-rescue mission flew 160 % (po 1.6, ds = 0.4·h·tan(HFOV/2))
+    c.overlap = in_range(need("overlap"), field + ".overlap", 0.0, 2.0, true);
+    if (j.contains("image_width_px"))
+      c.image_width_px = positive(j["image_width_px"], field + ".image_width_px");
     if (j.contains("vfov_deg")) {
       c.vfov_deg = number(j["vfov_deg"], field + ".vfov_deg");
       if (*c.vfov_deg <= 0 || *c.vfov_deg >= 180)
@@ -81,7 +86,8 @@ CameraGeometry camera_geometry(const Camera& c, const std::string& field) {
   if (c.hfov_deg) {
     const double t = std::tan(*c.hfov_deg * std::numbers::pi / 360.0);
     g.footprint_m = 2.0 * c.altitude_m * t;
-    g.spacing_m = (2.0 - *c.overlap) * c.altitude_m * t;  // paper eq. 14
+    g.spacing_m = (2.0 - *c.overlap) * c.altitude_m * t;                // paper eq. 14
+    if (c.image_width_px) g.gsd_m = g.footprint_m / *c.image_width_px;  // paper eq. 23: d / hRes
     g.along_track_footprint_m = c.vfov_deg
                                     ? 2.0 * c.altitude_m * std::tan(*c.vfov_deg * std::numbers::pi / 360.0)
                                     : g.footprint_m * kDefaultAspect;

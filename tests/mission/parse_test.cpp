@@ -234,6 +234,32 @@ TEST(MissionParse, Spacing) {
   expect_error(j, "spacing_m", "not both");
 }
 
+// the paper's camera (Apostolidis 2022 eq. 13-14, 23): po is the overlap on both sides of an image, in
+// [0, 2) (its search-and-rescue mission flew 160 %), and the GSD is the footprint over hRes
+TEST(MissionParse, PaperCameraTakesItsOwnOverlapRangeAndGsd) {
+  auto j = base();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 50}, {"hfov_deg", 90}, {"overlap", 1.6}, {"image_width_px", 4000}};
+  const uavcover::Mission m = parse_mission(j.dump());
+  // d = 2·50·tan(45°) = 100 m; ds = (2 - 1.6)·50·tan(45°) = 20 m; GSD = 100 m / 4000 px
+  ASSERT_TRUE(m.footprint_m);
+  EXPECT_NEAR(*m.footprint_m, 100.0, 1e-9);
+  EXPECT_NEAR(m.spacing_m, 20.0, 1e-9);
+  ASSERT_TRUE(m.gsd_m);
+  EXPECT_NEAR(*m.gsd_m, 0.025, 1e-12);
+  // without hRes there is no GSD in this convention
+  j["camera"].erase("image_width_px");
+  EXPECT_FALSE(parse_mission(j.dump()).gsd_m);
+  // po = 2 leaves no distance between lanes
+  j["camera"]["overlap"] = 2.0;
+  expect_error(j, "camera.overlap", "");
+  j["camera"]["overlap"] = -0.1;
+  expect_error(j, "camera.overlap", "");
+  j["camera"]["overlap"] = 1.6;
+  j["camera"]["image_width_px"] = 0;
+  expect_error(j, "camera.image_width_px", "");
+}
+
 TEST(MissionParse, ZeroUavs) {
   auto j = base();
   j["uavs"] = 0;

@@ -759,6 +759,8 @@ class DefinePanel {
     this.altitudeInput.value = typeof alt === 'number' ? String(alt) : '';
     this.altitudeInput.placeholder = mode === 'none' ? '40' : '';
     this.overlapInput.value = mode === 'paper' ? pct(c.overlap) : pct(c.side_overlap);
+    // the paper's po counts both sides of an image: up to 199 % (its search-and-rescue mission flew 160 %)
+    this.overlapInput.max = mode === 'paper' ? '199' : '99';
     this.hfovInput.value = typeof c.hfov_deg === 'number' ? String(c.hfov_deg) : '';
     this.spacingInput.value = typeof this.doc.spacing_m === 'number' ? String(this.doc.spacing_m) : '';
     const show = (input: HTMLElement, on: boolean) => ((input.parentElement as HTMLElement).hidden = !on);
