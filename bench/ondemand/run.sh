@@ -27,13 +27,17 @@ trap cleanup EXIT
 
 json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
 dbsize() { du -cb "$work"/db* 2>/dev/null | tail -1 | cut -f1; }
+mb() { python3 -c "print('%.2f' % ($1 / 1e6))"; }
+load() { cut -d' ' -f1-3 /proc/loadavg; }
 
 # 1. the CLI
 /usr/bin/time -f "%e %M" -o "$work/time" "$bin" plan "$field" --out "$work/cli" >/dev/null 2>&1
 read -r cli_s cli_kb <"$work/time"
-echo "| measure | value |"
-echo "|---|---|"
-echo "| \`uavcover plan\` (plan, evaluation, pictures) | ${cli_s} s, $((cli_kb / 1024)) MB RSS |"
+echo "\`bench/ondemand/run.sh\` on $(basename "$field"), JOBS=$jobs${SERVE_ARGS:+, serve $SERVE_ARGS}, $(nproc) cores."
+echo
+echo "| measure | value | load average |"
+echo "|---|---|---|"
+echo "| \`uavcover plan\` (plan, evaluation, pictures) | ${cli_s} s, $((cli_kb / 1024)) MB RSS | $(load) |"
 
 # 2. the server
 port=$((20000 + RANDOM % 20000))
@@ -58,16 +62,20 @@ d=json.load(sys.stdin)
 t=lambda s: datetime.datetime.fromisoformat(s.replace("Z","+00:00")).timestamp()
 print("%.2f" % (t(d["finished"]) - t(d["started"])))')
   after=$(dbsize)
-  echo "| plan job $k ($state): wall time, database growth | $wall s, $(((after - before) / 1000000)) MB |"
+  # with many jobs only the first three and the last are shown
+  if [ "$k" -le 3 ] || [ "$k" -eq "$jobs" ]; then
+    echo "| plan job $k ($state): wall time, database growth | $wall s, $(mb $((after - before))) MB | $(load) |"
+  fi
   before=$after
 done
-echo "| database after $jobs jobs (file + WAL) | $(($(dbsize) / 1000000)) MB |"
+echo "| database after $jobs jobs (file + WAL) | $(mb "$(dbsize)") MB | $(load) |"
 
 # 3. exports of the last plan
 uav=$(curl -fs "$url/plans/$plan" | json 'd["result"]["uavs"][0]["id"]')
 for f in qgc wpl kml kmz dji litchi csv geojson trajectory; do
-  first=$(curl -s -o "$work/x" -w '%{http_code} %{time_total}' "$url/plans/$plan/exports/$f?uav=$uav")
-  second=$(curl -s -o "$work/y" -w '%{time_total}' "$url/plans/$plan/exports/$f?uav=$uav")
+  # a dropped connection is status 000 (curl fails): shown, not fatal
+  first=$(curl -s -o "$work/x" -w '%{http_code} %{time_total}' "$url/plans/$plan/exports/$f?uav=$uav" || true)
+  second=$(curl -s -o "$work/y" -w '%{time_total}' "$url/plans/$plan/exports/$f?uav=$uav" || true)
   same=$(cmp -s "$work/x" "$work/y" && echo same || echo DIFFERENT)
-  echo "| export $f ($uav): first request (status, s), second (s) | $first, $second ($(stat -c %s "$work/x") bytes, $same) |"
+  echo "| export $f ($uav): first request (status, s), second (s) | $first, $second ($(stat -c %s "$work/x") bytes, $same) | $(load) |"
 done

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "server/api.hpp"
 
@@ -26,6 +27,16 @@ Response no_content();
 
 /// The path parameter `name` as a positive id (400 naming `field`).
 std::int64_t id_param(const Request& req, const std::string& name, const std::string& field = "id");
+
+/// At most this many bytes in the X-Export-Warnings header: a proxy's response header buffer (nginx's
+/// proxy_buffer_size) is 4 to 8 KiB, and Boost.Beast refuses a field of 64 KiB or more.
+inline constexpr std::size_t kWarningsHeaderLimit = 4096;
+
+/// The X-Export-Warnings value of an export for UAV `uav` ("" for a plan-wide file): an ASCII JSON array
+/// of the exporter's warnings, without those of other UAVs (the ones that start "uav '<other>':"), in
+/// order, as many as fit kWarningsHeaderLimit bytes; when some are left off, the last entry says how many.
+/// Empty when there is no warning to give.
+std::string export_warnings_header(const std::vector<std::string>& warnings, const std::string& uav);
 
 void add_mission_routes(Router& router, ApiContext& ctx);
 void add_job_routes(Router& router, ApiContext& ctx);

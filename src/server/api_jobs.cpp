@@ -5,6 +5,8 @@
 #include <cctype>
 #include <charconv>
 
+#include <fmt/format.h>
+
 #include "server/api_internal.hpp"
 #include "server/exports.hpp"
 #include "server/worker.hpp"
@@ -28,6 +30,35 @@ std::string job_collection(store::JobKind kind) {
 }
 
 namespace detail {
+
+std::string export_warnings_header(const std::vector<std::string>& warnings, const std::string& uav) {
+  auto ascii = [](const nlohmann::json& j) { return j.dump(-1, ' ', true); };
+  std::vector<std::string> mine;
+  for (const auto& w : warnings) {
+    // "uav '<id>': ..." is one UAV's; a request for another UAV's file leaves it out
+    if (!uav.empty() && w.starts_with("uav '") && !w.starts_with("uav '" + uav + "':")) continue;
+    mine.push_back(w);
+  }
+  if (mine.empty()) return {};
+  std::string all = ascii(mine);
+  if (all.size() <= kWarningsHeaderLimit) return all;
+  auto note = [&](std::size_t left) {
+    return fmt::format("{} more warnings left off (uavcover export prints them all)", left);
+  };
+  // the first warnings that fit with the note after them
+  nlohmann::json kept = nlohmann::json::array();
+  std::size_t used = 2 + ascii(note(mine.size())).size();  // "[" "]" and the note
+  std::size_t k = 0;
+  for (; k < mine.size(); ++k) {
+    const std::size_t add = ascii(mine[k]).size() + 1;  // and a comma
+    if (used + add > kWarningsHeaderLimit) break;
+    used += add;
+    kept.push_back(mine[k]);
+  }
+  kept.push_back(note(mine.size() - k));
+  return ascii(kept);
+}
+
 namespace {
 
 const std::array<std::string, 5> kImages{"plan.png", "plan.svg", "heatmap.png", "heatmap-overlay.png",
@@ -155,8 +186,8 @@ Response export_response(ApiContext& ctx, const Request& req) {
     if (!file) throw HttpError(404, "artifact", "the job has no artifact " + *name);
     Response r = file_response(std::move(*file), *name, true);
     // the exporter's warnings (clamped speeds, skipped UAVs, separation hazards), ASCII JSON
-    if (!entry->warnings.empty())
-      r.headers.emplace_back("X-Export-Warnings", nlohmann::json(entry->warnings).dump(-1, ' ', true));
+    if (std::string w = export_warnings_header(entry->warnings, uav); !w.empty())
+      r.headers.emplace_back("X-Export-Warnings", std::move(w));
     return r;
   }
   std::vector<std::string> flying;

@@ -169,6 +169,61 @@ TEST(QgcGeofence, AFlightIntoANoFlyZoneIsRefused) {
   EXPECT_TRUE(no_fly_violations(plan, 1, mission_items(plan, 1)).empty());
 }
 
+// The no-fly check projects back to lon/lat only the points of a leg inside a zone's padded box in the
+// plan's frame: its answers are those of testing every point of every leg (1 m apart), on legs that
+// pass a zone's corners and edges by less than a metre, cross it, or stay far from it.
+TEST(QgcGeofence, TheIndexedNoFlyCheckAnswersAsTestingEveryPoint) {
+  const Plan plan = fixture::two_uav_plan();
+  const geodesy::LocalFrame frame(plan.origin);
+  const auto& zones = plan.mission.no_fly_zones;
+  auto reference = [&](const Plan& p, std::size_t i, const std::vector<MissionItem>& items) {
+    auto zone_of = [&](LonLat q) {
+      for (std::size_t z = 0; z < zones.size(); ++z)
+        if (inside_ring(q, zones[z].front())) return static_cast<int>(z);
+      return -1;
+    };
+    std::vector<LonLat> places{p.mission.uavs[i].start_resolved};
+    for (const auto& it : items)
+      if (it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand)
+        places.push_back({it.lon, it.lat});
+    places.push_back(p.mission.uavs[i].start_resolved);
+    std::size_t found = 0;
+    for (std::size_t k = 0; k < places.size(); ++k) {
+      if (zone_of(places[k]) >= 0) {
+        ++found;
+        continue;
+      }
+      if (k == 0) continue;
+      const Point a = frame.to_local(places[k - 1]), b = frame.to_local(places[k]);
+      const int steps = static_cast<int>(std::ceil(std::hypot(b.x() - a.x(), b.y() - a.y())));
+      for (int s = 1; s < steps; ++s) {
+        const double t = static_cast<double>(s) / steps;
+        if (zone_of(frame.to_wgs84(Point(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y())))) >= 0) {
+          ++found;
+          break;
+        }
+      }
+    }
+    return found;
+  };
+  std::size_t crossing = 0, clear = 0;
+  // zone 0 is x 60..80, y -30..-10 in the plan's frame; the leg (120, -60) -> v -> (90, -40)
+  for (double x = 20; x <= 130; x += 3.7)
+    for (double y = -70; y <= 30; y += 3.7)
+      for (const double off : {0.0, 0.4}) {
+        Plan p = plan;
+        const Point v(x + off, y - off);
+        p.uavs[1].parts.front() = fixture::make_part(frame, PartKind::Transit, {{120, -60}, v, {90, -40}});
+        p.uavs[1].parts.front().wgs84[1] = frame.to_wgs84(v);
+        const auto items = mission_items(p, 1);
+        const std::size_t expected = reference(p, 1, items);
+        EXPECT_EQ(no_fly_violations(p, 1, items).size(), expected) << x << " " << y << " " << off;
+        (expected > 0 ? crossing : clear) += 1;
+      }
+  EXPECT_GT(crossing, 50u);
+  EXPECT_GT(clear, 50u);
+}
+
 TEST(QgcGeofence, YawKeepsTheHeadingInEveryFormat) {
   const Plan plan = fixture::two_uav_plan();
   const auto items = mission_items(plan, 0);

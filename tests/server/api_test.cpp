@@ -1,9 +1,12 @@
 // The /api/v1 routes over a real SQLite store: missions with revisions, listing, catalogs, job
 // creation, and the error codes with their JSON bodies naming the field.
+#include <fmt/format.h>
+
 #include <regex>
 
 #include "export/formats.hpp"
 #include "server/api_fixture.hpp"
+#include "server/api_internal.hpp"
 #include "uavcover/mission.hpp"
 
 namespace uavcover::server::testing {
@@ -36,6 +39,39 @@ const std::regex kIsoTime(R"(\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z)");
 TEST(IsoTime, FormatsUnixMilliseconds) {
   EXPECT_EQ(iso_time(0), "1970-01-01T00:00:00.000Z");
   EXPECT_EQ(iso_time(1'795'741'323'456), "2026-11-27T01:02:03.456Z");
+}
+
+// The 5 x 4 km field's qgc export has ~900 PX4 distance warnings (~150 KB): in a header, Beast refused
+// the field and dropped the connection. The header keeps the asked UAV's warnings and the plan's, as
+// many as fit, and says how many it left off.
+TEST(ExportWarningsHeader, KeepsTheUavsOwnAndFitsTheLimit) {
+  EXPECT_EQ(detail::export_warnings_header({}, "alpha"), "");
+  EXPECT_EQ(detail::export_warnings_header({"uav 'bravo': far"}, "alpha"), "");
+  EXPECT_EQ(detail::export_warnings_header({"uav 'bravo': far", "ceiling"}, "alpha"), R"(["ceiling"])");
+  EXPECT_EQ(detail::export_warnings_header({"uav 'bravo': far", "ceiling"}, ""),
+            R"(["uav 'bravo': far","ceiling"])");
+  EXPECT_EQ(detail::export_warnings_header({"uav 'alphabet': x", "uav 'alpha': y"}, "alpha"),
+            R"(["uav 'alpha': y"])");
+  std::vector<std::string> many{"transition altitudes compressed \u00e9"};
+  for (int k = 0; k < 900; ++k)
+    for (const char* id : {"alpha", "bravo"})
+      many.push_back(
+          fmt::format("uav '{}': PX4: mission item {} (MAV_CMD 16, coverage): 2474 m from the "
+                      "previous waypoint, MIS_DIST_WPS 900 m",
+                      id, k + 1));
+  const std::string h = detail::export_warnings_header(many, "bravo");
+  ASSERT_LE(h.size(), detail::kWarningsHeaderLimit);
+  for (const char c : h) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << int(c);  // one ASCII header line
+  const json a = json::parse(h);
+  ASSERT_GT(a.size(), 10u);
+  EXPECT_EQ(a[0], many[0]);
+  std::size_t shown = 0;
+  for (std::size_t k = 1; k + 1 < a.size(); ++k) {
+    EXPECT_EQ(a[k], many[2 * k]) << k;  // bravo's, in order
+    ++shown;
+  }
+  EXPECT_EQ(a.back(),
+            fmt::format("{} more warnings left off (uavcover export prints them all)", 900 - shown));
 }
 
 TEST_P(ApiTest, MissionLifecycleWithRevisions) {
