@@ -86,6 +86,10 @@ inline std::string lower(std::string_view s) {
   return out;
 }
 
+/// The longest response header value sent (Beast's own limit is 64 KiB; the export warnings header keeps
+/// to 4 KiB of its own accord).
+inline constexpr std::size_t kMaxHeaderValue = 32 * 1024;
+
 /// Header values from handlers may carry user text (file names): no CR, LF or NUL gets through.
 inline std::string header_safe(std::string_view v) {
   std::string out;
@@ -277,7 +281,16 @@ inline StringResponse to_beast(Response&& r, unsigned version, bool keep_alive, 
   if (r.status != 204 && r.status != 304) res.set(http::field::content_type, header_safe(r.content_type));
   auto headers = std::move(r.headers);
   core.add_cors(headers);
-  for (const auto& [name, value] : headers) res.set(header_safe(name), header_safe(value));
+  for (const auto& [name, value] : headers) {
+    // Beast refuses a field value of 64 KiB or more and the connection would end with no answer: such a
+    // header (a handler's bug) is left out and logged, and the answer still goes out
+    if (value.size() > kMaxHeaderValue) {
+      spdlog::error("request {}: header {} of {} bytes left out (over {} bytes)", request_id,
+                    header_safe(name).substr(0, 64), value.size(), kMaxHeaderValue);
+      continue;
+    }
+    res.set(header_safe(name), header_safe(value));
+  }
   res.set("X-Request-Id", request_id);
   res.keep_alive(keep_alive);
   if (r.status != 204 && r.status != 304) res.body() = std::move(r.body);
