@@ -177,9 +177,6 @@ TEST(StripShares, DarpReachesTheBestDivisionOfItsGrid) {
 
 TEST(StripShares, EverySharePlannerMeetsTheSharesWithDrawnStarts) {
   for (const auto& name : share_planners()) {
-    // milp's items are whole sweep lines: the strip's few 4 km lines cannot be shared among 6 UAVs
-    // (three get none, with or without these starts; see docs/planners.md)
-    if (name == "milp") continue;
     const Mission m = with_planner(strip(), name);
     const Plan p = plan(m);
     if (name == "darp") {
@@ -190,8 +187,13 @@ TEST(StripShares, EverySharePlannerMeetsTheSharesWithDrawnStarts) {
         EXPECT_LE(std::fabs(u.share_actual - u.share_requested), c.best_deviation / c.free + 1e-9) << u.id;
       EXPECT_LE(worst_deviation(p), 1.0 / c.free) << name;
     } else {
-      // smt's lattice on a 150 m strip is coarse too (measured 2.1 points); the others divide continuously
-      EXPECT_LE(worst_deviation(p), name == "smt" ? 0.03 : 0.01) << name;
+      // smt's lattice on a 150 m strip is coarse too (measured 2.2 points); milp cuts its 3 lines of 4 km
+      // by line length, and its edge lines' strips are wider than the middle one's (measured 3.4 points;
+      // before, 3 UAVs got no line: 20 points); the others divide continuously
+      const double tolerance = name == "smt" ? 0.03 : name == "milp" ? 0.04 : 0.01;
+      EXPECT_LE(worst_deviation(p), tolerance) << name;
+      for (const auto& u : p.uavs)
+        EXPECT_GT(bg::area(u.region_local), 0.0) << name << " " << u.id << " has a region";
     }
     check_geometry(m, p);
   }
