@@ -177,9 +177,6 @@ TEST(StripShares, DarpReachesTheBestDivisionOfItsGrid) {
 
 TEST(StripShares, EverySharePlannerMeetsTheSharesWithDrawnStarts) {
   for (const auto& name : share_planners()) {
-    // milp's items are whole sweep lines: the strip's few 4 km lines cannot be shared among 6 UAVs
-    // (three get none, with or without these starts; see docs/planners.md)
-    if (name == "milp") continue;
     const Mission m = with_planner(strip(), name);
     const Plan p = plan(m);
     if (name == "darp") {
@@ -190,11 +187,93 @@ TEST(StripShares, EverySharePlannerMeetsTheSharesWithDrawnStarts) {
         EXPECT_LE(std::fabs(u.share_actual - u.share_requested), c.best_deviation / c.free + 1e-9) << u.id;
       EXPECT_LE(worst_deviation(p), 1.0 / c.free) << name;
     } else {
-      // smt's lattice on a 150 m strip is coarse too (measured 2.1 points); the others divide continuously
-      EXPECT_LE(worst_deviation(p), name == "smt" ? 0.03 : 0.01) << name;
+      // smt's lattice on a 150 m strip is coarse too (measured 2.2 points); milp cuts its 3 lines of 4 km
+      // by line length, and its edge lines' strips are wider than the middle one's (measured 3.4 points;
+      // before, 3 UAVs got no line: 20 points); the others divide continuously
+      const double tolerance = name == "smt" ? 0.03 : name == "milp" ? 0.04 : 0.01;
+      EXPECT_LE(worst_deviation(p), tolerance) << name;
+      for (const auto& u : p.uavs)
+        EXPECT_GT(bg::area(u.region_local), 0.0) << name << " " << u.id << " has a region";
     }
     check_geometry(m, p);
   }
+}
+
+/// The strip as a user writes it: the spacing from a camera block (ds = (2 - 0.75) 56 m tan 45 deg
+/// = 70 m), a count of UAVs and no starts.
+json camera_strip(int seed) {
+  json j = strip();
+  j.erase("spacing_m");
+  j["camera"] = {{"altitude_m", 56}, {"hfov_deg", 90}, {"overlap", 0.75}};
+  j["uavs"] = 6;
+  j["seed"] = seed;
+  return j;
+}
+
+TEST(StripShares, DarpBestDivisionForEverySeed) {
+  // uniform starts missed by 7.9 to 28.3 points on seeds 1-9 (e.g. seed 4: cells 3,13,3,3,5,2); the spread
+  // starts give the best division of the grid on every seed
+  for (int seed = 1; seed <= 9; ++seed) {
+    const Plan p = plan(with_planner(camera_strip(seed), "darp"));
+    ASSERT_NEAR(p.mission.spacing_m, 70.0, 1e-9);
+    const StripCells c = strip_cells(p);
+    EXPECT_GE(c.free, 27) << "seed " << seed;
+    EXPECT_LE(c.free, 29) << "seed " << seed;
+    EXPECT_EQ(c.cells, c.best) << "seed " << seed << ": the best division of " << c.free << " cells";
+    for (const auto& u : p.uavs)
+      EXPECT_LE(std::fabs(u.share_actual - u.share_requested) * c.free, 1.0 + 1e-9)
+          << "seed " << seed << " " << u.id << ": within one cell of the share";
+  }
+}
+
+TEST(DrawnStarts, DeterministicFromTheSeedInsideTheFreeAreaOnePerSlab) {
+  const Mission m = parse_mission(camera_strip(5).dump());
+  const auto lm = engine::to_local(m);
+  auto starts = [&](std::optional<std::uint64_t> seed) {
+    PlanOptions o;
+    o.seed = seed;
+    std::vector<Point> out;
+    for (const auto& u : plan(m, o).mission.uavs) out.push_back(lm.frame.to_local(u.start_resolved));
+    return out;
+  };
+  const auto a = starts(std::nullopt), b = starts(std::nullopt), c = starts(6);
+  ASSERT_EQ(a.size(), 6u);
+  bool moved = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_DOUBLE_EQ(a[i].x(), b[i].x()) << i;
+    EXPECT_DOUBLE_EQ(a[i].y(), b[i].y()) << i;
+    EXPECT_LT(bg::distance(a[i], lm.free), 1e-6) << i << " lies in the free area";
+    EXPECT_LT(bg::distance(c[i], lm.free), 1e-6) << i << " lies in the free area";
+    moved |= !bg::equals(a[i], c[i]);
+  }
+  EXPECT_TRUE(moved) << "another seed draws other starts";
+  // spread along the strip: one start in each sixth (equal shares), in UAV order along the axis
+  bg::model::box<Point> env;
+  bg::envelope(lm.free, env);
+  const double x0 = env.min_corner().x(), w = env.max_corner().x() - x0;
+  for (const auto& s : {a, c})
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const double along = (s[i].x() - x0) / w * 6;
+      const bool forward = s.back().x() > s.front().x();
+      const double slab = forward ? static_cast<double>(i) : static_cast<double>(5 - i);
+      EXPECT_GE(along, slab - 1e-6) << i;
+      EXPECT_LE(along, slab + 1 + 1e-6) << i;
+    }
+}
+
+TEST(DrawnStarts, GivenStartsAreKeptAndOnlyMissingOnesAreDrawn) {
+  json j = camera_strip(3);
+  j["uavs"] = uavs(6);
+  const LonLat given = zone_lattice_point(-50, 75);
+  j["uavs"][2]["start"] = {given.lon, given.lat};
+  const Plan p = plan(with_planner(j, "darp"));
+  EXPECT_EQ(p.mission.uavs[2].start_resolved.lon, given.lon);
+  EXPECT_EQ(p.mission.uavs[2].start_resolved.lat, given.lat);
+  const auto lm = engine::to_local(p.mission);
+  for (std::size_t i = 0; i < 6; ++i)
+    if (i != 2) {
+      EXPECT_LT(bg::distance(lm.frame.to_local(p.mission.uavs[i].start_resolved), lm.free), 1e-6) << i;
+    }
 }
 
 TEST(CoarseGrid, TheWarningGivesTheNumbersAndWhatToChange) {

@@ -463,8 +463,9 @@ Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& s
     }
     return reached == unowned;
   };
-  // the longest piece (at most `need`) group g can cut from segment s: {length, piece at the high end}
-  auto best_cut = [&](int s, int g, double need) {
+  // the longest piece (at most `need`) group g can cut from segment s: {length, piece at the high end};
+  // the piece touches g's segments, unless it is g's first (`first`)
+  auto best_cut = [&](int s, int g, double need, bool first) {
     std::pair<double, bool> best{0.0, false};
     const double len = at(work, s);
     if (len < 2.0 * min_piece) return best;
@@ -479,8 +480,8 @@ Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& s
         const double c = high ? at(hi, s) - a : at(lo, s) + a;
         const double alo = high ? c : at(lo, s), ahi = high ? at(hi, s) : c;
         const auto& n = at(adj, s);
-        if (!std::any_of(n.begin(), n.end(),
-                         [&](int t) { return at(owner, t) == g && touches(t, s, alo, ahi); }))
+        if (!first && !std::any_of(n.begin(), n.end(),
+                                   [&](int t) { return at(owner, t) == g && touches(t, s, alo, ahi); }))
           continue;
         if (!rest_connected(s, high ? at(lo, s) : c, high ? c : at(hi, s))) continue;
         best = {a, high};
@@ -570,11 +571,16 @@ Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& s
       }
       double amount = 0.0;
       for (int s : take) amount += at(work, s);
-      if (taken > 0 && acc + amount > target + 1e-9 && target - acc >= min_piece) {
+      // a group's first segment is cut too when whole it would overshoot the share by more than the
+      // share, or leave too few segments for the groups after it (a few long lines among many UAVs:
+      // a 4 km x 150 m strip has 3 lines for 6 UAVs)
+      const bool first =
+          taken == 0 && take.size() == 1 && (amount - target > target || left - 1 < need_after);
+      if ((taken > 0 || first) && acc + amount > target + 1e-9 && target - acc >= min_piece) {
         // a cut of one of the first frontier segments (a bounded number of tries)
         std::tuple<double, int, bool> best{0.0, -1, false};
         for (std::size_t i = 0; i < pool.size() && i < 16; ++i) {
-          const auto [a, high] = best_cut(pool[i], g, target - acc);
+          const auto [a, high] = best_cut(pool[i], g, target - acc, first);
           if (a > std::get<0>(best) + 1e-9) best = {a, pool[i], high};
         }
         if (std::get<1>(best) >= 0) {
