@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "io/import.hpp"
+#include "json/strict.hpp"
 #include "server/api_internal.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
@@ -124,6 +126,55 @@ store::MissionRevision get_or_404(ApiContext& ctx, store::Id id, std::optional<i
   return *std::move(m);
 }
 
+// POST /missions/import: a multipart upload ("file", optional "options" JSON) -> the mission skeleton.
+Response import_upload(const Request& req, const ApiContext& ctx) {
+  if (req.body.size() > ctx.config.max_body_bytes)
+    throw HttpError(413, "body",
+                    "the body is larger than " + std::to_string(ctx.config.max_body_bytes) + " bytes");
+  const auto type = req.header("content-type");
+  const std::vector<FormPart> parts = parse_multipart(type.value_or(""), req.body);
+  const FormPart* file = nullptr;
+  const FormPart* options = nullptr;
+  for (const auto& p : parts) {
+    if (p.name == "file")
+      file = &p;
+    else if (p.name == "options")
+      options = &p;
+    else
+      throw HttpError(400, p.name.substr(0, 64),
+                      "unknown part: expected \"file\" and optionally \"options\"");
+  }
+  if (file == nullptr) throw HttpError(400, "file", "missing: the upload needs a \"file\" part");
+  if (!file->filename || file->filename->empty())
+    throw HttpError(400, "file", "the part needs a filename (its extension tells the format)");
+  io::ImportOptions opt;
+  if (options != nullptr) {
+    nlohmann::json o;
+    try {
+      o = strict::parse_json(options->body, "options");
+    } catch (const InputError& e) {
+      throw HttpError(400, e.field().empty() ? "options" : e.field(), e.what());
+    }
+    if (!o.is_object()) throw HttpError(400, "options", "expected a JSON object");
+    for (const auto& [key, value] : o.items()) {
+      const std::string field = "options." + key.substr(0, 64);
+      if (key == "template") {
+        if (!value.is_object()) throw HttpError(400, field, "expected a mission object");
+        opt.template_mission = value;
+        continue;
+      }
+      if (key != "layer" && key != "area_where" && key != "crs")
+        throw HttpError(400, field, "unknown option: expected layer, area_where, crs or template");
+      if (!value.is_string() || value.get<std::string>().empty() || value.get<std::string>().size() > 1000)
+        throw HttpError(400, field, "expected a string of 1 to 1000 characters");
+      (key == "layer"        ? opt.layer
+       : key == "area_where" ? opt.area_where
+                             : opt.crs) = value.get<std::string>();
+    }
+  }
+  return Response::json(200, io::import_mission_bytes(file->body, *file->filename, opt));
+}
+
 }  // namespace
 
 void add_mission_routes(Router& router, ApiContext& ctx) {
@@ -149,6 +200,10 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
                                            {"altitude_source", m.altitude_source},
                                            {"bbox", bbox_json(area_bbox(m))}});
              }));
+  // a mission skeleton from an uploaded vector file (docs/import.md); not stored: the client stores
+  // it as any other mission. Runs on the handler pool like every router route.
+  router.add("POST", base + "/import",
+             guarded([&ctx](const Request& req) { return import_upload(req, ctx); }));
   router.add("GET", base, guarded([&ctx](const Request& req) {
                const store::MissionPage page = ctx.store.list_missions(parse_query(req));
                nlohmann::json items = nlohmann::json::array();

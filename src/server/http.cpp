@@ -265,6 +265,131 @@ std::string media_type(std::string_view content_type) {
   return ascii_lower(media);
 }
 
+namespace {
+
+[[noreturn]] void bad_form(const std::string& field, const std::string& message) {
+  throw HttpError(400, field, message);
+}
+
+// A parameter value at `pos` of a header (after "name="): a token or a quoted-string. Advances pos.
+std::optional<std::string> param_value(std::string_view h, std::size_t& pos) {
+  std::string v;
+  if (pos < h.size() && h[pos] == '"') {
+    for (++pos; pos < h.size(); ++pos) {
+      if (h[pos] == '\\' && pos + 1 < h.size()) {
+        v.push_back(h[++pos]);
+      } else if (h[pos] == '"') {
+        ++pos;
+        return v;
+      } else {
+        v.push_back(h[pos]);
+      }
+    }
+    return std::nullopt;  // unterminated
+  }
+  while (pos < h.size() && h[pos] != ';' && h[pos] != ' ' && h[pos] != '\t') v.push_back(h[pos++]);
+  return v;
+}
+
+// "type; a=1; b=\"x\"" -> {a: 1, b: x} (lower-case names); nullopt when malformed.
+std::optional<std::map<std::string, std::string>> header_params(std::string_view h) {
+  std::map<std::string, std::string> out;
+  std::size_t pos = h.find(';');
+  while (pos != std::string_view::npos && pos < h.size()) {
+    ++pos;  // past ';'
+    while (pos < h.size() && (h[pos] == ' ' || h[pos] == '\t')) ++pos;
+    if (pos == h.size()) break;
+    const std::size_t eq = h.find('=', pos);
+    if (eq == std::string_view::npos) return std::nullopt;
+    std::string key = ascii_lower(std::string(h.substr(pos, eq - pos)));
+    key.erase(key.find_last_not_of(" \t") + 1);
+    pos = eq + 1;
+    while (pos < h.size() && (h[pos] == ' ' || h[pos] == '\t')) ++pos;
+    auto value = param_value(h, pos);
+    if (!value || key.empty() || out.count(key) != 0) return std::nullopt;
+    out[key] = *value;
+    while (pos < h.size() && (h[pos] == ' ' || h[pos] == '\t')) ++pos;
+    if (pos < h.size() && h[pos] != ';') return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<FormPart> parse_multipart(std::string_view content_type, std::string_view body,
+                                      const MultipartLimits& limits) {
+  if (media_type(content_type) != "multipart/form-data")
+    throw HttpError(415, "content-type",
+                    "expected Content-Type multipart/form-data, got \"" +
+                        std::string(content_type.substr(0, 100)) + "\"");
+  const auto params = header_params(content_type);
+  const auto b = params ? params->find("boundary") : std::map<std::string, std::string>::const_iterator{};
+  if (!params || b == params->end() || b->second.empty() || b->second.size() > 70 ||
+      b->second.find_first_of("\r\n") != std::string::npos)
+    throw HttpError(415, "content-type", "multipart/form-data needs a boundary of 1 to 70 characters");
+  const std::string dash = "--" + b->second;
+  const std::string delimiter = "\r\n" + dash;
+  // the first delimiter: at the very start or after a preamble ending in CRLF
+  std::size_t pos = 0;
+  if (body.substr(0, dash.size()) == dash) {
+    pos = dash.size();
+  } else {
+    const std::size_t d = body.find(delimiter);
+    if (d == std::string_view::npos) bad_form("body", "no multipart boundary in the body");
+    pos = d + delimiter.size();
+  }
+  std::vector<FormPart> parts;
+  for (;;) {
+    if (body.substr(pos, 2) == "--") return parts;  // the closing delimiter (an epilogue may follow)
+    while (pos < body.size() && (body[pos] == ' ' || body[pos] == '\t')) ++pos;  // transport padding
+    if (body.substr(pos, 2) != "\r\n") bad_form("body", "a multipart boundary must end its line with CRLF");
+    pos += 2;
+    if (parts.size() == limits.max_parts)
+      bad_form("body", "more than " + std::to_string(limits.max_parts) + " parts");
+    const std::size_t head_end = body.find("\r\n\r\n", pos);
+    const bool no_headers = body.substr(pos, 2) == "\r\n";
+    if (no_headers || head_end == std::string_view::npos || head_end - pos > limits.max_header_bytes)
+      bad_form("body", no_headers ? "a part without a Content-Disposition header"
+                                  : "a part's headers are unterminated or longer than " +
+                                        std::to_string(limits.max_header_bytes) + " bytes");
+    FormPart part;
+    bool disposition = false;
+    std::string_view head = body.substr(pos, head_end - pos);
+    while (!head.empty()) {
+      const std::size_t eol = std::min(head.find("\r\n"), head.size());
+      const std::string_view line = head.substr(0, eol);
+      head.remove_prefix(std::min(eol + 2, head.size()));
+      const std::size_t colon = line.find(':');
+      if (colon == std::string_view::npos || colon == 0) bad_form("body", "a malformed part header line");
+      const std::string key = ascii_lower(std::string(line.substr(0, colon)));
+      std::string_view value = line.substr(colon + 1);
+      while (!value.empty() && (value.front() == ' ' || value.front() == '\t')) value.remove_prefix(1);
+      if (key == "content-disposition") {
+        if (disposition) bad_form("body", "a part with two Content-Disposition headers");
+        disposition = true;
+        if (media_type(value) != "form-data")
+          bad_form("body", "a part's Content-Disposition must be form-data");
+        const auto p = header_params(value);
+        if (!p || p->count("name") == 0 || p->at("name").empty())
+          bad_form("body", "a part's Content-Disposition needs a name");
+        part.name = p->at("name");
+        if (const auto f = p->find("filename"); f != p->end()) part.filename = f->second;
+      } else if (key == "content-type") {
+        part.content_type = std::string(value);
+      }
+    }
+    if (!disposition) bad_form("body", "a part without a Content-Disposition header");
+    pos = head_end + 4;
+    const std::size_t end = body.find(delimiter, pos);
+    if (end == std::string_view::npos) bad_form(part.name, "the part is not closed by the boundary");
+    for (const auto& other : parts)
+      if (other.name == part.name) bad_form(part.name, "the part is given twice");
+    part.body = std::string(body.substr(pos, end - pos));
+    parts.push_back(std::move(part));
+    pos = end + delimiter.size();
+  }
+}
+
 std::int64_t parse_id(const std::string& text, const std::string& field) {
   std::int64_t v = 0;
   const auto* end = text.data() + text.size();

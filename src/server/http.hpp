@@ -117,6 +117,28 @@ std::string media_type(std::string_view content_type);
 /// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
 bool is_loopback(const std::string& host);
 
+/// One part of a multipart/form-data body (RFC 7578).
+struct FormPart {
+  std::string name;                     ///< Content-Disposition: form-data; name="..."
+  std::optional<std::string> filename;  ///< its filename="..." parameter, when given
+  std::string content_type;             ///< the part's Content-Type (empty when absent)
+  std::string body;
+};
+
+/// Limits of parse_multipart (a fuzzed body never makes it allocate more than the body's size per part).
+struct MultipartLimits {
+  std::size_t max_parts = 16;
+  std::size_t max_header_bytes = 8192;  ///< one part's header block
+};
+
+/// Parses a multipart/form-data body strictly: the boundary from `content_type` (1 to 70 characters,
+/// quoted or not), CRLF framing, a closing delimiter, each part with a Content-Disposition form-data
+/// header naming it (name, optional filename; quoted-string escapes), names unique. HttpError 415
+/// ("content-type") when the type is not multipart/form-data or has no usable boundary, 400 ("body",
+/// or the part's name) when the framing or a part's headers are wrong.
+std::vector<FormPart> parse_multipart(std::string_view content_type, std::string_view body,
+                                      const MultipartLimits& limits = {});
+
 /// A positive decimal id from a path or query parameter, without a sign or leading zeros; HttpError 400
 /// (field) otherwise.
 std::int64_t parse_id(const std::string& text, const std::string& field = "id");

@@ -60,7 +60,30 @@ async function bytes(path: string): Promise<ArrayBuffer> {
   throw failure(res, json);
 }
 
+/** POST /missions/import (docs/import.md): the file as a multipart upload -> the mission skeleton. */
+async function importFile<T>(file: Blob, name: string, options?: Record<string, unknown>): Promise<T> {
+  const form = new FormData();
+  form.append('file', file, name);
+  if (options) form.append('options', JSON.stringify(options));
+  let res: Response;
+  try {
+    res = await fetch(API + '/missions/import', { method: 'POST', body: form });
+  } catch {
+    throw new ApiError(0, '', 'The server cannot be reached. Is `uavcover serve` running?');
+  }
+  const text = await res.text();
+  let json: unknown = undefined;
+  try {
+    json = text ? JSON.parse(text) : undefined;
+  } catch {
+    /* not JSON: reported below */
+  }
+  if (!res.ok) throw failure(res, json);
+  return json as T;
+}
+
 export const api = {
+  importFile,
   get: <T>(path: string) => request<T>('GET', path),
   bytes,
   post: <T>(path: string, body?: unknown) => request<T>('POST', path, body ?? {}),

@@ -10,6 +10,9 @@ import { docBbox, editableDoc, fieldLabel, fileName, humanMessage, newDraft, typ
 import { readImport } from '../import.ts';
 import '../missions.css';
 
+/** files only the server's importer reads (zipped Shapefile, KMZ, KML, GeoPackage, DXF) */
+const VECTOR_EXTENSIONS = new Set(['zip', 'kmz', 'kml', 'gpkg', 'dxf']);
+
 interface MissionSummary {
   id: number;
   name: string;
@@ -105,10 +108,10 @@ class MissionsPanel {
     });
     bar.append(this.search, newBtn);
 
-    const drop = el('label', { class: 'missions-drop', title: 'uavcover mission, mCPP-optimized-DARP JSON, GeoJSON or KML' });
+    const drop = el('label', { class: 'missions-drop', title: 'uavcover mission, mCPP-optimized-DARP JSON, GeoJSON, KML/KMZ, zipped Shapefile, GeoPackage or DXF' });
     const input = el('input', {
       type: 'file',
-      accept: '.json,.geojson,.kml,application/json,application/geo+json,application/vnd.google-earth.kml+xml',
+      accept: '.json,.geojson,.kml,.kmz,.zip,.gpkg,.dxf,application/json,application/geo+json,application/vnd.google-earth.kml+xml',
       'data-testid': 'mission-import-input',
     });
     input.addEventListener('change', () => {
@@ -414,9 +417,12 @@ class MissionsPanel {
     if (!(await confirmDiscard(this.app, `Import ${f.name}`))) return;
     this.say(`Reading ${f.name}…`);
     try {
-      const text = await f.text();
-      const r = readImport(text, f.name, (s) => new DOMParser().parseFromString(s, 'application/xml'));
-      if (r.kind === 'mission') {
+      // vector files go to the server's importer (GDAL: docs/import.md); a mission file is stored as it is
+      const ext = f.name.toLowerCase().split('.').pop() ?? '';
+      const r = VECTOR_EXTENSIONS.has(ext)
+        ? null
+        : readImport(await f.text(), f.name, (s) => new DOMParser().parseFromString(s, 'application/xml'));
+      if (r && r.kind === 'mission') {
         const c = await api.post<{ id: number; revision: number }>('/missions', r.body);
         this.selected = c.id;
         this.search.value = '';
@@ -424,10 +430,11 @@ class MissionsPanel {
         this.say(`Imported ${f.name} as mission #${c.id}.`);
         await this.open(c.id, true);
       } else {
-        this.app.update({ missionId: null, revision: null, mission: r.doc, planId: null, dirty: true });
-        const b = bboxBounds(docBbox(r.doc));
+        const doc = await api.importFile<MissionDoc>(f, f.name);
+        this.app.update({ missionId: null, revision: null, mission: doc, planId: null, dirty: true });
+        const b = bboxBounds(docBbox(doc));
         if (b) this.app.map.fitBounds(b, { padding: [30, 30], maxZoom: 18 });
-        this.say(`Read ${f.name} (${r.format === 'kml' ? 'KML' : 'GeoJSON'}): a draft mission — check it and save it in the Define tab.`);
+        this.say(`Read ${f.name}: a draft mission — check it and save it in the Define tab.`);
         this.app.showTab('define');
       }
     } catch (e) {
