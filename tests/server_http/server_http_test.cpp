@@ -1062,6 +1062,28 @@ TEST_F(ServerHttp, CorsOriginMayCallAndOthersMayNot) {
       403);
 }
 
+// the importer's upload is the one non-JSON body the API takes: multipart/form-data on POST
+// /api/v1/missions/import only, and never from a foreign Origin
+TEST_F(ServerHttp, MultipartOnlyForTheImportUpload) {
+  router_.add("POST", "/api/v1/missions/import", [](const Request& req) {
+    return Response::json(200, {{"bytes", req.body.size()}});
+  });
+  start();
+  const auto status_of = [](const std::string& text) { return text.substr(0, 12); };
+  const std::string body =
+      "--b\r\nContent-Disposition: form-data; name=\"file\"; filename=\"f.kml\"\r\n\r\nx\r\n--b--\r\n";
+  const auto upload = [&](const std::string& path, const std::string& extra) {
+    return raw_exchange(port_, "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + extra +
+                                   "Content-Type: multipart/form-data; boundary=b\r\nContent-Length: " +
+                                   std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
+  };
+  const auto ok = upload("/api/v1/missions/import", "");
+  EXPECT_EQ(status_of(ok), "HTTP/1.1 200") << ok;
+  EXPECT_EQ(status_of(upload("/api/v1/things", "")), "HTTP/1.1 415");
+  EXPECT_EQ(status_of(upload("/api/v1/missions/import", "Origin: https://attacker.example\r\n")),
+            "HTTP/1.1 403");
+}
+
 TEST_F(ServerHttp, JsonBodiesOnlyAndNoContentCoding) {
   start();
   const auto status_of = [](const std::string& text) { return text.substr(0, 12); };

@@ -356,7 +356,7 @@ test('defect 9: KML names, the draw hint, a new mission with one UAV, tabs with 
   });
   await p.goto(`${server.base}/?tiles=off`);
   await p.waitForSelector('[data-testid=mission-new]');
-  // a KML: its Document's name
+  // a KML: its names are kept (the server's importer, docs/import.md: the area Placemark's name names the mission)
   const dir = mkdtempSync(join(tmpdir(), 'uavcover-ops-'));
   const kml = join(dir, 'field.kml');
   writeFileSync(
@@ -364,7 +364,7 @@ test('defect 9: KML names, the draw hint, a new mission with one UAV, tabs with 
     `<?xml version="1.0" encoding="UTF-8"?><kml xmlns="http://www.opengis.net/kml/2.2"><Document><name>Vineyard east</name><Placemark><name>block 3</name><Polygon><outerBoundaryIs><LinearRing><coordinates>22.95,40.6 22.953,40.6 22.953,40.602 22.95,40.602 22.95,40.6</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark></Document></kml>`,
   );
   await p.setInputFiles('[data-testid=mission-import-input]', kml);
-  await p.waitForFunction(() => document.querySelector('[data-testid=mission-name]')?.value === 'Vineyard east');
+  await p.waitForFunction(() => document.querySelector('[data-testid=mission-name]')?.value === 'block 3');
 
   // a new mission has a UAV: the first vertex drawn raises no error
   await h.tab(p, 'missions');
