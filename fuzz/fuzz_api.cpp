@@ -178,8 +178,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (size == 0) return 0;
   static const std::array<const char*, 5> kMethods{"GET", "POST", "PUT", "DELETE", "PATCH"};
-  static const std::array<const char*, 4> kTypes{"", "application/json", "Application/JSON; charset=utf-8",
-                                                 "text/plain"};
+  static const std::array<const char*, 5> kTypes{"", "application/json", "Application/JSON; charset=utf-8",
+                                                 "text/plain", "multipart/form-data; boundary=b"};
   Request req;
   req.method = kMethods[data[0] % kMethods.size()];
   if (const char* type = kTypes[(data[0] / kMethods.size()) % kTypes.size()]; *type)
