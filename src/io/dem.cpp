@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "io/quiet_gdal.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::io {
@@ -32,27 +33,7 @@ constexpr double kMaxAbsHeight = 12'000.0;  // deeper than any sea floor, higher
 
 [[noreturn]] void refuse(const std::string& problem) { throw InputError(kField, problem); }
 
-// GDAL's messages go to this handler (not stderr) while a DEM is read; the last one explains a refusal.
-struct QuietGdal {
-  QuietGdal() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-    // no directory listing next to the file (sidecar files are looked up by name only)
-    CPLSetThreadLocalConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
-  }
-  ~QuietGdal() {
-    CPLSetThreadLocalConfigOption("GDAL_DISABLE_READDIR_ON_OPEN", nullptr);
-    CPLPopErrorHandler();
-  }
-  QuietGdal(const QuietGdal&) = delete;
-  QuietGdal& operator=(const QuietGdal&) = delete;
-  static std::string last() {
-    const char* m = CPLGetLastErrorMsg();
-    return m != nullptr && *m != '\0' ? std::string(m).substr(0, 300) : "no reason given";
-  }
-};
+using detail::QuietGdal;
 
 struct Box {
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
@@ -111,7 +92,7 @@ HeightGrid read_dem(const fs::path& file, double west, double south, double east
   if (!fs::is_regular_file(st)) refuse("'" + file.string() + "' is not a regular file");
   if (!(west < east) || !(south < north)) refuse("the mission's extent is empty");
 
-  QuietGdal quiet;
+  QuietGdal quiet("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
   const char* const drivers[] = {"GTiff", nullptr};
   GDALDatasetUniquePtr ds(GDALDataset::FromHandle(
       GDALOpenEx(file.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, nullptr, nullptr)));

@@ -23,6 +23,7 @@
 #include <set>
 #include <vector>
 
+#include "io/quiet_gdal.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 
@@ -40,26 +41,7 @@ constexpr std::size_t kMaxName = 256;
   throw InputError(field, problem);
 }
 
-// GDAL's messages go to this handler (not stderr) while a file is read; the last one explains a refusal.
-struct QuietGdal {
-  QuietGdal() {
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-    CPLSetThreadLocalConfigOption("DXF_CLOSED_LINE_AS_POLYGON", "TRUE");
-  }
-  ~QuietGdal() {
-    CPLSetThreadLocalConfigOption("DXF_CLOSED_LINE_AS_POLYGON", nullptr);
-    CPLPopErrorHandler();
-  }
-  QuietGdal(const QuietGdal&) = delete;
-  QuietGdal& operator=(const QuietGdal&) = delete;
-  static std::string last() {
-    const char* m = CPLGetLastErrorMsg();
-    return m != nullptr && *m != '\0' ? std::string(m).substr(0, 300) : "no reason given";
-  }
-};
+using detail::QuietGdal;
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -394,7 +376,7 @@ nlohmann::json skeleton(std::vector<Shape> shapes, const ImportOptions& options,
 
 nlohmann::json import_named(const std::string& name, const std::string& shown, const std::string& stem,
                             const ImportOptions& options, const ImportLimits& limits) {
-  QuietGdal quiet;
+  QuietGdal quiet("DXF_CLOSED_LINE_AS_POLYGON", "TRUE");
   Reader reader(options, limits);  // checks crs before the file is opened
   const std::string open_name = gdal_name(name, shown);
   std::unique_ptr<GDALDataset> ds(
