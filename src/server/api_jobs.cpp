@@ -171,13 +171,13 @@ Response export_response(ApiContext& ctx, const Request& req) {
   const std::string uav = uav_it == req.query.end() ? std::string() : uav_it->second;
   // made from the stored plan on first request, then cached (docs/cache.md)
   if (ctx.exports == nullptr) throw HttpError(501, "format", "this server makes no exports");
+  const std::string source = usecases::export_source_format(format);
+  const auto entry = ctx.exports->get(job, source);
   // a plan job stored before exports were made on request has no plan to make them from
-  if (store::plan_cache_prefix(job.artifacts).empty())
+  if (!entry)
     throw HttpError(
         404, "artifact",
         "plan " + std::to_string(job.id) + " has no stored plan.json and paths.geojson to export");
-  const std::string source = usecases::export_source_format(format);
-  const auto entry = ctx.exports->get(job, source);
   if (!entry->refused.empty())
     throw HttpError(404, "format", "the plan has no " + format + " export: " + entry->refused);
   const auto& names = entry->names;

@@ -202,7 +202,7 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
              }));
   // a mission skeleton from an uploaded vector file (docs/import.md); not stored: the client stores
   // it as any other mission. Runs on the handler pool like every router route.
-  router.add("POST", base + "/import",
+  router.add("POST", std::string(kImportRoute),
              guarded([&ctx](const Request& req) { return import_upload(req, ctx); }));
   router.add("GET", base, guarded([&ctx](const Request& req) {
                const store::MissionPage page = ctx.store.list_missions(parse_query(req));

@@ -97,8 +97,7 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
 
 std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, const std::string& format) {
   const std::string prefix = store::plan_cache_prefix(job.artifacts);
-  if (prefix.empty())
-    throw OperationError("plan " + std::to_string(job.id) + " has no stored plan.json and paths.geojson");
+  if (prefix.empty()) return nullptr;
   // the trajectory of a job with trajectory_step_s is sampled: its own entry
   std::string key = prefix + "/" + format;
   if (const auto it = job.params.find("trajectory_step_s");
@@ -151,6 +150,7 @@ std::optional<Artifact> ExportService::read(const ExportEntry& entry, const stor
   if (auto a = store_.cached_file(entry.key, name)) return a;
   // evicted between the entry and its file: built again
   const auto again = get(job, format);
+  if (!again) return std::nullopt;
   if (std::find(again->names.begin(), again->names.end(), name) == again->names.end()) return std::nullopt;
   if (again->files)
     for (const auto& f : *again->files)

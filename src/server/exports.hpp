@@ -48,10 +48,11 @@ class ExportService {
 
   /// Export format `format` (exporting::known_formats(): "kml" also holds the .kmz) of the done plan job
   /// `job`: from the cache, else built on the pool and cached. Concurrent callers for the same plan and
-  /// format share one build. Throws OperationError when the job has no stored plan, StoreError.
+  /// format share one build. Null when the job has no stored plan.json and paths.geojson to make it from
+  /// (a plan stored before exports were made on request). Throws StoreError.
   std::shared_ptr<const ExportEntry> get(const store::Job& job, const std::string& format);
   /// The file `name` of an entry get() gave (built again when the cache evicted it meanwhile), or empty
-  /// when the entry has no such file.
+  /// when the entry has no such file (or the plan no longer has its stored files).
   std::optional<Artifact> read(const ExportEntry& entry, const store::Job& job, const std::string& format,
                                const std::string& name);
 

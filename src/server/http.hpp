@@ -117,6 +117,10 @@ std::string media_type(std::string_view content_type);
 /// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
 bool is_loopback(const std::string& host);
 
+/// The one route whose body is multipart/form-data, not JSON: the vector importer's upload (docs/import.md).
+/// The transport lets that media type through for it alone; the API registers it.
+inline constexpr std::string_view kImportRoute = "/api/v1/missions/import";
+
 /// One part of a multipart/form-data body (RFC 7578).
 struct FormPart {
   std::string name;                     ///< Content-Disposition: form-data; name="..."

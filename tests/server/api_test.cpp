@@ -508,6 +508,10 @@ TEST_P(ApiTest, MissionPlansAreListedNewestFirst) {
   EXPECT_TRUE(done.at("error").is_null());
   EXPECT_FALSE(done.contains("artifacts"));
   EXPECT_FALSE(done.contains("result"));
+  // stored with plan.json alone: no plan to make an export from (404, not the export service's failure)
+  a = call("GET", "/api/v1/plans/" + std::to_string(first.get<store::Id>()) + "/exports/qgc");
+  EXPECT_EQ(a.status, 404) << a.body;
+  EXPECT_EQ(a.error_field(), "artifact") << a.body;
 
   a = call("GET", plans + "?limit=1");
   ASSERT_EQ(a.status, 200) << a.body;
