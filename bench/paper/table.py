@@ -3,31 +3,18 @@
 
 usage: table.py PAPER_RESULTS.csv WORK_DIR "MODES" "ROIS" VERSION   (standard library only)
 """
-import csv
 import json
 import os
 import platform
 import sys
 import time
 
+import paper_results
+
 csv_path, work, modes, rois, version = sys.argv[1], sys.argv[2], sys.argv[3].split(), sys.argv[4].split(), sys.argv[5]
 EXCLUDED = {6, 18}  # the paper's means cover the other 18 regions
 
-paper = {}  # (method, metric) -> {roi: value or None}
-with open(csv_path, newline="", encoding="utf-8") as f:
-    rows = list(csv.reader(f))
-header = rows[0]
-for r in rows[1:]:
-    if len(r) < 3:
-        continue
-    vals = {}
-    for k in range(1, 21):
-        col = header.index(f"ROI{k}")
-        try:
-            vals[k] = float(r[col])
-        except ValueError:
-            vals[k] = None  # "Χ": the method could not plan that region
-    paper[(r[0], r[1])] = vals
+paper = paper_results.read(csv_path)  # (method, metric) -> {roi: value or None}
 
 
 def pget(method, metric_prefix, roi):

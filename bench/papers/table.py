@@ -3,12 +3,14 @@
 
 usage: table.py PAPER_RESULTS.csv TABLE3_WORK "VARIANTS" "ROIS" COMMIT VERSION ELAPSED_S
 """
-import csv
 import json
 import os
 import platform
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "paper"))
+import paper_results  # noqa: E402
 
 csv_path, work, variants, rois, commit, version, elapsed = sys.argv[1:8]
 variants = variants.split()
@@ -16,20 +18,7 @@ roi_ids = [int(r) for r in rois.split()]
 EXCLUDED = {6, 18}  # the paper's means cover the other 18 regions
 
 # the paper's per-region figures (bench/data/apostolidis2022/paper_results.csv)
-paper = {}
-with open(csv_path, newline="", encoding="utf-8") as f:
-    rows = list(csv.reader(f))
-header = rows[0]
-for r in rows[1:]:
-    if len(r) < 3:
-        continue
-    vals = {}
-    for k in range(1, 21):
-        try:
-            vals[k] = float(r[header.index(f"ROI{k}")])
-        except ValueError:
-            vals[k] = None  # "Χ": the paper's method could not plan that region
-    paper[(r[0], r[1].split(" (")[0])] = vals
+paper = paper_results.read(csv_path, lambda metric: metric.split(" (")[0])
 
 # variant -> (label, what it sets, the paper's column it is compared with); NAME-raw: the same with
 # extend_legs and shift_legs off (the bare STC loops)
