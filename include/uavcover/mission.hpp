@@ -68,6 +68,8 @@ struct Uav {
   /// empty: the mission's camera. `camera_geometry` is derived from it by parse_mission.
   std::optional<Camera> camera;
   std::optional<CameraGeometry> camera_geometry;
+  /// `"share": "auto"` (issue 32, docs/mission-format.md): the share is derived from the UAV's area rate.
+  bool share_auto = false;
 };
 
 inline constexpr double kDefaultBatteryReserve = 0.2;
@@ -79,13 +81,37 @@ struct Corridor {
   double width_m = 0.0;
 };
 
+/// A structure (facade) scan (docs/patterns.md), given instead of `area`: orbit layers at standoff_m
+/// from the footprint's walls, the camera facing the wall.
+struct Structure {
+  GeoPolygon footprint;      ///< the building's outline (normalised: closed, CCW)
+  double height_m = 0.0;     ///< wall height above the ground at take-off
+  double standoff_m = 0.0;   ///< horizontal distance from the wall to the orbit
+  bool top = false;          ///< a nadir pass over the roof
+  double safe_height_m = 5;  ///< the bottom layer flies at least this high above the ground
+};
+
+/// Smart-Oblique-style passes (docs/patterns.md): the pattern block's `oblique`.
+struct Oblique {
+  double gimbal_pitch_deg = -45.0;  ///< camera pitch on the oblique passes (-90 = nadir)
+  int directions = 4;               ///< oblique passes, each with a fixed heading
+  bool nadir = true;                ///< a nadir grid as well
+};
+
+/// The mission's wind (issue 32): a steady wind for the time model and the sweep direction.
+struct Wind {
+  double speed_mps = 0.0;
+  double from_deg = 0.0;  ///< where the wind blows from, degrees clockwise from true north
+};
+
 /// The pattern options (docs/patterns.md): the mission's `pattern` block.
 struct Pattern {
-  bool crosshatch = false;             ///< a second sweep of each UAV's part at 90 degrees to the first
-  double turnaround_m = 0.0;           ///< legs extend beyond their ends by this much, camera off
-  std::string entry = "auto";          ///< first leg's start: auto (nearest the start), nw, ne, sw, se
-  bool alternate_transects = false;    ///< every other lane, then back for the rest
-  bool capture_in_turnaround = false;  ///< camera on in turns and turnarounds
+  std::optional<Oblique> oblique = {};  ///< oblique passes (with or without the nadir grid)
+  bool crosshatch = false;              ///< a second sweep of each UAV's part at 90 degrees to the first
+  double turnaround_m = 0.0;            ///< legs extend beyond their ends by this much, camera off
+  std::string entry = "auto";           ///< first leg's start: auto (nearest the start), nw, ne, sw, se
+  bool alternate_transects = false;     ///< every other lane, then back for the rest
+  bool capture_in_turnaround = false;   ///< camera on in turns and turnarounds
 };
 
 /// A parsed, validated, normalised mission. Produced by parse_mission().
@@ -117,6 +143,15 @@ struct Mission {
   std::optional<Corridor> corridor = {};
   /// The pattern block; absent: the planners' own sweeps, camera on over every coverage segment.
   std::optional<Pattern> pattern = {};
+  /// A structure (facade) scan (docs/patterns.md): given instead of `area`.
+  std::optional<Structure> structure = {};
+  /// A steady wind (issue 32): the time model uses each leg's ground speed under it.
+  std::optional<Wind> wind = {};
+  /// `"planner": "auto"` (issue 32): what the best plan is: "time", "poc", "turns" or "length".
+  std::string objective = "time";
+  /// Transition altitudes (issue 32): "hong" (one per UAV, Hong et al. 2021 §2.3) or "layers" (the
+  /// conflict graph's colouring: only UAVs whose transits cross others' work or transits differ).
+  std::string transition_altitudes = "hong";
 };
 
 struct ParseOptions {

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,17 @@
 namespace uavcover {
 
 enum class PartKind { Coverage, Transit };
+
+/// How a part is flown where a pattern asks for more than the mission's defaults (docs/patterns.md):
+/// structure layers at their own height facing the wall, oblique passes with a fixed heading and a tilted
+/// gimbal. Every field empty: the mission's altitude, heading along the track, the camera's gimbal pitch.
+struct Attitude {
+  std::optional<double> altitude_m = {};        ///< the part's height above take-off
+  std::vector<double> heading_deg = {};         ///< per vertex: where the camera faces (deg from north)
+  std::optional<double> gimbal_pitch_deg = {};  ///< -90 = nadir
+  std::optional<Point> roi = {};                ///< region of interest (local metres) the camera looks at
+  [[nodiscard]] bool empty() const { return !altitude_m && heading_deg.empty() && !gimbal_pitch_deg && !roi; }
+};
 
 /// One piece of a UAV's flight, in flight order. Coverage parts are polylines of turning waypoints
 /// (a closed loop repeats its first vertex). Transit parts connect start, coverage parts and return.
@@ -25,6 +37,7 @@ struct PathPart {
   [[nodiscard]] bool camera_on(std::size_t segment) const {
     return segment >= camera_off.size() || camera_off[segment] == 0;
   }
+  Attitude attitude = {};  ///< coverage parts of patterns (structure, oblique); empty: the defaults
 };
 
 /// One battery's flight of a UAV (docs/sorties.md): from take-off (the UAV's start) at its transition
@@ -58,6 +71,8 @@ struct UavPlan {
   double transition_altitude_m = 0.0;  ///< its own altitude for transit (Hong et al. 2021 §2.3)
   /// Battery sorties (docs/sorties.md), filled by plan() for every planner; empty for an idle UAV.
   std::vector<Sortie> sorties;
+  /// Expected finish time (minutes from take-off, all sorties, under the mission's wind; issue 32).
+  double expected_finish_min = 0.0;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the planner's, opaque
 };
 
@@ -72,6 +87,10 @@ struct Plan {
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the planner's, opaque (DARP: placement, grid)
   double compute_time_s = 0.0;
   double free_area_m2 = 0.0;
+  /// `"planner": "auto"` (issue 32): which planner won, why, and what the others gave; null otherwise.
+  nlohmann::json selection = nullptr;
+  /// Altitude layers (issue 32): the vertical separation left in every pair of UAVs; null when unused.
+  nlohmann::json separation = nullptr;
 };
 
 }  // namespace uavcover

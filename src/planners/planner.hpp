@@ -16,6 +16,7 @@
 #include "uavcover/context.hpp"
 #include "uavcover/geometry.hpp"
 #include "uavcover/mission.hpp"
+#include "uavcover/plan.hpp"
 
 namespace uavcover::planners {
 
@@ -49,6 +50,11 @@ struct Problem {
   double corridor_width_m = 0.0;
   /// The mission's pattern block (the engine refuses the options the planner does not support).
   std::optional<Pattern> pattern = {};
+  /// A structure scan (docs/patterns.md): the footprint in local metres (`area` is the ground the orbits
+  /// fly over); empty for other missions.
+  Polygon structure_footprint = {};
+  std::optional<Structure> structure = {};
+  std::optional<Wind> wind = {};  ///< the mission's wind (issue 32)
 };
 
 /// What a planner decides for one UAV.
@@ -62,6 +68,9 @@ struct UavAssignment {
   /// Optional, parallel to `coverage`: per part, one flag per segment, 1 where the camera is off (turns,
   /// turnarounds); a missing or empty entry: camera on over the whole part (PathPart::camera_off).
   std::vector<std::vector<std::uint8_t>> camera_off = {};
+  /// Optional, parallel to `coverage`: per part, how it is flown (structure layers, oblique passes);
+  /// a missing or empty entry: the mission's defaults (PathPart::attitude).
+  std::vector<Attitude> attitude = {};
   /// Battery sorties chosen by the planner (optional): the indices into `coverage` of the parts that
   /// begin a new sortie, strictly increasing, the first 0 (e.g. {0, 1, 2} for three routes that each
   /// start and end at the UAV's start). Each sortie flies out from the start, covers its parts in
