@@ -19,9 +19,6 @@
 namespace uavcover::cli {
 namespace {
 
-/// The largest --max-cells accepted (docs/limits.md): a grid this size already needs gigabytes.
-constexpr std::size_t kMaxCellsLimit = 1'000'000'000;
-
 struct PlanArgs {
   std::string mission;
   std::string out;

@@ -35,6 +35,7 @@ struct ServeArgs {
   int keep_plans = 0;
   int export_cache_mb = 128;
   int export_threads = 2;
+  std::size_t max_cells = ParseOptions{}.max_cells;
   bool log_json = false;
 };
 
@@ -105,6 +106,7 @@ void run_serve(const ServeArgs& a) {
   opt.keep_plans = a.keep_plans;
   opt.export_cache_bytes = std::int64_t{a.export_cache_mb} << 20;
   opt.export_threads = a.export_threads;
+  opt.max_cells = a.max_cells;
   if (a.log_json) spdlog::set_pattern("%v");  // the request lines are whole JSON objects
   server::serve(opt);
 }
@@ -131,6 +133,11 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
   cmd->add_option("--allowed-host", args->allowed_hosts,
                   "A Host name served besides the listen address and localhost (behind a proxy); repeatable. "
                   "Other Host headers get 421");
+  cmd->add_option("--max-cells", args->max_cells,
+                  "Refuse missions whose grid needs more cells than this (422 naming the field), as "
+                  "`plan --max-cells` (docs/limits.md)")
+      ->capture_default_str()
+      ->check(integer_in<std::size_t>(1, kMaxCellsLimit));
   cmd->add_option("--max-body", args->max_body, "Largest request body in bytes")
       ->capture_default_str()
       ->check(integer_in<std::size_t>(1024, std::size_t{1} << 30));

@@ -23,6 +23,10 @@
 
 namespace uavcover::cli {
 
+/// The largest --max-cells accepted by plan and serve (docs/limits.md): a grid this size already needs
+/// gigabytes.
+inline constexpr std::size_t kMaxCellsLimit = 1'000'000'000;
+
 namespace detail {
 
 inline std::string shown(const std::string& s) {

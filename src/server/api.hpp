@@ -21,6 +21,9 @@ struct ApiConfig {
   /// The server's planning threads (--workers): a plan may ask for at most this many threads of its
   /// own (smt's planner_params.threads; 422 beyond), so one job cannot start a hundred threads.
   int planner_threads = 64;
+  /// Missions whose grid needs more cells than ParseOptions::max_cells are refused (422 naming the field;
+  /// `serve --max-cells`): every route that parses a mission uses these options.
+  ParseOptions parse = {};
 };
 
 class FlightManager;
@@ -50,9 +53,11 @@ void add_api_routes(Router& router, ApiContext& ctx);
 /// A submitted mission document made ready to store: catalog references resolved through the store's
 /// catalogs, parsed and normalised by the CLI's parser (InputError naming the field), its area's
 /// bounding box; `source` is the document as given.
-store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store);
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store,
+                                   const ParseOptions& options = {});
 /// The same document resolved and parsed only (POST /missions/validate).
-uavcover::Mission resolve_mission(const nlohmann::json& document, store::Store& store);
+uavcover::Mission resolve_mission(const nlohmann::json& document, store::Store& store,
+                                  const ParseOptions& options = {});
 
 /// "2026-11-26T01:02:03.456Z" from Unix milliseconds (json/iso_time.hpp).
 using uavcover::iso_time;

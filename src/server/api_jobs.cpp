@@ -310,7 +310,7 @@ void add_job_routes(Router& router, ApiContext& ctx) {
                  const nlohmann::json body = parse_body(req, ctx, true);
                  const auto rev = ctx.store.get_mission(mission_id);
                  if (!rev) throw HttpError(404, "id", "no mission " + std::to_string(mission_id));
-                 const Mission mission = parse_mission(rev->document);
+                 const Mission mission = parse_mission(rev->document, ctx.config.parse);
                  store::NewJob job;
                  job.kind = kind;
                  job.mission_id = mission_id;

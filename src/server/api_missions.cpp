@@ -62,7 +62,7 @@ store::Bbox area_bbox(const Mission& mission) {
 }
 
 store::NewRevision new_revision(const Request& req, ApiContext& ctx) {
-  return prepare_mission(parse_body(req, ctx, false), ctx.store);
+  return prepare_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse);
 }
 
 double parse_number(const std::string& text, const std::string& field) {
@@ -188,7 +188,7 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
   // a mission checked and normalised without storing it: the web app shows spacing, GSD and footprint
   // as the operator types, computed by the library, and the field-named error of a bad value
   router.add("POST", base + "/validate", guarded([&ctx](const Request& req) {
-               const Mission m = resolve_mission(parse_body(req, ctx, false), ctx.store);
+               const Mission m = resolve_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse);
                auto opt = [](const std::optional<double>& v) {
                  return v ? nlohmann::json(*v) : nlohmann::json();
                };
@@ -251,7 +251,7 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
 
 }  // namespace detail
 
-Mission resolve_mission(const nlohmann::json& document, store::Store& store) {
+Mission resolve_mission(const nlohmann::json& document, store::Store& store, const ParseOptions& options) {
   auto lookup = [&store](store::CatalogKind kind) {
     return [&store, kind](long long id) -> std::optional<nlohmann::json> {
       if (id <= 0) return std::nullopt;
@@ -262,7 +262,7 @@ Mission resolve_mission(const nlohmann::json& document, store::Store& store) {
   };
   const nlohmann::json resolved = usecases::resolve_catalog_refs(document, lookup(store::CatalogKind::Uav),
                                                                  lookup(store::CatalogKind::Camera));
-  Mission mission = parse_mission(resolved.dump());
+  Mission mission = parse_mission(resolved.dump(), options);
   // a DEM named by a mission would be a path on the server's disk chosen by a client: refused (the server
   // reads no elevation models; terrain-following plans are made with the command line, docs/api.md)
   if (mission.terrain)
@@ -272,8 +272,9 @@ Mission resolve_mission(const nlohmann::json& document, store::Store& store) {
   return mission;
 }
 
-store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store) {
-  const Mission mission = resolve_mission(document, store);
+store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store,
+                                   const ParseOptions& options) {
+  const Mission mission = resolve_mission(document, store, options);
   store::NewRevision rev;
   rev.name = mission.name;
   rev.document = mission_to_json(mission);

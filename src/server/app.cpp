@@ -53,12 +53,12 @@ class StoreEvents : public EventSource {
 
 /// Stores every mission file of the folder; files that cannot be read or are not valid missions are
 /// skipped with a warning.
-void seed_missions(store::Store& store, const std::filesystem::path& dir) {
+void seed_missions(store::Store& store, const std::filesystem::path& dir, const ParseOptions& parse) {
   int stored = 0;
   for (const auto& file : io::list_json_files(dir, "--seed-dir")) {
     try {
       const auto doc = strict::parse_json(io::read_text_file(file, "--seed-dir"), file.filename().string());
-      store.create_mission(prepare_mission(doc, store));
+      store.create_mission(prepare_mission(doc, store, parse));
       ++stored;
     } catch (const InputError& e) {
       spdlog::warn("seed mission {} skipped: {}", file.string(), e.what());
@@ -92,7 +92,8 @@ void serve(const ServeOptions& options) {
       const int requeued = store->recover_running(kMaxAttempts);
       if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
     }
-    if (store->claim_first_start() && options.seed_dir) seed_missions(*store, *options.seed_dir);
+    if (store->claim_first_start() && options.seed_dir)
+      seed_missions(*store, *options.seed_dir, ParseOptions{options.max_cells});
     // blobs nothing refers to (left by an older version's deletions) go
     if (const auto orphans = store->collect_orphan_blobs(); orphans > 0)
       spdlog::info("{} orphan blob(s) collected", orphans);
@@ -111,6 +112,7 @@ void serve(const ServeOptions& options) {
   ExportService exports(*store, ec);
   ApiContext ctx{*store, ApiConfig{}, &flights, &exports, tiles.get()};
   ctx.config.max_queued = options.max_queued;
+  ctx.config.parse.max_cells = options.max_cells;
   ctx.config.max_body_bytes = options.http.max_body;
   ctx.config.planner_threads = options.workers > 0
                                    ? options.workers
@@ -137,6 +139,7 @@ void serve(const ServeOptions& options) {
   wc.lease = std::chrono::milliseconds(std::max(options.lease_ms, 100));
   wc.max_attempts = kMaxAttempts;
   wc.keep_plans = options.keep_plans;
+  wc.parse = ctx.config.parse;
   wc.on_job_finished = [](const store::Job& job, store::JobState state, double seconds) {
     if (job.kind == store::JobKind::Plan && state == store::JobState::Done) observe_plan_duration(seconds);
   };

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "server/server.hpp"
+#include "uavcover/mission.hpp"
 
 namespace uavcover::server {
 
@@ -23,6 +24,8 @@ struct ServeOptions {
   int export_threads = 2;                                     ///< the pool that makes exports
   /// `--tiles FILE.mbtiles`: raster map tiles served at /tiles/{z}/{x}/{y} (docs/offline-maps.md)
   std::optional<std::filesystem::path> tiles;
+  /// `--max-cells`: missions whose grid needs more cells are refused (ParseOptions::max_cells)
+  std::size_t max_cells = ParseOptions{}.max_cells;
 };
 
 /// Blocks until the server is stopped. Throws InputError / OperationError.

@@ -148,7 +148,7 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
              {});
       return;
     }
-    mission = parse_mission(rev->document);
+    mission = parse_mission(rev->document, config_.parse);
   } catch (const InputError& e) {
     finish(store::JobState::Failed, nlohmann::json::object(), error_json(e.field(), e.what()), {});
     return;

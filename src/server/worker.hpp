@@ -28,6 +28,8 @@ struct WorkerConfig {
   /// Retention: after a plan job ends done, its mission's done plans beyond the newest `keep_plans`
   /// are deleted, oldest first, except those a flight uses (store::Store::prune_plans). 0: all kept.
   int keep_plans = 0;
+  /// How stored missions are parsed (`serve --max-cells`: the same options as the API's).
+  ParseOptions parse = {};
   /// Called after a job ended and was recorded (state done, failed or cancelled), with its run time.
   std::function<void(const store::Job& job, store::JobState state, double seconds)> on_job_finished;
 };

@@ -604,6 +604,28 @@ TEST_P(ApiTest, FormatsAreTheExportTableAndTheRoutesMadeFromIt) {
         << r;
 }
 
+TEST_P(ApiTest, MaxCellsBoundsEveryMissionTheServerParses) {
+  // `serve --max-cells`: the olive grove at a 1 m spacing needs more than 1000 grid cells
+  json doc = json::parse(olive_grove());
+  doc.erase("camera");
+  doc["spacing_m"] = 1.0;
+  const store::Id stored = create_mission(doc.dump());  // under the default 4M cells
+  ctx_->config.parse.max_cells = 1000;
+  for (const std::string route : {"/api/v1/missions", "/api/v1/missions/validate"}) {
+    const Answer a = call("POST", route, doc.dump());
+    EXPECT_EQ(a.status, 422) << route << ": " << a.body;
+    EXPECT_EQ(a.json()["error"]["field"], "spacing_m") << a.body;
+    EXPECT_NE(a.json()["error"]["message"].get<std::string>().find("limit of 1000"), std::string::npos)
+        << a.body;
+  }
+  // a mission stored under a larger limit is not planned under the smaller one
+  const Answer plan = call("POST", "/api/v1/missions/" + std::to_string(stored) + "/plans", "{}");
+  EXPECT_EQ(plan.status, 422) << plan.body;
+  EXPECT_EQ(plan.json()["error"]["field"], "spacing_m") << plan.body;
+  ctx_->config.parse.max_cells = 100'000'000;
+  EXPECT_EQ(call("POST", "/api/v1/missions/validate", doc.dump()).status, 200);
+}
+
 TEST_P(ApiTest, ValidateGivesTheLibrarysDerivedValuesWithoutStoring) {
   const auto before = call("GET", "/api/v1/missions").json()["items"].size();
   json doc = json::parse(olive_grove());
