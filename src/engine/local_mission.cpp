@@ -1,5 +1,7 @@
 #include "engine/local_mission.hpp"
 
+#include <algorithm>
+
 #include "geometry/geometry.hpp"
 
 namespace uavcover::engine {
@@ -24,6 +26,29 @@ Point random_free_point(const MultiPolygon& free, std::mt19937_64& rng) {
   Point c;
   bg::centroid(free, c);
   return c;
+}
+
+std::vector<GeoPolygon> to_wgs84(const MultiPolygon& mp, const geodesy::LocalFrame& frame) {
+  std::vector<GeoPolygon> out;
+  for (const auto& poly : mp) {
+    GeoPolygon gp;
+    auto ring_of = [&](const auto& ring) {
+      GeoRing r;
+      for (const auto& p : ring) r.push_back(frame.to_wgs84(p));
+      return r;
+    };
+    // GeoJSON (RFC 7946): counter-clockwise outer ring, clockwise holes; Boost's are the reverse
+    GeoRing outer = ring_of(poly.outer());
+    std::reverse(outer.begin(), outer.end());
+    gp.push_back(std::move(outer));
+    for (const auto& inner : poly.inners()) {
+      GeoRing h = ring_of(inner);
+      std::reverse(h.begin(), h.end());
+      gp.push_back(std::move(h));
+    }
+    out.push_back(std::move(gp));
+  }
+  return out;
 }
 
 }  // namespace uavcover::engine

@@ -22,29 +22,6 @@ namespace uavcover {
 
 namespace {
 
-std::vector<GeoPolygon> to_wgs84(const MultiPolygon& mp, const geodesy::LocalFrame& frame) {
-  std::vector<GeoPolygon> out;
-  for (const auto& poly : mp) {
-    GeoPolygon gp;
-    auto ring_of = [&](const auto& ring) {
-      GeoRing r;
-      for (const auto& p : ring) r.push_back(frame.to_wgs84(p));
-      return r;
-    };
-    // GeoJSON (RFC 7946): counter-clockwise outer ring, clockwise holes; Boost's are the reverse
-    GeoRing outer = ring_of(poly.outer());
-    std::reverse(outer.begin(), outer.end());
-    gp.push_back(std::move(outer));
-    for (const auto& inner : poly.inners()) {
-      GeoRing h = ring_of(inner);
-      std::reverse(h.begin(), h.end());
-      gp.push_back(std::move(h));
-    }
-    out.push_back(std::move(gp));
-  }
-  return out;
-}
-
 /// Refuses what the planner cannot do (its documented capabilities).
 void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
   const auto& c = info.supports;
@@ -210,7 +187,7 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
                       : region_total > 0.0 ? bg::area(r.region) / region_total
                                            : 0.0;
     up.region_local = r.region;
-    up.region = to_wgs84(r.region, lm.frame);
+    up.region = engine::to_wgs84(r.region, lm.frame);
     up.regions = static_cast<int>(r.region.size());
     up.diagnostics = r.diagnostics;
     up.transition_altitude_m = waypoints::transition_altitude(altitudes, i, out.mission.altitude_m);
