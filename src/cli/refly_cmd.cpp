@@ -79,7 +79,7 @@ const bool registered = CommandRegistry::add(15, [](CLI::App& app) {
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(
       "The gaps: the free area's lattice samples no track scanned (the plan's coverage simulation, each\n"
-      "UAV's footprint, in the coverage band of the mission's altitude), slivers under a quarter of the\n"
+      "UAV's footprint, in the coverage band of the mission's altitude), slivers under an eighth of the\n"
       "spacing left out, grown by half the spacing and clipped to the free area (docs/refly.md).\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (names the field), 130 interrupted.");
   cmd->callback([args] { run_refly(*args); });

@@ -9,6 +9,8 @@
 #include "server/api_internal.hpp"
 #include "server/flights.hpp"
 #include "uavcover/error.hpp"
+#include "usecases/jobs.hpp"
+#include "usecases/refly.hpp"
 
 namespace uavcover::server::detail {
 namespace {
@@ -232,6 +234,37 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                const store::Id id = id_param(req, "id");
                return attachment(log_csv(whole_log(ctx, id)), "text/csv",
                                  "flight-" + std::to_string(id) + "-log.csv");
+             }));
+  // refly the gaps (docs/refly.md): a plan job of the flight's mission for what the tracks left unscanned
+  router.add("POST", base + "/refly", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               json params = parse_body(req, ctx, true);
+               if (params.is_null()) params = json::object();
+               if (!params.is_object()) throw InputError("body", "expected a JSON object");
+               const auto row = ctx.store.get_flight(id);
+               if (!row) throw HttpError(404, "id", "no flight " + std::to_string(id));
+               const auto job = ctx.store.get_job(row->plan_id);
+               if (!job)
+                 throw HttpError(404, "id", "the flight's plan " + std::to_string(row->plan_id) + " is gone");
+               std::vector<std::string> uavs;
+               if (const auto u = params.find("uavs"); u != params.end()) {
+                 if (!u->is_array()) throw InputError("uavs", "expected a list of UAV ids");
+                 for (std::size_t i = 0; i < u->size(); ++i) {
+                   if (!(*u)[i].is_string())
+                     throw InputError(fmt::format("uavs[{}]", i), "expected a UAV id");
+                   uavs.push_back((*u)[i].get<std::string>());
+                 }
+                 params.erase("uavs");
+               }
+               const Plan flown = load_job_plan(ctx.store, *job);
+               const auto gaps = usecases::coverage_gaps(flown, manager(ctx).tracks(id));
+               const Mission refly = usecases::refly_mission(flown, gaps, uavs);
+               params = usecases::validate_job_params(usecases::JobType::Plan, refly, params);
+               params["refly"] = {{"flight_id", id},
+                                  {"flown_poc", gaps.flown_poc},
+                                  {"gaps_m2", gaps.area_m2},
+                                  {"mission", json::parse(mission_to_json(refly, -1))}};
+               return enqueue_job(ctx, store::JobKind::Plan, job->mission_id, job->revision, params);
              }));
   router.add("GET", base + "/log.geojson", guarded([&ctx](const Request& req) {
                const store::Id id = id_param(req, "id");

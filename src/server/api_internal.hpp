@@ -40,6 +40,10 @@ std::string export_warnings_header(const std::vector<std::string>& warnings, con
 
 void add_mission_routes(Router& router, ApiContext& ctx);
 void add_job_routes(Router& router, ApiContext& ctx);
+/// Queues a job of the mission's revision with validated params: 202 with the Job JSON and its Location;
+/// 503 with Retry-After when the queue is full.
+Response enqueue_job(ApiContext& ctx, store::JobKind kind, store::Id mission_id, int revision,
+                     const nlohmann::json& params);
 void add_catalog_routes(Router& router, ApiContext& ctx);
 void add_flight_routes(Router& router, ApiContext& ctx);
 /// GET /tiles/metadata.json and /tiles/{z}/{x}/{y} (docs/offline-maps.md), from ctx.tiles.

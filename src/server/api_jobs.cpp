@@ -300,6 +300,30 @@ void check_planner_threads(const nlohmann::json& params, int max) {
 
 namespace detail {
 
+Response enqueue_job(ApiContext& ctx, store::JobKind kind, store::Id mission_id, int revision,
+                     const nlohmann::json& params) {
+  store::NewJob job;
+  job.kind = kind;
+  job.mission_id = mission_id;
+  job.revision = revision;
+  job.params = params;
+  store::Id id = 0;
+  try {
+    id = ctx.store.enqueue(job, ctx.config.max_queued);
+  } catch (const store::QueueFull&) {
+    HttpError e(
+        503, "",
+        "the job queue is full (" + std::to_string(ctx.config.max_queued) + " queued jobs); try again later");
+    e.headers.emplace_back("Retry-After", "5");
+    throw e;
+  }
+  const auto stored = ctx.store.get_job(id);
+  if (!stored) throw store::StoreError("job " + std::to_string(id) + " vanished after enqueue");
+  Response r = Response::json(202, job_json(*stored));
+  r.headers.emplace_back("Location", kApi + "/" + job_collection(kind) + "/" + std::to_string(id));
+  return r;
+}
+
 void add_job_routes(Router& router, ApiContext& ctx) {
   for (const store::JobKind kind :
        {store::JobKind::Plan, store::JobKind::Study, store::JobKind::Comparison}) {
@@ -311,28 +335,9 @@ void add_job_routes(Router& router, ApiContext& ctx) {
                  const auto rev = ctx.store.get_mission(mission_id);
                  if (!rev) throw HttpError(404, "id", "no mission " + std::to_string(mission_id));
                  const Mission mission = parse_mission(rev->document, ctx.config.parse);
-                 store::NewJob job;
-                 job.kind = kind;
-                 job.mission_id = mission_id;
-                 job.revision = rev->revision;
-                 job.params = usecases::validate_job_params(job_type(kind), mission, body);
-                 check_planner_threads(job.params, ctx.config.planner_threads);
-                 store::Id id = 0;
-                 try {
-                   id = ctx.store.enqueue(job, ctx.config.max_queued);
-                 } catch (const store::QueueFull&) {
-                   HttpError e(503, "",
-                               "the job queue is full (" + std::to_string(ctx.config.max_queued) +
-                                   " queued jobs); try again later");
-                   e.headers.emplace_back("Retry-After", "5");
-                   throw e;
-                 }
-                 const auto stored = ctx.store.get_job(id);
-                 if (!stored)
-                   throw store::StoreError("job " + std::to_string(id) + " vanished after enqueue");
-                 Response r = Response::json(202, job_json(*stored));
-                 r.headers.emplace_back("Location", kApi + "/" + collection + "/" + std::to_string(id));
-                 return r;
+                 const nlohmann::json params = usecases::validate_job_params(job_type(kind), mission, body);
+                 check_planner_threads(params, ctx.config.planner_threads);
+                 return enqueue_job(ctx, kind, mission_id, rev->revision, params);
                }));
     router.add("GET", kApi + "/missions/{id}/" + collection, guarded([&ctx, kind](const Request& req) {
                  const store::Id mission_id = id_param(req, "id");

@@ -261,6 +261,9 @@ json validate_job_params(JobType type, const Mission& mission, const json& param
 JobResult run_job(JobType type, const Mission& mission, const json& params, const Context& ctx) {
   switch (type) {
     case JobType::Plan:
+      // a refly (POST /flights/{id}/refly): the mission of the gaps the route made, stored with the job
+      if (const auto r = params.find("refly"); r != params.end() && r->is_object() && r->contains("mission"))
+        return plan_job(parse_mission(r->at("mission").dump()), params, ctx);
       return plan_job(mission, params, ctx);
     case JobType::Study:
       return study_job(mission, params, ctx);

@@ -102,17 +102,17 @@ ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& trac
   const double ds = plan.mission.spacing_m;
   const MultiPolygon cells = unscanned_cells(flown.coverage, ctx);
   if (ctx.stop_requested()) throw Cancelled();
-  // opening by a quarter of the spacing: slivers between swaths go, real gaps stay
-  const double thin = std::max(ds / 4.0, flown.coverage.lattice_m);
+  // opening by an eighth of the spacing: slivers between swaths go, real gaps stay
+  const double thin = std::max(ds / 8.0, flown.coverage.lattice_m);
   const bg::strategy::buffer::join_miter miter;
   const MultiPolygon opened = grown(grown(cells, -thin, miter), thin, miter);
   const MultiPolygon reach = grown(opened, ds / 2.0, bg::strategy::buffer::join_round(16));
   const engine::LocalMission lm = engine::to_local(plan.mission);
   MultiPolygon clipped;
   bg::intersection(reach, lm.free, clipped);
-  // pieces smaller than a quarter of a swath's square are not worth a flight
+  // pieces smaller than a sixteenth of a swath square are not worth a flight
   for (auto& poly : clipped) {
-    if (bg::area(poly) < ds * ds / 4.0) continue;
+    if (bg::area(poly) < ds * ds / 16.0) continue;
     gaps.local.push_back(std::move(poly));
   }
   bg::correct(gaps.local);
@@ -125,7 +125,7 @@ Mission refly_mission(const Plan& plan, const ReflyGaps& gaps, const std::vector
   if (gaps.area.empty())
     throw InputError("area",
                      fmt::format("nothing is left to fly: the flight scanned {:.2f} % of the free area "
-                                 "(the plan {:.2f} %) and no gap is wider than a quarter of the spacing",
+                                 "(the plan {:.2f} %) and no gap is wider than an eighth of the spacing",
                                  gaps.flown_poc * 100.0, gaps.planned_poc * 100.0));
   const Mission& m = plan.mission;
   std::set<std::string> wanted;

@@ -22,7 +22,7 @@ struct ReflyGaps {
 };
 
 /// The free area's lattice samples the tracks did not scan (flight::flown_coverage), as polygons: runs of
-/// unscanned samples become cells, united; pieces narrower than a quarter of the spacing are dropped (the
+/// unscanned samples become cells, united; pieces narrower than an eighth of the spacing are dropped (the
 /// lattice's rounding between swaths, not a gap a UAV can fly), the rest grown by half the spacing so the
 /// refly's sweeps reach their edges, and clipped to the free area. Empty when nothing is left to fly.
 /// InputError as flown_coverage ("tracks[i].uav", ...). ctx: stops (Cancelled).

@@ -10,6 +10,7 @@
 
 #include "server/api_fixture.hpp"
 #include "server/worker.hpp"
+#include "usecases/refly.hpp"
 
 namespace uavcover::server::testing {
 namespace {
@@ -404,6 +405,86 @@ TEST_P(FlightApiTest, ASimulatedFlightOverTcpEndsDone) {
 
 INSTANTIATE_TEST_SUITE_P(Backends, FlightApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          backend_name);
+
+}  // namespace
+}  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+/// A plan's paths as a flight log would record them (coverage at the mission's altitude, transit above).
+flight::Track planned_track(const Plan& p, const UavPlan& u) {
+  flight::Track t{u.id, {}};
+  for (const auto& part : u.parts)
+    for (const auto& v : part.wgs84)
+      t.second.push_back(
+          {v.lon, v.lat, part.kind == PartKind::Coverage ? p.mission.altitude_m : u.transition_altitude_m});
+  return t;
+}
+
+TEST_P(FlightApiTest, AReflyPlansTheGapAFailedUavLeftAndTheTwoCoverTheField) {
+  const store::Id plan = done_plan();
+  // B's link fails after 40 % of its mission; nobody takes its work over (no reassignment)
+  const Answer created =
+      post_flight(plan, {{"simulate", {{"speedup", 50}, {"fail", "2@0.4:link"}}}, {"log_period_s", 0.05}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const auto id = created.json().at("id").get<store::Id>();
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "upload"})").status, 202);
+  json f = wait_flight(id, [](const json& j) { return j.at("state") == "ready"; });
+  ASSERT_EQ(f.at("state"), "ready") << f.dump();
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "start"})").status, 202);
+  // until A has reached every coverage waypoint
+  f = wait_flight(id, [](const json& j) {
+    for (const auto& u : j.at("uavs"))
+      if (u.at("uav") == "A") {
+        const std::string w = u.at("waypoints");
+        return !w.empty() && w == std::string(w.size(), 'R');
+      }
+    return false;
+  });
+
+  auto expect_error = [&](const Answer& a, int status, const std::string& field) {
+    EXPECT_EQ(a.status, status) << a.body;
+    if (a.status == status) {
+      EXPECT_EQ(a.error_field(), field) << a.body;
+    }
+  };
+  expect_error(call("POST", url + "/refly", R"({"uavs": ["Z"]})"), 422, "uavs");
+  expect_error(call("POST", url + "/refly", R"({"uavs": "A"})"), 422, "uavs");
+  expect_error(call("POST", "/api/v1/flights/987654/refly", "{}"), 404, "id");
+  const Answer refly = call("POST", url + "/refly", R"({"uavs": ["A"]})");
+  ASSERT_EQ(refly.status, 202) << refly.body;
+  const auto refly_id = refly.json().at("id").get<store::Id>();
+  const store::Job queued = *store_->get_job(refly_id);
+  EXPECT_EQ(queued.mission_id, store_->get_job(plan)->mission_id) << "a plan of the same mission";
+  const json& r = queued.params.at("refly");
+  EXPECT_EQ(r.at("flight_id"), id);
+  EXPECT_LT(r.at("flown_poc").get<double>(), 0.95);
+  EXPECT_GT(r.at("gaps_m2").get<double>(), 0.0);
+  ASSERT_EQ(r.at("mission").at("uavs").size(), 1u);
+  EXPECT_EQ(r.at("mission").at("uavs")[0].at("id"), "A");
+
+  // the worker plans it; the flight and the refly's paths cover the field
+  WorkerConfig config;
+  config.lease = 2000ms;
+  config.idle = 20ms;
+  WorkerPool pool(*store_, config);
+  pool.start();
+  const auto cap = Clock::now() + 120s;
+  while (Clock::now() < cap && call("GET", plan_url(refly_id)).json().at("state") != "done")
+    std::this_thread::sleep_for(20ms);
+  pool.stop();
+  ASSERT_EQ(call("GET", plan_url(refly_id)).json().at("state"), "done");
+  const Plan first = load_job_plan(*store_, *store_->get_job(plan));
+  const Plan second = load_job_plan(*store_, *store_->get_job(refly_id));
+  EXPECT_NE(second.mission.name.find("(refly)"), std::string::npos);
+  auto tracks = flights_->tracks(id);
+  for (const auto& u : second.uavs) tracks.push_back(planned_track(second, u));
+  const auto after = usecases::coverage_gaps(first, tracks);
+  EXPECT_GE(after.flown_poc, 0.99) << "flown + refly";
+  ASSERT_EQ(call("POST", url + "/commands", R"({"command": "abort"})").status / 100, 2);
+}
 
 }  // namespace
 }  // namespace uavcover::server::testing
