@@ -176,7 +176,33 @@ export const flyTab: Tab = {
     );
     const flightBox = el('div', { class: 'fly-flight', hidden: '' });
     const afterBox = section('After the flight', true, 'fly-after');
-    afterBox.body.append(replay.el);
+    // refly the gaps (docs/refly.md): a plan job of the mission for what the tracks did not scan
+    const reflyBtn = el('button', { type: 'button', class: 'plan-small', 'data-testid': 'fly-refly' }, 'Refly the gaps');
+    reflyBtn.title = 'Plan what this flight did not scan, as a new plan of the mission (POST /flights/{id}/refly)';
+    const reflyMsg = el('div', { class: 'fly-message', 'data-testid': 'fly-refly-message', role: 'status' });
+    reflyBtn.addEventListener('click', async () => {
+      const f = flight;
+      if (!f) return;
+      reflyBtn.disabled = true;
+      reflyMsg.className = 'fly-message';
+      reflyMsg.textContent = 'Finding the gaps…';
+      try {
+        const job = await api.post<Job & { params?: { refly?: { gaps_m2?: number; flown_poc?: number } } }>(`/flights/${f.id}/refly`, {});
+        const r = job.params?.refly;
+        reflyMsg.textContent =
+          `Refly plan #${job.id} queued` +
+          (r ? `: ${Math.round(r.gaps_m2 ?? 0).toLocaleString('en')} m² of gaps, the flight scanned ${((r.flown_poc ?? 0) * 100).toFixed(1)} %` : '') +
+          '. It opens from the Plan tab\'s plans of this mission.';
+      } catch (e) {
+        reflyMsg.className = 'fly-message plan-error';
+        reflyMsg.textContent = `Refly: ${errorText(e as ApiError)}`;
+      } finally {
+        reflyBtn.disabled = false;
+      }
+    });
+    const reflyRow = el('div', { class: 'plan-row' });
+    reflyRow.append(reflyBtn);
+    afterBox.body.append(reflyRow, reflyMsg, replay.el);
     const legend = el('div', { class: 'muted fly-legend' });
     legend.innerHTML =
       '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned';

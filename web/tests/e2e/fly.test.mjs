@@ -231,5 +231,17 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
   assert.equal(await firstAlert.getAttribute('data-uav'), failed);
   assert.ok(await firstAlert.evaluate((e) => e.classList.contains('fly-alert-active')));
   await h.shot(page, 'fly-8-aborted-lost');
+
+  // refly the gaps (issue 32): a plan job of the mission for what the stopped flight left unscanned
+  if (!(await page.locator('[data-testid=fly-after]').evaluate((d) => d.open))) await page.click('[data-testid=fly-after] > summary');
+  await page.click('[data-testid=fly-refly]');
+  await page.waitForFunction(() => /Refly plan #\d+ queued: [\d,]+ m² of gaps/.test(document.querySelector('[data-testid=fly-refly-message]')?.textContent ?? ''), null, { timeout: 60000 });
+  const reflyId = Number((await page.locator('[data-testid=fly-refly-message]').innerText()).match(/Refly plan #(\d+)/)[1]);
+  const reflyJob = await server.api(`/plans/${reflyId}`);
+  assert.equal(reflyJob.params.refly.flight_id, flightId);
+  assert.equal(reflyJob.mission_id, (await server.api(`/plans/${flight.plan_id}`)).mission_id, 'a plan of the same mission');
+  assert.ok(reflyJob.params.refly.gaps_m2 > 0 && reflyJob.params.refly.flown_poc < 1, JSON.stringify(reflyJob.params.refly).slice(0, 200));
+  assert.match(reflyJob.params.refly.mission.name, /\(refly\)$/);
+  await h.shot(page, 'fly-9-refly');
   assert.deepEqual(problems, [], 'no console errors or warnings');
 });
