@@ -1,6 +1,8 @@
 // The uavcover v1 input format (GeoJSON conventions): its members, the UAV list and the terrain block.
 #include <cctype>
 
+#include "geodesy/local_frame.hpp"
+#include "geometry/geometry.hpp"
 #include "mission/parse_internal.hpp"
 #include "mission/pattern.hpp"
 #include "planners/planner.hpp"
@@ -93,13 +95,59 @@ void parse_uavs(const json& j, Raw& raw) {
   raw.uav_count = raw.uavs.size();
 }
 
+Structure parse_structure(const json& j) {
+  if (!j.is_object())
+    throw InputError("structure", "expected an object {\"footprint\": Polygon, \"height_m\": ...}");
+  reject_unknown(j, {"footprint", "height_m", "standoff_m", "top", "safe_height_m"}, "structure.");
+  for (const char* f : {"footprint", "height_m", "standoff_m"})
+    if (!j.contains(f)) throw InputError(std::string("structure.") + f, "missing");
+  Structure s;
+  s.height_m = in_range(j["height_m"], "structure.height_m", 0, 1000);
+  if (!(s.height_m > 0)) throw InputError("structure.height_m", "must be > 0");
+  s.standoff_m = in_range(j["standoff_m"], "structure.standoff_m", 0, 500);
+  if (!(s.standoff_m > 0)) throw InputError("structure.standoff_m", "must be > 0");
+  if (j.contains("safe_height_m"))
+    s.safe_height_m = in_range(j["safe_height_m"], "structure.safe_height_m", 0, 1000);
+  if (j.contains("top")) {
+    if (!j["top"].is_boolean()) throw InputError("structure.top", "must be true or false");
+    s.top = j["top"].get<bool>();
+  }
+  if (geojson_type(j["footprint"]) != "Polygon")
+    throw InputError("structure.footprint", "expected a GeoJSON Polygon");
+  NamedPolygon np{polygons_of(j["footprint"], "structure.footprint").front(),
+                  "structure.footprint.coordinates"};
+  if (np.poly.size() > 1) throw InputError("structure.footprint.coordinates", "a footprint has no holes");
+  normalise_polygon(np);
+  const geodesy::LocalFrame frame(geodesy::centroid(std::vector<GeoPolygon>{np.poly}));
+  check_extent(np, frame.origin());
+  check_valid(np, frame);
+  s.footprint = np.poly;
+  return s;
+}
+
+GeoPolygon structure_area(const Structure& s) {
+  const geodesy::LocalFrame frame(geodesy::centroid(std::vector<GeoPolygon>{s.footprint}));
+  const MultiPolygon local = geometry::to_local(std::vector<GeoPolygon>{s.footprint}, frame);
+  bg::strategy::buffer::distance_symmetric<double> distance(s.standoff_m);
+  bg::strategy::buffer::side_straight side;
+  bg::strategy::buffer::join_round join(72);  // 5 degree steps at convex corners
+  bg::strategy::buffer::end_flat end;
+  bg::strategy::buffer::point_circle point(72);
+  MultiPolygon buf;
+  bg::buffer(local, buf, distance, side, join, end, point);
+  if (buf.size() != 1) throw InputError("structure.footprint", "its buffer by standoff_m is not one polygon");
+  GeoRing ring;
+  for (const auto& p : buf.front().outer()) ring.push_back(frame.to_wgs84(p));
+  return {ring};
+}
+
 Raw parse_v1(const json& j) {
   Raw raw;
-  reject_unknown(
-      j,
-      {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode", "planner",
-       "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema", "corridor", "pattern"},
-      "");
+  reject_unknown(j,
+                 {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
+                  "planner", "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema",
+                  "corridor", "pattern", "structure"},
+                 "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
   // a corridor (docs/patterns.md) is given instead of the area: its buffered line is the area
@@ -110,8 +158,19 @@ Raw parse_v1(const json& j) {
     raw.area.push_back({mission::corridor_polygon(*raw.corridor), "corridor.line"});
   }
   if (j.contains("pattern")) raw.pattern = mission::parse_pattern(j["pattern"]);
-  if (!j.contains("area") && !raw.corridor) throw InputError("area", "missing (or give a corridor)");
-  if (!raw.corridor)
+  // a structure (docs/patterns.md) is given instead of the area: its footprint buffered by standoff_m
+  // (round convex corners) is the area the orbits fly over
+  if (j.contains("structure")) {
+    if (j.contains("area") || raw.corridor)
+      throw InputError("structure", "give one of area, corridor or structure");
+    if (!j.contains("camera"))
+      throw InputError("camera", "a structure scan needs a camera block (its field of view and overlaps)");
+    raw.structure = parse_structure(j["structure"]);
+    raw.area.push_back({structure_area(*raw.structure), "structure.footprint"});
+  }
+  if (!j.contains("area") && !raw.corridor && !raw.structure)
+    throw InputError("area", "missing (or give a corridor or a structure)");
+  if (!raw.corridor && !raw.structure)
     for (auto& p : polygons_of(j["area"], "area"))
       raw.area.push_back({std::move(p), raw.area.empty() && geojson_type(j["area"]) != "MultiPolygon"
                                             ? "area.coordinates"

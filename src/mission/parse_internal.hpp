@@ -80,7 +80,14 @@ struct Raw {
   std::optional<Terrain> terrain;
   std::optional<Corridor> corridor;  ///< docs/patterns.md: its buffer is `area`
   std::optional<Pattern> pattern;
+  std::optional<Structure> structure;  ///< docs/patterns.md: its footprint buffered by standoff_m is `area`
 };
+
+/// `structure`: {"footprint": Polygon, "height_m", "standoff_m", "top", "safe_height_m"} (input_v1.cpp).
+/// Throws InputError naming the field (footprint self-intersecting, height or standoff <= 0, ...).
+Structure parse_structure(const json& j);
+/// The ground the orbits fly over: the footprint buffered by standoff_m, round convex corners.
+GeoPolygon structure_area(const Structure& s);
 
 /// uavcover v1 (GeoJSON conventions).
 Raw parse_v1(const json& j);
