@@ -85,7 +85,9 @@ std::vector<PlannerDescription> available_planners() {
   return out;
 }
 
-Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+namespace {
+
+Plan plan_one(const Mission& mission, const PlanOptions& options, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   Plan out;
   out.mission = mission;
@@ -264,6 +266,157 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+/// `"planner": "auto"` (docs/planners.md): every planner that supports the mission plans it, under a
+/// share of what is left of the time limit; each plan is evaluated by the real evaluator and the best by
+/// the objective wins among those whose PoC is at least the best PoC less 0.5 points.
+Plan plan_auto(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  constexpr double kPocSlack = 0.005;  // 0.5 percentage points (PoC is a fraction)
+  struct Candidate {
+    std::string name;
+    std::string status;  // "ok", "skipped", "failed"
+    std::string reason;
+    std::optional<Plan> plan;
+    double time_min = 0, poc = 0, length_m = 0, compute_s = 0;
+    int turns = 0;
+  };
+  const auto& all = planners::registry();
+  std::vector<Candidate> cands;
+  std::vector<std::size_t> runnable;
+  for (const auto& info : all) {
+    Candidate c;
+    c.name = info.name;
+    try {
+      check_capabilities(info, mission);
+      runnable.push_back(cands.size());
+      c.status = "pending";
+    } catch (const InputError& e) {
+      c.status = "skipped";
+      c.reason = e.what();
+    }
+    cands.push_back(std::move(c));
+  }
+  if (runnable.empty()) throw InputError("planner", "\"auto\": no planner supports this mission");
+  const std::string& objective = mission.objective;
+  for (std::size_t k = 0; k < runnable.size(); ++k) {
+    Candidate& c = cands[runnable[k]];
+    if (ctx.stop_requested()) throw Cancelled();
+    if (ctx.time_up()) {
+      c.status = "skipped";
+      c.reason = "the time limit was spent by the planners before it";
+      continue;
+    }
+    const double done = static_cast<double>(k) / static_cast<double>(runnable.size());
+    const double step = 1.0 / static_cast<double>(runnable.size());
+    Context sub = ctx.with_progress([&ctx, name = c.name, done, step](std::string_view, double f) {
+      ctx.report("auto: " + name, done + step * f);
+    });
+    // an equal share of what is left of the whole limit for this and the planners after it
+    if (ctx.deadline()) {
+      const auto left = *ctx.deadline() - Context::Clock::now();
+      sub = sub.with_time_limit(left / static_cast<long>(runnable.size() - k));
+    }
+    Mission m = mission;
+    m.planner = c.name;
+    m.planner_params = nlohmann::json::object();  // each planner's defaults
+    try {
+      Plan p = plan_one(m, options, sub);
+      evaluation::EvaluateOptions eo;
+      eo.coverage.context = &sub;
+      const evaluation::Evaluation ev = evaluation::evaluate_plan(p, eo);
+      c.poc = ev.coverage.total.poc;
+      c.turns = ev.coverage.total.turns;
+      c.length_m = ev.coverage.total.length_m;
+      c.time_min = ev.cost.flight_time_min;
+      c.compute_s = p.compute_time_s;
+      c.status = "ok";
+      c.plan = std::move(p);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const TimeLimitReached& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    } catch (const InputError& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    } catch (const OperationError& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    }
+  }
+  double best_poc = -1;
+  for (const auto& c : cands)
+    if (c.status == "ok") best_poc = std::max(best_poc, c.poc);
+  if (best_poc < 0) {
+    if (ctx.time_up()) throw TimeLimitReached("\"auto\": no planner finished a plan within the time limit");
+    std::string why;
+    for (const auto& c : cands) why += (why.empty() ? "" : "; ") + c.name + ": " + c.reason;
+    throw InputError("planner", "\"auto\": no planner could plan this mission (" + why + ")");
+  }
+  auto value = [&](const Candidate& c) {
+    if (objective == "poc") return -c.poc;
+    if (objective == "turns") return static_cast<double>(c.turns);
+    if (objective == "length") return c.length_m;
+    return c.time_min;
+  };
+  const double min_poc = best_poc - kPocSlack;
+  std::size_t win = cands.size();
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const auto& c = cands[i];
+    if (c.status != "ok" || c.poc < min_poc - 1e-12) continue;
+    // ties: the registry's order (deterministic)
+    if (win == cands.size() || value(c) < value(cands[win])) win = i;
+  }
+  auto figures = [](const Candidate& c) {
+    return nlohmann::json{{"time_min", c.time_min},
+                          {"poc", c.poc},
+                          {"turns", c.turns},
+                          {"length_m", c.length_m},
+                          {"compute_time_s", c.compute_s}};
+  };
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const auto& c = cands[i];
+    nlohmann::json r{{"planner", c.name}, {"status", i == win ? "won" : c.status}};
+    if (c.status == "ok") {
+      r["figures"] = figures(c);
+      r["meets_poc_rule"] = c.poc >= min_poc - 1e-12;
+      if (i != win)
+        r["why_not"] = c.poc < min_poc - 1e-12
+                           ? fmt::format("PoC {:.2f} % is below the best {:.2f} % less 0.5 points",
+                                         100 * c.poc, 100 * best_poc)
+                           : fmt::format("{} {:.4g} is not better than the winner's", objective,
+                                         objective == "poc" ? c.poc : value(c));
+    } else {
+      r["reason"] = c.reason;
+    }
+    rows.push_back(std::move(r));
+  }
+  const Candidate& w = cands[win];
+  Plan out = std::move(*cands[win].plan);
+  out.mission.planner = "auto";  // what was asked; out.planner names the winner
+  out.mission.planner_params = nlohmann::json::object();
+  const double wv = objective == "poc" ? w.poc : value(w);
+  out.selection = {
+      {"by", "auto"},
+      {"objective", objective},
+      {"winner", w.name},
+      {"objective_value", wv},
+      {"why", fmt::format("best {} ({:.4g}) among the planners whose PoC ({:.2f} % for it) is at least the "
+                          "best PoC {:.2f} % less 0.5 points",
+                          objective, wv, 100 * w.poc, 100 * best_poc)},
+      {"poc_rule", {{"best_poc", best_poc}, {"min_poc", min_poc}, {"slack_points", 0.5}}},
+      {"candidates", std::move(rows)}};
+  ctx.report("done", 1.0);
+  return out;
+}
+
+}  // namespace
+
+Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  if (mission.planner == "auto") return plan_auto(mission, options, ctx);
+  return plan_one(mission, options, ctx);
 }
 
 }  // namespace uavcover
