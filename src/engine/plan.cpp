@@ -4,8 +4,10 @@
 //   regions, transition altitudes -> battery sorties (the planner's own boundaries when it gives them).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "engine/local_mission.hpp"
@@ -309,8 +311,11 @@ Plan plan_auto(const Mission& mission, const PlanOptions& options, const Context
     }
     const double done = static_cast<double>(k) / static_cast<double>(runnable.size());
     const double step = 1.0 / static_cast<double>(runnable.size());
-    Context sub = ctx.with_progress([&ctx, name = c.name, done, step](std::string_view, double f) {
-      ctx.report("auto: " + name, done + step * f);
+    // one stage per candidate, its fraction never going back (the run's stages each count from 0)
+    auto high = std::make_shared<double>(done);
+    Context sub = ctx.with_progress([&ctx, name = c.name, done, step, high](std::string_view, double f) {
+      *high = std::max(*high, done + step * std::clamp(f, 0.0, 1.0));
+      ctx.report("auto: " + name, *high);
     });
     // an equal share of what is left of the whole limit for this and the planners after it
     if (ctx.deadline()) {
