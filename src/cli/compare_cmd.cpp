@@ -82,7 +82,12 @@ const bool registered_list = CommandRegistry::add(26, [](CLI::App& app) {
       std::cout << "    supports:" << (yes.empty() ? " -" : yes) << "\n";
       if (!no.empty()) std::cout << "    not supported:" << no << "\n";
     }
-    if (*json_out) std::cout << all.dump(1) << "\n";
+    if (*json_out)
+      std::cout << all.dump(1) << "\n";
+    else
+      std::cout << "auto — \"planner\": \"auto\": plans with every planner above that supports the mission "
+                   "(time limit shared), keeps the best by \"objective\" (time | poc | turns | length) among "
+                   "those within 0.5 PoC points of the best (docs/planners.md)\n";
   });
 });
 

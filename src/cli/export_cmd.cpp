@@ -53,13 +53,13 @@ void run_export(ExportArgs& a) {
   for (const auto& w : warnings) std::cerr << "uavcover: warning: " << w << "\n";
   if (global_flags().quiet) return;
   const auto altitudes =
-      waypoints::resolve_altitudes(a.opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+      waypoints::resolve_altitudes(a.opt.altitude, waypoints::altitude_slots(plan), plan.mission.altitude_m);
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     if (exporting::idle(plan.uavs[i])) continue;
-    std::cout << fmt::format("{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n",
-                             plan.uavs[i].id,
-                             waypoints::transition_altitude(altitudes, i, plan.mission.altitude_m),
-                             trajectory::flight_time_s(plan, i, a.opt.trajectory, altitudes));
+    std::cout << fmt::format(
+        "{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n", plan.uavs[i].id,
+        waypoints::transition_altitude(altitudes, waypoints::altitude_slot(plan, i), plan.mission.altitude_m),
+        trajectory::flight_time_s(plan, i, a.opt.trajectory, altitudes));
   }
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
 }

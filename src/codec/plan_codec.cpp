@@ -163,6 +163,9 @@ json plan_json(const Plan& plan, const json& extra) {
         {"compute_time_s", plan.compute_time_s}}},
   };
   if (const auto images = photo::estimate(plan)) j["images"] = photo::to_json(*images);
+  // issue 32: how "planner": "auto" chose (docs/planners.md), the altitude layers' separations
+  if (!plan.selection.is_null()) j["selection"] = plan.selection;
+  if (!plan.separation.is_null()) j["separation"] = plan.separation;
   for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
   return j;
 }
@@ -213,6 +216,8 @@ Plan load_plan(const json& pj, const json& gj) {
     if (!ju.is_array() || ju.size() != plan.mission.uavs.size())
       throw InputError("plan.json: uavs", "does not match the mission's UAVs");
     plan.planner = pj.at("planner").get<std::string>();
+    if (pj.contains("selection")) plan.selection = pj.at("selection");
+    if (pj.contains("separation")) plan.separation = pj.at("separation");
     plan.complete = pj.at("complete").get<bool>();
     plan.diagnostics = pj.at("planner_diagnostics");
     plan.warnings = pj.at("warnings").get<std::vector<std::string>>();

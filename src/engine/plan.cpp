@@ -4,8 +4,10 @@
 //   regions, transition altitudes -> battery sorties (the planner's own boundaries when it gives them).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "engine/local_mission.hpp"
@@ -54,6 +56,128 @@ void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
                          who + " divides the area equally; give every UAV the same share");
 }
 
+/// Altitude layers (Mission::transition_altitudes "layers", docs/mission-format.md): UAVs i and j
+/// conflict when a transit leg of one crosses the other's region, or their transit legs cross while both
+/// fly them (the time model: eq. 15 per part, from take-off); the conflict graph is coloured greedily
+/// (DSatur, ties by index) and layer k flies at base + k * step. Fills Plan::separation.
+void assign_layers(Plan& out, std::vector<std::string>* warnings) {
+  const std::size_t n = out.uavs.size();
+  struct Leg {
+    std::vector<Point> line;
+    bg::model::box<Point> box;
+    double t0, t1;  // minutes from take-off
+  };
+  std::vector<std::vector<Leg>> legs(n);
+  std::vector<bg::model::box<Point>> region_box(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& up = out.uavs[i];
+    bg::envelope(up.region_local, region_box[i]);
+    double t = 0;
+    for (const auto& part : up.parts) {
+      const double len = geometry::length(part.local);
+      const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
+      const double dt = evaluation::flight_duration_min(len, turns, out.mission.uavs[i]);
+      if (part.kind == PartKind::Transit && part.local.size() >= 2) {
+        Leg leg{part.local, {}, t, t + dt};
+        bg::envelope(bg::model::linestring<Point>(part.local.begin(), part.local.end()), leg.box);
+        legs[i].push_back(std::move(leg));
+      }
+      t += dt;
+    }
+  }
+  auto crosses_region = [&](std::size_t a, std::size_t b) {  // a's transits cross b's region
+    if (out.uavs[b].region_local.empty()) return false;
+    for (const auto& l : legs[a]) {
+      if (!bg::intersects(l.box, region_box[b])) continue;
+      if (bg::intersects(bg::model::linestring<Point>(l.line.begin(), l.line.end()),
+                         out.uavs[b].region_local))
+        return true;
+    }
+    return false;
+  };
+  auto transits_cross = [&](std::size_t a, std::size_t b) {
+    for (const auto& la : legs[a])
+      for (const auto& lb : legs[b]) {
+        if (la.t1 < lb.t0 || lb.t1 < la.t0 || !bg::intersects(la.box, lb.box)) continue;
+        if (bg::intersects(bg::model::linestring<Point>(la.line.begin(), la.line.end()),
+                           bg::model::linestring<Point>(lb.line.begin(), lb.line.end())))
+          return true;
+      }
+    return false;
+  };
+  std::vector<std::vector<std::size_t>> adj(n);
+  nlohmann::json conflicts = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      std::string why;
+      if (crosses_region(i, j))
+        why = "transit of " + out.uavs[i].id + " crosses the region of " + out.uavs[j].id;
+      else if (crosses_region(j, i))
+        why = "transit of " + out.uavs[j].id + " crosses the region of " + out.uavs[i].id;
+      else if (transits_cross(i, j))
+        why = "transits cross while both fly";
+      if (why.empty()) continue;
+      adj[i].push_back(j);
+      adj[j].push_back(i);
+      conflicts.push_back({out.uavs[i].id, out.uavs[j].id, why});
+    }
+  // DSatur: the uncoloured UAV with the most distinct neighbour colours, then the most neighbours
+  std::vector<int> colour(n, -1);
+  for (std::size_t step = 0; step < n; ++step) {
+    std::size_t pick = n, best_sat = 0, best_deg = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (colour[v] >= 0) continue;
+      std::vector<int> seen;
+      for (std::size_t w : adj[v])
+        if (colour[w] >= 0 && std::find(seen.begin(), seen.end(), colour[w]) == seen.end())
+          seen.push_back(colour[w]);
+      if (pick == n || seen.size() > best_sat || (seen.size() == best_sat && adj[v].size() > best_deg)) {
+        pick = v;
+        best_sat = seen.size();
+        best_deg = adj[v].size();
+      }
+    }
+    int c = 0;
+    while (std::any_of(adj[pick].begin(), adj[pick].end(), [&](std::size_t w) { return colour[w] == c; }))
+      ++c;
+    colour[pick] = c;
+  }
+  std::size_t layers = 0;
+  for (int c : colour) layers = std::max(layers, static_cast<std::size_t>(c) + 1);
+  waypoints::AltitudeOptions alt;
+  bool fits = true;
+  try {
+    alt = waypoints::resolve_altitudes(alt, layers, out.mission.altitude_m, warnings);
+  } catch (const InputError& e) {
+    fits = false;
+    alt.transition_base_m = waypoints::transition_altitude(alt, 0, out.mission.altitude_m);
+    if (warnings != nullptr) warnings->push_back(std::string("transition altitude layers: ") + e.what());
+  }
+  nlohmann::json layer = nlohmann::json::array();
+  for (int c : colour) layer.push_back(c);
+  // every pair: [i, j, vertical separation m] (0: the same layer, safe because they do not conflict)
+  nlohmann::json pairs = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      pairs.push_back({i, j, std::fabs(colour[i] - colour[j]) * alt.transition_step_m});
+  out.separation = {
+      {"rule", "layers"},
+      {"layers", layers},
+      {"base_m", alt.transition_base_m},
+      {"step_m", alt.transition_step_m},
+      {"fits_ceiling", fits},
+      {"layer", std::move(layer)},
+      {"conflicts", std::move(conflicts)},
+      {"same_layer_safe_because",
+       "no conflict: neither UAV's transit legs cross the other's region, and their transit legs do not "
+       "cross while both fly them"},
+      {"pairs_format", "[uav index i, uav index j, vertical separation m]"},
+      {"pairs", std::move(pairs)}};
+  for (std::size_t i = 0; i < n; ++i)
+    out.uavs[i].transition_altitude_m =
+        waypoints::transition_altitude(alt, static_cast<std::size_t>(colour[i]), out.mission.altitude_m);
+}
+
 }  // namespace
 
 std::vector<PlannerDescription> available_planners() {
@@ -62,7 +186,9 @@ std::vector<PlannerDescription> available_planners() {
   return out;
 }
 
-Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+namespace {
+
+Plan plan_one(const Mission& mission, const PlanOptions& options, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   Plan out;
   out.mission = mission;
@@ -160,13 +286,17 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
   // UAVs can be separated there
   waypoints::AltitudeOptions altitudes;
-  try {
-    altitudes = waypoints::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
-                                             &out.warnings);
-  } catch (const InputError& e) {
+  // altitude layers: resolved once the conflict graph is known (assign_layers)
+  if (out.mission.transition_altitudes == "layers")
     altitudes.transition_ceiling_m = 0;
-    out.warnings.push_back(std::string("transition altitudes: ") + e.what());
-  }
+  else
+    try {
+      altitudes = waypoints::resolve_altitudes(altitudes, out.mission.uavs.size(), out.mission.altitude_m,
+                                               &out.warnings);
+    } catch (const InputError& e) {
+      altitudes.transition_ceiling_m = 0;
+      out.warnings.push_back(std::string("transition altitudes: ") + e.what());
+    }
   // one router for every transit leg: the no-fly zones' R-tree and visibility nodes are built once
   const geometry::Router router(lm.no_fly);
   std::size_t legs_total = 0, legs_done = 0;
@@ -238,9 +368,164 @@ Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx
   // a UAV with a leg longer than one battery keeps no sorties, with a warning (docs/sorties.md)
   // (the planner's own boundaries where it gives them)
   sorties::fill_sorties(out, sortie_options, &out.warnings, &router, &ctx);
+  if (out.mission.transition_altitudes == "layers") assign_layers(out, &out.warnings);
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+/// `"planner": "auto"` (docs/planners.md): every planner that supports the mission plans it, under a
+/// share of what is left of the time limit; each plan is evaluated by the real evaluator and the best by
+/// the objective wins among those whose PoC is at least the best PoC less 0.5 points.
+Plan plan_auto(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  constexpr double kPocSlack = 0.005;  // 0.5 percentage points (PoC is a fraction)
+  struct Candidate {
+    std::string name;
+    std::string status;  // "ok", "skipped", "failed"
+    std::string reason;
+    std::optional<Plan> plan;
+    double time_min = 0, poc = 0, length_m = 0, compute_s = 0;
+    int turns = 0;
+  };
+  const auto& all = planners::registry();
+  std::vector<Candidate> cands;
+  std::vector<std::size_t> runnable;
+  for (const auto& info : all) {
+    Candidate c;
+    c.name = info.name;
+    try {
+      check_capabilities(info, mission);
+      runnable.push_back(cands.size());
+      c.status = "pending";
+    } catch (const InputError& e) {
+      c.status = "skipped";
+      c.reason = e.what();
+    }
+    cands.push_back(std::move(c));
+  }
+  if (runnable.empty()) throw InputError("planner", "\"auto\": no planner supports this mission");
+  const std::string& objective = mission.objective;
+  for (std::size_t k = 0; k < runnable.size(); ++k) {
+    Candidate& c = cands[runnable[k]];
+    if (ctx.stop_requested()) throw Cancelled();
+    if (ctx.time_up()) {
+      c.status = "skipped";
+      c.reason = "the time limit was spent by the planners before it";
+      continue;
+    }
+    const double done = static_cast<double>(k) / static_cast<double>(runnable.size());
+    const double step = 1.0 / static_cast<double>(runnable.size());
+    // one stage per candidate, its fraction never going back (the run's stages each count from 0)
+    auto high = std::make_shared<double>(done);
+    Context sub = ctx.with_progress([&ctx, name = c.name, done, step, high](std::string_view, double f) {
+      *high = std::max(*high, done + step * std::clamp(f, 0.0, 1.0));
+      ctx.report("auto: " + name, *high);
+    });
+    // an equal share of what is left of the whole limit for this and the planners after it
+    if (ctx.deadline()) {
+      const auto left = *ctx.deadline() - Context::Clock::now();
+      sub = sub.with_time_limit(left / static_cast<long>(runnable.size() - k));
+    }
+    Mission m = mission;
+    m.planner = c.name;
+    m.planner_params = nlohmann::json::object();  // each planner's defaults
+    try {
+      Plan p = plan_one(m, options, sub);
+      evaluation::EvaluateOptions eo;
+      eo.coverage.context = &sub;
+      const evaluation::Evaluation ev = evaluation::evaluate_plan(p, eo);
+      c.poc = ev.coverage.total.poc;
+      c.turns = ev.coverage.total.turns;
+      c.length_m = ev.coverage.total.length_m;
+      c.time_min = ev.cost.flight_time_min;
+      c.compute_s = p.compute_time_s;
+      c.status = "ok";
+      c.plan = std::move(p);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const TimeLimitReached& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    } catch (const InputError& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    } catch (const OperationError& e) {
+      c.status = "failed";
+      c.reason = e.what();
+    }
+  }
+  double best_poc = -1;
+  for (const auto& c : cands)
+    if (c.status == "ok") best_poc = std::max(best_poc, c.poc);
+  if (best_poc < 0) {
+    if (ctx.time_up()) throw TimeLimitReached("\"auto\": no planner finished a plan within the time limit");
+    std::string why;
+    for (const auto& c : cands) why += (why.empty() ? "" : "; ") + c.name + ": " + c.reason;
+    throw InputError("planner", "\"auto\": no planner could plan this mission (" + why + ")");
+  }
+  auto value = [&](const Candidate& c) {
+    if (objective == "poc") return -c.poc;
+    if (objective == "turns") return static_cast<double>(c.turns);
+    if (objective == "length") return c.length_m;
+    return c.time_min;
+  };
+  const double min_poc = best_poc - kPocSlack;
+  std::size_t win = cands.size();
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const auto& c = cands[i];
+    if (c.status != "ok" || c.poc < min_poc - 1e-12) continue;
+    // ties: the registry's order (deterministic)
+    if (win == cands.size() || value(c) < value(cands[win])) win = i;
+  }
+  auto figures = [](const Candidate& c) {
+    return nlohmann::json{{"time_min", c.time_min},
+                          {"poc", c.poc},
+                          {"turns", c.turns},
+                          {"length_m", c.length_m},
+                          {"compute_time_s", c.compute_s}};
+  };
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const auto& c = cands[i];
+    nlohmann::json r{{"planner", c.name}, {"status", i == win ? "won" : c.status}};
+    if (c.status == "ok") {
+      r["figures"] = figures(c);
+      r["meets_poc_rule"] = c.poc >= min_poc - 1e-12;
+      if (i != win)
+        r["why_not"] = c.poc < min_poc - 1e-12
+                           ? fmt::format("PoC {:.2f} % is below the best {:.2f} % less 0.5 points",
+                                         100 * c.poc, 100 * best_poc)
+                           : fmt::format("{} {:.4g} is not better than the winner's", objective,
+                                         objective == "poc" ? c.poc : value(c));
+    } else {
+      r["reason"] = c.reason;
+    }
+    rows.push_back(std::move(r));
+  }
+  const Candidate& w = cands[win];
+  Plan out = std::move(*cands[win].plan);
+  out.mission.planner = "auto";  // what was asked; out.planner names the winner
+  out.mission.planner_params = nlohmann::json::object();
+  const double wv = objective == "poc" ? w.poc : value(w);
+  out.selection = {
+      {"by", "auto"},
+      {"objective", objective},
+      {"winner", w.name},
+      {"objective_value", wv},
+      {"why", fmt::format("best {} ({:.4g}) among the planners whose PoC ({:.2f} % for it) is at least the "
+                          "best PoC {:.2f} % less 0.5 points",
+                          objective, wv, 100 * w.poc, 100 * best_poc)},
+      {"poc_rule", {{"best_poc", best_poc}, {"min_poc", min_poc}, {"slack_points", 0.5}}},
+      {"candidates", std::move(rows)}};
+  ctx.report("done", 1.0);
+  return out;
+}
+
+}  // namespace
+
+Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  if (mission.planner == "auto") return plan_auto(mission, options, ctx);
+  return plan_one(mission, options, ctx);
 }
 
 }  // namespace uavcover

@@ -67,7 +67,7 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
     if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
       throw InputError(fmt::format("uavs[{}].id", i),
                        "not usable as a file name (1 to 64 of A-Z a-z 0-9 _ - ., not starting with '.')");
-  opt.altitude = resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m, &warnings);
+  opt.altitude = resolve_altitudes(opt.altitude, altitude_slots(plan), plan.mission.altitude_m, &warnings);
   if (opt.check_separation) {
     const auto problems = check_separation(plan, opt.altitude);
     if (!problems.empty()) throw InputError("separation", problems.front());

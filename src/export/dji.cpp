@@ -50,7 +50,7 @@ std::string file_suffix(const std::string& id) {
 
 std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const AltitudeOptions altitudes =
-      resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+      resolve_altitudes(opt.altitude, altitude_slots(plan), plan.mission.altitude_m);
   const auto items = above_takeoff(plan, index, items_of(plan, index, opt, altitudes));
   const auto wps = flown_waypoints(items);
   const UavPlan& up = plan.uavs.at(index);

@@ -47,7 +47,7 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   const bool amsl = terrain::grid(plan.mission) != nullptr;
   const std::string mode = amsl ? "absolute" : opt.kml_altitude_mode;
   const AltitudeOptions altitudes =
-      resolve_altitudes(opt.altitude, plan.uavs.size(), plan.mission.altitude_m);
+      resolve_altitudes(opt.altitude, altitude_slots(plan), plan.mission.altitude_m);
   const auto items = items_of(plan, index, opt, altitudes);
   const UavPlan& up = plan.uavs.at(index);
   const LonLat home = plan.mission.uavs.at(index).start_resolved;
@@ -56,11 +56,12 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   s += "  <Document>\n    <name>" +
        xml_escape(plan.mission.name.empty() ? up.id : plan.mission.name + " " + up.id) + "</name>\n";
   s += "    <description>" +
-       xml_escape(fmt::format("uav {}: mission altitude {} m ({}), transition altitude {} m, heights {}",
-                              up.id, num(plan.mission.altitude_m), plan.mission.altitude_source,
-                              num(transition_altitude(altitudes, index, plan.mission.altitude_m)),
-                              amsl ? "above mean sea level (terrain.dem), transit over its highest ground"
-                                   : "relative to take-off")) +
+       xml_escape(fmt::format(
+           "uav {}: mission altitude {} m ({}), transition altitude {} m, heights {}", up.id,
+           num(plan.mission.altitude_m), plan.mission.altitude_source,
+           num(transition_altitude(altitudes, altitude_slot(plan, index), plan.mission.altitude_m)),
+           amsl ? "above mean sea level (terrain.dem), transit over its highest ground"
+                : "relative to take-off")) +
        "</description>\n";
   s += "    <Style id=\"area\"><LineStyle><color>ff00ff00</color><width>2</width></LineStyle>"
        "<PolyStyle><color>3300ff00</color></PolyStyle></Style>\n";

@@ -75,16 +75,19 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
   std::vector<std::string> problems;
   const std::size_t n = plan.uavs.size();
   const double mission_alt = plan.mission.altitude_m;
-  const AltitudeOptions opt = resolve_altitudes(options, n, mission_alt);  // the altitudes actually flown
+  const AltitudeOptions opt =
+      resolve_altitudes(options, altitude_slots(plan), mission_alt);  // the altitudes actually flown
   for (std::size_t i = 0; i < n; ++i) {
-    const double ti = transition_altitude(opt, i, mission_alt);
+    const double ti = transition_altitude(opt, altitude_slot(plan, i), mission_alt);
     if (ti < mission_alt + sep.min_vertical_m)
       problems.push_back(
           fmt::format("uav '{}': transition altitude {} m is not above the mission altitude {} m (raise the "
                       "transition base)",
                       plan.uavs[i].id, ti, mission_alt));
     for (std::size_t j = i + 1; j < n; ++j) {
-      const double tj = transition_altitude(opt, j, mission_alt);
+      // altitude layers: UAVs share a layer only where the conflict graph found no conflict
+      if (altitude_slots(plan) < n && altitude_slot(plan, i) == altitude_slot(plan, j)) continue;
+      const double tj = transition_altitude(opt, altitude_slot(plan, j), mission_alt);
       if (std::abs(ti - tj) < sep.min_vertical_m)
         problems.push_back(fmt::format(
             "uavs '{}' and '{}' share the transition altitude {} m (use a non-zero transition step)",

@@ -185,7 +185,7 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
   check_last_reached(up, n, last_reached);
   // the helpers' transition altitudes in the full plan (InputError "altitude.*" when they cannot be had)
   const waypoints::AltitudeOptions resolved =
-      waypoints::resolve_altitudes(altitude, plan.uavs.size(), plan.mission.altitude_m);
+      waypoints::resolve_altitudes(altitude, waypoints::altitude_slots(plan), plan.mission.altitude_m);
 
   Reassignment out;
   out.failed_uav = up.id;
@@ -250,7 +250,8 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
     work.waypoints = static_cast<int>(sorties::coverage_waypoints(hp).size());
     // one mission per sortie, flown at the helper's transition altitude of the full plan
     waypoints::AltitudeOptions own = altitude;
-    own.transition_base_m = waypoints::transition_altitude(resolved, index, plan.mission.altitude_m);
+    own.transition_base_m = waypoints::transition_altitude(resolved, waypoints::altitude_slot(plan, index),
+                                                           plan.mission.altitude_m);
     std::vector<Sortie> sorties = hp.sorties;
     if (sorties.empty()) {  // a leg longer than one battery (plan() warned): one mission of it all
       Sortie whole;

@@ -143,10 +143,11 @@ GeoPolygon structure_area(const Structure& s) {
 
 Raw parse_v1(const json& j) {
   Raw raw;
-  reject_unknown(j,
-                 {"name", "area", "no_fly_zones", "spacing_m", "camera", "altitude_m", "uavs", "mode",
-                  "planner", "planner_params", "seed", "battery_reserve", "terrain", "version", "$schema",
-                  "corridor", "pattern", "structure"},
+  reject_unknown(j, {"name",    "area",           "no_fly_zones", "spacing_m",
+                     "camera",  "altitude_m",     "uavs",         "mode",
+                     "planner", "planner_params", "seed",         "battery_reserve",
+                     "terrain", "version",        "$schema",      "corridor",
+                     "pattern", "structure",      "objective",    "transition_altitudes"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -207,7 +208,21 @@ Raw parse_v1(const json& j) {
   if (j.contains("planner")) {
     raw.planner = str(j["planner"], "planner");
   }
-  (void)planners::require(raw.planner);
+  // "auto" (docs/planners.md): every planner that supports the mission, the best by the objective
+  if (raw.planner != "auto") (void)planners::require(raw.planner);
+  if (j.contains("objective")) {
+    raw.objective = str(j["objective"], "objective");
+    if (raw.objective != "time" && raw.objective != "poc" && raw.objective != "turns" &&
+        raw.objective != "length")
+      throw InputError("objective",
+                       "expected \"time\", \"poc\", \"turns\" or \"length\", got \"" + raw.objective + "\"");
+  }
+  if (j.contains("transition_altitudes")) {
+    raw.transition_altitudes = str(j["transition_altitudes"], "transition_altitudes");
+    if (raw.transition_altitudes != "hong" && raw.transition_altitudes != "layers")
+      throw InputError("transition_altitudes",
+                       "expected \"hong\" or \"layers\", got \"" + raw.transition_altitudes + "\"");
+  }
   if (j.contains("planner_params")) raw.planner_params = j["planner_params"];
   if (j.contains("seed")) {
     // nlohmann stores every non-negative JSON integer as unsigned

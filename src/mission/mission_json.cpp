@@ -111,6 +111,8 @@ json to_json(const Mission& m) {
   j["mode"] = m.mode == Mode::Strict ? "strict" : "coverage";
   j["planner"] = m.planner;
   if (!m.planner_params.empty()) j["planner_params"] = m.planner_params;
+  if (m.objective != "time") j["objective"] = m.objective;
+  if (m.transition_altitudes != "hong") j["transition_altitudes"] = m.transition_altitudes;
   j["seed"] = m.seed;
   // written when not the default, so that missions without it keep their JSON unchanged
   if (m.battery_reserve != kDefaultBatteryReserve) j["battery_reserve"] = m.battery_reserve;

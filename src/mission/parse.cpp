@@ -109,7 +109,17 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.source_format = raw.format;
   m.mode = raw.mode;
   m.planner = raw.planner;
-  m.planner_params = planners::validate_params(planners::require(raw.planner), raw.planner_params);
+  if (raw.planner == "auto") {
+    // every candidate plans with its own defaults: parameters belong to one planner
+    if (raw.planner_params.is_object() ? !raw.planner_params.empty() : !raw.planner_params.is_null())
+      throw InputError("planner_params",
+                       "\"planner\": \"auto\" plans with each planner's defaults; give none");
+    m.planner_params = nlohmann::json::object();
+  } else {
+    m.planner_params = planners::validate_params(planners::require(raw.planner), raw.planner_params);
+  }
+  m.objective = raw.objective;
+  m.transition_altitudes = raw.transition_altitudes;
   m.seed = raw.seed;
   m.battery_reserve = raw.battery_reserve;
   m.terrain = raw.terrain;

@@ -73,7 +73,9 @@ struct Raw {
   std::size_t uav_count = 0;
   Mode mode = Mode::Strict;
   std::string planner = "darp";
-  json planner_params;  ///< as given; validated against the planner's schema at the end
+  std::string objective = "time";             ///< "planner": "auto" only
+  std::string transition_altitudes = "hong";  ///< "hong" | "layers"
+  json planner_params;                        ///< as given; validated against the planner's schema at the end
   std::uint64_t seed = 1;
   double battery_reserve = kDefaultBatteryReserve;
   std::string format = "uavcover-v1";

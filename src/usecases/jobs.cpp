@@ -220,14 +220,19 @@ json validate_job_params(JobType type, const Mission& mission, const json& param
         if (!params["planner"].is_string()) throw InputError("planner", "must be a planner name (a string)");
         name = params["planner"].get<std::string>();
       }
-      const auto& info = planners::require(name, "planner");
       json given = json::object();
       if (params.contains("planner_params"))
         given = params["planner_params"];
       else if (name == mission.planner)
         given = mission.planner_params;
       params["planner"] = name;
-      params["planner_params"] = planners::validate_params(info, given);
+      if (name == "auto") {  // each candidate plans with its defaults (docs/planners.md)
+        if (!given.is_null() && !(given.is_object() && given.empty()))
+          throw InputError("planner_params", "\"planner\": \"auto\" plans with each planner's defaults");
+        params["planner_params"] = json::object();
+      } else {
+        params["planner_params"] = planners::validate_params(planners::require(name, "planner"), given);
+      }
       // refused before planning: transition altitudes that cannot fit under the export's ceiling
       check_outputs(mission, plan_job_outputs(params));
       break;

@@ -35,7 +35,10 @@ void check_outputs(const Mission& mission, const OutputOptions& options) {
   if (options.exports.empty()) return;
   (void)exporting::parse_formats(options.exports);
   // every export format flies the transition altitudes: the export's own rule, before any planning
-  (void)waypoints::resolve_altitudes(waypoints::AltitudeOptions{}, mission.uavs.size(), mission.altitude_m);
+  // (altitude layers: at least one layer must fit; how many the plan needs is checked on export)
+  (void)waypoints::resolve_altitudes(waypoints::AltitudeOptions{},
+                                     mission.transition_altitudes == "layers" ? 1 : mission.uavs.size(),
+                                     mission.altitude_m);
 }
 
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
@@ -67,7 +70,8 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
       // ceiling is still evaluated, without the ceiling: the export will refuse it and say why)
       waypoints::AltitudeOptions altitudes;
       try {
-        altitudes = waypoints::resolve_altitudes(altitudes, plan.uavs.size(), plan.mission.altitude_m);
+        altitudes =
+            waypoints::resolve_altitudes(altitudes, waypoints::altitude_slots(plan), plan.mission.altitude_m);
       } catch (const InputError&) {
         altitudes.transition_ceiling_m = 0;
       }

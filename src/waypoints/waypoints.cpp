@@ -16,6 +16,21 @@
 
 namespace uavcover::waypoints {
 
+std::size_t altitude_slots(const Plan& plan) {
+  const auto& s = plan.separation;
+  if (plan.mission.transition_altitudes == "layers" && s.is_object() && s.contains("layers"))
+    return s.at("layers").get<std::size_t>();
+  return plan.uavs.size();
+}
+
+std::size_t altitude_slot(const Plan& plan, std::size_t index) {
+  const auto& s = plan.separation;
+  if (plan.mission.transition_altitudes == "layers" && s.is_object() && s.contains("layer") &&
+      index < s.at("layer").size())
+    return s.at("layer").at(index).get<std::size_t>();
+  return index;
+}
+
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m) {
   const double base =
       opt.transition_base_m > 0.0 ? opt.transition_base_m : std::max(60.0, mission_altitude_m + 20.0);
@@ -103,7 +118,7 @@ bool same_place(LonLat a, LonLat b) {
 }  // namespace
 
 double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index) {
-  const double rel = transition_altitude(resolved, index, plan.mission.altitude_m);
+  const double rel = transition_altitude(resolved, altitude_slot(plan, index), plan.mission.altitude_m);
   const HeightGrid* ground = terrain::grid(plan.mission);
   return ground != nullptr ? ground->max_m + rel : rel;
 }
@@ -111,7 +126,7 @@ double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& options) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
-  const AltitudeOptions opt = resolve_altitudes(options, plan.uavs.size(), plan.mission.altitude_m);
+  const AltitudeOptions opt = resolve_altitudes(options, altitude_slots(plan), plan.mission.altitude_m);
   const UavPlan& up = plan.uavs[index];
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;

@@ -61,6 +61,14 @@ struct AltitudeOptions {
   bool land_instead_of_rtl = false;
 };
 
+/// Altitude layers (Mission::transition_altitudes "layers", docs/mission-format.md): the number of
+/// transition altitudes the plan's UAVs share (Plan::separation "layers"); with "hong", one per UAV.
+/// Pass it to resolve_altitudes() as the count.
+std::size_t altitude_slots(const Plan& plan);
+/// The transition altitude index of UAV `index`: its layer, or with "hong" the UAV's own index. Pass it
+/// to transition_altitude() and flight_transit_altitude().
+std::size_t altitude_slot(const Plan& plan, std::size_t index);
+
 /// Transition altitude of UAV `index` (base + index * step) for a mission flown at
 /// `mission_altitude_m` (which sets the automatic base). No ceiling: see resolve_altitudes().
 double transition_altitude(const AltitudeOptions& opt, std::size_t index, double mission_altitude_m);
@@ -72,10 +80,11 @@ double transition_altitude(const AltitudeOptions& opt, std::size_t index, double
 AltitudeOptions resolve_altitudes(const AltitudeOptions& opt, std::size_t uav_count,
                                   double mission_altitude_m, std::vector<std::string>* warnings = nullptr);
 
-/// UAV `index`'s transit altitude with `resolved` options: its transition altitude, relative to take-off;
-/// with a DEM (Mission::terrain), above mean sea level: the transition altitude over the highest ground
-/// of the mission's extent (HeightGrid::max_m), so that every transit leg clears the ground under it by
-/// at least the transition altitude and the UAVs stay apart by the step.
+/// UAV `index`'s (the plan's UAV; its layer is looked up) transit altitude with `resolved` options: its
+/// transition altitude, relative to take-off; with a DEM (Mission::terrain), above mean sea level: the
+/// transition altitude over the highest ground of the mission's extent (HeightGrid::max_m), so that every
+/// transit leg clears the ground under it by at least the transition altitude and the UAVs stay apart by the
+/// step.
 double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index);
 
 /// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item), with the
