@@ -304,10 +304,9 @@ TEST(Pattern, TurnaroundLegsExtendWithTheCameraOff) {
 }
 
 // entry: the first leg starts from the corner asked for.
-// DISABLED: on an area (not a corridor) with the boustrophedon planner, "nw" and "ne" start 355 m from the
-// corner asked for (the sweep starts from the south); "sw", "se" and every corridor corner pass. Open in
-// issue 30's note until the area entry is fixed.
-TEST(Pattern, DISABLED_EntryCornersAreHonoured) {
+// On an area the boustrophedon tour counted the return to the start too, so a one-cell tour could enter at
+// either end; a fixed entry now weighs the first leg (planners/boustrophedon/ordering.hpp).
+TEST(Pattern, EntryCornersAreHonoured) {
   json a = corridor_mission({{0, 0}, {400, 0}}, 80, 20);
   a.erase("corridor");
   a["area"] = {{"type", "Polygon"},
