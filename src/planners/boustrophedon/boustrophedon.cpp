@@ -300,7 +300,8 @@ class BoustrophedonPlanner final : public Planner {
       ctx.report(kStage, f0 + 0.8 * (f1 - f0));
       // entry (docs/patterns.md): the tour starts from the region's corner that way, else nearest the start
       Point entry = p.starts[k];
-      if (p.pattern && p.pattern->entry != "auto") {
+      const bool fixed_entry = p.pattern && p.pattern->entry != "auto";
+      if (fixed_entry) {
         Box box;
         bg::envelope(planned, box);
         const bool north = p.pattern->entry[0] == 'n', east = p.pattern->entry[1] == 'e';
@@ -309,7 +310,9 @@ class BoustrophedonPlanner final : public Planner {
       }
       auto fly = [&](const std::vector<CellEnds>& e, const std::vector<std::size_t>& which, Point from,
                      nlohmann::json& order) {
-        const Tour tour = order_cells(e, from, ctx);
+        // a fixed entry: the first leg weighs 1000 times (the corner first), the tour returns to the start
+        const bool first = fixed_entry && order.empty() && ua.coverage.empty();
+        const Tour tour = first ? order_cells(e, from, p.starts[k], 1000.0, ctx) : order_cells(e, from, ctx);
         for (std::size_t i = 0; i < tour.order.size(); ++i) {
           const int way = tour.variant[i];
           const std::size_t c = which[static_cast<std::size_t>(tour.order[i])];

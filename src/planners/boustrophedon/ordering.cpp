@@ -12,15 +12,17 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Best ways for a fixed order (dynamic programming over the four ways of each cell).
-double best_ways(const std::vector<CellEnds>& cells, const std::vector<int>& order, Point start,
-                 std::vector<int>* ways) {
+/// The first leg's distance is counted `first_weight` times (a fixed entry weighs it heavily); the tour
+/// ends at `home`.
+double best_ways(const std::vector<CellEnds>& cells, const std::vector<int>& order, Point start, Point home,
+                 double first_weight, std::vector<int>* ways) {
   const std::size_t n = order.size();
   if (n == 0) return 0.0;
   std::vector<std::array<double, 4>> cost(n);
   std::vector<std::array<int, 4>> from(n);
   const CellEnds& c0 = cells[static_cast<std::size_t>(order[0])];
   for (int v = 0; v < 4; ++v)
-    cost[0][static_cast<std::size_t>(v)] = dist(start, c0.entry[static_cast<std::size_t>(v)]);
+    cost[0][static_cast<std::size_t>(v)] = first_weight * dist(start, c0.entry[static_cast<std::size_t>(v)]);
   for (std::size_t i = 1; i < n; ++i) {
     const CellEnds& prev = cells[static_cast<std::size_t>(order[i - 1])];
     const CellEnds& cur = cells[static_cast<std::size_t>(order[i])];
@@ -39,7 +41,7 @@ double best_ways(const std::vector<CellEnds>& cells, const std::vector<int>& ord
   double best = kInf;
   int arg = 0;
   for (std::size_t v = 0; v < 4; ++v) {
-    const double c = cost[n - 1][v] + dist(last.exit[v], start);
+    const double c = cost[n - 1][v] + dist(last.exit[v], home);
     if (c < best) best = c, arg = static_cast<int>(v);
   }
   if (ways) {
@@ -55,6 +57,11 @@ double best_ways(const std::vector<CellEnds>& cells, const std::vector<int>& ord
 }  // namespace
 
 Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context& ctx) {
+  return order_cells(cells, start, start, 1.0, ctx);
+}
+
+Tour order_cells(const std::vector<CellEnds>& cells, Point start, Point home, double first_weight,
+                 const Context& ctx) {
   Tour t;
   const std::size_t n = cells.size();
   if (n == 0) return t;
@@ -75,7 +82,7 @@ Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context&
     t.order.push_back(static_cast<int>(arg));
     here = cells[arg].exit[way];
   }
-  double cost = best_ways(cells, t.order, start, nullptr);
+  double cost = best_ways(cells, t.order, start, home, first_weight, nullptr);
   // 2-opt (reverse a block) and or-opt (move a block of 1-3 cells); a deterministic move budget
   long budget = 4'000'000 / static_cast<long>(std::max<std::size_t>(n, 1));
   bool improved = n > 1;
@@ -87,7 +94,7 @@ Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context&
         std::vector<int> cand = t.order;
         std::reverse(cand.begin() + static_cast<std::ptrdiff_t>(i),
                      cand.begin() + static_cast<std::ptrdiff_t>(j) + 1);
-        const double c = best_ways(cells, cand, start, nullptr);
+        const double c = best_ways(cells, cand, start, home, first_weight, nullptr);
         if (c < cost - 1e-9) {
           cost = c;
           t.order = std::move(cand);
@@ -104,7 +111,7 @@ Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context&
                      cand.begin() + static_cast<std::ptrdiff_t>(i + len));
           if (j > cand.size()) continue;
           cand.insert(cand.begin() + static_cast<std::ptrdiff_t>(j), block.begin(), block.end());
-          const double c = best_ways(cells, cand, start, nullptr);
+          const double c = best_ways(cells, cand, start, home, first_weight, nullptr);
           if (c < cost - 1e-9) {
             cost = c;
             t.order = std::move(cand);
@@ -113,7 +120,8 @@ Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context&
         }
     }
   }
-  t.transit_m = best_ways(cells, t.order, start, &t.variant);
+  best_ways(cells, t.order, start, home, first_weight, &t.variant);
+  t.transit_m = best_ways(cells, t.order, start, home, 1.0, nullptr);
   return t;
 }
 

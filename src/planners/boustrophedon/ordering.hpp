@@ -23,5 +23,9 @@ struct Tour {
 
 /// Greedy tour improved by 2-opt and or-opt moves, the ways chosen optimally for each order.
 Tour order_cells(const std::vector<CellEnds>& cells, Point start, const Context& ctx);
+/// From `start` to `home`, the first leg counted `first_weight` times: with a large weight the tour
+/// enters at the cell corner nearest `start` (a pattern's fixed entry) whatever it costs later.
+Tour order_cells(const std::vector<CellEnds>& cells, Point start, Point home, double first_weight,
+                 const Context& ctx);
 
 }  // namespace uavcover::planners::boustro

@@ -46,8 +46,8 @@ std::vector<Point> taut(const std::vector<Point>& chain, Point a, Point b, bool 
 }  // namespace
 
 int leg_count(double width, double spacing) {
-  if (width <= spacing * (1.0 + 1e-9)) return 1;
-  return static_cast<int>(std::ceil(width / spacing - 1e-9));
+  if (width <= spacing * (1.0 + 1e-3)) return 1;
+  return static_cast<int>(std::ceil(width / spacing - 1e-3));  // a 0.1 % wider spacing, not a lane more
 }
 
 std::vector<double> leg_positions(double xmin, double xmax, double spacing) {
