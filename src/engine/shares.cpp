@@ -1,5 +1,7 @@
 #include "engine/shares.hpp"
 
+#include "geometry/geometry.hpp"
+
 #include <fmt/format.h>
 
 #include <boost/geometry/algorithms/point_on_surface.hpp>
@@ -28,21 +30,11 @@ MultiPolygon rotated(const MultiPolygon& mp, double c, double s) {
   return out;
 }
 
-Polygon box_polygon(double x0, double y0, double x1, double y1) {
-  Polygon p;
-  bg::append(p.outer(), Point{x0, y0});
-  bg::append(p.outer(), Point{x0, y1});
-  bg::append(p.outer(), Point{x1, y1});
-  bg::append(p.outer(), Point{x1, y0});
-  bg::append(p.outer(), Point{x0, y0});
-  bg::correct(p);
-  return p;
-}
-
 /// The part of `mp` with x in [x0, x1].
 MultiPolygon slab(const MultiPolygon& mp, const bg::model::box<Point>& env, double x0, double x1) {
   MultiPolygon out;
-  bg::intersection(mp, box_polygon(x0, env.min_corner().y() - 1.0, x1, env.max_corner().y() + 1.0), out);
+  bg::intersection(mp, geometry::box_polygon(x0, env.min_corner().y() - 1.0, x1, env.max_corner().y() + 1.0),
+                   out);
   return out;
 }
 

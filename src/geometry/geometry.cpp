@@ -94,6 +94,17 @@ namespace {
 constexpr std::size_t kSequentialUnion = 32;
 }  // namespace
 
+Polygon box_polygon(double x0, double y0, double x1, double y1) {
+  Polygon p;
+  bg::append(p.outer(), Point{x0, y0});
+  bg::append(p.outer(), Point{x0, y1});
+  bg::append(p.outer(), Point{x1, y1});
+  bg::append(p.outer(), Point{x1, y0});
+  bg::append(p.outer(), Point{x0, y0});
+  bg::correct(p);
+  return p;
+}
+
 MultiPolygon unite(const MultiPolygon& polys) {
   // Polygons whose boxes overlap (transitively) form a cluster; only a cluster's members are united
   // with each other, in input order, so thousands of separate no-fly zones cost O(n log n), not O(n^2).

@@ -23,6 +23,9 @@ std::vector<LonLat> to_wgs84_dense(const std::vector<Point>& local, const geodes
                                    std::vector<Point>* dense_local = nullptr);
 MultiPolygon to_local(const std::vector<GeoPolygon>& polys, const geodesy::LocalFrame& frame);
 
+/// The axis-aligned rectangle [x0, x1] x [y0, y1] as a corrected polygon.
+Polygon box_polygon(double x0, double y0, double x1, double y1);
+
 /// Union of the given polygons (each corrected); empty input gives an empty set.
 MultiPolygon unite(const MultiPolygon& polys);
 

@@ -21,30 +21,16 @@ namespace bg = boost::geometry;
 
 namespace {
 
-Polygon cell_box(double x0, double y0, double x1, double y1) {
-  Polygon p;
-  bg::append(p.outer(), Point{x0, y0});
-  bg::append(p.outer(), Point{x0, y1});
-  bg::append(p.outer(), Point{x1, y1});
-  bg::append(p.outer(), Point{x1, y0});
-  bg::append(p.outer(), Point{x0, y0});
-  bg::correct(p);
-  return p;
-}
-
 /// The unscanned samples (0 scans) of the lattice as rectangles: runs along each row, a run that repeats
 /// on the next row grown into one taller rectangle, then united.
 MultiPolygon unscanned_cells(const evaluation::CoverageResult& c, const Context& ctx) {
-  struct Run {
-    int c0, c1, r0;
-  };
   const double h = c.lattice_m / 2.0;
   MultiPolygon cells;
   std::map<std::pair<int, int>, int> open;  // (c0, c1) -> first row
   auto close = [&](int c0, int c1, int r0, int r1) {
-    cells.push_back(
-        cell_box(c.lattice_origin.x() + c0 * c.lattice_m - h, c.lattice_origin.y() + r0 * c.lattice_m - h,
-                 c.lattice_origin.x() + c1 * c.lattice_m + h, c.lattice_origin.y() + r1 * c.lattice_m + h));
+    cells.push_back(geometry::box_polygon(
+        c.lattice_origin.x() + c0 * c.lattice_m - h, c.lattice_origin.y() + r0 * c.lattice_m - h,
+        c.lattice_origin.x() + c1 * c.lattice_m + h, c.lattice_origin.y() + r1 * c.lattice_m + h));
   };
   for (int r = 0; r <= c.lattice_rows; ++r) {
     if (r % 256 == 0 && ctx.stop_requested()) throw Cancelled();
