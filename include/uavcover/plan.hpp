@@ -22,7 +22,11 @@ struct Attitude {
   std::vector<double> heading_deg = {};         ///< per vertex: where the camera faces (deg from north)
   std::optional<double> gimbal_pitch_deg = {};  ///< -90 = nadir
   std::optional<Point> roi = {};                ///< region of interest (local metres) the camera looks at
-  [[nodiscard]] bool empty() const { return !altitude_m && heading_deg.empty() && !gimbal_pitch_deg && !roi; }
+  /// Camera trigger distance along this part (m); empty: the mission camera's ground spacing at altitude.
+  std::optional<double> trigger_distance_m = {};
+  [[nodiscard]] bool empty() const {
+    return !altitude_m && heading_deg.empty() && !gimbal_pitch_deg && !roi && !trigger_distance_m;
+  }
 };
 
 /// One piece of a UAV's flight, in flight order. Coverage parts are polylines of turning waypoints
