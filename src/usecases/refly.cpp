@@ -80,16 +80,13 @@ nlohmann::json polygon_coordinates(const GeoPolygon& p) {
 
 }  // namespace
 
-ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& tracks, const Context& ctx) {
-  const flight::FlownCoverage flown = flight::flown_coverage(plan, tracks, ctx);
+ReflyGaps lattice_gaps(const Plan& plan, const evaluation::CoverageResult& lattice, const Context& ctx) {
   ReflyGaps gaps;
-  gaps.flown_poc = flown.flown_poc;
-  gaps.planned_poc = flown.planned_poc;
   const double ds = plan.mission.spacing_m;
-  const MultiPolygon cells = unscanned_cells(flown.coverage, ctx);
+  const MultiPolygon cells = unscanned_cells(lattice, ctx);
   if (ctx.stop_requested()) throw Cancelled();
   // opening by an eighth of the spacing: slivers between swaths go, real gaps stay
-  const double thin = std::max(ds / 8.0, flown.coverage.lattice_m);
+  const double thin = std::max(ds / 8.0, lattice.lattice_m);
   const bg::strategy::buffer::join_miter miter;
   const MultiPolygon opened = grown(grown(cells, -thin, miter), thin, miter);
   const MultiPolygon reach = grown(opened, ds / 2.0, bg::strategy::buffer::join_round(16));
@@ -104,6 +101,14 @@ ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& trac
   bg::correct(gaps.local);
   gaps.area_m2 = bg::area(gaps.local);
   gaps.area = engine::to_wgs84(gaps.local, lm.frame);
+  return gaps;
+}
+
+ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& tracks, const Context& ctx) {
+  const flight::FlownCoverage flown = flight::flown_coverage(plan, tracks, ctx);
+  ReflyGaps gaps = lattice_gaps(plan, flown.coverage, ctx);
+  gaps.flown_poc = flown.flown_poc;
+  gaps.planned_poc = flown.planned_poc;
   return gaps;
 }
 

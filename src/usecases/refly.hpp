@@ -28,6 +28,11 @@ struct ReflyGaps {
 /// InputError as flown_coverage ("tracks[i].uav", ...). ctx: stops (Cancelled).
 ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& tracks, const Context& ctx = {});
 
+/// The same gaps from any scan lattice over the plan's free area (the evaluator's: -1 outside the free
+/// area, scan counts inside), e.g. the photos' footprints (usecases/photos.hpp). flown_poc and
+/// planned_poc are left 0 for the caller.
+ReflyGaps lattice_gaps(const Plan& plan, const evaluation::CoverageResult& lattice, const Context& ctx = {});
+
 /// The refly mission: `plan.mission` with the gaps as its area (a corridor or structure becomes the
 /// area it leaves to fly), named "<name> (refly)", flown by `uavs` (ids of the plan's UAVs; empty: all),
 /// each from the start it used, their shares renormalised. InputError "uavs" for an unknown or repeated

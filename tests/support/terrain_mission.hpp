@@ -10,27 +10,14 @@
 
 #include "geodesy/local_frame.hpp"
 #include "support/dem.hpp"
+#include "support/files.hpp"
 #include "uavcover/mission.hpp"
 
 namespace uavcover::testdem {
 
 inline const LonLat kOrigin{8.5455, 47.3977};
 
-/// A fresh temporary folder, removed with the object.
-struct TempDir {
-  std::filesystem::path path;
-  explicit TempDir(const std::string& tag)
-      : path(std::filesystem::temp_directory_path() / fmt::format("uavcover_{}_{}", tag, ::getpid())) {
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
+using TempDir = testing::TempDir;  // one fixture for every test (support/files.hpp)
 
 inline std::string lonlat(const geodesy::LocalFrame& f, double x, double y) {
   const LonLat p = f.to_wgs84({x, y});

@@ -12,25 +12,13 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include "support/files.hpp"
 
 namespace uavcover::testvec {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& tag)
-      : path(fs::temp_directory_path() / fmt::format("uavcover_vec_{}_{}", tag, ::getpid())) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
+using TempDir = testing::TempDir;  // one fixture for every test (support/files.hpp)
 
 inline constexpr const char* kFeatures = R"({"type": "FeatureCollection", "features": [
  {"type": "Feature", "properties": {"name": "North field", "kind": "area"},
