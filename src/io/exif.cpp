@@ -72,11 +72,6 @@ double coordinate(const Exiv2::ExifData& exif, const std::string& name, const ch
   return deg;
 }
 
-void check_range(const std::optional<double>& v, const std::string& field, double lo, double hi) {
-  if (v && !(*v >= lo && *v <= hi))
-    throw InputError(field, fmt::format("must be in [{}, {}], got {}", lo, hi, *v));
-}
-
 }  // namespace
 
 PhotoTags read_photo_tags(const std::uint8_t* data, std::size_t size, const std::string& name) {
@@ -113,13 +108,7 @@ PhotoTags read_photo_tags(const std::uint8_t* data, std::size_t size, const std:
   } catch (const Exiv2::AnyError& e) {
     throw InputError(name, std::string("not a photo exiv2 can read: ") + e.what());
   }
-  check_range(t.gps_altitude_m, name + ".GPSAltitude", -1000.0, 20000.0);
-  check_range(t.relative_altitude_m, name + ".RelativeAltitude", -1000.0, 10000.0);
-  check_range(t.gimbal_pitch_deg, name + ".GimbalPitchDegree", -180.0, 180.0);
-  check_range(t.yaw_deg, name + ".GimbalYawDegree", -360.0, 360.0);
-  check_range(t.focal_length_mm, name + ".FocalLength", 0.1, 2000.0);
-  check_range(t.focal_35mm_mm, name + ".FocalLengthIn35mmFilm", 1.0, 5000.0);
-  if (t.yaw_deg) t.yaw_deg = std::fmod(*t.yaw_deg + 360.0, 360.0);
+  check_photo_tags(t, name, false);
   return t;
 }
 

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,6 +30,16 @@ struct PhotoTags {
 
 constexpr std::size_t kMaxPhotoBytes = std::size_t{64} << 20;  ///< one photo file
 constexpr std::size_t kMaxPhotos = 20000;                      ///< photos in one folder or upload
+
+/// Range checks of the tags, and the heading normalised to [0, 360): what read_photo_tags applies
+/// (InputError "<prefix>.GimbalPitchDegree": the tag) and photo_tags_from_json too (json_names:
+/// "<prefix>.gimbal_pitch_deg"). In src/io/photo_tags.cpp, part of the core (no exiv2).
+void check_photo_tags(PhotoTags& tags, const std::string& prefix, bool json_names);
+
+/// The tags as JSON (the server's POST /photos/tags answer; absent tags are null), and back: untrusted
+/// input, every field checked, InputError naming `field` ("photos[3].lat").
+nlohmann::json to_json(const PhotoTags& tags);
+PhotoTags photo_tags_from_json(const nlohmann::json& j, const std::string& field);
 
 /// The tags of one photo held in memory. InputError("<name>", ...) when it is no image exiv2 reads, or
 /// "<name>.GPSLatitude" etc. when a geotag is missing or out of range.

@@ -6,10 +6,12 @@
 #include <charconv>
 #include <map>
 
+#include "io/exif.hpp"
 #include "server/api_internal.hpp"
 #include "server/flights.hpp"
 #include "uavcover/error.hpp"
 #include "usecases/jobs.hpp"
+#include "usecases/photos.hpp"
 #include "usecases/refly.hpp"
 
 namespace uavcover::server::detail {
@@ -17,12 +19,46 @@ namespace {
 
 using nlohmann::json;
 
+/// Photos in one POST /photos/tags (the app sends its photos in batches of this many).
+constexpr std::size_t kMaxPhotoParts = 200;
+
 /// Records an export (CSV, GeoJSON) reads at most.
 constexpr std::int64_t kMaxExportRecords = 200000;
 
 FlightManager& manager(ApiContext& ctx) {
   if (ctx.flights == nullptr) throw HttpError(503, "", "this server does not follow flights");
   return *ctx.flights;
+}
+
+/// The flight's plan job (404 naming id when the flight or its plan is gone).
+store::Job flight_plan_job(ApiContext& ctx, store::Id id) {
+  const auto row = ctx.store.get_flight(id);
+  if (!row) throw HttpError(404, "id", "no flight " + std::to_string(id));
+  auto job = ctx.store.get_job(row->plan_id);
+  if (!job) throw HttpError(404, "id", "the flight's plan " + std::to_string(row->plan_id) + " is gone");
+  return std::move(*job);
+}
+
+/// The photos' coverage over the flight's plan from a body's "photos" (POST /photos/tags' items) and
+/// optional "takeoff_alt_m"; both keys are taken out of `body`.
+usecases::PhotoCoverage photos_of_body(json& body, const Plan& plan) {
+  const auto list = body.find("photos");
+  if (list == body.end() || !list->is_array() || list->empty())
+    throw InputError("photos", "expected the photos' tags (the items of POST /api/v1/photos/tags)");
+  if (list->size() > io::kMaxPhotos) throw InputError("photos", fmt::format("more than {}", io::kMaxPhotos));
+  std::vector<io::PhotoTags> tags;
+  tags.reserve(list->size());
+  for (std::size_t i = 0; i < list->size(); ++i)
+    tags.push_back(io::photo_tags_from_json((*list)[i], fmt::format("photos[{}]", i)));
+  usecases::PhotoOptions po;
+  if (const auto t = body.find("takeoff_alt_m"); t != body.end()) {
+    if (!t->is_number() || !(t->get<double>() >= -1000.0 && t->get<double>() <= 10000.0))
+      throw InputError("takeoff_alt_m", "expected the take-off's height above sea level in [-1000, 10000] m");
+    po.takeoff_altitude_m = t->get<double>();
+    body.erase("takeoff_alt_m");
+  }
+  body.erase("photos");
+  return usecases::photo_coverage(plan, tags, po);
 }
 
 /// An integer query parameter in [lo, hi], `fallback` when absent; 400 naming it otherwise.
@@ -241,11 +277,7 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                json params = parse_body(req, ctx, true);
                if (params.is_null()) params = json::object();
                if (!params.is_object()) throw InputError("body", "expected a JSON object");
-               const auto row = ctx.store.get_flight(id);
-               if (!row) throw HttpError(404, "id", "no flight " + std::to_string(id));
-               const auto job = ctx.store.get_job(row->plan_id);
-               if (!job)
-                 throw HttpError(404, "id", "the flight's plan " + std::to_string(row->plan_id) + " is gone");
+               const store::Job job = flight_plan_job(ctx, id);
                std::vector<std::string> uavs;
                if (const auto u = params.find("uavs"); u != params.end()) {
                  if (!u->is_array()) throw InputError("uavs", "expected a list of UAV ids");
@@ -256,15 +288,59 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                  }
                  params.erase("uavs");
                }
-               const Plan flown = load_job_plan(ctx.store, *job);
-               const auto gaps = usecases::coverage_gaps(flown, manager(ctx).tracks(id));
+               const Plan flown = load_job_plan(ctx.store, job);
+               // the gaps from the photos' footprints when the body gives them (docs/photos.md), else
+               // from the flight's tracks
+               const bool from_photos = params.contains("photos");
+               const auto gaps = from_photos ? photos_of_body(params, flown).gaps
+                                             : usecases::coverage_gaps(flown, manager(ctx).tracks(id));
                const Mission refly = usecases::refly_mission(flown, gaps, uavs);
                params = usecases::validate_job_params(usecases::JobType::Plan, refly, params);
                params["refly"] = {{"flight_id", id},
+                                  {"source", from_photos ? "photos" : "tracks"},
                                   {"flown_poc", gaps.flown_poc},
                                   {"gaps_m2", gaps.area_m2},
                                   {"mission", json::parse(mission_to_json(refly, -1))}};
-               return enqueue_job(ctx, store::JobKind::Plan, job->mission_id, job->revision, params);
+               return enqueue_job(ctx, store::JobKind::Plan, job.mission_id, job.revision, params);
+             }));
+  // the photos' tags (docs/photos.md), read with exiv2 on the handler pool: each part "photos" is a JPEG, or
+  // its first bytes (the app sends the head of each file: the tags come before the image data)
+  router.add(
+      "POST", std::string(kPhotoTagsRoute), guarded([&ctx](const Request& req) {
+        if (req.body.size() > ctx.config.max_body_bytes)
+          throw HttpError(413, "body",
+                          "the body is larger than " + std::to_string(ctx.config.max_body_bytes) + " bytes");
+        MultipartLimits limits;
+        limits.max_parts = kMaxPhotoParts;
+        limits.repeatable = "photos";
+        const auto parts = parse_multipart(req.header("content-type").value_or(""), req.body, limits);
+        json items = json::array();
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+          const FormPart& p = parts[i];
+          if (p.name != "photos")
+            throw HttpError(400, p.name.substr(0, 64), "unknown part: expected \"photos\" (one per file)");
+          const std::string name =
+              p.filename && !p.filename->empty() ? p.filename->substr(0, 255) : fmt::format("photos[{}]", i);
+          items.push_back(io::to_json(io::read_photo_tags(
+              reinterpret_cast<const std::uint8_t*>(p.body.data()), p.body.size(), name)));
+        }
+        if (items.empty()) throw HttpError(400, "photos", "no \"photos\" part");
+        return Response::json(200, {{"items", std::move(items)}});
+      }));
+  // what the photos saw (docs/photos.md): footprints, coverage and gaps over the flight's plan
+  router.add("POST", base + "/photos", guarded([&ctx](const Request& req) {
+               const store::Id id = id_param(req, "id");
+               json body = parse_body(req, ctx, false);
+               if (!body.is_object()) throw InputError("body", "expected a JSON object {\"photos\": [...]}");
+               const Plan plan = load_job_plan(ctx.store, flight_plan_job(ctx, id));
+               const usecases::PhotoCoverage c = photos_of_body(body, plan);
+               if (!body.empty())
+                 throw InputError(body.begin().key().substr(0, 64),
+                                  "unknown field: expected photos, takeoff_alt_m");
+               json out = usecases::photo_summary(c);
+               out["flight_id"] = id;
+               out["geojson"] = json::parse(usecases::photos_geojson(c));
+               return Response::json(200, out);
              }));
   router.add("GET", base + "/log.geojson", guarded([&ctx](const Request& req) {
                const store::Id id = id_param(req, "id");

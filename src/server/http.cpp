@@ -383,7 +383,8 @@ std::vector<FormPart> parse_multipart(std::string_view content_type, std::string
     const std::size_t end = body.find(delimiter, pos);
     if (end == std::string_view::npos) bad_form(part.name, "the part is not closed by the boundary");
     for (const auto& other : parts)
-      if (other.name == part.name) bad_form(part.name, "the part is given twice");
+      if (other.name == part.name && part.name != limits.repeatable)
+        bad_form(part.name, "the part is given twice");
     part.body = std::string(body.substr(pos, end - pos));
     parts.push_back(std::move(part));
     pos = end + delimiter.size();

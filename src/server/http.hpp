@@ -117,9 +117,14 @@ std::string media_type(std::string_view content_type);
 /// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
 bool is_loopback(const std::string& host);
 
-/// The one route whose body is multipart/form-data, not JSON: the vector importer's upload (docs/import.md).
-/// The transport lets that media type through for it alone; the API registers it.
+/// The routes whose body is multipart/form-data, not JSON: the vector importer's upload (docs/import.md) and
+/// the photos' tags (docs/photos.md). The transport lets that media type through for them alone (a foreign
+/// page is refused by the Origin check first); the API registers them.
 inline constexpr std::string_view kImportRoute = "/api/v1/missions/import";
+inline constexpr std::string_view kPhotoTagsRoute = "/api/v1/photos/tags";
+inline bool multipart_route(std::string_view method, std::string_view path) {
+  return method == "POST" && (path == kImportRoute || path == kPhotoTagsRoute);
+}
 
 /// One part of a multipart/form-data body (RFC 7578).
 struct FormPart {
@@ -133,11 +138,13 @@ struct FormPart {
 struct MultipartLimits {
   std::size_t max_parts = 16;
   std::size_t max_header_bytes = 8192;  ///< one part's header block
+  std::string repeatable;               ///< the one name that may be given more than once (a file list)
 };
 
 /// Parses a multipart/form-data body strictly: the boundary from `content_type` (1 to 70 characters,
 /// quoted or not), CRLF framing, a closing delimiter, each part with a Content-Disposition form-data
-/// header naming it (name, optional filename; quoted-string escapes), names unique. HttpError 415
+/// header naming it (name, optional filename; quoted-string escapes), names unique (but limits.repeatable).
+/// HttpError 415
 /// ("content-type") when the type is not multipart/form-data or has no usable boundary, 400 ("body",
 /// or the part's name) when the framing or a part's headers are wrong.
 std::vector<FormPart> parse_multipart(std::string_view content_type, std::string_view body,

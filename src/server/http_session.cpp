@@ -179,10 +179,10 @@ class HttpSession : public Session, public std::enable_shared_from_this<HttpSess
         return e;
       }
     }
-    // the one upload: POST /api/v1/missions/import takes a file as multipart/form-data (it stores nothing
-    // and answers JSON; a foreign page is refused by the Origin check above, 403)
+    // the uploads (multipart_route: the importer's file, the photos' heads) take multipart/form-data (they
+    // store nothing and answer JSON; a foreign page is refused by the Origin check above, 403)
     const std::string media = media_type(sv(req[http::field::content_type]));
-    const bool upload = method == "POST" && probe.path == kImportRoute && media == "multipart/form-data";
+    const bool upload = multipart_route(method, probe.path) && media == "multipart/form-data";
     if (has_body && decoded && probe.path.rfind("/api/", 0) == 0 && media != "application/json" && !upload)
       return HttpError(415, "body",
                        req.count(http::field::content_type) > 0

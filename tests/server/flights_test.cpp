@@ -2,14 +2,20 @@
 // a WorkerPool, then flights: validation with the field named (404, 409, 422), and a simulated flight
 // on loopback that uploads, starts, flies and ends done with every waypoint reached in its log.
 // Waits are bounded by wall-time caps only against hangs; nothing asserts a duration.
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
 #include <thread>
 
+#include "geodesy/local_frame.hpp"
+#include "io/exif.hpp"
 #include "server/api_fixture.hpp"
+#include "server/multipart.hpp"
 #include "server/worker.hpp"
+#include "support/photos.hpp"
 #include "usecases/refly.hpp"
 
 namespace uavcover::server::testing {
@@ -484,6 +490,77 @@ TEST_P(FlightApiTest, AReflyPlansTheGapAFailedUavLeftAndTheTwoCoverTheField) {
   const auto after = usecases::coverage_gaps(first, tracks);
   EXPECT_GE(after.flown_poc, 0.99) << "flown + refly";
   ASSERT_EQ(call("POST", url + "/commands", R"({"command": "abort"})").status / 100, 2);
+}
+
+/// A nadir photo 20 m above take-off at (x, y) metres from the small field's south-west corner, facing
+/// north, 24 mm equivalent: a 30 m x 20 m footprint.
+std::string field_photo(double x, double y) {
+  uavcover::testing::PhotoSpec s;
+  const LonLat g = geodesy::LocalFrame({22.95, 40.60}).to_wgs84(Point(x, y));
+  s.lat = g.lat;
+  s.lon = g.lon;
+  s.relative_altitude_m = 20.0;
+  s.gimbal_pitch_deg = -90.0;
+  s.gimbal_yaw_deg = 0.0;
+  s.focal_35mm = 24;
+  return uavcover::testing::photo_jpeg(s);
+}
+
+TEST_P(FlightApiTest, PhotosTagsCoverageAndAReflyFromThem) {
+  const store::Id plan = done_plan();
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 50}}}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const auto id = created.json().at("id").get<store::Id>();
+  const std::string url = "/api/v1/flights/" + std::to_string(id);
+  auto upload = [&](const std::string& body, std::map<std::string, std::string> headers = kHeaders) {
+    return call("POST", "/api/v1/photos/tags", body, std::move(headers));
+  };
+
+  // the tags of whole files and of a file's head (what the app sends: the tags come before the image)
+  const std::string a = field_photo(10, 5), b = field_photo(35, 5);
+  const std::size_t sos = b.find("\xFF\xDA");
+  ASSERT_NE(sos, std::string::npos);
+  Answer r = upload(form(part("photos", "a.jpg", a) + part("photos", "b.jpg", b.substr(0, sos + 20))));
+  ASSERT_EQ(r.status, 200) << r.body;
+  ASSERT_EQ(r.json().at("items").size(), 2u);
+  EXPECT_EQ(r.json()["items"][1]["name"], "b.jpg");
+  EXPECT_NEAR(r.json()["items"][1]["relative_altitude_m"].get<double>(), 20.0, 1e-9);
+  EXPECT_EQ(upload(form(part("photos", "bad.jpg", "no jpeg"))).status, 422);
+  EXPECT_EQ(upload(form(part("photos", "bad.jpg", "no jpeg"))).error_field(), "bad.jpg");
+  EXPECT_EQ(upload(form(part("file", "a.jpg", a))).status, 400);
+  EXPECT_EQ(upload(form(part("photos", "a.jpg", a)), {{"content-type", "application/json"}}).status / 100, 4);
+
+  // a grid of photos over the field (x 10..160 every 25 m, y 5..95 every 15 m) less the 4 around (72.5, 50)
+  json photos = json::array();
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j) {
+      if ((i == 2 || i == 3) && (j == 3 || j == 4)) continue;
+      const std::string bytes = field_photo(10.0 + 25.0 * i, 5.0 + 15.0 * j);
+      photos.push_back(io::to_json(io::read_photo_tags(reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                                                       bytes.size(), fmt::format("p{}_{}.jpg", i, j))));
+    }
+  r = call("POST", url + "/photos", json({{"photos", photos}}).dump());
+  ASSERT_EQ(r.status, 200) << r.body;
+  const json seen = r.json();
+  EXPECT_EQ(seen.at("photos"), 45);
+  EXPECT_LT(seen.at("poc").get<double>(), 0.97);
+  EXPECT_GT(seen.at("poc").get<double>(), 0.85);
+  EXPECT_GT(seen.at("gaps_m2").get<double>(), 0.0);
+  EXPECT_EQ(seen.at("geojson").at("features").size(), 46u);
+  json bad = photos;
+  bad[0]["lat"] = 123;
+  EXPECT_EQ(call("POST", url + "/photos", json({{"photos", bad}}).dump()).error_field(), "photos[0].lat");
+  EXPECT_EQ(call("POST", url + "/photos", json({{"photos", photos}, {"x", 1}}).dump()).error_field(), "x");
+  EXPECT_EQ(call("POST", url + "/photos", R"({"photos": []})").error_field(), "photos");
+  EXPECT_EQ(call("POST", "/api/v1/flights/987654/photos", json({{"photos", photos}}).dump()).status, 404);
+
+  // the refly of what no photo saw
+  const Answer refly = call("POST", url + "/refly", json({{"photos", photos}, {"uavs", {"A"}}}).dump());
+  ASSERT_EQ(refly.status, 202) << refly.body;
+  const json p = store_->get_job(refly.json().at("id").get<store::Id>())->params.at("refly");
+  EXPECT_EQ(p.at("source"), "photos");
+  EXPECT_NEAR(p.at("flown_poc").get<double>(), seen.at("poc").get<double>(), 1e-9);
+  EXPECT_NEAR(p.at("gaps_m2").get<double>(), seen.at("gaps_m2").get<double>(), 1e-6);
 }
 
 }  // namespace

@@ -5,23 +5,13 @@
 
 #include "server/api_fixture.hpp"
 #include "server/http.hpp"
+#include "server/multipart.hpp"
 #include "support/vector_files.hpp"
 
 namespace uavcover::server::testing {
 namespace {
 
 using nlohmann::json;
-
-const std::string kBoundary = "----uavcoverTest7MA4YWxk";
-
-std::string part(const std::string& name, const std::string& filename, const std::string& body) {
-  std::string h = "--" + kBoundary + "\r\nContent-Disposition: form-data; name=\"" + name + "\"";
-  if (!filename.empty()) h += "; filename=\"" + filename + "\"";
-  return h + "\r\nContent-Type: application/octet-stream\r\n\r\n" + body + "\r\n";
-}
-std::string form(const std::string& parts) { return parts + "--" + kBoundary + "--\r\n"; }
-const std::map<std::string, std::string> kHeaders = {
-    {"content-type", "multipart/form-data; boundary=" + kBoundary}};
 
 class ImportApi : public ApiTest {
  protected:
