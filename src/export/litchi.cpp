@@ -46,7 +46,7 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
     const AttitudeAt a = k < att.size() ? att[k] : AttitudeAt{};
     std::string heading = "0";
     if (!std::isnan(a.heading_deg)) {
-      const double h = std::fmod(degrees(a.heading_deg) + 360.0, 360.0);
+      const double h = degrees(std::fmod(std::fmod(a.heading_deg, 360.0) + 360.0, 360.0));
       heading = num(h >= 360.0 ? 0.0 : h);
     }
     std::string out = fmt::format("{:.8f},{:.8f},{},{},0,0,{},{}", w.lat, w.lon, num(w.alt), heading,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <pugixml.hpp>
 #include <string>
@@ -293,4 +294,48 @@ TEST(AttitudeRules, Px4RefusesRoiOutsideAGlobalFrameOrWithAnotherMode) {
   bad = items;
   bad[roi].frame = kFrameMission;
   EXPECT_TRUE(fatal(bad));
+}
+
+TEST(AttitudeExports, KmlPointsCarryHeadingGimbalAndRoi) {
+  const Plan plan = fixture::attitude_plan();
+  const geodesy::LocalFrame frame(plan.origin);
+  const Artifacts out = export_artifacts(plan, {"kml"});
+  pugi::xml_document doc;
+  ASSERT_TRUE(doc.load_string(bytes_of(out, "export/alpha.kml").c_str()));
+  int orbit = 0, headed = 0, roi = 0;
+  for (const auto& m : doc.select_nodes("/kml/Document/Folder/Placemark")) {
+    const pugi::xml_node n = m.node();
+    const auto c = split(n.select_node("Point/coordinates").node().text().get(), ',');
+    ASSERT_EQ(c.size(), 3u);
+    std::map<std::string, std::string> data;
+    for (const auto& d : n.select_nodes("ExtendedData/Data"))
+      data[d.node().attribute("name").value()] = d.node().child("value").text().get();
+    if (data.count("heading_deg") != 0) {
+      ++headed;
+      EXPECT_DOUBLE_EQ(n.select_node("Style/IconStyle/heading").node().text().as_double(),
+                       std::stod(data["heading_deg"]));
+    }
+    if (std::stod(c[2]) == fixture::kOrbitAltitude) {
+      ++orbit;
+      EXPECT_LT(heading_error(std::stod(data.at("heading_deg")),
+                              toward_centre(frame, std::stod(c[1]), std::stod(c[0]))),
+                0.01);
+    }
+    if (data.count("roi") != 0) {
+      ++roi;
+      const auto r = split(data["roi"], ',');
+      EXPECT_TRUE(near_roi(frame, std::stod(r.at(1)), std::stod(r.at(0))));  // "lon,lat,alt" as in KML
+    }
+    if (data.count("gimbal_pitch_deg") != 0 &&
+        std::stod(data["gimbal_pitch_deg"]) == fixture::kObliquePitch) {
+      EXPECT_DOUBLE_EQ(std::stod(data.at("heading_deg")), fixture::kObliqueHeading);
+    }
+  }
+  EXPECT_GE(orbit, 13);
+  EXPECT_GE(headed, 13 + 2);
+  EXPECT_GE(roi, 2);
+  // bravo has no attitude: its KML has no attitude folder
+  pugi::xml_document b;
+  ASSERT_TRUE(b.load_string(bytes_of(out, "export/bravo.kml").c_str()));
+  EXPECT_TRUE(b.select_nodes("/kml/Document/Folder").empty());
 }
