@@ -336,6 +336,18 @@ std::vector<Problem> px4_problems(const std::vector<MissionItem>& items, LonLat 
         out.push_back({true, at, "PX4 MavlinkMissionManager::parse_mavlink_mission_item",
                        "coordinates not finite or out of range"});
     }
+    // MavlinkMissionManager::parse_mavlink_mission_item: DO_SET_ROI is read in a global frame only (the
+    // mission-frame branch does not list it: MAV_MISSION_UNSUPPORTED), and its param1 must be
+    // MAV_ROI_LOCATION (3) or MAV_ROI_NONE (0), else MAV_MISSION_INVALID_PARAM1
+    if (it.command == kDoSetRoi) {
+      if (it.frame != kFrameGlobal && it.frame != kFrameGlobalRelativeAlt && it.frame != 5 && it.frame != 6)
+        out.push_back({true, at, "PX4 MavlinkMissionManager::parse_mavlink_mission_item (DO_SET_ROI)",
+                       fmt::format("frame {} is not a global frame", it.frame)});
+      if (it.param1 != 0.0f && it.param1 != 3.0f)
+        out.push_back(
+            {true, at, "PX4 MavlinkMissionManager::parse_mavlink_mission_item (DO_SET_ROI)",
+             fmt::format("param1 {} is neither MAV_ROI_NONE (0) nor MAV_ROI_LOCATION (3)", it.param1)});
+    }
     // checkTakeoff
     if (it.command == kNavTakeoff) {
       if (rel_alt(it) - 1.0 < params.nav_acc_rad_m)

@@ -16,6 +16,7 @@
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/stream.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/ardupilot.hpp"
 #include "waypoints/waypoints.hpp"
 
 namespace uavcover::cli {
@@ -32,6 +33,7 @@ struct UploadArgs {
   int sysid = 255;
   int compid = 190;
   bool no_home = false;
+  std::string autopilot = "px4";
   waypoints::AltitudeOptions altitude;
 };
 
@@ -39,6 +41,8 @@ void run_upload(const UploadArgs& a) {
   const mavlink::LinkAddress to = mavlink::parse_link_address(a.to, "--to");
   if (!(a.timeout_s > 0) || a.timeout_s > 60) throw InputError("--timeout", "must be in (0, 60] seconds");
   if (a.retries < 0 || a.retries > 100) throw InputError("--retries", "must be in 0..100");
+  if (a.autopilot != "px4" && a.autopilot != "ardupilot")
+    throw InputError("--autopilot", "must be 'px4' or 'ardupilot', got '" + a.autopilot.substr(0, 64) + "'");
   auto byte_option = [](int v, const char* field, int lo) {
     if (v < lo || v > 255) throw InputError(field, fmt::format("must be in {}..255", lo));
     return static_cast<std::uint8_t>(v);
@@ -64,7 +68,9 @@ void run_upload(const UploadArgs& a) {
   }
   std::vector<waypoints::MissionItem> exported;
   try {
-    exported = waypoints::mission_items(plan, index, a.altitude);
+    // ArduCopter turns to headings on CONDITION_YAW, which PX4 refuses (docs/exports.md "Attitude")
+    exported = a.autopilot == "ardupilot" ? waypoints::ardupilot_mission_items(plan, index, a.altitude)
+                                          : waypoints::mission_items(plan, index, a.altitude);
   } catch (const InputError& e) {
     // the library names its fields; on the command line they are these options
     const std::string problem = std::string(e.what()).substr(e.field().empty() ? 0 : e.field().size() + 2);
@@ -146,6 +152,10 @@ const bool registered = CommandRegistry::add(50, [](CLI::App& app) {
   cmd->add_option("--compid", args->compid, "Our MAVLink component id")
       ->capture_default_str()
       ->check(integer_in(0, 255));
+  cmd->add_option("--autopilot", args->autopilot,
+                  "Flight software of the vehicle: px4 (default) or ardupilot (headings also as "
+                  "MAV_CMD_CONDITION_YAW)")
+      ->capture_default_str();
   cmd->add_flag("--no-home", args->no_home,
                 "Do not send the home position as item 0 (ArduPilot expects it there; PX4 does not)");
   cmd->add_option("--transition-base", args->altitude.transition_base_m,

@@ -1,5 +1,7 @@
 #include "codec/plan_codec.hpp"
 
+#include <fmt/format.h>
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -57,6 +59,21 @@ json sortie_transit(const Sortie& s, bool out) {
   return line_coords(pts);
 }
 
+/// A part's attitude (PathPart::attitude) as a paths.geojson property: only the fields set; the ROI as
+/// [longitude, latitude].
+json attitude_json(const Attitude& a, const geodesy::LocalFrame& frame) {
+  json j = json::object();
+  if (a.altitude_m) j["altitude_m"] = *a.altitude_m;
+  if (!a.heading_deg.empty()) j["heading_deg"] = a.heading_deg;
+  if (a.gimbal_pitch_deg) j["gimbal_pitch_deg"] = *a.gimbal_pitch_deg;
+  if (a.roi) {
+    const LonLat r = frame.to_wgs84(*a.roi);
+    j["roi"] = {r.lon, r.lat};
+  }
+  if (a.trigger_distance_m) j["trigger_distance_m"] = *a.trigger_distance_m;
+  return j;
+}
+
 json sorties_json(const UavPlan& u) {
   json out = json::array();
   for (const auto& s : u.sorties)
@@ -105,6 +122,9 @@ json paths_geojson(const Plan& plan, std::optional<std::size_t> only_uav) {
                             {"turns", turns}}},
                           {"geometry", {{"type", "LineString"}, {"coordinates", line_coords(part.wgs84)}}}});
       if (!off.empty()) features.back()["properties"]["camera_off"] = std::move(off);
+      if (!part.attitude.empty())
+        features.back()["properties"]["attitude"] =
+            attitude_json(part.attitude, geodesy::LocalFrame(plan.origin));
     }
   }
   return {{"type", "FeatureCollection"}, {"features", std::move(features)}};
@@ -192,6 +212,43 @@ int whole(const json& j, const std::string& field, int lo, int hi) {
   if (v < lo || v > hi)
     throw InputError(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return static_cast<int>(v);
+}
+
+/// A finite number in [lo, hi].
+double number_in(const json& j, const std::string& field, double lo, double hi, const char* unit) {
+  if (!j.is_number() || !std::isfinite(j.get<double>()) || j.get<double>() < lo || j.get<double>() > hi)
+    throw InputError(field, fmt::format("expected a number in [{}, {}] {}", lo, hi, unit));
+  return j.get<double>();
+}
+
+/// A part's attitude read back as untrusted input (docs/exports.md): known fields only, each in range, one
+/// heading per vertex of the part (`vertices`). `to_local` checks and converts the ROI's position.
+template <typename ToLocal>
+Attitude read_attitude(const json& j, const std::string& f, std::size_t vertices, const ToLocal& to_local) {
+  if (!j.is_object()) throw InputError(f, "expected an object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "altitude_m" && it.key() != "heading_deg" && it.key() != "gimbal_pitch_deg" &&
+        it.key() != "roi" && it.key() != "trigger_distance_m")
+      throw InputError(f + "." + it.key(),
+                       "unknown field (expected altitude_m, heading_deg, gimbal_pitch_deg, roi, "
+                       "trigger_distance_m)");
+  Attitude a;
+  if (j.contains("altitude_m"))
+    a.altitude_m = number_in(j["altitude_m"], f + ".altitude_m", 0.0, 10000.0, "m");
+  if (j.contains("heading_deg")) {
+    const json& h = j["heading_deg"];
+    if (!h.is_array() || h.size() != vertices)
+      throw InputError(f + ".heading_deg",
+                       fmt::format("expected one heading per vertex of the part ({} numbers)", vertices));
+    for (std::size_t k = 0; k < h.size(); ++k)
+      a.heading_deg.push_back(number_in(h[k], fmt::format("{}.heading_deg[{}]", f, k), -360.0, 360.0, "deg"));
+  }
+  if (j.contains("gimbal_pitch_deg"))
+    a.gimbal_pitch_deg = number_in(j["gimbal_pitch_deg"], f + ".gimbal_pitch_deg", -90.0, 90.0, "deg");
+  if (j.contains("roi")) a.roi = to_local(position(j["roi"], f + ".roi"), f + ".roi");
+  if (j.contains("trigger_distance_m"))
+    a.trigger_distance_m = number_in(j["trigger_distance_m"], f + ".trigger_distance_m", 0.01, 10000.0, "m");
+  return a;
 }
 
 }  // namespace
@@ -340,6 +397,9 @@ Plan load_plan(const json& pj, const json& gj) {
           part.camera_off[k.get<std::size_t>()] = 1;
         }
       }
+      if (props.contains("attitude"))
+        part.attitude =
+            read_attitude(props.at("attitude"), f + ".properties.attitude", part.local.size(), local);
       it->parts.push_back(std::move(part));
     }
     if (any_sorties) {

@@ -283,6 +283,28 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
     }
     return part;
   };
+  // the planner's attitude of a coverage part (UavAssignment::attitude) on its dense polyline: the headings
+  // of the planner's vertices, turned the short way in proportion along a segment at added vertices
+  auto dense_attitude = [](const Attitude& a, const std::vector<Point>& pts, const PathPart& part) {
+    Attitude out = a;
+    if (a.heading_deg.size() != pts.size() || part.local.size() == pts.size()) return out;
+    out.heading_deg.clear();
+    std::size_t orig = 0;
+    for (std::size_t j = 0; j < part.local.size(); ++j) {
+      const Point& p = part.local[j];
+      if (orig + 1 < pts.size() && p.x() == pts[orig + 1].x() && p.y() == pts[orig + 1].y()) ++orig;
+      if (orig + 1 >= pts.size() || (p.x() == pts[orig].x() && p.y() == pts[orig].y())) {
+        out.heading_deg.push_back(a.heading_deg[orig]);
+        continue;
+      }
+      const double len = std::hypot(pts[orig + 1].x() - pts[orig].x(), pts[orig + 1].y() - pts[orig].y());
+      const double t = len > 0 ? std::hypot(p.x() - pts[orig].x(), p.y() - pts[orig].y()) / len : 0.0;
+      const double d = std::remainder(a.heading_deg[orig + 1] - a.heading_deg[orig], 360.0);
+      const double h = std::fmod(a.heading_deg[orig] + t * d, 360.0);
+      out.heading_deg.push_back(h < 0 ? h + 360.0 : h);
+    }
+    return out;
+  };
   // transition altitudes (Hong et al. 2021 §2.3): the export's rule, under its default ceiling when the
   // UAVs can be separated there
   waypoints::AltitudeOptions altitudes;
@@ -355,6 +377,8 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
       transit_to(cov.front());
       up.parts.push_back(
           make_part(PartKind::Coverage, cov, c < r.camera_off.size() ? &r.camera_off[c] : nullptr));
+      if (c < r.attitude.size())
+        up.parts.back().attitude = dense_attitude(r.attitude[c], cov, up.parts.back());
       up.coverage_length_m += geometry::length(cov);
       up.turns += static_cast<int>(cov.size());
       here = cov.back();

@@ -11,6 +11,7 @@
 #include "export/separation.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/ardupilot.hpp"
 
 namespace uavcover::exporting {
 
@@ -42,8 +43,13 @@ void check_consumers(const Plan& p, std::size_t i, const std::vector<MissionItem
   const Consumer consumers[] = {
       {"ArduPilot", autopilot::ardupilot_problems(items), autopilot == "ardupilot"},
       {"PX4", autopilot::px4_problems(items, home, terrain::home_ground(p.mission, i)), autopilot == "px4"}};
+  // an export for ArduPilot with headings carries MAV_CMD_CONDITION_YAW (ardupilot_mission_items),
+  // which PX4 does not run in a mission: those items are for ArduPilot only, and PX4's rules do not apply
+  const bool ardupilot_only = std::any_of(items.begin(), items.end(),
+                                          [](const MissionItem& it) { return it.command == kConditionYaw; });
   for (const Consumer& c : consumers)
     for (const autopilot::Problem& pr : c.problems) {
+      if (ardupilot_only && std::string(c.name) == "PX4") break;
       if (pr.fatal)
         throw InputError("autopilot", fmt::format("uav '{}': {} would refuse the mission: {}", id, c.name,
                                                   autopilot::describe(pr, items)));
@@ -75,7 +81,9 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
   for (const auto& w : separation_warnings(plan)) warnings.push_back(w);
   // UAV i's mission items in `p` (the plan or one sortie's), refused when they fly through a no-fly zone
   auto items_clear_of_zones = [&](const Plan& p, std::size_t i) {
-    auto items = mission_items(p, i, opt.altitude);
+    // ArduCopter turns to a heading on MAV_CMD_CONDITION_YAW, not on NAV_WAYPOINT param4 (docs/exports.md)
+    auto items = checked.autopilot == "ardupilot" ? ardupilot_mission_items(p, i, opt.altitude)
+                                                  : mission_items(p, i, opt.altitude);
     const auto violations = no_fly_violations(p, i, items);
     if (!violations.empty()) throw InputError("no_fly_zones", violations.front() + " (re-plan the mission)");
     return items;

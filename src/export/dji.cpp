@@ -154,6 +154,67 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
     return out;
   };
   const double pitch = camera ? gimbal_pitch_of(plan, index) : -90.0;
+  // the parts' attitude (PathPart::attitude through the items): a heading per waypoint (smoothTransition:
+  // the heading at the waypoint, turned evenly to the next one's; WPML's waypointHeadingAngle is in
+  // [-180, 180]), towardPOI while a region of interest holds, a gimbalRotate action where the pitch changes
+  const std::vector<AttitudeAt> att = attitude_actions(items);
+  auto heading_param = [&](std::size_t k, const char* indent) -> std::string {
+    const AttitudeAt a = k < att.size() ? att[k] : AttitudeAt{};
+    if (a.roi)
+      return fmt::format(
+          "{0}<wpml:waypointHeadingParam>\n"
+          "{0}  <wpml:waypointHeadingMode>towardPOI</wpml:waypointHeadingMode>\n"
+          "{0}  <wpml:waypointHeadingAngle>0</wpml:waypointHeadingAngle>\n"
+          "{0}  <wpml:waypointPoiPoint>{1},{2},{3}</wpml:waypointPoiPoint>\n"
+          "{0}  <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
+          "{0}</wpml:waypointHeadingParam>\n",
+          indent, coord(a.roi_lat), coord(a.roi_lon), num(a.roi_alt));
+    if (!std::isnan(a.heading_deg))
+      return fmt::format(
+          "{0}<wpml:waypointHeadingParam>\n"
+          "{0}  <wpml:waypointHeadingMode>smoothTransition</wpml:waypointHeadingMode>\n"
+          "{0}  <wpml:waypointHeadingAngle>{1}</wpml:waypointHeadingAngle>\n"
+          "{0}  <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
+          "{0}</wpml:waypointHeadingParam>\n",
+          indent, num(degrees(std::remainder(a.heading_deg, 360.0))));
+    return fmt::format(
+        "{0}<wpml:waypointHeadingParam>\n"
+        "{0}  <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
+        "{0}  <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
+        "{0}</wpml:waypointHeadingParam>\n",
+        indent);
+  };
+  auto own_heading = [&](std::size_t k) {
+    return k < att.size() && (att[k].roi || !std::isnan(att[k].heading_deg));
+  };
+  // the pitch the camera has when the UAV reaches waypoint k (template.kml's gimbalPitchAngle)
+  auto pitch_at = [&](std::size_t k) {
+    for (std::size_t j = std::min(k, att.size()); j-- > 0;)
+      if (att[j].gimbal_changed) return degrees(att[j].gimbal_pitch_deg);
+    return pitch;
+  };
+  auto gimbal_group = [&](std::size_t k, int& group) {
+    std::string out;
+    if (k >= att.size() || !att[k].gimbal_changed) return out;
+    return action_group(
+        k, k, group++, "            <wpml:actionTriggerType>reachPoint</wpml:actionTriggerType>\n",
+        action(0,
+               fmt::format("            <wpml:actionActuatorFunc>gimbalRotate</wpml:actionActuatorFunc>\n"
+                           "            <wpml:actionActuatorFuncParam>\n"
+                           "              <wpml:gimbalHeadingYawBase>aircraft</wpml:gimbalHeadingYawBase>\n"
+                           "              <wpml:gimbalRotateMode>absoluteAngle</wpml:gimbalRotateMode>\n"
+                           "              <wpml:gimbalPitchRotateEnable>1</wpml:gimbalPitchRotateEnable>\n"
+                           "              <wpml:gimbalPitchRotateAngle>{}</wpml:gimbalPitchRotateAngle>\n"
+                           "              <wpml:gimbalRollRotateEnable>0</wpml:gimbalRollRotateEnable>\n"
+                           "              <wpml:gimbalRollRotateAngle>0</wpml:gimbalRollRotateAngle>\n"
+                           "              <wpml:gimbalYawRotateEnable>0</wpml:gimbalYawRotateEnable>\n"
+                           "              <wpml:gimbalYawRotateAngle>0</wpml:gimbalYawRotateAngle>\n"
+                           "              <wpml:gimbalRotateTimeEnable>0</wpml:gimbalRotateTimeEnable>\n"
+                           "              <wpml:gimbalRotateTime>0</wpml:gimbalRotateTime>\n"
+                           "              <wpml:payloadPositionIndex>0</wpml:payloadPositionIndex>\n"
+                           "            </wpml:actionActuatorFuncParam>\n",
+                           num(degrees(att[k].gimbal_pitch_deg)))));
+  };
 
   std::string tpl = header + "    <wpml:author>uavcover</wpml:author>\n" + mission_config;
   // heights are relative to the take-off point (heightMode relativeToStartPoint), whose ellipsoid height
@@ -214,28 +275,27 @@ std::map<std::string, std::string> dji_wpml(const Plan& plan, std::size_t index,
                "        <wpml:height>{}</wpml:height>\n"
                "        <wpml:useGlobalHeight>0</wpml:useGlobalHeight>\n"
                "        <wpml:useGlobalSpeed>1</wpml:useGlobalSpeed>\n"
-               "        <wpml:useGlobalHeadingParam>1</wpml:useGlobalHeadingParam>\n"
+               "        <wpml:useGlobalHeadingParam>{}</wpml:useGlobalHeadingParam>\n"
+               "{}"
                "        <wpml:useGlobalTurnParam>1</wpml:useGlobalTurnParam>\n"
                "        <wpml:useStraightLine>1</wpml:useStraightLine>\n"
                "        <wpml:gimbalPitchAngle>{}</wpml:gimbalPitchAngle>\n",
-               k, num(w.alt), num(w.alt), num(pitch));
+               k, num(w.alt), num(w.alt), own_heading(k) ? 0 : 1,
+               own_heading(k) ? heading_param(k, "        ") : std::string(), num(pitch_at(k)));
     wl += "      <Placemark>\n" + point +
           fmt::format(
               "        <wpml:index>{}</wpml:index>\n"
               "        <wpml:executeHeight>{}</wpml:executeHeight>\n"
               "        <wpml:waypointSpeed>{}</wpml:waypointSpeed>\n"
-              "        <wpml:waypointHeadingParam>\n"
-              "          <wpml:waypointHeadingMode>followWayline</wpml:waypointHeadingMode>\n"
-              "          <wpml:waypointHeadingPathMode>followBadArc</wpml:waypointHeadingPathMode>\n"
-              "        </wpml:waypointHeadingParam>\n"
+              "{}"
               "        <wpml:waypointTurnParam>\n"
               "          "
               "<wpml:waypointTurnMode>toPointAndStopWithDiscontinuityCurvature</wpml:waypointTurnMode>\n"
               "          <wpml:waypointTurnDampingDist>0</wpml:waypointTurnDampingDist>\n"
               "        </wpml:waypointTurnParam>\n"
               "        <wpml:useStraightLine>1</wpml:useStraightLine>\n",
-              k, num(w.alt), num(speed));
-    const std::string g = groups_at(k, group);
+              k, num(w.alt), num(speed), heading_param(k, "        "));
+    const std::string g = gimbal_group(k, group) + groups_at(k, group);
     tpl += g;
     wl += g;
     tpl += "      </Placemark>\n";

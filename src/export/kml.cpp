@@ -81,6 +81,38 @@ std::string kml_text(const Plan& plan, std::size_t index, const ExportOptions& o
   s += "      <LineString>\n        <tessellate>0</tessellate>\n        <altitudeMode>" + xml_escape(mode) +
        "</altitudeMode>\n        <coordinates>" + coords +
        "</coordinates>\n      </LineString>\n    </Placemark>\n";
+  // the parts' attitude (PathPart::attitude through the items, docs/exports.md): a point per waypoint with a
+  // heading or under an ROI, its icon turned to the heading, the values as ExtendedData; only when a part
+  // has one, so other plans' KML is unchanged
+  const std::vector<AttitudeAt> att = attitude_actions(items);
+  std::string points;
+  std::size_t k = 0;
+  for (const auto& it : items) {
+    if (it.command != kNavWaypoint) continue;
+    const AttitudeAt a = k < att.size() ? att[k] : AttitudeAt{};
+    ++k;
+    if (std::isnan(a.heading_deg) && !a.roi) continue;
+    std::string data;
+    auto datum = [&](const char* name, const std::string& value) {
+      data += fmt::format("          <Data name=\"{}\"><value>{}</value></Data>\n", name, value);
+    };
+    if (!std::isnan(a.heading_deg)) datum("heading_deg", num(degrees(a.heading_deg)));
+    if (!std::isnan(a.gimbal_pitch_deg)) datum("gimbal_pitch_deg", num(degrees(a.gimbal_pitch_deg)));
+    if (a.roi)
+      datum("roi", fmt::format("{},{},{}", coord(a.roi_lon), coord(a.roi_lat), num(degrees(a.roi_alt))));
+    points += fmt::format(
+        "      <Placemark>\n        <name>waypoint {}</name>\n{}        <ExtendedData>\n{}        "
+        "</ExtendedData>\n        <Point>\n          <altitudeMode>{}</altitudeMode>\n          "
+        "<coordinates>{},{},{}</coordinates>\n        </Point>\n      </Placemark>\n",
+        k - 1,
+        std::isnan(a.heading_deg)
+            ? std::string()
+            : fmt::format("        <Style><IconStyle><heading>{}</heading></IconStyle></Style>\n",
+                          num(degrees(a.heading_deg))),
+        data, xml_escape(mode), coord(it.lon), coord(it.lat), num(it.alt));
+  }
+  if (!points.empty())
+    s += "    <Folder>\n      <name>" + xml_escape(up.id) + " attitude</name>\n" + points + "    </Folder>\n";
   s += "  </Document>\n</kml>\n";
   return s;
 }

@@ -31,9 +31,26 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
       "photo_distinterval\n";
   // Litchi actions: type 0 = stay (ms), 1 = take photo; photo_distinterval shoots every so many metres on
   // the way to the next waypoint (a leg's distance capture); altitude relative to take-off (altitudemode 0)
+  // the parts' attitude (PathPart::attitude through the items): heading(deg) at the waypoint (0..360),
+  // gimbalpitchangle the pitch held there (gimbalmode 2: interpolated between waypoints), and while a
+  // region of interest holds the POI columns with gimbalmode 1 (focus POI: Litchi aims the gimbal at it)
+  const std::vector<AttitudeAt> att = attitude_actions(items);
+  std::vector<double> held(wps.size(), pitch);  // the gimbal pitch when the UAV reaches each waypoint
+  for (std::size_t k = 0; k < wps.size(); ++k) {
+    held[k] = k == 0 ? pitch : held[k - 1];
+    if (k > 0 && k - 1 < att.size() && att[k - 1].gimbal_changed)
+      held[k] = degrees(att[k - 1].gimbal_pitch_deg);
+  }
   auto row = [&](std::size_t k) {
     const MissionItem& w = *wps[k];
-    std::string out = fmt::format("{:.8f},{:.8f},{},0,0,0,2,{}", w.lat, w.lon, num(w.alt), num(pitch));
+    const AttitudeAt a = k < att.size() ? att[k] : AttitudeAt{};
+    std::string heading = "0";
+    if (!std::isnan(a.heading_deg)) {
+      const double h = degrees(std::fmod(std::fmod(a.heading_deg, 360.0) + 360.0, 360.0));
+      heading = num(h >= 360.0 ? 0.0 : h);
+    }
+    std::string out = fmt::format("{:.8f},{:.8f},{},{},0,0,{},{}", w.lat, w.lon, num(w.alt), heading,
+                                  a.roi ? 1 : 2, num(held[k]));
     const CameraAt c = camera && k < shots.size() ? shots[k] : CameraAt{};
     int actions = 0;
     if (c.photos > 0 && c.hold_s > 0) {
@@ -42,7 +59,9 @@ std::vector<std::string> litchi_csv(const Plan& plan, std::size_t index, const E
     }
     for (int p = 0; p < c.photos && actions < 15; ++p, ++actions) out += ",1,0";
     for (; actions < 15; ++actions) out += ",-1,0";
-    out += fmt::format(",0,{},0,0,0,0,-1,{}\n", num(speed),
+    const std::string poi =
+        a.roi ? fmt::format("{:.8f},{:.8f},{},0", a.roi_lat, a.roi_lon, num(degrees(a.roi_alt))) : "0,0,0,0";
+    out += fmt::format(",0,{},{},-1,{}\n", num(speed), poi,
                        c.leg_trigger_m > 0  ? num(c.leg_trigger_m)
                        : c.inside_leg_m > 0 ? num(c.inside_leg_m)
                                             : "-1");

@@ -10,6 +10,7 @@
 #include "export/support.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/ardupilot.hpp"
 
 namespace uavcover::exporting {
 
@@ -45,7 +46,8 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
     j["command"] = it.command;
     j["doJumpId"] = seq++;
     j["frame"] = it.frame;
-    if (has_position(it)) {
+    // DO_SET_ROI carries its location in params 5-7 too (QGC's ROI items specify a coordinate)
+    if (has_position(it) || it.command == kDoSetRoi) {
       j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4),
                      it.lat,          it.lon,          it.alt};
       j["Altitude"] = it.alt;

@@ -9,6 +9,7 @@
 #include "photo/photo.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/ardupilot.hpp"
 
 namespace uavcover::exporting {
 
@@ -58,6 +59,38 @@ std::vector<CameraAt> camera_actions(const std::vector<MissionItem>& items) {
       }
     } else if (it.command == kImageStartCapture) {
       ++out.back().photos;
+    }
+  }
+  return out;
+}
+
+double degrees(double v) { return std::round(v * 1000.0) / 1000.0 + 0.0; }
+
+std::vector<AttitudeAt> attitude_actions(const std::vector<MissionItem>& items) {
+  std::vector<AttitudeAt> out;
+  AttitudeAt now;  // what holds after the items so far
+  for (const auto& it : items) {
+    if (it.command == kNavWaypoint) {
+      now.heading_deg = it.param4;
+      now.gimbal_changed = false;
+      out.push_back(now);
+      continue;
+    }
+    if (it.command == kDoGimbalManagerPitchyaw) {
+      now.gimbal_pitch_deg = it.param1;
+      now.gimbal_changed = true;
+    } else if (it.command == kDoSetRoi) {
+      now.roi = it.param1 == 3.0f;  // MAV_ROI_LOCATION; MAV_ROI_NONE (0) switches it off
+      now.roi_lat = now.roi ? it.lat : 0.0;
+      now.roi_lon = now.roi ? it.lon : 0.0;
+      now.roi_alt = now.roi ? static_cast<double>(it.alt) : 0.0;
+    } else {
+      continue;
+    }
+    if (!out.empty()) {  // the change happens when the last waypoint is reached
+      const double h = out.back().heading_deg;
+      out.back() = now;
+      out.back().heading_deg = h;
     }
   }
   return out;

@@ -2,6 +2,7 @@
 // text, clamps and height checks). Not part of the export interface (export/export.hpp).
 #pragma once
 
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -28,6 +29,22 @@ struct CameraAt {
 };
 /// One CameraAt per flown waypoint of `items`, in order.
 std::vector<CameraAt> camera_actions(const std::vector<waypoints::MissionItem>& items);
+
+/// The attitude at a flown waypoint, as the MAVLink items say (PathPart::attitude through the waypoint
+/// model): DJI, Litchi, KML and GeoJSON write it in their own terms.
+struct AttitudeAt {
+  double heading_deg = std::numeric_limits<double>::quiet_NaN();  ///< NAV_WAYPOINT param4; NaN = none
+  /// The gimbal pitch the camera holds when the UAV leaves this waypoint (the last GIMBAL_MANAGER_PITCHYAW
+  /// so far); NaN before any
+  double gimbal_pitch_deg = std::numeric_limits<double>::quiet_NaN();
+  bool gimbal_changed = false;  ///< a gimbal item follows this waypoint (the pitch changes here)
+  bool roi = false;             ///< a region of interest holds when the UAV leaves this waypoint
+  double roi_lat = 0, roi_lon = 0, roi_alt = 0;  ///< its position (alt in the items' frame)
+};
+/// An angle the items carry as a float, to 0.001 deg: -45.3, not -45.29999923706055.
+double degrees(double v);
+/// One AttitudeAt per flown waypoint of `items`, in order.
+std::vector<AttitudeAt> attitude_actions(const std::vector<waypoints::MissionItem>& items);
 
 /// Shortest round-trip text of a number; NaN as "NaN" (how Mission Planner and pymavlink read it).
 std::string num(double v);

@@ -2,6 +2,8 @@
 // transition altitude, transit legs at it, coverage at mission altitude, climb back, return, RTL/land.
 #include "waypoints/waypoints.hpp"
 
+#include "waypoints/ardupilot.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -115,6 +117,19 @@ bool same_place(LonLat a, LonLat b) {
   return std::abs(a.lat - b.lat) < 1e-9 && std::abs(a.lon - b.lon) < 1e-9;
 }
 
+/// A heading in [0, 360).
+double wrap360(double deg) {
+  const double h = std::fmod(deg, 360.0);
+  return h < 0 ? h + 360.0 : (h >= 360.0 ? 0.0 : h);
+}
+
+/// The heading a fraction `t` of the way from `a` to `b`, turning the short way round.
+double heading_between(double a, double b, double t) {
+  double d = std::fmod(wrap360(b) - wrap360(a) + 540.0, 360.0) - 180.0;
+  if (d == -180.0) d = 180.0;
+  return wrap360(a + t * d);
+}
+
 }  // namespace
 
 double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index) {
@@ -123,7 +138,11 @@ double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved
   return ground != nullptr ? ground->max_m + rel : rel;
 }
 
-std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& options) {
+namespace {
+
+/// mission_items(), with CONDITION_YAW items for ArduPilot when `condition_yaw`.
+std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const AltitudeOptions& options,
+                                    bool condition_yaw) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
   const AltitudeOptions opt = resolve_altitudes(options, altitude_slots(plan), plan.mission.altitude_m);
@@ -140,7 +159,6 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
   const double home_ground = ground != nullptr ? ground->at(home) : 0.0;
   const std::uint8_t alt_frame = ground != nullptr ? kFrameGlobal : kFrameGlobalRelativeAlt;
   const double transit_alt = flight_transit_altitude(plan, opt, index);
-  auto cover_alt = [&](LonLat p) { return follow ? ground->at(p) + mission_alt : home_ground + mission_alt; };
   auto waypoint_at = [&](LonLat p, double alt, std::string role) {
     return position_item(kNavWaypoint, p, alt, std::move(role), alt_frame);
   };
@@ -211,6 +229,9 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
     return false;
   };
 
+  // the gimbal pitch last commanded (the camera's, from the item above), for the parts' own pitches
+  std::optional<double> gimbal;
+  if (camera) gimbal = cam->gimbal_pitch_deg;
   bool high = true;  // at the transition altitude
   int waypoint = 0;  // coverage waypoints so far
   LonLat here = home;
@@ -229,26 +250,65 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
         here = part.wgs84[k];
       }
     } else {
+      // the part's attitude (PathPart::attitude, docs/exports.md): its own height, heading per vertex,
+      // gimbal pitch, region of interest and trigger distance; empty: the mission's
+      const Attitude& att = part.attitude;
+      const double part_alt = att.altitude_m ? *att.altitude_m : mission_alt;
+      auto part_alt_at = [&](LonLat p) { return follow ? ground->at(p) + part_alt : home_ground + part_alt; };
+      const double part_trigger = att.trigger_distance_m ? *att.trigger_distance_m : trigger;
+      const bool headings = att.heading_deg.size() == part.wgs84.size();
+      const bool yaw_items = headings && condition_yaw && !att.roi;
+      // a waypoint of the part: NAV_WAYPOINT param4 = the heading (PX4); with condition_yaw a
+      // CONDITION_YAW just before it (ArduCopter: run when the previous waypoint is reached, so the
+      // vehicle turns on the way to this one; param2 0 = default rate, param3 0 = the short way, param4 0 =
+      // absolute)
+      auto part_waypoint = [&](LonLat p, std::optional<double> heading, std::string role) {
+        if (heading && yaw_items)
+          items.push_back(
+              command_item(kConditionYaw, static_cast<float>(*heading), 0.0f, 0.0f, 0.0f, "heading"));
+        items.push_back(waypoint_at(p, part_alt_at(p), std::move(role)));
+        if (heading) items.back().param4 = static_cast<float>(*heading);
+      };
+      auto heading_at = [&](std::size_t k) -> std::optional<double> {
+        if (!headings) return std::nullopt;
+        return wrap360(att.heading_deg[k]);
+      };
       const LonLat entry = part.wgs84.front();
       if (high && !same_place(entry, here)) {  // reach the point above the entry first
         items.push_back(waypoint_at(entry, transit_alt, "transit"));
         here = entry;
       }
+      // the camera set for the part before its first waypoint (run when the point before it is reached):
+      // MAV_CMD_DO_SET_ROI param1 3 = MAV_ROI_LOCATION at the ROI, at the part's height (a facade orbit
+      // looks level at its centre); a gimbal pitch of its own (GIMBAL_MANAGER_PITCHYAW, as above)
+      if (att.roi) {
+        const LonLat r = frame.to_wgs84(*att.roi);
+        MissionItem roi = position_item(kDoSetRoi, r, part_alt_at(r), "roi", alt_frame);
+        roi.param1 = 3.0f;  // MAV_ROI_LOCATION
+        roi.param4 = 0.0f;  // not NaN: ArduPilot refuses NaN outside NAV commands' param4
+        items.push_back(roi);
+      }
+      if (att.gimbal_pitch_deg && (!gimbal || *gimbal != *att.gimbal_pitch_deg)) {
+        items.push_back(command_item(kDoGimbalManagerPitchyaw, static_cast<float>(*att.gimbal_pitch_deg),
+                                     0.0f, 0.0f, 0.0f, "gimbal"));
+        gimbal = *att.gimbal_pitch_deg;
+      }
       // the first coverage waypoint is the descent to mission altitude
       high = false;
-      items.push_back(waypoint_at(entry, cover_alt(entry), "coverage"));
+      part_waypoint(entry, heading_at(0), "coverage");
       items.back().waypoint = waypoint++;
       // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
       const bool local = part.local.size() == part.wgs84.size();
       for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
         // a turn or turnaround with the camera off (docs/patterns.md) is flown, not shot
-        const bool leg = camera && local && part.camera_on(k - 1) &&
-                         photo::leg_images(std::hypot(part.local[k].x() - part.local[k - 1].x(),
-                                                      part.local[k].y() - part.local[k - 1].y()),
-                                           trigger) > 1;
+        const double leg_length = local ? std::hypot(part.local[k].x() - part.local[k - 1].x(),
+                                                     part.local[k].y() - part.local[k - 1].y())
+                                        : 0.0;
+        const bool leg =
+            camera && local && part.camera_on(k - 1) && photo::leg_images(leg_length, part_trigger) > 1;
         if (leg && !hover) {
           shared_corner();
-          trigg(trigger);
+          trigg(part_trigger);
         }
         // between the leg's ends: hover-and-capture stops and, following the terrain, the points where the
         // ground departs from the straight line by more than the tolerance, in order along the leg
@@ -263,7 +323,7 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
             hold_at_last_waypoint();
             capture();
           }
-          const std::vector<Point> shots = photo::leg_shots(part.local[k - 1], part.local[k], trigger);
+          const std::vector<Point> shots = photo::leg_shots(part.local[k - 1], part.local[k], part_trigger);
           for (std::size_t s = 1; s + 1 < shots.size(); ++s)
             stops.push_back(
                 {std::hypot(shots[s].x() - part.local[k - 1].x(), shots[s].y() - part.local[k - 1].y()),
@@ -277,19 +337,36 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
         std::stable_sort(stops.begin(), stops.end(), [](const Stop& a, const Stop& b) { return a.s < b.s; });
         for (const Stop& st : stops) {
           const LonLat g = frame.to_wgs84(st.p);
-          items.push_back(waypoint_at(g, cover_alt(g), st.capture ? "capture" : "terrain"));
+          // inside the leg: the heading turned the short way between its ends, in proportion
+          std::optional<double> h;
+          if (headings)
+            h = heading_between(att.heading_deg[k - 1], att.heading_deg[k],
+                                leg_length > 0 ? std::clamp(st.s / leg_length, 0.0, 1.0) : 0.0);
+          part_waypoint(g, h, st.capture ? "capture" : "terrain");
           if (st.capture) {
             hold_at_last_waypoint();
             capture();
           }
         }
-        items.push_back(waypoint_at(part.wgs84[k], cover_alt(part.wgs84[k]), "coverage"));
+        part_waypoint(part.wgs84[k], heading_at(k), "coverage");
         items.back().waypoint = waypoint++;
         if (leg && !hover) trigg(0.0);
         if (leg && hover) {
           hold_at_last_waypoint();
           capture();
         }
+      }
+      // the part's camera set back after its last waypoint: ROI off (DO_SET_ROI param1 0 = MAV_ROI_NONE at
+      // no location, what ArduCopter's do_roi and PX4 read as "none"), the camera's own gimbal pitch
+      if (att.roi) {
+        MissionItem none = command_item(kDoSetRoi, 0.0f, 0.0f, 0.0f, 0.0f, "roi");
+        none.frame = alt_frame;  // a global frame: ArduPilot stores DO_SET_ROI with a location
+        items.push_back(none);
+      }
+      if (att.gimbal_pitch_deg && camera && *gimbal != cam->gimbal_pitch_deg) {
+        items.push_back(command_item(kDoGimbalManagerPitchyaw, static_cast<float>(cam->gimbal_pitch_deg),
+                                     0.0f, 0.0f, 0.0f, "gimbal"));
+        gimbal = cam->gimbal_pitch_deg;
       }
       here = part.wgs84.back();
     }
@@ -306,6 +383,17 @@ std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, cons
     items.push_back(command_item(kNavReturnToLaunch, 0, 0, 0, 0, "rtl"));
   }
   return items;
+}
+
+}  // namespace
+
+std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
+  return make_items(plan, index, opt, false);
+}
+
+std::vector<MissionItem> ardupilot_mission_items(const Plan& plan, std::size_t index,
+                                                 const AltitudeOptions& opt) {
+  return make_items(plan, index, opt, true);
 }
 
 std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {

@@ -101,7 +101,8 @@ TEST(OptionsCli, ExportAndUploadOptionsAreRanged) {
   for (const Case& c :
        {Case{"--timeout", "0"}, Case{"--timeout", "nan"}, Case{"--timeout", "61"}, Case{"--retries", "-1"},
         Case{"--retries", "101"}, Case{"--target-system", "0"}, Case{"--target-component", "256"},
-        Case{"--sysid", "4294967297"}, Case{"--compid", "-1"}, Case{"--transition-base", "nan"}}) {
+        Case{"--sysid", "4294967297"}, Case{"--compid", "-1"}, Case{"--transition-base", "nan"},
+        Case{"--autopilot", "inav"}}) {
     SCOPED_TRACE(std::string(c.option) + " " + c.value);
     expect_refused(run_cli(up + c.option + " " + c.value), c.option);
   }

@@ -96,3 +96,81 @@ TEST(PlanCodec, GeoJsonFollowsRfc7946) {
     }
   }
 }
+
+// PathPart::attitude (issue 30) is written per part in paths.geojson ("attitude", only when set, so
+// plans without it are unchanged) and read back as untrusted input.
+namespace {
+
+/// small_plan() with an attitude on UAV a's first coverage part; `feature` receives that part's index
+/// among paths.geojson's features.
+Plan plan_with_attitude(std::size_t* feature = nullptr) {
+  Plan p = small_plan();
+  auto& parts = p.uavs[0].parts;
+  std::size_t at = 0;
+  while (at < parts.size() && parts[at].kind != PartKind::Coverage) ++at;
+  PathPart& part = parts.at(at);
+  part.attitude.altitude_m = 33.5;
+  for (std::size_t k = 0; k < part.local.size(); ++k) part.attitude.heading_deg.push_back(10.0 * k);
+  part.attitude.gimbal_pitch_deg = -30.0;
+  part.attitude.roi = part.local.front();
+  part.attitude.trigger_distance_m = 6.5;
+  if (feature != nullptr) *feature = p.mission.area.size() + p.mission.no_fly_zones.size() + at;
+  return p;
+}
+
+}  // namespace
+
+TEST(PlanCodec, AttitudeRoundTripsAndIsAbsentWhenEmpty) {
+  std::size_t f = 0;
+  const Plan p = plan_with_attitude(&f);
+  const auto gj = codec::paths_geojson(p);
+  const auto& props = gj["features"][f]["properties"];
+  ASSERT_TRUE(props.contains("attitude"));
+  EXPECT_EQ(props["attitude"]["heading_deg"].size(), gj["features"][f]["geometry"]["coordinates"].size());
+  int with = 0;  // only that part carries one
+  for (const auto& feat : gj["features"]) with += feat["properties"].contains("attitude") ? 1 : 0;
+  EXPECT_EQ(with, 1);
+  const Plan q = codec::load_plan(codec::plan_json(p), gj);
+  for (std::size_t i = 0; i < p.uavs.size(); ++i)
+    for (std::size_t k = 0; k < p.uavs[i].parts.size(); ++k) {
+      const Attitude& a = p.uavs[i].parts[k].attitude;
+      const Attitude& b = q.uavs[i].parts[k].attitude;
+      EXPECT_EQ(a.empty(), b.empty());
+      EXPECT_EQ(a.altitude_m, b.altitude_m);
+      EXPECT_EQ(a.heading_deg, b.heading_deg);
+      EXPECT_EQ(a.gimbal_pitch_deg, b.gimbal_pitch_deg);
+      EXPECT_EQ(a.trigger_distance_m, b.trigger_distance_m);
+      ASSERT_EQ(a.roi.has_value(), b.roi.has_value());
+      if (a.roi) {  // through [lon, lat]: within a millimetre
+        EXPECT_NEAR(a.roi->x(), b.roi->x(), 1e-3);
+        EXPECT_NEAR(a.roi->y(), b.roi->y(), 1e-3);
+      }
+    }
+  EXPECT_EQ(codec::paths_geojson(q)["features"][f]["properties"]["attitude"], props["attitude"]);
+}
+
+TEST(PlanCodec, BadAttitudeIsRefusedNamingTheField) {
+  std::size_t f = 0;
+  const Plan p = plan_with_attitude(&f);
+  const auto pj = codec::plan_json(p);
+  const std::string at = "paths.geojson: features[" + std::to_string(f) + "].properties.attitude";
+  auto refused = [&](const std::function<void(nlohmann::json&)>& edit) {
+    auto gj = codec::paths_geojson(p);
+    edit(gj["features"][f]["properties"]["attitude"]);
+    return field_of([&] { codec::load_plan(pj, gj); });
+  };
+  EXPECT_EQ(refused([](auto&) {}), "(no error)");
+  EXPECT_EQ(refused([](auto& a) { a["heading_deg"].erase(a["heading_deg"].size() - 1); }),
+            at + ".heading_deg");
+  EXPECT_EQ(refused([](auto& a) { a["heading_deg"] = 90; }), at + ".heading_deg");
+  EXPECT_EQ(refused([](auto& a) { a["heading_deg"][0] = "north"; }), at + ".heading_deg[0]");
+  EXPECT_EQ(refused([](auto& a) { a["heading_deg"][1] = 1000; }), at + ".heading_deg[1]");
+  EXPECT_EQ(refused([](auto& a) { a["altitude_m"] = -5; }), at + ".altitude_m");
+  EXPECT_EQ(refused([](auto& a) { a["altitude_m"] = "high"; }), at + ".altitude_m");
+  EXPECT_EQ(refused([](auto& a) { a["gimbal_pitch_deg"] = -120; }), at + ".gimbal_pitch_deg");
+  EXPECT_EQ(refused([](auto& a) { a["trigger_distance_m"] = 0; }), at + ".trigger_distance_m");
+  EXPECT_EQ(refused([](auto& a) { a["roi"] = {200.0, 40.0}; }), at + ".roi");
+  EXPECT_EQ(refused([](auto& a) { a["roi"] = {120.0, 40.0}; }), at + ".roi");  // > 500 km away
+  EXPECT_EQ(refused([](auto& a) { a["yaw"] = 3; }), at + ".yaw");
+  EXPECT_EQ(refused([](auto& a) { a = nlohmann::json::array(); }), at);
+}

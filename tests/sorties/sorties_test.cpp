@@ -650,3 +650,48 @@ TEST(Sorties, TransitsOfEverySortieAvoidManyZones) {
 
 }  // namespace
 }  // namespace uavcover
+
+namespace uavcover {
+namespace {
+
+/// A heading that is a function of the vertex's position (for checking that a cut keeps each vertex's).
+double heading_of(Point p) {
+  const double h = std::fmod(std::abs(p.x() * 7.3 + p.y() * 1.1), 360.0);
+  return h;
+}
+
+}  // namespace
+
+// PathPart::attitude (issue 30): a sortie's piece of a coverage part keeps the part's attitude, with the
+// headings of its own vertices.
+TEST(Sorties, PiecesKeepTheirPartsAttitude) {
+  Plan p = olive_grove();
+  std::size_t bravo = 0;
+  while (p.uavs[bravo].id != "bravo") ++bravo;
+  for (auto& part : p.uavs[bravo].parts) {
+    if (part.kind != PartKind::Coverage) continue;
+    part.attitude.gimbal_pitch_deg = -30.0;
+    part.attitude.altitude_m = 33.0;
+    for (const Point& v : part.local) part.attitude.heading_deg.push_back(heading_of(v));
+  }
+  p = with_endurance(p, 12.0);
+  ASSERT_GT(p.uavs[bravo].sorties.size(), 1u);
+  std::size_t pieces = 0, vertices = 0;
+  for (const Sortie& s : p.uavs[bravo].sorties)
+    for (const PathPart& part : s.parts) {
+      if (part.kind != PartKind::Coverage) {
+        EXPECT_TRUE(part.attitude.empty());
+        continue;
+      }
+      ++pieces;
+      EXPECT_EQ(part.attitude.gimbal_pitch_deg, -30.0);
+      EXPECT_EQ(part.attitude.altitude_m, 33.0);
+      ASSERT_EQ(part.attitude.heading_deg.size(), part.local.size());
+      for (std::size_t k = 0; k < part.local.size(); ++k, ++vertices)
+        EXPECT_EQ(part.attitude.heading_deg[k], heading_of(part.local[k])) << k;
+    }
+  EXPECT_GT(pieces, p.uavs[bravo].sorties.size() - 1);
+  EXPECT_GT(vertices, 0u);
+}
+
+}  // namespace uavcover
