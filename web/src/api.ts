@@ -60,14 +60,11 @@ async function bytes(path: string): Promise<ArrayBuffer> {
   throw failure(res, json);
 }
 
-/** POST /missions/import (docs/import.md): the file as a multipart upload -> the mission skeleton. */
-async function importFile<T>(file: Blob, name: string, options?: Record<string, unknown>): Promise<T> {
-  const form = new FormData();
-  form.append('file', file, name);
-  if (options) form.append('options', JSON.stringify(options));
+/** A multipart upload (the importer's file, the photos' heads) -> the JSON answer. */
+async function postForm<T>(path: string, form: FormData): Promise<T> {
   let res: Response;
   try {
-    res = await fetch(API + '/missions/import', { method: 'POST', body: form });
+    res = await fetch(API + path, { method: 'POST', body: form });
   } catch {
     throw new ApiError(0, '', 'The server cannot be reached. Is `uavcover serve` running?');
   }
@@ -82,8 +79,17 @@ async function importFile<T>(file: Blob, name: string, options?: Record<string, 
   return json as T;
 }
 
+/** POST /missions/import (docs/import.md): the file as a multipart upload -> the mission skeleton. */
+async function importFile<T>(file: Blob, name: string, options?: Record<string, unknown>): Promise<T> {
+  const form = new FormData();
+  form.append('file', file, name);
+  if (options) form.append('options', JSON.stringify(options));
+  return postForm<T>('/missions/import', form);
+}
+
 export const api = {
   importFile,
+  postForm,
   get: <T>(path: string) => request<T>('GET', path),
   bytes,
   post: <T>(path: string, body?: unknown) => request<T>('POST', path, body ?? {}),

@@ -381,3 +381,31 @@ export function flightOutcome(f: Pick<Flight, 'state' | 'uavs' | 'alerts'>): { o
     lost: names,
   };
 }
+
+// ---------------------------------------------------------------- photos (docs/photos.md)
+
+/** bytes of each file sent: EXIF (with its thumbnail) and DJI's XMP lie well within it */
+export const HEAD_BYTES = 256 * 1024;
+/** a batch stays under the server's default body limit (10 MiB) and its 200 parts */
+export const BATCH_BYTES = 8 * 1024 * 1024;
+export const BATCH_PARTS = 200;
+
+/** the files in batches of at most BATCH_PARTS heads and BATCH_BYTES bytes (pure; unit-tested) */
+export function photoBatches(sizes: number[], head = HEAD_BYTES, maxBytes = BATCH_BYTES, maxParts = BATCH_PARTS): number[][] {
+  const out: number[][] = [];
+  let cur: number[] = [];
+  let bytes = 0;
+  sizes.forEach((size, i) => {
+    const b = Math.min(size, head);
+    if (cur.length > 0 && (cur.length >= maxParts || bytes + b > maxBytes)) {
+      out.push(cur);
+      cur = [];
+      bytes = 0;
+    }
+    cur.push(i);
+    bytes += b;
+  });
+  if (cur.length) out.push(cur);
+  return out;
+}
+

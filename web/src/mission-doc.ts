@@ -81,7 +81,9 @@ export function withNfz(doc: MissionDoc, polys: PolygonCoords[]): MissionDoc {
 
 /** [minlon, minlat, maxlon, maxlat] of the area and no-fly zones, or null */
 export function docBbox(doc: MissionDoc | null): [number, number, number, number] | null {
-  const pts = [...areaPolygons(doc), ...nfzPolygons(doc)].flat(2).concat(corridorOf(doc)?.line ?? []);
+  const pts = [...areaPolygons(doc), ...nfzPolygons(doc), ...(structureOf(doc) ? [structureOf(doc)!.footprint] : [])]
+    .flat(2)
+    .concat(corridorOf(doc)?.line ?? []);
   if (pts.length === 0) return null;
   let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
   for (const [x, y] of pts) {
@@ -379,4 +381,127 @@ export function withPattern(doc: MissionDoc, opts: Partial<PatternOptions> | nul
   }
   out.pattern = block;
   return out;
+}
+
+// ---------------------------------------------------------------- structure (facade) scans
+
+export interface StructureScan {
+  footprint: PolygonCoords;
+  height_m: number;
+  standoff_m: number;
+  top: boolean;
+  safe_height_m: number;
+}
+export const STRUCTURE_DEFAULTS = { height_m: 30, standoff_m: 15, top: false, safe_height_m: 5 };
+
+/** the document's structure block (footprint polygon and its numbers), or null */
+export function structureOf(doc: MissionDoc | null): StructureScan | null {
+  const s = doc?.structure as Record<string, unknown> | undefined;
+  if (!s || typeof s !== 'object') return null;
+  const polys = polygonsOf(s.footprint);
+  if (polys.length !== 1) return null;
+  const n = (v: unknown, d: number) => (typeof v === 'number' && Number.isFinite(v) ? v : d);
+  return {
+    footprint: polys[0],
+    height_m: n(s.height_m, STRUCTURE_DEFAULTS.height_m),
+    standoff_m: n(s.standoff_m, STRUCTURE_DEFAULTS.standoff_m),
+    top: s.top === true,
+    safe_height_m: n(s.safe_height_m, STRUCTURE_DEFAULTS.safe_height_m),
+  };
+}
+
+/** a copy of the document as a structure scan (area and corridor removed), or, with null, without one;
+ * safe_height_m is written only when it differs from the server's default */
+export function withStructure(doc: MissionDoc, s: StructureScan | null): MissionDoc {
+  const out = { ...doc };
+  if (s === null) {
+    delete out.structure;
+    return out;
+  }
+  delete out.area;
+  delete out.corridor;
+  const block: Record<string, unknown> = {
+    footprint: { type: 'Polygon', coordinates: [s.footprint[0]] },
+    height_m: s.height_m,
+    standoff_m: s.standoff_m,
+    top: s.top,
+  };
+  if (s.safe_height_m !== STRUCTURE_DEFAULTS.safe_height_m) block.safe_height_m = s.safe_height_m;
+  out.structure = block;
+  return out;
+}
+
+// ---------------------------------------------------------------- obliques (pattern.oblique)
+
+export interface ObliqueOptions {
+  gimbal_pitch_deg: number;
+  directions: number;
+  nadir: boolean;
+}
+export const OBLIQUE_DEFAULTS: ObliqueOptions = { gimbal_pitch_deg: -45, directions: 4, nadir: true };
+
+/** the document's pattern.oblique with the defaults filled in, or null */
+export function obliqueOf(doc: MissionDoc | null): ObliqueOptions | null {
+  const o = (doc?.pattern as Record<string, unknown> | undefined)?.oblique as Record<string, unknown> | undefined;
+  if (!o || typeof o !== 'object') return null;
+  return {
+    gimbal_pitch_deg: typeof o.gimbal_pitch_deg === 'number' ? o.gimbal_pitch_deg : OBLIQUE_DEFAULTS.gimbal_pitch_deg,
+    directions: typeof o.directions === 'number' ? o.directions : OBLIQUE_DEFAULTS.directions,
+    nadir: typeof o.nadir === 'boolean' ? o.nadir : OBLIQUE_DEFAULTS.nadir,
+  };
+}
+
+/** a copy of the document with pattern.oblique set (every field written), or removed (null); an emptied
+ * pattern block stays (it still means "camera off in turns", docs/patterns.md) */
+export function withOblique(doc: MissionDoc, o: ObliqueOptions | null): MissionDoc {
+  const out = { ...doc };
+  const block: Record<string, unknown> = { ...((doc.pattern as Record<string, unknown> | undefined) ?? {}) };
+  if (o === null) delete block.oblique;
+  else block.oblique = { gimbal_pitch_deg: o.gimbal_pitch_deg, directions: o.directions, nadir: o.nadir };
+  out.pattern = block;
+  return out;
+}
+
+// ---------------------------------------------------------------- wind, objective, capability shares
+
+export interface WindInput {
+  speed_mps: number;
+  from_deg: number;
+}
+
+/** the document's wind, or null */
+export function windOf(doc: MissionDoc | null): WindInput | null {
+  const w = doc?.wind as Record<string, unknown> | undefined;
+  if (!w || typeof w !== 'object' || typeof w.speed_mps !== 'number') return null;
+  return { speed_mps: w.speed_mps, from_deg: typeof w.from_deg === 'number' ? w.from_deg : 0 };
+}
+
+/** a copy of the document with this wind (null or a calm one removes the block) */
+export function withWind(doc: MissionDoc, w: WindInput | null): MissionDoc {
+  const out = { ...doc };
+  if (w === null || w.speed_mps === 0) delete out.wind;
+  else out.wind = { speed_mps: w.speed_mps, from_deg: ((w.from_deg % 360) + 360) % 360 };
+  return out;
+}
+
+export const OBJECTIVES = ['time', 'poc', 'turns', 'length'] as const;
+
+/** every UAV's share "auto" (shares from capabilities, docs/mission-format.md)? */
+export function sharesAuto(doc: MissionDoc | null): boolean {
+  const list = Array.isArray(doc?.uavs) ? (doc.uavs as Record<string, unknown>[]) : [];
+  return list.length > 0 && list.every((u) => u && u.share === 'auto');
+}
+
+/** a copy with every UAV's share "auto" (on), or with the shares removed (off: equal shares) */
+export function withSharesAuto(doc: MissionDoc, on: boolean): MissionDoc {
+  const list = Array.isArray(doc.uavs) ? (doc.uavs as Record<string, unknown>[]) : [];
+  return {
+    ...doc,
+    uavs: list.map((u) => {
+      const c = { ...u };
+      if (on) c.share = 'auto';
+      else delete c.share;
+      return c;
+    }),
+  };
 }

@@ -22,10 +22,13 @@ import {
   PATTERN_DEFAULTS,
   patternOf,
   polygonsOf,
+  sharesAuto,
+  structureOf,
   withArea,
   withCorridor,
   withNfz,
   withPattern,
+  withStructure,
   type MissionDoc,
   type PatternOptions,
   type PolygonCoords,
@@ -38,6 +41,17 @@ import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '..
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
+import { ObjectiveControl, ObliqueControls, SharesAutoControl, StructureControls, WindControls, type ExtrasHost } from './define-extras.ts';
+
+/** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
+const AUTO_PLANNER = {
+  name: 'auto',
+  summary: 'auto: plans with every planner that supports the mission (time limit shared) and keeps the best by the objective, among those within 0.5 PoC points of the best',
+  schema: { params: [] },
+};
+
+// a building's footprint on the map
+const STRUCTURE_STYLE: L.PathOptions = { color: '#5b4636', weight: 2, fillColor: '#8d6e63', fillOpacity: 0.6 };
 
 interface CatalogUav {
   id: number;
@@ -110,7 +124,7 @@ class DefinePanel {
   private areaLayers: L.Polygon[] = [];
   private nfzLayers: L.Polygon[] = [];
   private startLayer = L.layerGroup();
-  private drawKind: Kind | 'cut' | 'corridor' | null = null;
+  private drawKind: Kind | 'cut' | 'corridor' | 'footprint' | null = null;
   private corridorLayer: L.Polyline | null = null;
   private placing: number | null = null;
   private selLayer: L.Polygon | null = null;
@@ -135,6 +149,21 @@ class DefinePanel {
   private corridorRow!: HTMLElement;
   private corridorInfo!: HTMLElement;
   private patternInputs: Partial<Record<keyof PatternOptions, HTMLInputElement | HTMLSelectElement>> = {};
+  private structureRow!: HTMLElement;
+  private footprintBtn!: HTMLButtonElement;
+  private structureControls!: StructureControls;
+  private obliqueControls!: ObliqueControls;
+  private windControls!: WindControls;
+  private objectiveControl!: ObjectiveControl;
+  private sharesAutoControl!: SharesAutoControl;
+  private readonly host: ExtrasHost = {
+    doc: () => this.doc,
+    commit: (d) => {
+      this.commit(d);
+      this.refreshForm();
+    },
+    field: (parent, label, anchors, input, unit) => this.field(parent, label, anchors, input, unit),
+  };
   private uavRows!: HTMLElement;
   private uavSelect!: HTMLSelectElement;
   private cameraSelect!: HTMLSelectElement;
@@ -244,6 +273,7 @@ class DefinePanel {
     add.append(this.uavSelect, manual);
     this.uavRows = el('div', { class: 'define-uavs' });
     uavs.append(add, this.uavRows);
+    this.sharesAutoControl = new SharesAutoControl(this.host, uavs);
 
     // camera
     const cam = this.section('Camera and spacing');
@@ -295,6 +325,9 @@ class DefinePanel {
     this.field(plan, 'Planner', 'planner', this.plannerSelect);
     this.plannerSummary = el('p', { class: 'define-small muted' });
     plan.appendChild(this.plannerSummary);
+    this.objectiveControl = new ObjectiveControl(this.host, plan);
+    this.windControls = new WindControls(this.host);
+    plan.appendChild(this.windControls.row);
     this.paramsBox = el('div', { class: 'define-params', 'data-testid': 'planner-params', 'data-anchor': 'planner_params' });
     plan.appendChild(this.paramsBox);
     this.seedInput = el('input', { type: 'number', min: '0', step: '1', 'data-testid': 'seed-input' });
@@ -316,14 +349,18 @@ class DefinePanel {
     for (const [v, t] of [
       ['area', 'Area: a grid over the drawn polygons'],
       ['corridor', 'Corridor: lanes along a drawn line'],
+      ['structure', 'Structure: orbits around a building’s walls'],
     ])
       this.patternSelect.appendChild(el('option', { value: v }, t));
     this.patternSelect.addEventListener('change', () => {
-      if (this.patternSelect.value === 'area') this.commit(withCorridor(this.doc, null, 0));
+      const k = this.patternSelect.value;
+      // the other kinds' geometry goes (area and corridor and structure exclude each other)
+      if (k !== 'corridor' && this.doc.corridor !== undefined) this.commit(withCorridor(this.doc, null, 0));
+      if (k !== 'structure' && this.doc.structure !== undefined) this.commit(withStructure(this.doc, null));
       this.renderPattern();
       this.renderMap();
     });
-    this.field(sec, 'Pattern', 'corridor', this.patternSelect);
+    this.field(sec, 'Pattern', 'corridor structure', this.patternSelect);
     this.corridorRow = el('div', { class: 'define-corridor' });
     const tools = el('div', { class: 'define-tools' });
     this.corridorBtn = el('button', { type: 'button', 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line');
@@ -341,6 +378,15 @@ class DefinePanel {
     this.corridorInfo = el('p', { class: 'define-small muted', 'data-testid': 'corridor-info' });
     this.corridorRow.appendChild(this.corridorInfo);
     sec.appendChild(this.corridorRow);
+    // the structure: its footprint drawn as a polygon, its height, standoff, safe height and roof pass
+    this.structureRow = el('div', { class: 'define-structure-row' });
+    const stools = el('div', { class: 'define-tools' });
+    this.footprintBtn = el('button', { type: 'button', 'data-testid': 'draw-footprint', title: 'Click the building’s corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw footprint');
+    this.footprintBtn.addEventListener('click', () => this.startDraw('footprint'));
+    stools.appendChild(this.footprintBtn);
+    this.structureControls = new StructureControls(this.host);
+    this.structureRow.append(stools, this.structureControls.row);
+    sec.appendChild(this.structureRow);
     // the options; a changed one writes the pattern block (defaults are left out)
     const opts = el('div', { class: 'define-pattern-options', 'data-testid': 'pattern-options' });
     const check = (key: keyof PatternOptions, label: string, title: string) => {
@@ -368,14 +414,21 @@ class DefinePanel {
     this.patternInputs.entry = entry;
     check('alternate_transects', 'Alternate transects', 'every other lane, then back for the rest (fixed-wing turns)');
     check('capture_in_turnaround', 'Camera in turns', 'keep the camera on in turns and turnarounds');
-    sec.append(opts, el('p', { class: 'define-small muted' }, 'Corridors and the options need a lane planner (boustrophedon, or milp for corridors): see “uavcover planners”.'));
+    this.obliqueControls = new ObliqueControls(this.host);
+    opts.appendChild(this.obliqueControls.row);
+    sec.append(opts, el('p', { class: 'define-small muted' }, 'Corridors, obliques and the options need a lane planner (boustrophedon, or milp for corridors): see “uavcover planners”.'));
   }
 
   private renderPattern(): void {
     const c = corridorOf(this.doc);
-    const corridor = c !== null || this.patternSelect.value === 'corridor';
-    this.patternSelect.value = corridor ? 'corridor' : 'area';
+    const st = structureOf(this.doc);
+    const kind = c !== null ? 'corridor' : st !== null ? 'structure' : this.patternSelect.value;
+    this.patternSelect.value = kind;
+    const corridor = kind === 'corridor';
     this.corridorRow.hidden = !corridor;
+    this.structureRow.hidden = kind !== 'structure';
+    this.structureControls.render(this.doc);
+    this.obliqueControls.render(this.doc);
     if (c) this.widthInput.value = String(c.width_m);
     this.corridorInfo.textContent = c
       ? `Centre line of ${c.line.length} vertices, ${c.width_m} m wide.`
@@ -410,6 +463,7 @@ class DefinePanel {
     for (const u of this.uavCatalog)
       this.uavSelect.appendChild(el('option', { value: String(u.id) }, `${u.name} (${u.speed_mps} m/s, ${u.endurance_min} min)`));
     this.plannerSelect.replaceChildren();
+    if (this.planners.length) this.planners.push(AUTO_PLANNER);
     for (const pl of this.planners) this.plannerSelect.appendChild(el('option', { value: pl.name }, pl.name));
     this.refreshForm();
   }
@@ -506,6 +560,9 @@ class DefinePanel {
     if (this.planners.length && !this.planner(planner)) this.plannerSelect.appendChild(el('option', { value: planner }, planner));
     this.plannerSelect.value = planner;
     this.renderParams();
+    this.objectiveControl.render(d);
+    this.windControls.render(d);
+    this.sharesAutoControl.render(d);
     this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
     this.seedInput.placeholder = '1';
     this.showStatus();
@@ -604,6 +661,10 @@ class DefinePanel {
       slider.disabled = true;
       number.disabled = true;
       shareWrap.title = 'a single UAV covers everything';
+    } else if (sharesAuto(this.doc)) {
+      slider.disabled = true;
+      number.disabled = true;
+      shareWrap.title = 'shares from capabilities: the planner sizes them so that all UAVs finish together';
     }
     let timer = 0;
     slider.addEventListener('input', () => this.previewShare(i, Number(slider.value)));
@@ -866,7 +927,7 @@ class DefinePanel {
   private async validate(): Promise<void> {
     const seq = ++this.validateSeq;
     const doc = this.doc;
-    if (areaPolygons(doc).length === 0 && !corridorOf(doc)) {
+    if (areaPolygons(doc).length === 0 && !corridorOf(doc) && !structureOf(doc)) {
       this.clearErrors();
       for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
       this.spacingValue.title = 'draw the area first';
@@ -991,6 +1052,17 @@ class DefinePanel {
         this.renderMap();
         return;
       }
+      if (kind === 'footprint') {
+        this.drawKind = null;
+        this.updateButtons();
+        const layer = e.layer as L.Polygon;
+        const polys = polygonsOf(layer.toGeoJSON());
+        layer.remove();
+        if (polys.length === 1) this.commit(withStructure(this.doc, { ...this.structureControls.values(), footprint: [polys[0][0]] }));
+        this.renderPattern();
+        this.renderMap();
+        return;
+      }
       if (kind !== 'area' && kind !== 'nfz') return; // not drawn by this tab
       this.drawKind = null;
       this.updateButtons();
@@ -1065,6 +1137,12 @@ class DefinePanel {
       );
       this.corridorLayer.bindTooltip(`corridor, ${c.width_m} m wide`, { sticky: true, className: 'define-tip' });
       this.corridorLayer.addTo(this.group);
+    }
+    const st = structureOf(this.doc);
+    if (st) {
+      const fp = L.polygon(toLatLngs(st.footprint), { ...STRUCTURE_STYLE, pmIgnore: true } as L.PolylineOptions);
+      fp.bindTooltip(`building, ${st.height_m} m high; orbits ${st.standoff_m} m out`, { sticky: true, className: 'define-tip' });
+      fp.addTo(this.group);
     }
     this.renderStarts();
     this.setEditing(this.visible);
@@ -1168,7 +1246,7 @@ class DefinePanel {
     this.syncFromLayers();
   }
 
-  private startDraw(kind: Kind | 'cut' | 'corridor'): void {
+  private startDraw(kind: Kind | 'cut' | 'corridor' | 'footprint'): void {
     const map = this.app.map;
     const wasSame = this.drawKind === kind;
     this.cancelModes();
@@ -1182,6 +1260,16 @@ class DefinePanel {
         pathOptions: { color: AREA_STROKE, weight: 3 },
         templineStyle: { color: AREA_STROKE },
         hintlineStyle: { color: AREA_STROKE, dashArray: '5 5' },
+      } as L.PM.DrawModeOptions);
+    } else if (kind === 'footprint') {
+      this.drawKind = 'footprint';
+      map.pm.enableDraw('Polygon', {
+        snappable: true,
+        snapDistance: 15,
+        allowSelfIntersection: false,
+        pathOptions: STRUCTURE_STYLE,
+        templineStyle: { color: STRUCTURE_STYLE.color },
+        hintlineStyle: { color: STRUCTURE_STYLE.color, dashArray: '5 5' },
       } as L.PM.DrawModeOptions);
     } else if (kind === 'cut') {
       if (this.areaLayers.length === 0) {
@@ -1219,6 +1307,7 @@ class DefinePanel {
     this.drawNfzBtn.classList.toggle('active', this.drawKind === 'nfz');
     this.cutBtn.classList.toggle('active', this.drawKind === 'cut');
     this.corridorBtn.classList.toggle('active', this.drawKind === 'corridor');
+    this.footprintBtn.classList.toggle('active', this.drawKind === 'footprint');
     this.app.map.getContainer().classList.toggle('define-drawing', this.drawKind !== null);
   }
 

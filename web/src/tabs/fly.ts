@@ -9,6 +9,7 @@ import { events, type Job } from '../events.ts';
 import { FlyLayers, type UavFrame } from '../fly-layers.ts';
 import { failSpec, flightEnded, flightOutcome, planWaypoints, type Flight, type FlightCoverage, type FlightUav, type UavLines } from '../fly-model.ts';
 import { FlyPanel } from '../fly-panel.ts';
+import { FlyPhotos } from '../fly-photos.ts';
 import { FlyReplay } from '../fly-replay.ts';
 import { el, errorText } from '../job-ui.ts';
 import { uavColour } from '../palette.ts';
@@ -202,7 +203,9 @@ export const flyTab: Tab = {
     });
     const reflyRow = el('div', { class: 'plan-row' });
     reflyRow.append(reflyBtn);
-    afterBox.body.append(reflyRow, reflyMsg, replay.el);
+    // what the photos saw (docs/photos.md), and the refly from them
+    const photos = new FlyPhotos(app.map, () => flight?.id ?? null);
+    afterBox.body.append(reflyRow, reflyMsg, photos.el, replay.el);
     const legend = el('div', { class: 'muted fly-legend' });
     legend.innerHTML =
       '<span class="fly-dot" style="background:#a0a8b2"></span> pending <span class="fly-dot" style="background:#ffd400"></span> current <span class="fly-dot" style="background:#00b140"></span> reached <span class="fly-dot" style="background:#e8112d"></span> skipped · dashed: reassigned';
@@ -400,6 +403,7 @@ export const flyTab: Tab = {
       replay.close();
       live.clear();
       layers.reset();
+      photos.clear();
       flight = f;
       flightBox.hidden = f === null;
       cmdMsg.textContent = '';
@@ -631,6 +635,7 @@ export const flyTab: Tab = {
     this.hide = () => {
       visible = false;
       layers.hide();
+      photos.clear();
       if (coverageTimer !== null) clearTimeout(coverageTimer);
       coverageTimer = null;
       if (activeTimer !== null) clearTimeout(activeTimer);

@@ -7,6 +7,7 @@ import { comparePanel } from '../compare.ts';
 import type { Job } from '../events.ts';
 import { exportsPanel } from '../exports.ts';
 import { el, errorText, JobView } from '../job-ui.ts';
+import { facadePanel, type FacadeJson } from '../facade-view.ts';
 import { metricsPanel } from '../metrics.ts';
 import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
 import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
@@ -161,6 +162,8 @@ export const planTab: Tab = {
       warnBox.hidden = groups.length === 0;
       warnBox.open = groups.length <= 3;
       metricsBox.body.replaceChildren(metricsPanel(job, plan));
+      // a structure scan: its wall unrolled, coloured by the photos that see it
+      if (plan?.facade) metricsBox.body.append(facadePanel(plan.facade as FacadeJson));
       exportsBox.body.replaceChildren(exportsPanel(job.id, plan.uavs.map((u) => u.id)));
       results.hidden = false;
     };

@@ -243,5 +243,37 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
   assert.ok(reflyJob.params.refly.gaps_m2 > 0 && reflyJob.params.refly.flown_poc < 1, JSON.stringify(reflyJob.params.refly).slice(0, 200));
   assert.match(reflyJob.params.refly.mission.name, /\(refly\)$/);
   await h.shot(page, 'fly-9-refly');
+
+  // the flight's photos (docs/photos.md): JPEGs made with GDAL, geotagged 60 m above a take-off 100 m above
+  // sea level, every 60 m east and 40 m north over the field (90 m x 60 m footprints) but for a block in the
+  // middle; the app reads their tags, draws what they saw, and reflies the rest
+  const pj = await server.api(`/plans/${flight.plan_id}/plan.json`);
+  const ring = pj.mission.area.type === 'Polygon' ? pj.mission.area.coordinates[0] : pj.mission.area.coordinates[0][0];
+  const lons = ring.map((c) => c[0]);
+  const lats = ring.map((c) => c[1]);
+  const [w, e, s, n] = [Math.min(...lons), Math.max(...lons), Math.min(...lats), Math.max(...lats)];
+  const mlat = 1 / 111320;
+  const mlon = mlat / Math.cos((((s + n) / 2) * Math.PI) / 180);
+  const [cx, cy] = [(w + e) / 2, (s + n) / 2];
+  const shots = [];
+  for (let x = w - 20 * mlon; x <= e + 45 * mlon; x += 60 * mlon)
+    for (let y = s - 10 * mlat; y <= n + 30 * mlat; y += 40 * mlat) {
+      if (Math.abs((x - cx) / mlon) < 45 && Math.abs((y - cy) / mlat) < 30) continue; // the hole
+      shots.push({ name: `DJI_${String(shots.length).padStart(4, '0')}.JPG`, lat: y, lon: x, alt_m: 160, yaw_deg: 0 });
+    }
+  const files = await h.makePhotos(shots);
+  await page.fill('[data-testid=fly-photos-takeoff]', '100');
+  await page.setInputFiles('[data-testid=fly-photos-input]', files);
+  await page.waitForFunction(() => document.querySelector('[data-testid=fly-photos-message]')?.dataset.poc !== undefined, null, { timeout: 60000 });
+  const photoPoc = Number(await page.locator('[data-testid=fly-photos-message]').getAttribute('data-poc'));
+  assert.match(await page.locator('[data-testid=fly-photos-message]').innerText(), new RegExp(`^${shots.length} photos saw`));
+  assert.ok(photoPoc > 0.5 && photoPoc < 0.995, `photo coverage ${photoPoc}`);
+  await h.shot(page, 'fly-10-photos');
+  await page.click('[data-testid=fly-photos-refly]');
+  await page.waitForFunction(() => document.querySelector('[data-testid=fly-photos-message]')?.dataset.reflyJob !== undefined, null, { timeout: 60000 });
+  const photoJob = await server.api(`/plans/${await page.locator('[data-testid=fly-photos-message]').getAttribute('data-refly-job')}`);
+  assert.equal(photoJob.params.refly.source, 'photos');
+  assert.ok(Math.abs(photoJob.params.refly.flown_poc - photoPoc) < 1e-9);
+  assert.ok(photoJob.params.refly.gaps_m2 > 45 * 30, JSON.stringify(photoJob.params.refly).slice(0, 200));
   assert.deepEqual(problems, [], 'no console errors or warnings');
 });

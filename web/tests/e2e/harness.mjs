@@ -132,3 +132,36 @@ export async function planDrawn(page, selector = '#map', timeout = 120000) {
     if (await page.evaluate(settled, selector)) return;
   }
 }
+
+/** EXIF's degrees-minutes-seconds as GDAL's JPEG driver takes them: "(d) (m) (s)". */
+function dms(deg) {
+  const a = Math.abs(deg);
+  const d = Math.floor(a);
+  const m = Math.floor((a - d) * 60);
+  const s = ((a - d) * 60 - m) * 60;
+  return `(${d}) (${m}) (${s.toFixed(4)})`;
+}
+
+/**
+ * Geotagged JPEGs made with GDAL's own tools (docs/photos.md): one 32 x 24 grey image (gdal_create), then a
+ * copy per photo with its EXIF GPS position, GPS altitude, heading and 35 mm focal length (gdal_translate
+ * -mo EXIF_...). photos: [{name, lat, lon, alt_m, yaw_deg}]; returns the files' paths.
+ */
+export async function makePhotos(photos, { focal35 = 24 } = {}) {
+  const { execFileSync } = await import('node:child_process');
+  const dir = mkdtempSync(join(tmpdir(), 'uavcover-photos-'));
+  const base = join(dir, 'base.tif');
+  execFileSync('gdal_create', ['-q', '-of', 'GTiff', '-outsize', '32', '24', '-bands', '3', '-burn', '128', base]);
+  return photos.map((p) => {
+    const file = join(dir, p.name);
+    execFileSync('gdal_translate', [
+      '-q', '-of', 'JPEG',
+      '-mo', `EXIF_GPSLatitude=${dms(p.lat)}`, '-mo', `EXIF_GPSLatitudeRef=${p.lat < 0 ? 'S' : 'N'}`,
+      '-mo', `EXIF_GPSLongitude=${dms(p.lon)}`, '-mo', `EXIF_GPSLongitudeRef=${p.lon < 0 ? 'W' : 'E'}`,
+      '-mo', `EXIF_GPSAltitude=(${p.alt_m})`, '-mo', `EXIF_GPSImgDirection=(${p.yaw_deg ?? 0})`,
+      '-mo', `EXIF_FocalLengthIn35mmFilm=${focal35}`,
+      base, file,
+    ]);
+    return file;
+  });
+}

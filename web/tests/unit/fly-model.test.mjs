@@ -125,3 +125,19 @@ test('replay: waypoint statuses at any time', () => {
   const same = buildReplay([wp(2, 0, 'A', 0, 'reached'), wp(1, 0, 'A', 0, 'current')], new Map([['A', 1]]));
   assert.equal(statusesAt(same.uavs.get('A'), same.t1), 'R');
 });
+
+test('photo uploads: heads of at most 256 KiB, batches under 8 MiB and 200 parts, in order', async () => {
+  const { photoBatches, HEAD_BYTES, BATCH_BYTES, BATCH_PARTS } = await import('../../src/fly-model.ts');
+  assert.deepEqual(photoBatches([]), []);
+  // 8 MiB / 256 KiB = 32 heads of big files per batch
+  const big = new Array(70).fill(9e6);
+  const b = photoBatches(big);
+  assert.deepEqual(b.map((g) => g.length), [32, 32, 6]);
+  assert.deepEqual(b.flat(), [...big.keys()]);
+  for (const g of b) assert.ok(g.reduce((s, i) => s + Math.min(big[i], HEAD_BYTES), 0) <= BATCH_BYTES);
+  // small files: the part limit
+  const small = new Array(450).fill(1000);
+  assert.deepEqual(photoBatches(small).map((g) => g.length), [BATCH_PARTS, BATCH_PARTS, 50]);
+  // one file larger than a batch still goes (its head)
+  assert.deepEqual(photoBatches([1e9], HEAD_BYTES, 100), [[0]]);
+});

@@ -33,3 +33,16 @@ test('pattern options: defaults are not written, other fields are kept', () => {
   assert.deepEqual(patternOf(doc), { crosshatch: false, turnaround_m: 10, entry: 'ne', alternate_transects: false, capture_in_turnaround: false });
   assert.equal(withPattern(doc, null).pattern, undefined);
 });
+
+test('the facade picture: one pixel per sample, colours by views (3+ capped), corners dark', async () => {
+  const { facadePixels, VIEW_COLOURS } = await import('../../src/facade-view.ts');
+  const px = facadePixels({ cols: 4, rows: 2, wall_start_col: [0, 2], views: ['0129', '3300'] });
+  const at = (r, c) => Array.from(px.slice((r * 4 + c) * 4, (r * 4 + c) * 4 + 3));
+  assert.deepEqual(at(0, 0), VIEW_COLOURS[0]);
+  assert.deepEqual(at(0, 1), VIEW_COLOURS[1]);
+  assert.deepEqual(at(0, 2), [40, 40, 40], 'the second wall starts at column 2');
+  assert.deepEqual(at(0, 3), VIEW_COLOURS[3], '9 views: 3+');
+  assert.deepEqual(at(1, 0), VIEW_COLOURS[3]);
+  assert.deepEqual(at(1, 3), VIEW_COLOURS[0]);
+  assert.equal(px[3], 255);
+});

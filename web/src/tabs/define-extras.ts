@@ -1,0 +1,189 @@
+// The Define tab's mission options beyond the area grid (issues 30 and 32): the structure (facade) scan's
+// numbers, the oblique passes, the wind, the auto planner's objective and the shares from capabilities.
+// Each control writes its block of the mission document through the tab's commit; render() shows the
+// document's values. The map side of a structure (drawing its footprint) stays in define.ts.
+import { el } from '../dom.ts';
+import {
+  OBJECTIVES,
+  OBLIQUE_DEFAULTS,
+  STRUCTURE_DEFAULTS,
+  obliqueOf,
+  sharesAuto,
+  structureOf,
+  windOf,
+  withOblique,
+  withSharesAuto,
+  withStructure,
+  withWind,
+  type MissionDoc,
+  type StructureScan,
+} from '../mission-doc.ts';
+
+export interface ExtrasHost {
+  doc(): MissionDoc;
+  commit(d: MissionDoc): void;
+  field(parent: HTMLElement, label: string, anchors: string, input: HTMLElement, unit?: string): HTMLElement;
+}
+
+function num(s: string): number | undefined {
+  if (s.trim() === '') return undefined;
+  const x = Number(s);
+  return Number.isFinite(x) ? x : undefined;
+}
+
+function numberInput(testid: string, min: string, max: string, title: string, placeholder = ''): HTMLInputElement {
+  return el('input', { type: 'number', min, max, step: 'any', 'data-testid': testid, title, placeholder });
+}
+
+/** the structure scan's numbers (height, standoff, safe height, roof pass), shown when the pattern is a structure */
+export class StructureControls {
+  readonly row = el('div', { class: 'define-structure', 'data-testid': 'structure-options' });
+  readonly info = el('p', { class: 'define-small muted', 'data-testid': 'structure-info' });
+  private height = numberInput('structure-height', '0', '1000', 'the building’s height above the ground');
+  private standoff = numberInput('structure-standoff', '0', '500', 'distance from the walls to the orbits');
+  private safe = numberInput('structure-safe-height', '0', '1000', 'the lowest orbit is at least this high', String(STRUCTURE_DEFAULTS.safe_height_m));
+  private top = el('input', { type: 'checkbox', 'data-testid': 'structure-top', title: 'add a nadir pass over the roof' });
+
+  constructor(private host: ExtrasHost) {
+    host.field(this.row, 'Height', 'structure.height_m', this.height, 'm');
+    host.field(this.row, 'Standoff', 'structure.standoff_m', this.standoff, 'm');
+    host.field(this.row, 'Safe height', 'structure.safe_height_m', this.safe, 'm');
+    host.field(this.row, 'Roof pass', 'structure.top', this.top);
+    this.row.appendChild(this.info);
+    for (const i of [this.height, this.standoff, this.safe, this.top]) i.addEventListener('change', () => this.changed());
+  }
+
+  /** the numbers as the inputs hold them (defaults where empty) */
+  values(): Omit<StructureScan, 'footprint'> {
+    return {
+      height_m: num(this.height.value) ?? STRUCTURE_DEFAULTS.height_m,
+      standoff_m: num(this.standoff.value) ?? STRUCTURE_DEFAULTS.standoff_m,
+      safe_height_m: num(this.safe.value) ?? STRUCTURE_DEFAULTS.safe_height_m,
+      top: this.top.checked,
+    };
+  }
+
+  private changed(): void {
+    const s = structureOf(this.host.doc());
+    if (s) this.host.commit(withStructure(this.host.doc(), { ...s, ...this.values() }));
+  }
+
+  render(doc: MissionDoc): void {
+    const s = structureOf(doc);
+    const v = s ?? { ...STRUCTURE_DEFAULTS, footprint: [] };
+    this.height.value = String(v.height_m);
+    this.standoff.value = String(v.standoff_m);
+    this.safe.value = v.safe_height_m === STRUCTURE_DEFAULTS.safe_height_m ? '' : String(v.safe_height_m);
+    this.top.checked = v.top;
+    this.info.textContent = s
+      ? `Footprint of ${Math.max(0, s.footprint[0].length - 1)} corners, ${s.height_m} m high; orbits ${s.standoff_m} m from the walls.`
+      : 'No footprint yet: press “Draw footprint” and click the building’s corners on the map.';
+  }
+}
+
+/** the oblique passes (pattern.oblique): on/off, gimbal pitch, directions, nadir grid */
+export class ObliqueControls {
+  readonly row = el('div', { class: 'define-oblique', 'data-testid': 'oblique-options' });
+  private on = el('input', { type: 'checkbox', 'data-testid': 'oblique-on', title: 'a nadir grid plus passes with the camera tilted (Smart Oblique)' });
+  private pitch = numberInput('oblique-pitch', '-89', '-1', 'camera pitch of the oblique passes (-90 is straight down)', String(OBLIQUE_DEFAULTS.gimbal_pitch_deg));
+  private directions = el('select', { 'data-testid': 'oblique-directions', title: 'how many oblique passes, each with its own heading' });
+  private nadir = el('input', { type: 'checkbox', 'data-testid': 'oblique-nadir', title: 'fly the nadir grid too' });
+  private detail = el('div', { class: 'define-oblique-detail' });
+
+  constructor(private host: ExtrasHost) {
+    for (const d of ['1', '2', '4']) this.directions.appendChild(el('option', { value: d }, d));
+    host.field(this.row, 'Obliques', 'pattern.oblique', this.on);
+    host.field(this.detail, 'Oblique pitch', 'pattern.oblique.gimbal_pitch_deg', this.pitch, '°');
+    host.field(this.detail, 'Directions', 'pattern.oblique.directions', this.directions);
+    host.field(this.detail, 'Nadir grid', 'pattern.oblique.nadir', this.nadir);
+    this.row.appendChild(this.detail);
+    for (const i of [this.on, this.pitch, this.directions, this.nadir]) i.addEventListener('change', () => this.changed());
+  }
+
+  private changed(): void {
+    const doc = this.host.doc();
+    if (!this.on.checked) {
+      this.host.commit(withOblique(doc, null));
+      return;
+    }
+    this.host.commit(
+      withOblique(doc, {
+        gimbal_pitch_deg: num(this.pitch.value) ?? OBLIQUE_DEFAULTS.gimbal_pitch_deg,
+        directions: Number(this.directions.value),
+        nadir: this.nadir.checked,
+      }),
+    );
+  }
+
+  render(doc: MissionDoc): void {
+    const o = obliqueOf(doc);
+    const v = o ?? OBLIQUE_DEFAULTS;
+    this.on.checked = o !== null;
+    this.detail.hidden = o === null;
+    this.pitch.value = String(v.gimbal_pitch_deg);
+    this.directions.value = String(v.directions);
+    this.nadir.checked = v.nadir;
+  }
+}
+
+/** the wind (speed and the direction it blows from) */
+export class WindControls {
+  readonly row = el('div', { class: 'define-wind', 'data-testid': 'wind-options' });
+  private speed = numberInput('wind-speed', '0', '100', 'wind speed at flight altitude; 0 or empty: calm', '0');
+  private from = numberInput('wind-from', '0', '359', 'where the wind blows from, degrees clockwise from north', '0');
+
+  constructor(private host: ExtrasHost) {
+    host.field(this.row, 'Wind', 'wind wind.speed_mps', this.speed, 'm/s');
+    host.field(this.row, 'Wind from', 'wind.from_deg', this.from, '°');
+    for (const i of [this.speed, this.from]) i.addEventListener('change', () => this.changed());
+  }
+
+  private changed(): void {
+    const s = num(this.speed.value);
+    const f = num(this.from.value) ?? 0;
+    this.host.commit(withWind(this.host.doc(), s === undefined ? null : { speed_mps: s, from_deg: f }));
+  }
+
+  render(doc: MissionDoc): void {
+    const w = windOf(doc);
+    this.speed.value = w ? String(w.speed_mps) : '';
+    this.from.value = w ? String(w.from_deg) : '';
+  }
+}
+
+/** the auto planner's objective (shown with planner "auto") */
+export class ObjectiveControl {
+  readonly select = el('select', { 'data-testid': 'objective-select', title: 'what “auto” keeps: the least time, the best PoC, the fewest turns or the shortest paths' });
+  row!: HTMLElement;
+
+  constructor(private host: ExtrasHost, parent: HTMLElement) {
+    for (const o of OBJECTIVES) this.select.appendChild(el('option', { value: o }, o === 'poc' ? 'PoC' : o));
+    this.row = host.field(parent, 'Objective', 'objective', this.select);
+    this.select.addEventListener('change', () => {
+      const d = { ...this.host.doc() };
+      if (this.select.value === 'time') delete d.objective;
+      else d.objective = this.select.value;
+      this.host.commit(d);
+    });
+  }
+
+  render(doc: MissionDoc): void {
+    const auto = doc.planner === 'auto';
+    this.row.hidden = !auto;
+    this.select.value = typeof doc.objective === 'string' ? doc.objective : 'time';
+  }
+}
+
+/** "Shares from capabilities": every UAV's share "auto" (all finish together) */
+export class SharesAutoControl {
+  readonly input = el('input', { type: 'checkbox', 'data-testid': 'shares-auto', title: 'shares from each UAV’s area rate (speed × swath, endurance), so that all finish together' });
+
+  constructor(private host: ExtrasHost, parent: HTMLElement) {
+    host.field(parent, 'Shares from capabilities', 'uavs', this.input);
+    this.input.addEventListener('change', () => this.host.commit(withSharesAuto(this.host.doc(), this.input.checked)));
+  }
+
+  render(doc: MissionDoc): void {
+    this.input.checked = sharesAuto(doc);
+  }
+}
