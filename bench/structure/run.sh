@@ -15,7 +15,7 @@ trap 'rm -rf "$tmp"' EXIT
 mission="$here/l-building.json"
 rows=()
 for planner in boustrophedon milp; do
-  for variant in top walls side60; do
+  for variant in top walls side60 low; do
     m="$tmp/$planner-$variant.json"
     python3 - "$mission" "$m" "$planner" "$variant" <<'PY'
 import json, sys
@@ -28,6 +28,10 @@ if variant == "side60":
     m["structure"]["top"] = False
     m["camera"]["side_overlap"] = 0.6
     m["camera"]["front_overlap"] = 0.75
+if variant == "low":
+    m["structure"]["top"] = False
+    m["camera"]["side_overlap"] = 0.2
+    m["camera"]["front_overlap"] = 0.3
 json.dump(m, open(dst, "w"))
 PY
     "$build/uavcover" plan "$m" --out "$tmp/$planner-$variant" -q --no-images
@@ -59,7 +63,7 @@ done
   echo "(5472 x 3648 px: a photo is 18 m x 12 m on the wall at 12 m), side overlap 0.7, front overlap 0.8, the"
   echo "roof pass 20 m above the roof (\`top\`); 2 UAVs at 4 m/s starting north and south of the building."
   echo "Variants: \`top\` as given, \`walls\` without the roof pass, \`side60\` without it at side overlap 0.6 and"
-  echo "front overlap 0.75. Strategy: shared layers or angular sectors (the one estimated to finish sooner)."
+  echo "front overlap 0.75, \`low\` without it at side overlap 0.2 and front overlap 0.3. Strategy: shared layers or angular sectors (the one estimated to finish sooner)."
   echo "Waypoints: the coverage waypoints of both UAVs; length: all flight with transit (horizontal: the climbs"
   echo "between layers are vertical); time: the longest UAV flight (eq. 15). Facade: the evaluator's share of"
   echo "the wall (and roof) samples at 0.5 m inside at least one photo's view, the shares seen by 0 / 1 / 2 / 3+"
