@@ -67,6 +67,17 @@ void run_evaluate(const EvaluateArgs& a) {
       "{:.2f} EUR\n",
       c.flight_time_min, c.deployment_time_min, c.change_battery_delay_min, c.total_time_min,
       c.flight_cost_eur);
+  if (ev.facade) {  // a structure scan (docs/patterns.md): the wall, not the ground
+    const auto& f = ev.facade->total;
+    std::cout << fmt::format(
+        "facade {:.2f} % seen ({} samples at {:.1f} m), by 0/1/2/3+ photos {:.1f} / {:.1f} / {:.1f} / {:.1f} "
+        "%, "
+        "{} images{}\n",
+        100 * f.covered_share, f.samples, ev.facade->sample_m, 100 * f.shares[0], 100 * f.shares[1],
+        100 * f.shares[2], 100 * f.shares[3], f.images,
+        ev.facade->gsd_wall_m ? fmt::format(", GSD on the wall {:.2f} cm/px", *ev.facade->gsd_wall_m * 100)
+                              : "");
+  }
   if (t.poc == 0.0 && t.length_m > 0.0)
     std::cout << "warning: the paths scan none of the area: do they belong to this mission?\n";
   std::cout << "wrote " << (dir / "evaluation.json").string()

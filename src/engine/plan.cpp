@@ -16,6 +16,7 @@
 #include "evaluation/evaluate.hpp"
 #include "geometry/geometry.hpp"
 #include "planners/planner.hpp"
+#include "planners/structure/structure.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/uavcover.hpp"
 #include "waypoints/waypoints.hpp"
@@ -37,6 +38,9 @@ void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
   // the patterns (docs/patterns.md)
   if (m.corridor && !c.corridor)
     throw InputError("corridor", who + " does not plan corridors; choose boustrophedon or milp");
+  if (m.structure && !c.structure)
+    throw InputError("structure",
+                     who + " does not plan structure (facade) scans; choose boustrophedon or milp");
   if (m.pattern) {
     const Pattern& p = *m.pattern;
     auto refuse = [&](bool asked, bool can, const std::string& field) {
@@ -199,7 +203,14 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   check_capabilities(*info, out.mission);
   out.planner = info->name;
 
-  const engine::LocalMission lm = engine::to_local(out.mission);
+  engine::LocalMission lm = engine::to_local(out.mission);
+  // a structure scan (docs/patterns.md): the footprint grown by half the standoff is a no-fly zone for
+  // the planner and the router, so that no transit leg crosses (or grazes) the building
+  if (out.mission.structure) {
+    lm.no_fly = geometry::unite(planners::structure::keep_out(
+        geometry::to_local(out.mission.structure->footprint, lm.frame), *out.mission.structure, lm.no_fly));
+    lm.free = geometry::free_space(lm.area, lm.no_fly);
+  }
   out.origin = lm.frame.origin();
   out.free_area_m2 = bg::area(lm.free);
   if (lm.free.empty() || out.free_area_m2 <= 0.0)
@@ -220,6 +231,10 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   if (out.mission.corridor) {
     for (const auto& p : out.mission.corridor->line) problem.corridor_line.push_back(lm.frame.to_local(p));
     problem.corridor_width_m = out.mission.corridor->width_m;
+  }
+  if (out.mission.structure) {  // docs/patterns.md: the footprint and its keep-out (transit goes around)
+    problem.structure = out.mission.structure;
+    problem.structure_footprint = geometry::to_local(out.mission.structure->footprint, lm.frame);
   }
   std::mt19937_64 rng(out.mission.seed ^ 0x5eedf00dULL);
   // missing starts: spread over the free area by share (engine/shares.hpp), so that the division can
@@ -252,10 +267,12 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   // a free area in several parts: every UAV's share over the parts, the planner on each part
   engine::test_hold(ctx, "planning", out.mission.name);
   if (ctx.stop_requested()) throw Cancelled();
-  // a corridor is planned along its line whole, even where no-fly zones cut it into parts
+  // a corridor is planned along its line whole, even where no-fly zones cut it into parts; a structure
+  // all round its footprint
   std::optional<planners::Assignment> by_parts =
-      problem.corridor_line.empty() ? engine::plan_by_parts(*info, problem, out.mission.planner_params, ctx)
-                                    : std::nullopt;
+      problem.corridor_line.empty() && !problem.structure
+          ? engine::plan_by_parts(*info, problem, out.mission.planner_params, ctx)
+          : std::nullopt;
   const planners::Assignment res =
       by_parts ? std::move(*by_parts) : info->create()->plan(problem, out.mission.planner_params, ctx);
   if (res.uavs.size() != out.mission.uavs.size())

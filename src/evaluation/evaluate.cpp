@@ -173,6 +173,7 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
         evaluate_cost_from_durations(durations, uavs, ev.coverage.total.area_m2, options.cost, &batteries);
   }
   ev.images = photo::estimate(plan);
+  ev.facade = evaluate_facade(plan);
   return ev;
 }
 
@@ -238,6 +239,7 @@ json to_json(const Evaluation& e) {
   json j{{"coverage", std::move(cov)}, {"cost", to_json(e.cost)}};
   if (e.images) j["images"] = photo::to_json(*e.images);
   if (e.terrain) j["terrain_footprints"] = terrain_json(*e.terrain);
+  if (e.facade) j["facade"] = to_json(*e.facade);
   return j;
 }
 
@@ -278,6 +280,7 @@ json evaluation_json(const Evaluation& e) {
   j["uavs"] = std::move(uavs);
   if (e.images) j["images"] = photo::to_json(*e.images);
   if (e.terrain) j["terrain_footprints"] = terrain_json(*e.terrain);
+  if (e.facade) j["facade"] = to_json(*e.facade);
   return j;
 }
 

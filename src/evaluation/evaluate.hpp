@@ -10,6 +10,7 @@
 
 #include "evaluation/cost.hpp"
 #include "evaluation/coverage.hpp"
+#include "evaluation/facade.hpp"
 #include "geodesy/local_frame.hpp"
 #include "photo/photo.hpp"
 #include "uavcover/plan.hpp"
@@ -36,6 +37,8 @@ struct Evaluation {
     double height_min_m = 0.0, height_max_m = 0.0;  ///< flight height above ground
   };
   std::optional<TerrainFootprints> terrain;
+  /// A structure scan (evaluate_plan, docs/patterns.md): the wall's coverage by the photos.
+  std::optional<FacadeCoverage> facade;
 };
 
 /// Footprint width w: mission.footprint_m, else 2*h*tan(HFOV/2) from the camera, else 1.5*ds.

@@ -126,10 +126,6 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.corridor = raw.corridor;
   m.pattern = raw.pattern;
   m.structure = raw.structure;
-  // the structure block is parsed and validated, but no planner plans facade orbits yet (issue 30):
-  // refuse it rather than plan its buffered ground as a field
-  if (m.structure)
-    throw InputError("structure", "no planner supports structure (facade) scans yet; see docs/patterns.md");
   for (const auto& np : raw.area) {
     m.area.push_back({np.poly.front()});
     for (std::size_t r = 1; r < np.poly.size(); ++r) {

@@ -55,6 +55,9 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
     }
     shown.uavs.push_back(std::move(up));
   }
+  // a structure scan (docs/patterns.md): the wall's coverage by the paths' photos (their parts carry no
+  // attitude: the mission's altitude, the camera along the track)
+  out.evaluation.facade = evaluation::evaluate_facade(shown);
   return out;
 }
 

@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geodesy/local_frame.hpp"
+#include "geometry/geometry.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 
@@ -627,9 +629,9 @@ TEST(MissionParse, UavCameraRefusalsNameTheUavsField) {
   expect_error(spacing, "uavs[1].camera", "needs the mission's camera");
 }
 
-// A 20 m x 20 m building (issue 30): the structure block is validated field by field; as no planner
-// plans facade orbits yet, a valid one is refused naming "structure".
-TEST(MissionParse, StructureIsValidatedAndRefusedUntilAPlannerSupportsIt) {
+// A 20 m x 20 m building (issue 30): the structure block is validated field by field; a valid one
+// parses, its area the footprint buffered by the standoff (round corners: 20x20 + 4*20*15 + pi*15^2).
+TEST(MissionParse, StructureIsValidatedFieldByField) {
   json j = base();
   j.erase("area");
   j.erase("spacing_m");
@@ -638,7 +640,17 @@ TEST(MissionParse, StructureIsValidatedAndRefusedUntilAPlannerSupportsIt) {
       [22.90024, 40.6], [22.90024, 40.60018], [22.9, 40.60018], [22.9, 40.6]]]})")},
                     {"height_m", 40},
                     {"standoff_m", 15}};
-  expect_error(j, "structure", "no planner supports structure");
+  {
+    const uavcover::Mission m = parse_mission(j.dump());
+    ASSERT_TRUE(m.structure.has_value());
+    EXPECT_DOUBLE_EQ(m.structure->height_m, 40);
+    EXPECT_DOUBLE_EQ(m.structure->standoff_m, 15);
+    EXPECT_FALSE(m.structure->top);
+    const uavcover::geodesy::LocalFrame f(uavcover::geodesy::centroid(m.area));
+    const double a = uavcover::bg::area(uavcover::geometry::unite(uavcover::geometry::to_local(m.area, f)));
+    const double side = 20.3;  // 0.00024 deg of longitude at 40.6 N is 20.3 m, 0.00018 deg of latitude 20.0 m
+    EXPECT_NEAR(a, side * 20.0 + 2 * (side + 20.0) * 15 + 3.14159 * 225, 0.02 * a);
+  }
   json k = j;
   k["structure"]["standoff_m"] = 0;
   expect_error(k, "structure.standoff_m", "> 0");

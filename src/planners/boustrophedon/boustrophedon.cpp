@@ -11,6 +11,7 @@
 #include "planners/boustrophedon/ordering.hpp"
 #include "planners/boustrophedon/sweep.hpp"
 #include "planners/corridor/corridor.hpp"
+#include "planners/structure/structure.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::planners {
@@ -167,6 +168,7 @@ class BoustrophedonPlanner final : public Planner {
   [[nodiscard]] Assignment plan(const Problem& problem, const nlohmann::json& params,
                                 const Context& ctx) const override {
     if (!problem.corridor_line.empty()) return corridor::plan(problem, ctx);
+    if (problem.structure) return structure::plan(problem, ctx);
     // its cell decomposition grows with the square of the zones (50 zones: 6 s, 100: 25 s): refuse
     // what it cannot plan in seconds rather than hang
     if (problem.no_fly.size() > kMaxNoFlyZones)
@@ -380,6 +382,7 @@ PlannerInfo boustrophedon_planner_info() {
   info.supports = Capabilities{true, true, true, true, true, false};
   info.supports.corridor = info.supports.crosshatch = info.supports.turnaround = info.supports.entry =
       info.supports.alternate_transects = info.supports.capture_in_turnaround = true;
+  info.supports.structure = true;  // facade orbits (src/planners/structure/)
   info.create = [] { return std::make_unique<BoustrophedonPlanner>(); };
   return info;
 }

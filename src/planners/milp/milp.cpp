@@ -1,6 +1,7 @@
 #include "planners/milp/milp.hpp"
 
 #include "planners/corridor/corridor.hpp"
+#include "planners/structure/structure.hpp"
 
 #include <fmt/format.h>
 
@@ -633,6 +634,8 @@ class MilpPlanner final : public Planner {
                                 const Context& ctx) const override {
     // a corridor: its lanes cut across by share (docs/patterns.md), the same for every lane planner
     if (!p.corridor_line.empty()) return corridor::plan(p, ctx);
+    // a structure: the facade orbits (docs/patterns.md), the same for every planner that flies them
+    if (p.structure) return structure::plan(p, ctx);
     if (p.pattern) {  // its MILP orders fixed line segments: the options are for its corridors only
       const Pattern& pt = *p.pattern;
       const char* asked = pt.crosshatch              ? "crosshatch"
@@ -923,6 +926,7 @@ PlannerInfo milp_planner_info() {
   // the pattern options on corridors only (an area mission asking for one is refused by plan())
   info.supports.corridor = info.supports.crosshatch = info.supports.turnaround = info.supports.entry =
       info.supports.alternate_transects = info.supports.capture_in_turnaround = true;
+  info.supports.structure = true;  // facade orbits (src/planners/structure/)
   info.create = [] { return std::make_unique<MilpPlanner>(); };
   return info;
 }
