@@ -48,6 +48,9 @@ void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
     refuse(p.entry != "auto", c.entry, "entry");
     refuse(p.alternate_transects, c.alternate_transects, "alternate_transects");
     refuse(p.capture_in_turnaround, c.capture_in_turnaround, "capture_in_turnaround");
+    refuse(p.oblique.has_value(), c.oblique, "oblique");
+    if (p.oblique && m.corridor)
+      throw InputError("pattern.oblique", "oblique passes are planned over areas, not corridors");
   }
   if (!c.shares)
     for (std::size_t i = 1; i < m.uavs.size(); ++i)
@@ -266,11 +269,26 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   out.diagnostics = res.diagnostics;
   ctx.report("transit", 0.0);
 
-  auto make_part = [&](PartKind kind, std::vector<Point> pts,
-                       const std::vector<std::uint8_t>* off = nullptr) {
+  auto make_part = [&](PartKind kind, std::vector<Point> pts, const std::vector<std::uint8_t>* off = nullptr,
+                       const Attitude* attitude = nullptr) {
     // long segments near the poles get vertices so that GeoJSON's lon/lat edges follow the local ones
     PathPart part{kind, {}, {}, {}};
     part.wgs84 = geometry::to_wgs84_dense(pts, lm.frame, &part.local);
+    // the part's attitude (patterns): a vertex added inside a segment keeps the heading of its start
+    if (attitude != nullptr && !attitude->empty()) {
+      part.attitude = *attitude;
+      if (!attitude->heading_deg.empty() && attitude->heading_deg.size() == pts.size() &&
+          part.local.size() != pts.size()) {
+        part.attitude.heading_deg.clear();
+        std::size_t orig = 0;
+        for (std::size_t j = 0; j < part.local.size(); ++j) {
+          if (j > 0 && orig + 1 < pts.size() && part.local[j].x() == pts[orig + 1].x() &&
+              part.local[j].y() == pts[orig + 1].y())
+            ++orig;
+          part.attitude.heading_deg.push_back(attitude->heading_deg[orig]);
+        }
+      }
+    }
     // the camera-off flags follow their segments into the dense polyline
     if (off != nullptr && std::find(off->begin(), off->end(), 1) != off->end()) {
       std::size_t orig = 0;
@@ -353,8 +371,9 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
       }
       ++parts_done;
       transit_to(cov.front());
-      up.parts.push_back(
-          make_part(PartKind::Coverage, cov, c < r.camera_off.size() ? &r.camera_off[c] : nullptr));
+      up.parts.push_back(make_part(PartKind::Coverage, cov,
+                                   c < r.camera_off.size() ? &r.camera_off[c] : nullptr,
+                                   c < r.attitude.size() ? &r.attitude[c] : nullptr));
       up.coverage_length_m += geometry::length(cov);
       up.turns += static_cast<int>(cov.size());
       here = cov.back();

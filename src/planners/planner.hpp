@@ -124,6 +124,7 @@ struct Capabilities {
   bool entry = false;       ///< pattern.entry other than "auto"
   bool alternate_transects = false;
   bool capture_in_turnaround = false;
+  bool oblique = false;  ///< pattern.oblique: nadir grid and fixed-heading oblique passes (areas)
 };
 
 class Planner {

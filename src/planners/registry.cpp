@@ -176,7 +176,8 @@ nlohmann::json describe(const PlannerInfo& planner) {
             {"turnaround", c.turnaround},
             {"entry", c.entry},
             {"alternate_transects", c.alternate_transects},
-            {"capture_in_turnaround", c.capture_in_turnaround}}}};
+            {"capture_in_turnaround", c.capture_in_turnaround},
+            {"oblique", c.oblique}}}};
 }
 
 }  // namespace uavcover::planners

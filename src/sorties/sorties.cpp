@@ -151,6 +151,10 @@ struct Layout {
         piece.camera_off.assign(
             src.camera_off.begin() + static_cast<long>(std::min(from, src.camera_off.size())),
             src.camera_off.begin() + static_cast<long>(std::min(to, src.camera_off.size())));
+      piece.attitude = src.attitude;  // a pattern's attitude: per-vertex headings follow the piece
+      if (src.attitude.heading_deg.size() == src.local.size())
+        piece.attitude.heading_deg.assign(src.attitude.heading_deg.begin() + static_cast<long>(from),
+                                          src.attitude.heading_deg.begin() + static_cast<long>(to) + 1);
       s.parts.push_back(std::move(piece));
       if (j < wp_cov[b])
         s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(cov_parts[j]) + 1,
