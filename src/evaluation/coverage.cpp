@@ -307,7 +307,11 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
                   ? (part.local.size() >= 2 ? bearing_deg(part.local[0], part.local[1]) : 0.0)
                   : part.attitude.heading_deg.front();
           std::size_t g = 0;
-          while (g < res.oblique.size() && (std::abs(res.oblique[g].heading_deg - heading) > 0.05 ||
+          auto apart = [](double x, double y) {  // degrees between two bearings
+            const double d = std::fmod(std::abs(x - y), 360.0);
+            return std::min(d, 360.0 - d);
+          };
+          while (g < res.oblique.size() && (apart(res.oblique[g].heading_deg, heading) > 0.05 ||
                                             std::abs(res.oblique[g].gimbal_pitch_deg - pitch) > 0.05))
             ++g;
           if (g == res.oblique.size()) {

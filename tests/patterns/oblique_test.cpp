@@ -190,6 +190,40 @@ TEST(Oblique, FootprintsReachTheFieldEdges) {
   }
 }
 
+// Two UAVs on an L-shaped field, the sweep direction left to the planner: both fly the same four headings
+// (from the division's direction), and each direction alone still sees >= 95 % of the field.
+TEST(Oblique, SharedAmongUavsOnAnLShape) {
+  json j = oblique_mission(2);
+  j.erase("planner_params");
+  j["area"]["coordinates"] = {
+      json::array({at(0, 0), at(400, 0), at(400, 200), at(200, 200), at(200, 400), at(0, 400), at(0, 0)})};
+  j["uavs"][0]["start"] = at(-30, -30);
+  j["uavs"][1]["start"] = at(430, -30);
+  // (the case where the region swept north of the east UAV's part once lost its area in the overlay: edges
+  // nearly along the growth)
+  j["camera"] = {{"altitude_m", 80}, {"hfov_deg", 70}, {"vfov_deg", 50}, {"overlap", 1.4}};
+  j["pattern"]["oblique"]["gimbal_pitch_deg"] = -50;
+  j["no_fly_zones"] = json::array(
+      {{{"type", "Polygon"},
+        {"coordinates",
+         {json::array({at(250, -90), at(350, -90), at(350, -30), at(250, -30), at(250, -90)})}}}});
+  const Plan p = plan_of(j);
+  std::array<std::set<long>, 2> headings;
+  for (std::size_t u = 0; u < 2; ++u)
+    for (const auto& part : p.uavs[u].parts)
+      if (is_oblique(part)) headings[u].insert(std::lround(part.attitude.heading_deg.front() * 1000));
+  EXPECT_EQ(headings[0].size(), 4u);
+  EXPECT_EQ(headings[0], headings[1]);
+  const auto ev = evaluation::evaluate_plan(p);
+  ASSERT_EQ(ev.coverage.oblique.size(), 4u);
+  for (const auto& d : ev.coverage.oblique) EXPECT_GE(d.poc, 0.95) << d.heading_deg;
+  EXPECT_GT(*ev.coverage.nadir_poc, 0.98);
+  // every pass's grown area is at least its UAV's region (diagnostics.oblique_passes[].area_m2)
+  for (const auto& u : p.uavs)
+    for (const auto& pass : u.diagnostics["oblique_passes"])
+      EXPECT_GE(pass["area_m2"].get<double>(), 0.99 * bg::area(u.region_local)) << u.id;
+}
+
 // The growth matters: the same passes flown over the field itself (no growth) leave a strip along the edge
 // behind the camera unseen (h tan(tilt - vfov/2) = 41 m of 300 m): each direction sees < 90 %.
 TEST(Oblique, WithoutTheGrowthTheEdgesAreMissed) {

@@ -162,6 +162,7 @@ MultiPolygon inset_against(const MultiPolygon& region, const MultiPolygon& other
 /// its copy moved by v, and the band each edge sweeps between them.
 MultiPolygon swept_along(const MultiPolygon& region, Point v) {
   MultiPolygon pieces;
+  const double len = std::hypot(v.x(), v.y());
   auto moved = [&](const Polygon& poly) {
     Polygon out;
     for (const auto& q : poly.outer()) out.outer().push_back(Point{q.x() + v.x(), q.y() + v.y()});
@@ -175,7 +176,9 @@ MultiPolygon swept_along(const MultiPolygon& region, Point v) {
     for (std::size_t i = 1; i < r.size(); ++i) {
       const Point a = r[i - 1], b = r[i];
       const double cross = (b.x() - a.x()) * v.y() - (b.y() - a.y()) * v.x();
-      if (std::abs(cross) < 1e-9) continue;  // an edge along v sweeps no area
+      // an edge (nearly) along v sweeps a band under 1 cm wide: the region and its copy cover it, and
+      // such slivers make the overlay fail
+      if (std::abs(cross) < 0.01 * len) continue;
       Polygon band;
       band.outer() = {a, b, Point{b.x() + v.x(), b.y() + v.y()}, Point{a.x() + v.x(), a.y() + v.y()}, a};
       bg::correct(band);
@@ -187,7 +190,16 @@ MultiPolygon swept_along(const MultiPolygon& region, Point v) {
     pieces.push_back(moved(poly));
     bands(poly.outer());
   }
-  return geometry::unite(pieces);
+  MultiPolygon out = geometry::unite(pieces);
+  // a failed overlay (it loses area): the convex hull of the region and its copy, which holds the sum
+  if (!bg::is_valid(out) || bg::area(out) < 0.999 * bg::area(region)) {
+    MultiPolygon both = region;
+    for (const auto& poly : region) both.push_back(moved(poly));
+    Polygon hull;
+    bg::convex_hull(both, hull);
+    out = {hull};
+  }
+  return out;
 }
 
 /// Clearance kept from no-fly zones: legs that end at a no-fly zone's edge end this far from it, so
@@ -248,6 +260,9 @@ class BoustrophedonPlanner final : public Planner {
 
     // division among the UAVs
     std::vector<MultiPolygon> regions(n);
+    // the oblique passes' headings (docs/patterns.md "Obliques"): the same for every UAV, from the legs'
+    // direction given, else the division's, else (one UAV) its own decomposition's
+    std::optional<double> heading_ref = fixed;
     if (n == 1) {
       regions[0] = p.free;
     } else {
@@ -259,6 +274,7 @@ class BoustrophedonPlanner final : public Planner {
       const Division div = divide(p.free, p.shares, p.starts, angle, p.spacing_m, ctx);
       regions = div.regions;
       out.diagnostics["division_angle_deg"] = to_bearing(angle);
+      if (!heading_ref) heading_ref = angle;
       out.diagnostics["division_pieces"] = div.pieces;
       out.diagnostics["division_split_failures"] = div.split_failures;
     }
@@ -397,6 +413,7 @@ class BoustrophedonPlanner final : public Planner {
             h, ob.gimbal_pitch_deg, photo::fov_deg(footprint, h), photo::fov_deg(along, h));
         const double growth = fp.centre_m;  // h tan(tilt)
         const double lanes = to_bearing(lay.angle);
+        const double reference = to_bearing(heading_ref.value_or(lay.angle));
         const double front = p.camera ? p.camera->front_overlap : 0.75;
         SweepOptions oopt = opt;
         oopt.mode = Mode::Strict;  // the grown area is the pass's whole ground: nothing to extend past
@@ -404,7 +421,7 @@ class BoustrophedonPlanner final : public Planner {
         ua.attitude.resize(ua.coverage.size());
         for (int d = 0; d < ob.directions; ++d) {
           ctx.check();
-          const double heading = std::fmod(lanes + d * 360.0 / ob.directions, 360.0);
+          const double heading = std::fmod(reference + d * 360.0 / ob.directions, 360.0);
           const double b = heading * kPi / 180.0;
           MultiPolygon grown = swept_along(planned, Point{-growth * std::sin(b), -growth * std::cos(b)});
           if (!others.empty()) grown = inset_against(grown, others, eps);
