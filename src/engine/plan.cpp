@@ -52,6 +52,9 @@ void check_capabilities(const planners::PlannerInfo& info, const Mission& m) {
     refuse(p.entry != "auto", c.entry, "entry");
     refuse(p.alternate_transects, c.alternate_transects, "alternate_transects");
     refuse(p.capture_in_turnaround, c.capture_in_turnaround, "capture_in_turnaround");
+    refuse(p.oblique.has_value(), c.oblique, "oblique");
+    if (p.oblique && m.corridor)
+      throw InputError("pattern.oblique", "oblique passes are planned over areas, not corridors");
   }
   if (!c.shares)
     for (std::size_t i = 1; i < m.uavs.size(); ++i)

@@ -322,6 +322,18 @@ std::optional<planners::Assignment> plan_by_parts(const planners::PlannerInfo& i
       }
       for (auto& cov : p.coverage)
         if (!cov.empty()) here = cov.back();
+      // the per-part camera flags and attitudes stay parallel to the coverage parts
+      if (!p.camera_off.empty()) {
+        ua.camera_off.resize(offset);
+        for (std::size_t k = 0; k < p.coverage.size(); ++k)
+          ua.camera_off.push_back(k < p.camera_off.size() ? std::move(p.camera_off[k])
+                                                          : std::vector<std::uint8_t>{});
+      }
+      if (!p.attitude.empty()) {
+        ua.attitude.resize(offset);
+        for (std::size_t k = 0; k < p.coverage.size(); ++k)
+          ua.attitude.push_back(k < p.attitude.size() ? std::move(p.attitude[k]) : Attitude{});
+      }
       for (auto& cov : p.coverage) ua.coverage.push_back(std::move(cov));
       if (any_share) {
         double region_total = 0;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "photo/oblique.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::evaluation {
@@ -127,6 +128,67 @@ void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f, double e
   }
 }
 
+/// Calls f(row, c0, c1) for the samples whose centres lie in the convex hull of `pts`.
+template <typename F>
+void rasterise_hull(const Lattice& l, std::vector<Point> pts, F&& f) {
+  // monotone chain
+  std::sort(pts.begin(), pts.end(), [](const Point& a, const Point& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  auto cross = [](const Point& o, const Point& a, const Point& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Point> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  if (hull.size() < 3) return;
+  double ymin = hull[0].y(), ymax = hull[0].y();
+  for (const auto& p : hull) ymin = std::min(ymin, p.y()), ymax = std::max(ymax, p.y());
+  const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - l.y0) / l.s)));
+  const int r1 = std::min(l.rows - 1, static_cast<int>(std::floor((ymax - l.y0) / l.s)));
+  for (int r = r0; r <= r1; ++r) {
+    const double y = l.y0 + r * l.s;
+    double xmin = 1e300, xmax = -1e300;
+    for (std::size_t e = 0; e < hull.size(); ++e) {
+      const Point& p = hull[e];
+      const Point& q = hull[(e + 1) % hull.size()];
+      const double ylo = std::min(p.y(), q.y()), yhi = std::max(p.y(), q.y());
+      if (y < ylo || y > yhi) continue;
+      if (yhi - ylo < 1e-12) {
+        xmin = std::min({xmin, p.x(), q.x()});
+        xmax = std::max({xmax, p.x(), q.x()});
+      } else {
+        const double x = p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x());
+        xmin = std::min(xmin, x);
+        xmax = std::max(xmax, x);
+      }
+    }
+    if (xmin > xmax) continue;
+    const int c0 = std::max(0, static_cast<int>(std::ceil((xmin - l.x0) / l.s)));
+    const int c1 = std::min(l.cols - 1, static_cast<int>(std::floor((xmax - l.x0) / l.s)));
+    if (c0 <= c1) f(r, c0, c1);
+  }
+}
+
+/// A coverage part flown with a tilted gimbal (docs/patterns.md "Obliques"), with a footprint on the ground.
+bool tilted(const PathPart& part, const CoverageOptions& o) {
+  return part.kind == PartKind::Coverage && part.attitude.gimbal_pitch_deg &&
+         *part.attitude.gimbal_pitch_deg > -90.0 + 1e-9 && o.hfov_deg > 0.0 && o.vfov_deg > 0.0;
+}
+
+double bearing_deg(Point a, Point b) {
+  double d = std::atan2(b.x() - a.x(), b.y() - a.y()) * 180.0 / 3.14159265358979323846;
+  return d < 0 ? d + 360.0 : d;
+}
+
 double polyline_length(const std::vector<Point>& pts) {
   double len = 0.0;
   for (std::size_t k = 1; k < pts.size(); ++k) len += bg::distance(pts[k - 1], pts[k]);
@@ -221,19 +283,74 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
     if (options.context != nullptr) options.context->check();
   };
   check();
+  // oblique parts (docs/patterns.md "Obliques"): the samples each direction and the nadir parts see
+  bool any_tilted = false;
+  for (const auto& f : flights)
+    for (const auto& part : f) any_tilted = any_tilted || tilted(part, options);
+  std::vector<std::vector<std::uint64_t>> dir_bits;
+  std::vector<std::uint64_t> nadir_bits(any_tilted ? words : 0, 0);
   for (std::size_t u = 0; u < flights.size(); ++u) {
     std::fill(mine.begin(), mine.end(), 0);
     for (const auto& part : flights[u]) {
       if (part.kind == PartKind::Transit && !options.count_transit) continue;
+      std::uint64_t* seen = nullptr;  // the direction's (or the nadir parts') samples
+      std::optional<photo::ObliqueFootprint> fp;
+      if (any_tilted && part.kind == PartKind::Coverage) {
+        if (tilted(part, options)) {
+          const double pitch = *part.attitude.gimbal_pitch_deg;
+          const double h = part.attitude.altitude_m.value_or(options.altitude_m);
+          // a footprint that reaches the horizon (a facade orbit's camera) sees no bounded ground
+          if (!(h > 0.0) || 90.0 + pitch + 0.5 * options.vfov_deg >= 89.0) continue;
+          fp = photo::oblique_footprint(h, pitch, options.hfov_deg, options.vfov_deg);
+          const double heading =
+              part.attitude.heading_deg.empty()
+                  ? (part.local.size() >= 2 ? bearing_deg(part.local[0], part.local[1]) : 0.0)
+                  : part.attitude.heading_deg.front();
+          std::size_t g = 0;
+          auto apart = [](double x, double y) {  // degrees between two bearings
+            const double d = std::fmod(std::abs(x - y), 360.0);
+            return std::min(d, 360.0 - d);
+          };
+          while (g < res.oblique.size() && (apart(res.oblique[g].heading_deg, heading) > 0.05 ||
+                                            std::abs(res.oblique[g].gimbal_pitch_deg - pitch) > 0.05))
+            ++g;
+          if (g == res.oblique.size()) {
+            res.oblique.push_back({heading, pitch, 0.0, 0});
+            dir_bits.emplace_back(words, 0);
+          }
+          ++res.oblique[g].parts;
+          seen = dir_bits[g].data();
+        } else {
+          seen = nadir_bits.data();
+        }
+      }
       const auto count = [&](int r, int c0, int c1) {
-        std::int32_t* base = mine.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
+        const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(l.cols);
+        std::int32_t* base = mine.data() + row;
         for (int c = c0; c <= c1; ++c) ++base[c];
+        if (seen != nullptr)
+          for (int c = c0; c <= c1; ++c) {
+            const std::size_t i = row + static_cast<std::size_t>(c);
+            seen[i / 64] |= std::uint64_t{1} << (i % 64);
+          }
       };
       for (std::size_t k = 1; k < part.local.size(); ++k) {
         if (k % 64 == 0) check();
         // turns and turnarounds with the camera off see nothing (docs/patterns.md)
         if (part.kind == PartKind::Coverage && !part.camera_on(k - 1)) continue;
         const Point a = part.local[k - 1], b = part.local[k];
+        if (fp) {  // the trapezoid swept from a to b: the hull of its two positions (flat ground)
+          const double heading = part.attitude.heading_deg.size() == part.local.size()
+                                     ? part.attitude.heading_deg[k - 1]
+                                 : part.attitude.heading_deg.empty() ? bearing_deg(a, b)
+                                                                     : part.attitude.heading_deg.front();
+          const auto ca = photo::footprint_corners(*fp, a, heading);
+          const auto cb = photo::footprint_corners(*fp, b, heading);
+          std::vector<Point> pts(ca.begin(), ca.end());
+          pts.insert(pts.end(), cb.begin(), cb.end());
+          rasterise_hull(l, std::move(pts), count);
+          continue;
+        }
         if (!options.widths) {
           const double w = res.uavs[u].footprint_m;
           rasterise_leg(l, a, b, w, count, 0.5 * w, 0.5 * w);
@@ -268,6 +385,16 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
     fill_stats(res.uavs[u].stats, mine, mask, n_free);
   }
   fill_stats(res.total, res.scans, mask, n_free);
+  if (any_tilted) {
+    auto share = [&](const std::vector<std::uint64_t>& bits) {
+      std::size_t seen = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (mask[i] >= 0 && ((bits[i / 64] >> (i % 64)) & 1U)) ++seen;
+      return n_free ? static_cast<double>(seen) / static_cast<double>(n_free) : 0.0;
+    };
+    res.nadir_poc = share(nadir_bits);
+    for (std::size_t g = 0; g < res.oblique.size(); ++g) res.oblique[g].poc = share(dir_bits[g]);
+  }
 
   // area share: every scanned sample split equally among the UAVs that scan it
   std::size_t covered = 0;

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "uavcover/context.hpp"
@@ -26,6 +27,13 @@ struct CoverageOptions {
   std::function<std::vector<double>(std::size_t uav, PartKind kind, Point a, Point b, std::size_t pieces)>
       widths;
   double piece_m = 2.0;  ///< length of the pieces when `widths` is set
+  /// Oblique parts (docs/patterns.md "Obliques"): a coverage part whose attitude has a gimbal pitch other
+  /// than -90 sweeps the tilted camera's trapezoid (photo::oblique_footprint) at `altitude_m` (the part's
+  /// own altitude_m when it has one), facing the part's heading_deg (per vertex; empty: along the track),
+  /// with these fields of view. hfov_deg 0: no camera, every part sweeps the nadir square.
+  double hfov_deg = 0.0;
+  double vfov_deg = 0.0;
+  double altitude_m = 0.0;
 };
 
 struct CoverageStats {
@@ -46,7 +54,19 @@ struct UavCoverage {
   double footprint_m = 0.0;  ///< the w its legs were swept with
 };
 
+/// The samples one oblique direction sees (all UAVs' parts with that heading and pitch).
+struct DirectionCoverage {
+  double heading_deg = 0.0;  ///< where the camera faces (the parts' first vertex's heading)
+  double gimbal_pitch_deg = 0.0;
+  double poc = 0.0;  ///< share of the free area's samples inside at least one of its footprints
+  int parts = 0;     ///< coverage parts swept with it
+};
+
 struct CoverageResult {
+  /// With oblique parts: the share of samples the nadir parts see (gimbal -90 or none), and per
+  /// oblique direction its own PoC (in order of first appearance). Without: empty.
+  std::optional<double> nadir_poc;
+  std::vector<DirectionCoverage> oblique;
   double lattice_m = 0.0;
   std::size_t samples = 0;
   CoverageStats total;

@@ -7,6 +7,7 @@
 
 #include "geometry/geometry.hpp"
 #include "json/strict.hpp"
+#include "photo/oblique.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
 
@@ -134,6 +135,13 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
   EvaluateOptions opt = options;
+  // oblique parts (docs/patterns.md "Obliques") sweep the tilted footprint of the mission's camera
+  if (opt.coverage.hfov_deg <= 0.0 && plan.mission.camera && plan.mission.along_track_footprint_m &&
+      plan.mission.altitude_m > 0.0) {
+    opt.coverage.altitude_m = plan.mission.altitude_m;
+    opt.coverage.hfov_deg = photo::fov_deg(footprint_for(plan.mission), plan.mission.altitude_m);
+    opt.coverage.vfov_deg = photo::fov_deg(*plan.mission.along_track_footprint_m, plan.mission.altitude_m);
+  }
   // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
   set_uav_footprints(plan.mission, plan.uavs.size(), w, opt.coverage);
   std::optional<Evaluation::TerrainFootprints> tf;
@@ -190,8 +198,22 @@ json to_json(const CoverageStats& s) {
               {"length_per_1000m2", s.length_per_1000m2}};
 }
 
+namespace {
+/// The oblique block (docs/patterns.md "Obliques"): the nadir parts' PoC and each direction's.
+json oblique_json(const CoverageResult& c) {
+  json dirs = json::array();
+  for (const auto& d : c.oblique)
+    dirs.push_back({{"heading_deg", d.heading_deg},
+                    {"gimbal_pitch_deg", d.gimbal_pitch_deg},
+                    {"poc", d.poc},
+                    {"parts", d.parts}});
+  return {{"nadir_poc", *c.nadir_poc}, {"directions", std::move(dirs)}};
+}
+}  // namespace
+
 json to_json(const CoverageResult& c, double footprint_m) {
   json j = to_json(c.total);
+  if (c.nadir_poc) j["oblique"] = oblique_json(c);
   j["footprint_m"] = footprint_m;
   j["lattice_m"] = c.lattice_m;
   j["samples"] = c.samples;
@@ -278,6 +300,7 @@ json evaluation_json(const Evaluation& e) {
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
+  if (e.coverage.nadir_poc) j["oblique"] = oblique_json(e.coverage);
   if (e.images) j["images"] = photo::to_json(*e.images);
   if (e.terrain) j["terrain_footprints"] = terrain_json(*e.terrain);
   if (e.facade) j["facade"] = to_json(*e.facade);

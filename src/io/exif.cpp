@@ -23,6 +23,8 @@ void init_exiv2() {
   static std::once_flag once;
   std::call_once(once, [] {
     Exiv2::XmpParser::initialize();
+    // DJI's namespace: looking up an unregistered prefix throws (a photo without DJI's XMP included)
+    Exiv2::XmpProperties::registerNs("http://www.dji.com/drone-dji/1.0/", "drone-dji");
     Exiv2::LogMsg::setLevel(Exiv2::LogMsg::mute);  // warnings on odd files go to our errors, not stderr
   });
 }

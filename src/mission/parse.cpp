@@ -10,6 +10,8 @@
 #include "json/strict.hpp"
 #include "mission/mission_json.hpp"
 #include "mission/parse_internal.hpp"
+#include "mission/pattern.hpp"
+#include "photo/oblique.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
@@ -240,6 +242,33 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
                       "lower {}.front_overlap",
                       u.speed_mps, *trigger / u.speed_mps, *trigger, cam_field, *cam->min_trigger_interval_s,
                       std::floor(fastest * 1000) / 1000, cam_field));
+  }
+  // oblique passes (docs/patterns.md "Obliques"): the mission camera's fields of view tilt the footprint
+  if (m.pattern && m.pattern->oblique) {
+    const Oblique& o = *m.pattern->oblique;
+    if (!m.camera || !m.footprint_m || !m.along_track_footprint_m)
+      throw InputError(
+          "pattern.oblique",
+          "needs a camera block (its fields of view give the tilted footprint) instead of spacing_m");
+    for (std::size_t i = 0; i < raw.uavs.size(); ++i)
+      if (raw.uavs[i].camera)
+        throw InputError(
+            idx("uavs", i) + ".camera",
+            "the oblique passes (pattern.oblique) fly the mission's camera; give no UAV its own");
+    if (!o.nadir && m.pattern->crosshatch)
+      throw InputError("pattern.crosshatch",
+                       "crosses the nadir grid, which pattern.oblique.nadir false leaves out");
+    const double vfov = photo::fov_deg(*m.along_track_footprint_m, m.altitude_m);
+    const double far_edge = 90.0 + o.gimbal_pitch_deg + 0.5 * vfov;
+    if (far_edge > mission::kMaxObliqueFarEdgeDeg)
+      throw InputError(
+          "pattern.oblique.gimbal_pitch_deg",
+          fmt::format(
+              "with the camera's vertical field of view of {:.3g} degrees the footprint's far edge would "
+              "be {:.3g} degrees from nadir (at most {}: closer to the horizon the footprint grows "
+              "without bound); pitch the gimbal down to at most {:.3g}",
+              vfov, far_edge, mission::kMaxObliqueFarEdgeDeg,
+              mission::kMaxObliqueFarEdgeDeg - 0.5 * vfov - 90.0));
   }
   m.uavs = raw.uavs;
   return m;

@@ -109,11 +109,38 @@ GeoPolygon corridor_polygon(const Corridor& c) {
   return out;
 }
 
+Oblique parse_oblique(const json& j) {
+  if (!j.is_object())
+    throw InputError("pattern.oblique",
+                     "expected an object {\"gimbal_pitch_deg\": -45, \"directions\": 4, \"nadir\": true}");
+  known_fields(j, {"gimbal_pitch_deg", "directions", "nadir"}, "pattern.oblique.");
+  Oblique o;
+  if (j.contains("gimbal_pitch_deg")) {
+    o.gimbal_pitch_deg = finite_number(j["gimbal_pitch_deg"], "pattern.oblique.gimbal_pitch_deg");
+    if (o.gimbal_pitch_deg < kMinObliquePitchDeg || o.gimbal_pitch_deg > kMaxObliquePitchDeg)
+      throw InputError("pattern.oblique.gimbal_pitch_deg",
+                       fmt::format("must be in [{}, {}] degrees (-90 is nadir: use nadir: true), got {}",
+                                   kMinObliquePitchDeg, kMaxObliquePitchDeg, j["gimbal_pitch_deg"].dump()));
+  }
+  if (j.contains("directions")) {
+    const json& d = j["directions"];
+    if (!d.is_number_integer() || d.get<long long>() < 1 || d.get<long long>() > kMaxObliqueDirections)
+      throw InputError(
+          "pattern.oblique.directions",
+          fmt::format("must be a whole number from 1 to {}, got {}", kMaxObliqueDirections, d.dump()));
+    o.directions = static_cast<int>(d.get<long long>());
+  }
+  if (j.contains("nadir")) o.nadir = boolean(j["nadir"], "pattern.oblique.nadir");
+  return o;
+}
+
 Pattern parse_pattern(const json& j) {
   if (!j.is_object()) throw InputError("pattern", "expected an object");
-  known_fields(j, {"crosshatch", "turnaround_m", "entry", "alternate_transects", "capture_in_turnaround"},
-               "pattern.");
+  known_fields(
+      j, {"crosshatch", "turnaround_m", "entry", "alternate_transects", "capture_in_turnaround", "oblique"},
+      "pattern.");
   Pattern p;
+  if (j.contains("oblique")) p.oblique = parse_oblique(j["oblique"]);
   if (j.contains("crosshatch")) p.crosshatch = boolean(j["crosshatch"], "pattern.crosshatch");
   if (j.contains("turnaround_m")) {
     p.turnaround_m = finite_number(j["turnaround_m"], "pattern.turnaround_m");
@@ -140,11 +167,16 @@ json corridor_json(const Corridor& c) {
 }
 
 json pattern_json(const Pattern& p) {
-  return {{"crosshatch", p.crosshatch},
-          {"turnaround_m", p.turnaround_m},
-          {"entry", p.entry},
-          {"alternate_transects", p.alternate_transects},
-          {"capture_in_turnaround", p.capture_in_turnaround}};
+  json j = {{"crosshatch", p.crosshatch},
+            {"turnaround_m", p.turnaround_m},
+            {"entry", p.entry},
+            {"alternate_transects", p.alternate_transects},
+            {"capture_in_turnaround", p.capture_in_turnaround}};
+  if (p.oblique)
+    j["oblique"] = {{"gimbal_pitch_deg", p.oblique->gimbal_pitch_deg},
+                    {"directions", p.oblique->directions},
+                    {"nadir", p.oblique->nadir}};
+  return j;
 }
 
 }  // namespace uavcover::mission

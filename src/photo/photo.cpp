@@ -80,14 +80,19 @@ std::optional<Estimate> estimate(const Plan& plan) {
           continue;
         }
         if (len <= kMinLeg) continue;
-        const int n = leg_images(len, trigger);
+        // a part with its own trigger distance (oblique passes, docs/patterns.md) shoots at it
+        const int n = leg_images(len, part.attitude.trigger_distance_m.value_or(trigger));
         ++u.legs;
         // a leg starting where the previous one ended shares its first image with that one's last
         const bool shared = corner && same_place(*corner, part.wgs84[k - 1]);
         u.images += shared ? n - 1 : n;
         u.shared_corners += shared ? 1 : 0;
-        along_fraction += len / along;
-        gaps += n - 1;
+        const bool oblique = part.attitude.gimbal_pitch_deg && *part.attitude.gimbal_pitch_deg > -90.0 + 1e-9;
+        if (oblique) u.oblique_images += shared ? n - 1 : n;
+        if (!oblique) {  // the achieved front overlap is the nadir footprint's
+          along_fraction += len / along;
+          gaps += n - 1;
+        }
         corner = part.wgs84[k];
       }
     }
@@ -96,6 +101,7 @@ std::optional<Estimate> estimate(const Plan& plan) {
     u.hover_time_s = c.capture == "hover" ? u.images * kHoverHoldS : 0.0;
     u.storage_mb = u.images * c.image_size_mb;
     e.images += u.images;
+    e.oblique_images += u.oblique_images;
     e.storage_mb += u.storage_mb;
     e.uavs.push_back(std::move(u));
   }
@@ -110,6 +116,7 @@ nlohmann::json to_json(const Estimate& e) {
                     {"legs", u.legs},
                     {"images", u.images},
                     {"shared_corners", u.shared_corners},
+                    {"oblique_images", u.oblique_images},
                     {"trigger_distance_m", u.trigger_distance_m},
                     {"footprint_across_m", u.footprint_across_m},
                     {"trigger_interval_s", u.trigger_interval_s},
@@ -124,6 +131,7 @@ nlohmann::json to_json(const Estimate& e) {
           {"front_overlap", e.front_overlap},
           {"gimbal_pitch_deg", e.gimbal_pitch_deg},
           {"images", e.images},
+          {"oblique_images", e.oblique_images},
           {"storage_mb", e.storage_mb},
           {"uavs", std::move(uavs)}};
 }

@@ -38,6 +38,7 @@ struct UavImages {
   /// starts where the previous shot leg ended: that image is taken once, see mission_items()).
   int images = 0;
   int shared_corners = 0;           ///< corners shot once for two legs
+  int oblique_images = 0;           ///< of `images`, those on parts with a tilted gimbal (docs/patterns.md)
   double trigger_distance_m = 0.0;  ///< its camera's (uavs[i].camera, else the mission's)
   double footprint_across_m = 0.0;  ///< its camera's across-track footprint
   double trigger_interval_s = 0.0;  ///< trigger distance / the UAV's speed
@@ -56,6 +57,7 @@ struct Estimate {
       0.0;  ///< achieved: 1 - mean (distance between shots / its camera's along-track footprint)
   double gimbal_pitch_deg = -90.0;
   int images = 0;
+  int oblique_images = 0;  ///< of `images`, those on parts with a tilted gimbal (docs/patterns.md)
   double storage_mb = 0.0;
   std::vector<UavImages> uavs;
 };

@@ -125,6 +125,7 @@ struct Capabilities {
   bool alternate_transects = false;
   bool capture_in_turnaround = false;
   bool structure = false;  ///< mission field `structure`: facade orbits (src/planners/structure/)
+  bool oblique = false;    ///< pattern.oblique: nadir grid and fixed-heading oblique passes (areas)
 };
 
 class Planner {

@@ -177,7 +177,8 @@ nlohmann::json describe(const PlannerInfo& planner) {
             {"entry", c.entry},
             {"alternate_transects", c.alternate_transects},
             {"capture_in_turnaround", c.capture_in_turnaround},
-            {"structure", c.structure}}}};
+            {"structure", c.structure},
+            {"oblique", c.oblique}}}};
 }
 
 }  // namespace uavcover::planners

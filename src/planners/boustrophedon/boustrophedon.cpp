@@ -6,6 +6,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "geometry/geometry.hpp"
+#include "photo/oblique.hpp"
 #include "planners/boustrophedon/decomposition.hpp"
 #include "planners/boustrophedon/division.hpp"
 #include "planners/boustrophedon/ordering.hpp"
@@ -157,6 +159,50 @@ MultiPolygon inset_against(const MultiPolygon& region, const MultiPolygon& other
   return out;
 }
 
+/// The region swept along the vector v (the Minkowski sum of the region and the segment 0-v): the region,
+/// its copy moved by v, and the band each edge sweeps between them.
+MultiPolygon swept_along(const MultiPolygon& region, Point v) {
+  MultiPolygon pieces;
+  const double len = std::hypot(v.x(), v.y());
+  auto moved = [&](const Polygon& poly) {
+    Polygon out;
+    for (const auto& q : poly.outer()) out.outer().push_back(Point{q.x() + v.x(), q.y() + v.y()});
+    for (const auto& in : poly.inners()) {
+      out.inners().emplace_back();
+      for (const auto& q : in) out.inners().back().push_back(Point{q.x() + v.x(), q.y() + v.y()});
+    }
+    return out;
+  };
+  auto bands = [&](const Ring& r) {
+    for (std::size_t i = 1; i < r.size(); ++i) {
+      const Point a = r[i - 1], b = r[i];
+      const double cross = (b.x() - a.x()) * v.y() - (b.y() - a.y()) * v.x();
+      // an edge (nearly) along v sweeps a band under 1 cm wide: the region and its copy cover it, and
+      // such slivers make the overlay fail
+      if (std::abs(cross) < 0.01 * len) continue;
+      Polygon band;
+      band.outer() = {a, b, Point{b.x() + v.x(), b.y() + v.y()}, Point{a.x() + v.x(), a.y() + v.y()}, a};
+      bg::correct(band);
+      pieces.push_back(std::move(band));
+    }
+  };
+  for (const auto& poly : region) {
+    pieces.push_back(poly);
+    pieces.push_back(moved(poly));
+    bands(poly.outer());
+  }
+  MultiPolygon out = geometry::unite(pieces);
+  // a failed overlay (it loses area): the convex hull of the region and its copy, which holds the sum
+  if (!bg::is_valid(out) || bg::area(out) < 0.999 * bg::area(region)) {
+    MultiPolygon both = region;
+    for (const auto& poly : region) both.push_back(moved(poly));
+    Polygon hull;
+    bg::convex_hull(both, hull);
+    out = {hull};
+  }
+  return out;
+}
+
 /// Clearance kept from no-fly zones: legs that end at a no-fly zone's edge end this far from it, so
 /// that no waypoint lies on (and, after rounding to WGS84, inside) an exclusion polygon.
 constexpr double kNoFlyClearanceM = 0.5;
@@ -216,6 +262,9 @@ class BoustrophedonPlanner final : public Planner {
 
     // division among the UAVs
     std::vector<MultiPolygon> regions(n);
+    // the oblique passes' headings (docs/patterns.md "Obliques"): the same for every UAV, from the legs'
+    // direction given, else the division's, else (one UAV) its own decomposition's
+    std::optional<double> heading_ref = fixed;
     if (n == 1) {
       regions[0] = p.free;
     } else {
@@ -227,6 +276,7 @@ class BoustrophedonPlanner final : public Planner {
       const Division div = divide(p.free, p.shares, p.starts, angle, p.spacing_m, ctx);
       regions = div.regions;
       out.diagnostics["division_angle_deg"] = to_bearing(angle);
+      if (!heading_ref) heading_ref = angle;
       out.diagnostics["division_pieces"] = div.pieces;
       out.diagnostics["division_split_failures"] = div.split_failures;
     }
@@ -333,8 +383,9 @@ class BoustrophedonPlanner final : public Planner {
       std::vector<std::size_t> first_cells(ends.size());
       std::iota(first_cells.begin(), first_cells.end(), 0);
       nlohmann::json order = nlohmann::json::array();
-      const Tour tour = fly(ends, first_cells, entry, order);
-      if (!second.empty()) {
+      const bool nadir = !(p.pattern && p.pattern->oblique && !p.pattern->oblique->nadir);
+      const Tour tour = nadir ? fly(ends, first_cells, entry, order) : Tour{};
+      if (nadir && !second.empty()) {
         std::vector<CellEnds> e2;
         for (std::size_t c : second) {
           const auto& pa = paths[c];
@@ -349,11 +400,93 @@ class BoustrophedonPlanner final : public Planner {
         cells.push_back(
             {{"crosshatch_angle_deg", to_bearing(cross->angle)}, {"cell_order", std::move(order2)}});
       }
+      // oblique passes (docs/patterns.md "Obliques"): per direction, a lawnmower at the nadir grid's lane
+      // direction over the region swept back from where the camera faces by h tan(tilt) (so the tilted
+      // footprints reach the region's edges), never into another UAV's region or a no-fly zone, the
+      // camera at a fixed heading and the gimbal at the pattern's pitch
+      nlohmann::json passes = nlohmann::json::array();
+      if (p.pattern && p.pattern->oblique) {
+        const Oblique& ob = *p.pattern->oblique;
+        const double h = p.altitude_m;
+        const double along = k < p.uav_footprints.size() && p.uav_footprints[k].along_m > 0
+                                 ? p.uav_footprints[k].along_m
+                                 : 0.75 * footprint;
+        const photo::ObliqueFootprint fp = photo::oblique_footprint(
+            h, ob.gimbal_pitch_deg, photo::fov_deg(footprint, h), photo::fov_deg(along, h));
+        const double growth = fp.centre_m;  // h tan(tilt)
+        const double lanes = to_bearing(lay.angle);
+        const double reference = to_bearing(heading_ref.value_or(lay.angle));
+        const double front = p.camera ? p.camera->front_overlap : 0.75;
+        SweepOptions oopt = opt;
+        oopt.mode = Mode::Strict;  // the grown area is the pass's whole ground: nothing to extend past
+        oopt.overhang = false;
+        ua.attitude.resize(ua.coverage.size());
+        for (int d = 0; d < ob.directions; ++d) {
+          ctx.check();
+          const double heading = std::fmod(reference + d * 360.0 / ob.directions, 360.0);
+          const double b = heading * kPi / 180.0;
+          MultiPolygon grown = swept_along(planned, Point{-growth * std::sin(b), -growth * std::cos(b)});
+          if (!others.empty()) grown = inset_against(grown, others, eps);
+          if (!p.no_fly.empty()) {
+            MultiPolygon out_nfz;
+            bg::difference(grown, p.no_fly, out_nfz);
+            grown = std::move(out_nfz);
+          }
+          remove_near_duplicates(grown);
+          grown = drop_slivers(grown, 1e-3 * p.spacing_m);
+          Surroundings oenv;
+          oenv.area = &grown;
+          oenv.no_fly = &p.no_fly;
+          oenv.stops.add(grown);
+          oenv.stops.add(p.no_fly);
+          oenv.no_fly_edges.add(p.no_fly);
+          const Layout ol = best_layout(grown, p.spacing_m, lay.angle, ctx, f0, f0);
+          std::vector<std::size_t> which;
+          std::vector<CellEnds> e;
+          int olegs = 0;
+          for (const auto& sw : ol.sweeps) {
+            flags.emplace_back();
+            paths.push_back(lawnmower(sw, oopt, oenv, ctx, &flags.back()));
+            const auto& pa = paths.back();
+            if (pa[0].empty() || pa[1].empty()) {
+              paths.pop_back();
+              flags.pop_back();
+              continue;
+            }
+            which.push_back(paths.size() - 1);
+            CellEnds ce;
+            ce.entry = {pa[0].front(), pa[0].back(), pa[1].front(), pa[1].back()};
+            ce.exit = {pa[0].back(), pa[0].front(), pa[1].back(), pa[1].front()};
+            e.push_back(ce);
+            olegs += sw.legs;
+          }
+          if (e.empty()) continue;
+          const std::size_t before = ua.coverage.size();
+          nlohmann::json porder = nlohmann::json::array();
+          fly(e, which, ua.coverage.empty() ? entry : ua.coverage.back().back(), porder);
+          Attitude att;
+          att.gimbal_pitch_deg = ob.gimbal_pitch_deg;
+          att.trigger_distance_m = photo::oblique_trigger_distance(fp, lanes, heading, front);
+          for (std::size_t c = before; c < ua.coverage.size(); ++c) {
+            att.heading_deg.assign(ua.coverage[c].size(), heading);
+            ua.attitude.push_back(att);
+          }
+          passes.push_back({{"heading_deg", heading},
+                            {"gimbal_pitch_deg", ob.gimbal_pitch_deg},
+                            {"growth_m", growth},
+                            {"area_m2", bg::area(grown)},
+                            {"legs", olegs},
+                            {"parts", ua.coverage.size() - before},
+                            {"trigger_distance_m", *att.trigger_distance_m},
+                            {"cell_order", std::move(porder)}});
+        }
+      }
       ua.diagnostics = {{"decomposition_angle_deg", to_bearing(lay.angle)},
                         {"cells", std::move(cells)},
                         {"cell_order", std::move(order)},
                         {"legs", legs},
                         {"transit_estimate_m", tour.transit_m}};
+      if (!passes.empty()) ua.diagnostics["oblique_passes"] = std::move(passes);
       ctx.report(kStage, f1);
     }
     ctx.report(kStage, 1.0);
@@ -383,6 +516,7 @@ PlannerInfo boustrophedon_planner_info() {
   info.supports.corridor = info.supports.crosshatch = info.supports.turnaround = info.supports.entry =
       info.supports.alternate_transects = info.supports.capture_in_turnaround = true;
   info.supports.structure = true;  // facade orbits (src/planners/structure/)
+  info.supports.oblique = true;    // areas only: the engine refuses obliques over corridors
   info.create = [] { return std::make_unique<BoustrophedonPlanner>(); };
   return info;
 }
