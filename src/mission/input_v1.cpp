@@ -147,7 +147,8 @@ Raw parse_v1(const json& j) {
                      "camera",  "altitude_m",     "uavs",         "mode",
                      "planner", "planner_params", "seed",         "battery_reserve",
                      "terrain", "version",        "$schema",      "corridor",
-                     "pattern", "structure",      "objective",    "transition_altitudes"},
+                     "pattern", "structure",      "objective",    "transition_altitudes",
+                     "wind"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -232,6 +233,18 @@ Raw parse_v1(const json& j) {
   // a sortie keeps at least 10 % of a battery for flying (docs/sorties.md)
   if (j.contains("battery_reserve"))
     raw.battery_reserve = in_range(j["battery_reserve"], "battery_reserve", 0.0, 0.9);
+  // a steady wind (issue 32, docs/mission-format.md): speed in m/s, the direction it blows from
+  if (j.contains("wind")) {
+    const json& w = j["wind"];
+    if (!w.is_object())
+      throw InputError("wind", "expected an object {\"speed_mps\": ..., \"from_deg\": ...}");
+    reject_unknown(w, {"speed_mps", "from_deg"}, "wind.");
+    if (!w.contains("speed_mps")) throw InputError("wind.speed_mps", "missing");
+    Wind wind;
+    wind.speed_mps = in_range(w["speed_mps"], "wind.speed_mps", 0.0, 100.0);
+    if (w.contains("from_deg")) wind.from_deg = in_range(w["from_deg"], "wind.from_deg", 0.0, 360.0, true);
+    raw.wind = wind;
+  }
   return raw;
 }
 

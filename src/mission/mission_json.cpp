@@ -125,6 +125,7 @@ json to_json(const Mission& m) {
     j["corridor"] = corridor_json(*m.corridor);
   }
   if (m.pattern) j["pattern"] = pattern_json(*m.pattern);
+  if (m.wind) j["wind"] = {{"speed_mps", m.wind->speed_mps}, {"from_deg", m.wind->from_deg}};
   return j;
 }
 
