@@ -94,3 +94,18 @@ TEST(Cost, RejectsBadInput) {
   f[0].speed_mps = 0.0;
   EXPECT_THROW(evaluate_cost_from_durations({1.0}, f, 1e4), InputError);
 }
+
+TEST(GroundSpeed, HeadTailAndCrosswindFollowTheCrabbingModel) {
+  const std::optional<Wind> west{Wind{8.0, 270.0}};  // from the west: travels east
+  EXPECT_DOUBLE_EQ(ground_speed_mps(12.0, std::nullopt, 1.0, 0.0), 12.0);
+  EXPECT_NEAR(ground_speed_mps(12.0, west, 100.0, 0.0), 20.0, 1e-9);                    // east: tailwind
+  EXPECT_NEAR(ground_speed_mps(12.0, west, -100.0, 0.0), 4.0, 1e-9);                    // west: headwind
+  EXPECT_NEAR(ground_speed_mps(12.0, west, 0.0, 50.0), std::sqrt(144.0 - 64.0), 1e-9);  // crosswind
+  // an out-and-back leg pair takes longer in any wind than in calm air
+  const double calm = 2 * 100.0 / 12.0;
+  EXPECT_GT(
+      100.0 / ground_speed_mps(12.0, west, 100.0, 0.0) + 100.0 / ground_speed_mps(12.0, west, -100.0, 0.0),
+      calm);
+  EXPECT_GT(2 * 100.0 / ground_speed_mps(12.0, west, 0.0, 100.0), calm);
+  EXPECT_THROW(ground_speed_mps(8.0, west, 1.0, 0.0), InputError);
+}
