@@ -109,3 +109,13 @@ TEST(GroundSpeed, HeadTailAndCrosswindFollowTheCrabbingModel) {
   EXPECT_GT(2 * 100.0 / ground_speed_mps(12.0, west, 0.0, 100.0), calm);
   EXPECT_THROW(ground_speed_mps(8.0, west, 1.0, 0.0), InputError);
 }
+
+TEST(GroundSpeed, AirDistanceTimesEachLegAtItsGroundSpeed) {
+  const std::vector<Point> line{{0, 0}, {300, 0}, {300, 400}, {0, 400}};
+  EXPECT_EQ(air_length_m(line, 10.0, std::nullopt), 1000.0);  // calm air: the length itself
+  EXPECT_EQ(air_length_m(line, 10.0, Wind{0.0, 90.0}), 1000.0);
+  const std::optional<Wind> west{Wind{6.0, 270.0}};  // blows east
+  // east 300 m at 16 m/s, north 400 m at 8 m/s, west 300 m at 4 m/s: (18.75 + 50 + 75) s at 10 m/s
+  EXPECT_NEAR(air_length_m(line, 10.0, west), 10.0 * (300.0 / 16 + 400.0 / 8 + 300.0 / 4), 1e-9);
+  EXPECT_NEAR(air_distance_m({0, 0}, {300, 0}, 10.0, west), 187.5, 1e-9);
+}
