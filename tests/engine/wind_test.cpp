@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "codec/plan_codec.hpp"
@@ -86,6 +87,8 @@ TEST(WindPlanning, BoustrophedonSweepsAcrossAStrongWindWhenThatIsFaster) {
   EXPECT_EQ(windy.diagnostics["wind_sweep"]["angle_deg"], 0.0);  // north-south, across a west wind
   const Wind w{8, 270};
   const double chosen = flight_time_in(windy, w), calm_plan = flight_time_in(calm, w);
+  std::printf("calm air's east-west legs in the wind: %.2f min; the chosen sweep (angle %s): %.2f min\n",
+              calm_plan, windy.diagnostics["wind_sweep"]["angle_deg"].dump().c_str(), chosen);
   // the calm plan's legs along the wind: 10 pairs of 1200 m at 18 and 2 m/s, about 55 min
   EXPECT_GT(calm_plan, 50.0);
   EXPECT_LT(chosen, 0.9 * calm_plan) << chosen << " min against " << calm_plan << " min";
@@ -140,6 +143,8 @@ TEST(WindPlanning, SortiesAreTimedAtGroundSpeedAndFitOneBattery) {
     EXPECT_NEAR(s.duration_min, expected, 1e-9 * expected) << "sortie " << s.index;
     EXPECT_LE(s.duration_min, budget * (1 + 1e-9)) << "sortie " << s.index;
   }
+  std::printf("sorties along a 6 m/s wind: %zu (calm air: %zu)\n", windy.uavs[0].sorties.size(),
+              calm.uavs[0].sorties.size());
   EXPECT_GT(windy.uavs[0].sorties.size(), calm.uavs[0].sorties.size());
 }
 
@@ -195,6 +200,9 @@ TEST(CapabilityShares, AFastAMediumAndASlowUavFinishTogether) {
     EXPECT_NEAR(back.uavs[i].expected_finish_min, t, 0.05 * t) << p.uavs[i].id;
     EXPECT_GT(t, 5.0) << p.uavs[i].id;
   }
+  std::printf("auto shares %.3f %.3f %.3f: evaluated finish %.2f to %.2f min (spread %.1f %%)\n",
+              p.uavs[0].share_requested, p.uavs[1].share_requested, p.uavs[2].share_requested, lo, hi,
+              100 * (hi - lo) / hi);
   EXPECT_LT((hi - lo) / hi, 0.05) << "finish times from " << lo << " to " << hi << " min; "
                                   << p.diagnostics["capability_shares"].dump();
   EXPECT_GT(ev.coverage.total.poc, 0.95);
@@ -203,6 +211,8 @@ TEST(CapabilityShares, AFastAMediumAndASlowUavFinishTogether) {
   for (auto& u : j["uavs"]) u.erase("share");
   const Plan equal = plan(parse_mission(j.dump()));
   const auto eq = evaluation::evaluate_plan(equal);
+  std::printf("equal shares: flight durations %.2f %.2f %.2f min\n", eq.cost.uavs[0].flight_duration_min,
+              eq.cost.uavs[1].flight_duration_min, eq.cost.uavs[2].flight_duration_min);
   EXPECT_GT(eq.cost.uavs[2].flight_duration_min, 2.0 * eq.cost.uavs[0].flight_duration_min);
 }
 
