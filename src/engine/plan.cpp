@@ -553,10 +553,9 @@ Figures figures_of(const Plan& p, const Context& ctx) {
 /// mission leaves free, the planner's own choice (fewest turns) and fixed directions (across and along the
 /// wind, every 30 degrees) are planned, and the plan with the least flight time in that wind is kept
 /// among those whose PoC is at least the planner's own less 0.5 points (ties: the planner's own, then
-/// the first). Without wind, a corridor, or a given angle: plan_one.
-/// `chosen` receives the winning angle_deg (null: the planner's own).
-Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Context& ctx,
-                  nlohmann::json* chosen = nullptr, const nlohmann::json* sweep = nullptr) {
+/// the first). A fixed direction the planner refuses is skipped. Without wind, a corridor, or a given
+/// angle: plan_one.
+Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Context& ctx) {
   const planners::PlannerInfo* info = planners::find(mission.planner);
   const bool has_angle =
       info != nullptr && std::any_of(info->params.begin(), info->params.end(),
@@ -565,15 +564,6 @@ Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Cont
       !mission.planner_params.contains("angle_deg") || mission.planner_params["angle_deg"].is_null();
   if (!mission.wind || !(mission.wind->speed_mps > 0.0) || !has_angle || !free_angle || mission.corridor) {
     return plan_one(mission, options, ctx);
-  }
-  if (sweep != nullptr && sweep->is_object()) {  // the direction chosen before (capability shares' rounds)
-    Mission m = mission;
-    m.planner_params["angle_deg"] = sweep->at("angle_deg");
-    Plan out = plan_one(m, options, ctx);
-    out.mission.planner_params = mission.planner_params;
-    out.diagnostics["wind_sweep"] = *sweep;
-    if (chosen != nullptr) *chosen = *sweep;
-    return out;
   }
   // bearings of the legs (degrees clockwise from north, modulo 180)
   const double across = std::fmod(mission.wind->from_deg + 90.0, 180.0);
@@ -594,7 +584,22 @@ Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Cont
     });
     Mission m = mission;
     m.planner_params["angle_deg"] = cands[k];
-    Plan p = plan_one(m, options, sub);
+    std::optional<Plan> planned;
+    try {
+      planned = plan_one(m, options, sub);
+    } catch (const TimeLimitReached&) {
+      if (k == 0) throw;
+      break;
+    } catch (const InputError& e) {
+      if (k == 0) throw;
+      rows.push_back({{"angle_deg", cands[k]}, {"error", e.what()}});
+      continue;
+    } catch (const OperationError& e) {
+      if (k == 0) throw;
+      rows.push_back({{"angle_deg", cands[k]}, {"error", e.what()}});
+      continue;
+    }
+    Plan& p = *planned;
     const Figures t = figures_of(p, sub);
     if (k == 0) own = t;
     const bool covers = t.poc >= own.poc - kPocSlack - 1e-12;
@@ -616,21 +621,19 @@ Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Cont
        "the sweep direction with the least flight time in the mission's wind among those whose PoC is "
        "at least the planner's own less 0.5 points (null: the planner's own, fewest turns)"},
       {"candidates", std::move(rows)}};
-  if (chosen != nullptr) *chosen = out.diagnostics["wind_sweep"];
   return out;
 }
 
 /// The planner asked for (auto: every planner), in wind.
-Plan plan_dispatch(const Mission& mission, const PlanOptions& options, const Context& ctx,
-                   nlohmann::json* chosen = nullptr, const nlohmann::json* sweep = nullptr) {
+Plan plan_dispatch(const Mission& mission, const PlanOptions& options, const Context& ctx) {
   if (mission.planner == "auto") return plan_auto(mission, options, ctx);
-  return plan_in_wind(mission, options, ctx, chosen, sweep);
+  return plan_in_wind(mission, options, ctx);
 }
 
 /// Shares from capabilities (issue 32, docs/wind.md): UAVs with share_auto divide what the others leave
 /// in proportion to their area rate (speed x line spacing, times the share of a battery cycle spent
 /// flying when one battery is not enough), then the shares are corrected from the evaluator's finish
-/// times (expected_finish_min) until every auto UAV finishes within 2 % of the others, or 6 plans.
+/// times (expected_finish_min) until every auto UAV finishes within 2 % of the others, or 8 plans.
 Plan plan_capability_shares(const Mission& mission, const PlanOptions& options, const Context& ctx) {
   constexpr int kRounds = 8;
   constexpr double kSpread = 0.02;
