@@ -184,7 +184,13 @@ void assign_layers(Plan& out, std::vector<std::string>* warnings) {
 void set_expected_finish(Plan& out) {
   evaluation::EvaluateOptions eo;
   eo.compute_coverage = false;
-  const evaluation::Evaluation ev = evaluation::evaluate_plan(out, eo);
+  evaluation::Evaluation ev;
+  try {
+    ev = evaluation::evaluate_plan(out, eo);
+  } catch (const InputError& e) {  // the plan stays usable; its finish times are unknown (0)
+    out.warnings.push_back(std::string("expected finish times: ") + e.what());
+    return;
+  }
   for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i)
     out.uavs[i].expected_finish_min =
         ev.cost.uavs[i].flight_duration_min + ev.cost.uavs[i].change_battery_delay_min;
