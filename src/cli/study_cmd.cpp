@@ -49,6 +49,9 @@ void run_study(const StudyArgs& a) {
   if (quiet) return;
 
   std::cout << fmt::format("{} — study over {} UAV count(s)\n", mission.name, counts.size());
+  if (mission.wind && mission.wind->speed_mps > 0.0)
+    std::cout << fmt::format("times in the mission's wind: {} m/s from {} degrees\n", mission.wind->speed_mps,
+                             mission.wind->from_deg);
   std::cout << fmt::format("{:>5} {:>7} {:>7} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9}\n", "#UAVs",
                            "PoC%", "PoOC%", "#Bat/UAV", "Flight", "Deploy", "ChangeBat", "Total", "Cost",
                            "Compute");

@@ -151,6 +151,7 @@ json plan_json(const Plan& plan, const json& extra) {
                     {"length_m", u.length_m},
                     {"turns", u.turns},
                     {"transition_altitude_m", u.transition_altitude_m},
+                    {"expected_finish_min", u.expected_finish_min},
                     {"batteries", u.sorties.size()},
                     {"sorties", sorties_json(u)},
                     {"diagnostics", u.diagnostics}});
@@ -331,6 +332,7 @@ Plan load_plan(const json& pj, const json& gj) {
       up.length_m = ju[i].at("length_m").get<double>();
       up.turns = ju[i].at("turns").get<int>();
       up.transition_altitude_m = ju[i].at("transition_altitude_m").get<double>();
+      up.expected_finish_min = ju[i].value("expected_finish_min", 0.0);  // plans before issue 32: none
       up.diagnostics = ju[i].at("diagnostics");
       const auto& region = ju[i].at("region");
       if (!region.is_object() || region.value("type", "") != "MultiPolygon" ||

@@ -81,9 +81,10 @@ void assign_layers(Plan& out, std::vector<std::string>* warnings) {
     bg::envelope(up.region_local, region_box[i]);
     double t = 0;
     for (const auto& part : up.parts) {
-      const double len = geometry::length(part.local);
       const int turns = part.kind == PartKind::Coverage ? static_cast<int>(part.local.size()) : 0;
-      const double dt = evaluation::flight_duration_min(len, turns, out.mission.uavs[i]);
+      const double dt = evaluation::flight_duration_min(
+          evaluation::air_length_m(part.local, out.mission.uavs[i].speed_mps, out.mission.wind), turns,
+          out.mission.uavs[i]);
       if (part.kind == PartKind::Transit && part.local.size() >= 2) {
         Leg leg{part.local, {}, t, t + dt};
         bg::envelope(bg::model::linestring<Point>(part.local.begin(), part.local.end()), leg.box);
@@ -185,6 +186,23 @@ void assign_layers(Plan& out, std::vector<std::string>* warnings) {
         waypoints::transition_altitude(alt, static_cast<std::size_t>(colour[i]), out.mission.altitude_m);
 }
 
+/// UavPlan::expected_finish_min (issue 32, docs/wind.md): the evaluator's time model for each UAV, eq. 15
+/// under the mission's wind (its sorties' batteries) plus eq. 19's battery changes.
+void set_expected_finish(Plan& out) {
+  evaluation::EvaluateOptions eo;
+  eo.compute_coverage = false;
+  evaluation::Evaluation ev;
+  try {
+    ev = evaluation::evaluate_plan(out, eo);
+  } catch (const InputError& e) {  // the plan stays usable; its finish times are unknown (0)
+    out.warnings.push_back(std::string("expected finish times: ") + e.what());
+    return;
+  }
+  for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i)
+    out.uavs[i].expected_finish_min =
+        ev.cost.uavs[i].flight_duration_min + ev.cost.uavs[i].change_battery_delay_min;
+}
+
 }  // namespace
 
 std::vector<PlannerDescription> available_planners() {
@@ -231,6 +249,7 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   problem.mode = out.mission.mode;
   problem.seed = out.mission.seed;
   problem.pattern = out.mission.pattern;
+  problem.wind = out.mission.wind;
   if (out.mission.corridor) {
     for (const auto& p : out.mission.corridor->line) problem.corridor_line.push_back(lm.frame.to_local(p));
     problem.corridor_width_m = out.mission.corridor->width_m;
@@ -413,6 +432,7 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   // (the planner's own boundaries where it gives them)
   sorties::fill_sorties(out, sortie_options, &out.warnings, &router, &ctx);
   if (out.mission.transition_altitudes == "layers") assign_layers(out, &out.warnings);
+  set_expected_finish(out);
   ctx.report("done", 1.0);
   out.compute_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
@@ -565,11 +585,232 @@ Plan plan_auto(const Mission& mission, const PlanOptions& options, const Context
   return out;
 }
 
+/// The evaluator's flight time of a plan (eq. 17 under the mission's wind), the sum over its UAVs (ties)
+/// and its PoC.
+struct Figures {
+  double time = 0, sum = 0, poc = 0;
+};
+Figures figures_of(const Plan& p, const Context& ctx) {
+  evaluation::EvaluateOptions eo;
+  eo.coverage.context = &ctx;
+  const evaluation::Evaluation ev = evaluation::evaluate_plan(p, eo);
+  Figures f{ev.cost.flight_time_min, 0.0, ev.coverage.total.poc};
+  for (const auto& u : ev.cost.uavs) f.sum += u.flight_duration_min;
+  return f;
+}
+
+/// Sweep direction in wind (issue 32, docs/wind.md): for a planner with an `angle_deg` parameter the
+/// mission leaves free, the planner's own choice (fewest turns) and fixed directions (across and along the
+/// wind, every 30 degrees) are planned, and the plan with the least flight time in that wind is kept
+/// among those whose PoC is at least the planner's own less 0.5 points (ties: the planner's own, then
+/// the first). A fixed direction the planner refuses is skipped. Without wind, a corridor, or a given
+/// angle: plan_one.
+Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  const planners::PlannerInfo* info = planners::find(mission.planner);
+  const bool has_angle =
+      info != nullptr && std::any_of(info->params.begin(), info->params.end(),
+                                     [](const planners::ParamSpec& p) { return p.name == "angle_deg"; });
+  const bool free_angle =
+      !mission.planner_params.contains("angle_deg") || mission.planner_params["angle_deg"].is_null();
+  if (!mission.wind || !(mission.wind->speed_mps > 0.0) || !has_angle || !free_angle || mission.corridor) {
+    return plan_one(mission, options, ctx);
+  }
+  // bearings of the legs (degrees clockwise from north, modulo 180)
+  const double across = std::fmod(mission.wind->from_deg + 90.0, 180.0);
+  const double along = std::fmod(mission.wind->from_deg, 180.0);
+  std::vector<nlohmann::json> cands{nullptr, across, along};
+  for (int d = 0; d < 180; d += 30)
+    if (std::fabs(d - across) > 1e-9 && std::fabs(d - along) > 1e-9) cands.emplace_back(d);
+  constexpr double kPocSlack = 0.005;  // as "planner": "auto"
+  std::optional<Plan> best;
+  Figures best_t, own;
+  nlohmann::json best_angle, rows = nlohmann::json::array();
+  for (std::size_t k = 0; k < cands.size(); ++k) {
+    if (best && ctx.time_up()) break;  // the time limit: the best direction so far
+    const double done = static_cast<double>(k) / static_cast<double>(cands.size());
+    const double step = 1.0 / static_cast<double>(cands.size());
+    const Context sub = ctx.with_progress([&ctx, done, step](std::string_view stage, double f) {
+      ctx.report(stage, done + step * std::clamp(f, 0.0, 1.0));
+    });
+    Mission m = mission;
+    m.planner_params["angle_deg"] = cands[k];
+    std::optional<Plan> planned;
+    try {
+      planned = plan_one(m, options, sub);
+    } catch (const TimeLimitReached&) {
+      if (k == 0) throw;
+      break;
+    } catch (const InputError& e) {
+      if (k == 0) throw;
+      rows.push_back({{"angle_deg", cands[k]}, {"error", e.what()}});
+      continue;
+    } catch (const OperationError& e) {
+      if (k == 0) throw;
+      rows.push_back({{"angle_deg", cands[k]}, {"error", e.what()}});
+      continue;
+    }
+    Plan& p = *planned;
+    const Figures t = figures_of(p, sub);
+    if (k == 0) own = t;
+    const bool covers = t.poc >= own.poc - kPocSlack - 1e-12;
+    rows.push_back(
+        {{"angle_deg", cands[k]}, {"flight_time_min", t.time}, {"poc", t.poc}, {"meets_poc_rule", covers}});
+    if (!covers) continue;
+    if (!best || t.time < best_t.time - 1e-9 || (t.time < best_t.time + 1e-9 && t.sum < best_t.sum - 1e-9)) {
+      best = std::move(p);
+      best_t = t;
+      best_angle = cands[k];
+    }
+  }
+  Plan out = std::move(*best);
+  out.mission.planner_params = mission.planner_params;  // what was asked: the search is deterministic
+  out.diagnostics["wind_sweep"] = {
+      {"angle_deg", best_angle},
+      {"flight_time_min", best_t.time},
+      {"why",
+       "the sweep direction with the least flight time in the mission's wind among those whose PoC is "
+       "at least the planner's own less 0.5 points (null: the planner's own, fewest turns)"},
+      {"candidates", std::move(rows)}};
+  return out;
+}
+
+/// The planner asked for (auto: every planner), in wind.
+Plan plan_dispatch(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  if (mission.planner == "auto") return plan_auto(mission, options, ctx);
+  return plan_in_wind(mission, options, ctx);
+}
+
+/// Shares from capabilities (issue 32, docs/wind.md): UAVs with share_auto divide what the others leave
+/// in proportion to their area rate (speed x line spacing, times the share of a battery cycle spent
+/// flying when one battery is not enough), then the shares are corrected from the evaluator's finish
+/// times (expected_finish_min) until every auto UAV finishes within 2 % of the others, or 8 plans.
+Plan plan_capability_shares(const Mission& mission, const PlanOptions& options, const Context& ctx) {
+  constexpr int kRounds = 8;
+  constexpr double kSpread = 0.02;
+  const std::size_t n = mission.uavs.size();
+  std::vector<std::size_t> autos;
+  double fixed_sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (mission.uavs[i].share_auto)
+      autos.push_back(i);
+    else
+      fixed_sum += mission.uavs[i].share;
+  }
+  if (mission.planner != "auto")
+    if (const auto* info = planners::find(mission.planner); info != nullptr && !info->supports.shares)
+      throw InputError("uavs[" + std::to_string(autos.front()) + "].share",
+                       "\"auto\" needs a planner that honours shares; planner \"" + info->name +
+                           "\" divides the area equally");
+  const double rest = std::max(0.0, 1.0 - fixed_sum);
+  // the area rate (m^2 per minute of the mission) of each auto UAV
+  const double area = [&] {
+    const engine::LocalMission lm = engine::to_local(mission);
+    return std::abs(bg::area(lm.free));
+  }();
+  const evaluation::CostOptions co;
+  std::vector<double> rate(n, 0.0);
+  double rate_sum = 0.0;
+  for (std::size_t i : autos) {
+    const Uav& u = mission.uavs[i];
+    const double spacing = u.camera_geometry ? u.camera_geometry->spacing_m : mission.spacing_m;
+    rate[i] = u.speed_mps * 60.0 * spacing;  // m^2 per minute in the air
+    rate_sum += rate[i];
+  }
+  std::vector<double> share(n);
+  for (std::size_t i = 0; i < n; ++i) share[i] = mission.uavs[i].share;
+  for (std::size_t i : autos) share[i] = rest * rate[i] / rate_sum;
+  // limited by endurance: a UAV whose part outlasts one battery loses the changes' time
+  double limited_sum = 0.0;
+  for (std::size_t i : autos) {
+    const Uav& u = mission.uavs[i];
+    const double budget = u.endurance_min * (1.0 - mission.battery_reserve);
+    // eq. 19's change: the trip out and back and the change itself
+    const double change =
+        2.0 * std::sqrt(area) / (3.0 * u.speed_mps * 60.0) + co.battery_change_min * static_cast<double>(n);
+    const double air_min = share[i] * area / rate[i];
+    if (air_min > budget) rate[i] *= budget / (budget + change);
+    limited_sum += rate[i];
+  }
+  for (std::size_t i : autos) share[i] = rest * rate[i] / limited_sum;
+
+  std::optional<Plan> best;
+  double best_spread = 1e300;
+  nlohmann::json rounds = nlohmann::json::array();
+  std::vector<double> prev_share(n, 0.0), prev_t(n, 0.0);
+  for (int round = 0; round < kRounds; ++round) {
+    if (best && ctx.should_stop()) break;
+    Mission m = mission;
+    for (std::size_t i = 0; i < n; ++i) m.uavs[i].share = share[i];
+    // the sweep direction in wind is chosen again in every round (the best direction depends on the part)
+    Plan p = plan_dispatch(m, options, ctx);
+    std::vector<double> t(n, 0.0);
+    double lo = 1e300, hi = 0.0;
+    for (std::size_t i : autos) {
+      t[i] = p.uavs[i].expected_finish_min;
+      lo = std::min(lo, t[i]);
+      hi = std::max(hi, t[i]);
+    }
+    const double spread = hi > 0.0 ? (hi - lo) / hi : 0.0;
+    nlohmann::json finish = nlohmann::json::array(), shares_j = nlohmann::json::array();
+    for (std::size_t i : autos) {
+      finish.push_back(p.uavs[i].expected_finish_min);
+      shares_j.push_back(share[i]);
+    }
+    rounds.push_back(
+        {{"shares", std::move(shares_j)}, {"expected_finish_min", std::move(finish)}, {"spread", spread}});
+    if (spread < best_spread) {
+      best_spread = spread;
+      best = std::move(p);
+    }
+    if (spread <= kSpread) break;
+    // a UAV left without work (the planner's division): no rate to correct from
+    if (std::any_of(autos.begin(), autos.end(), [&](std::size_t i) { return !(t[i] > 0.0); })) break;
+    // the next shares: each UAV's finish time as a line in its share, through the last two rounds
+    // (secant) when they give a rising one, else through the origin (its achieved rate); the common
+    // finish time T at which the lines' shares add up to `rest`, each step at most x3 either way
+    double inv_sum = 0.0, base = 0.0;
+    std::vector<double> slope(n, 0.0);
+    for (std::size_t i : autos) {
+      double k = share[i] > 0.0 ? t[i] / share[i] : 0.0;
+      if (round > 0 && std::fabs(share[i] - prev_share[i]) > 1e-6 * rest) {
+        const double secant = (t[i] - prev_t[i]) / (share[i] - prev_share[i]);
+        if (secant > 0.0) k = secant;
+      }
+      if (!(k > 0.0)) k = 1.0;
+      slope[i] = k;
+      inv_sum += 1.0 / k;
+      base += share[i] - t[i] / k;
+    }
+    const double target = (rest - base) / inv_sum;
+    prev_share = share;
+    prev_t = t;
+    double sum = 0.0;
+    for (std::size_t i : autos) {
+      share[i] = std::clamp(share[i] + (target - t[i]) / slope[i], share[i] / 3.0, share[i] * 3.0);
+      sum += share[i];
+    }
+    if (!(sum > 0.0)) break;
+    for (std::size_t i : autos) share[i] *= rest / sum;
+  }
+  Plan out = std::move(*best);
+  nlohmann::json ids = nlohmann::json::array();
+  for (std::size_t i : autos) ids.push_back(mission.uavs[i].id);
+  out.diagnostics["capability_shares"] = {
+      {"uavs", std::move(ids)},
+      {"spread", best_spread},
+      {"why",
+       "shares in proportion to each UAV's area rate (speed x line spacing, less the battery changes "
+       "when one battery is not enough), corrected from the finish times until they agree within 2 %"},
+      {"rounds", std::move(rounds)}};
+  return out;
+}
+
 }  // namespace
 
 Plan plan(const Mission& mission, const PlanOptions& options, const Context& ctx) {
-  if (mission.planner == "auto") return plan_auto(mission, options, ctx);
-  return plan_one(mission, options, ctx);
+  if (std::any_of(mission.uavs.begin(), mission.uavs.end(), [](const Uav& u) { return u.share_auto; }))
+    return plan_capability_shares(mission, options, ctx);
+  return plan_dispatch(mission, options, ctx);
 }
 
 }  // namespace uavcover

@@ -4,9 +4,36 @@
 #include <cmath>
 #include <string>
 
+#include "geometry/geometry.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::evaluation {
+
+double ground_speed_mps(double airspeed_mps, const std::optional<Wind>& wind, double dx, double dy) {
+  const double len = std::hypot(dx, dy);
+  if (!wind || wind->speed_mps == 0.0 || len == 0.0) return airspeed_mps;
+  const double w = wind->speed_mps;
+  if (w >= airspeed_mps) throw InputError("wind.speed_mps", "must be below the UAV's speed_mps");
+  // the wind travels towards from_deg + 180 (bearing clockwise from north: east = sin, north = cos)
+  const double to = (wind->from_deg + 180.0) * M_PI / 180.0;
+  const double wx = std::sin(to), wy = std::cos(to);
+  const double cos_phi = (dx * wx + dy * wy) / len;
+  const double sin_phi = (dx * wy - dy * wx) / len;
+  return w * cos_phi + std::sqrt(airspeed_mps * airspeed_mps - w * w * sin_phi * sin_phi);
+}
+
+double air_distance_m(Point a, Point b, double airspeed_mps, const std::optional<Wind>& wind) {
+  const double len = bg::distance(a, b);
+  if (!wind || wind->speed_mps == 0.0 || len == 0.0) return len;
+  return len * airspeed_mps / ground_speed_mps(airspeed_mps, wind, b.x() - a.x(), b.y() - a.y());
+}
+
+double air_length_m(const std::vector<Point>& line, double airspeed_mps, const std::optional<Wind>& wind) {
+  if (!wind || wind->speed_mps == 0.0) return geometry::length(line);
+  double s = 0.0;
+  for (std::size_t i = 1; i < line.size(); ++i) s += air_distance_m(line[i - 1], line[i], airspeed_mps, wind);
+  return s;
+}
 
 namespace {
 void check_uav(const Uav& u, std::size_t i) {

@@ -1,6 +1,7 @@
 // Mission time and cost model (Apostolidis et al. 2022 §3.2, eq. 15-22).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "uavcover/mission.hpp"
@@ -12,6 +13,9 @@ struct CostOptions {
   double deployment_per_uav_min = 3.0;
   double battery_change_min = 3.0;    ///< eq. 19 and 22: minutes per battery change
   double fcm_eur_per_min = 0.017228;  ///< eq. 21: flight cost per minute
+  /// A steady wind (issue 32, docs/wind.md): eq. 15 times every leg at its ground speed. Empty in
+  /// evaluate_plan: the plan's mission's wind.
+  std::optional<Wind> wind = {};
 };
 
 struct UavCost {
@@ -34,6 +38,21 @@ struct CostResult {
 
 /// eq. 15 in minutes: length/speed + turns * c1 * speed / (c2 + |speed|) (c1 in s, c2 in m/s).
 double flight_duration_min(double length_m, int turns, const Uav& uav);
+
+/// Ground speed (m/s) along a leg of local direction (dx east, dy north) for a UAV holding its airspeed
+/// `airspeed_mps` and crabbing into `wind` (issue 32): v_g = w cos(phi) + sqrt(v^2 - (w sin(phi))^2), phi the
+/// angle between the leg and the wind's direction of travel. No wind (or a zero-length leg): the airspeed.
+/// Throws InputError("wind.speed_mps") when the wind is not slower than the airspeed.
+double ground_speed_mps(double airspeed_mps, const std::optional<Wind>& wind, double dx, double dy);
+
+/// The air distance of the leg a -> b (m): |ab| * airspeed / ground speed, the distance the UAV flies
+/// through the moving air. eq. 15's length / speed with it is the leg's time at its ground speed, so
+/// every caller of flight_duration_min() times a flight in wind by passing air lengths. No wind:
+/// bg::distance(a, b) exactly.
+double air_distance_m(Point a, Point b, double airspeed_mps, const std::optional<Wind>& wind);
+
+/// air_distance_m() summed over a polyline's legs; no wind: geometry::length(line) exactly.
+double air_length_m(const std::vector<Point>& line, double airspeed_mps, const std::optional<Wind>& wind);
 
 /// eq. 16-22 from flight durations given directly (one per UAV, minutes). `area_m2` is the ROI
 /// area used by the change-battery delay (eq. 19). `batteries`, when given (one per UAV, e.g. the

@@ -83,8 +83,16 @@ Evaluation evaluate_flights(const MultiPolygon& free, const std::vector<Flight>&
   }
   std::vector<double> lengths;
   std::vector<int> turns;
-  for (const auto& u : ev.coverage.uavs) {
-    lengths.push_back(u.stats.length_m);
+  for (std::size_t i = 0; i < ev.coverage.uavs.size(); ++i) {
+    const auto& u = ev.coverage.uavs[i];
+    double len = u.stats.length_m;
+    if (options.cost.wind && options.cost.wind->speed_mps > 0.0 && i < flights.size()) {
+      // eq. 15 in wind (issue 32): every leg at its ground speed, i.e. the air distance at the airspeed
+      len = 0.0;
+      for (const auto& part : flights[i])
+        len += air_length_m(part.local, uavs[i].speed_mps, options.cost.wind);
+    }
+    lengths.push_back(len);
     turns.push_back(u.stats.turns);
   }
   ev.cost = evaluate_cost(lengths, turns, uavs, ev.coverage.total.area_m2, options.cost);
@@ -142,6 +150,7 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
     opt.coverage.hfov_deg = photo::fov_deg(footprint_for(plan.mission), plan.mission.altitude_m);
     opt.coverage.vfov_deg = photo::fov_deg(*plan.mission.along_track_footprint_m, plan.mission.altitude_m);
   }
+  if (!opt.cost.wind) opt.cost.wind = plan.mission.wind;  // the time model in the mission's wind
   // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
   set_uav_footprints(plan.mission, plan.uavs.size(), w, opt.coverage);
   std::optional<Evaluation::TerrainFootprints> tf;
@@ -177,8 +186,7 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   if (with_sorties) {
     std::vector<double> durations;
     for (const auto& c : ev.cost.uavs) durations.push_back(c.flight_duration_min);
-    ev.cost =
-        evaluate_cost_from_durations(durations, uavs, ev.coverage.total.area_m2, options.cost, &batteries);
+    ev.cost = evaluate_cost_from_durations(durations, uavs, ev.coverage.total.area_m2, opt.cost, &batteries);
   }
   ev.images = photo::estimate(plan);
   ev.facade = evaluate_facade(plan);

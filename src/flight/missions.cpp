@@ -33,7 +33,12 @@ MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<waypoints::M
   }
   std::optional<Point> next;
   for (std::size_t j = n; j-- > 0;) {
-    m.rest_m[j] = m.rest_m[j + 1] + (m.where[j] && next ? bg::distance(*m.where[j], *next) : 0.0);
+    // air distances (issue 32): eq. 15 times each leg at its ground speed in the mission's wind
+    m.rest_m[j] =
+        m.rest_m[j + 1] + (m.where[j] && next
+                               ? evaluation::air_distance_m(
+                                     *m.where[j], *next, plan.mission.uavs[uav].speed_mps, plan.mission.wind)
+                               : 0.0);
     m.rest_turns[j] = m.rest_turns[j + 1] + (m.items[j].waypoint >= 0 ? 1 : 0);
     if (m.where[j]) next = m.where[j];
   }

@@ -48,7 +48,8 @@ struct MissionSpec {
   std::string state = "pending";  ///< pending, uploading, ready, flying, done, interrupted, skipped
   std::string waypoints;          ///< reassigned: statuses of first..last
   std::vector<waypoints::MissionItem> items;
-  // ETA: per item, the path length and coverage waypoints from that item to the end
+  // ETA: per item, the air distance (the path length in calm air; issue 32: each leg at its ground speed in
+  // the mission's wind) and coverage waypoints from that item to the end
   std::vector<double> rest_m;
   std::vector<int> rest_turns;
   std::vector<std::optional<Point>> where;  ///< each item's position (local metres), if it has one

@@ -151,7 +151,8 @@ json Flight::Impl::snapshot_locked() const {
       if (k == u.current && airborne_phase(u.phase) && u.current_item) {
         from = std::min<std::size_t>(static_cast<std::size_t>(*u.current_item), m.items.size());
         if (from < m.items.size() && m.where[from] && u.have_position)
-          left_m += bg::distance(frame.to_local(LonLat{u.lon, u.lat}), *m.where[from]);
+          left_m += evaluation::air_distance_m(frame.to_local(LonLat{u.lon, u.lat}), *m.where[from],
+                                               spec.speed_mps, plan.mission.wind);
       }
       left_m += m.rest_m[from];
       turns += m.rest_turns[from];

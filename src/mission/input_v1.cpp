@@ -74,7 +74,12 @@ void parse_uavs(const json& j, Raw& raw) {
                            "\" (ids name output files, so they must differ in more than letter case)");
     if (ju.contains("start")) u.start = position(ju["start"], f + ".start");
     std::optional<double> share;
-    if (ju.contains("share")) {
+    if (ju.contains("share") && ju["share"].is_string()) {
+      // shares from capabilities (issue 32, docs/wind.md): derived from the UAV's area rate
+      if (ju["share"] != "auto")
+        throw InputError(f + ".share", "expected a number or \"auto\", got " + ju["share"].dump());
+      u.share_auto = true;
+    } else if (ju.contains("share")) {
       share = number(ju["share"], f + ".share");
       if (*share < 0) throw InputError(f + ".share", "must not be negative, got " + ju["share"].dump());
     }
@@ -147,7 +152,8 @@ Raw parse_v1(const json& j) {
                      "camera",  "altitude_m",     "uavs",         "mode",
                      "planner", "planner_params", "seed",         "battery_reserve",
                      "terrain", "version",        "$schema",      "corridor",
-                     "pattern", "structure",      "objective",    "transition_altitudes"},
+                     "pattern", "structure",      "objective",    "transition_altitudes",
+                     "wind",    "shares"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -196,6 +202,18 @@ Raw parse_v1(const json& j) {
   if (j.contains("terrain")) raw.terrain = parse_terrain(j["terrain"]);
   if (!j.contains("uavs")) throw InputError("uavs", "missing");
   parse_uavs(j["uavs"], raw);
+  // "shares": "capability" (issue 32, docs/wind.md): every UAV's share is "auto"
+  if (j.contains("shares")) {
+    if (j["shares"] != "capability")
+      throw InputError("shares",
+                       "expected \"capability\" (or give the UAVs their shares), got " + j["shares"].dump());
+    for (std::size_t i = 0; i < raw.uavs.size(); ++i) {
+      if (raw.shares[i])
+        throw InputError(idx("uavs", i) + ".share",
+                         "\"shares\": \"capability\" derives every UAV's share; give none (or \"auto\")");
+      raw.uavs[i].share_auto = true;
+    }
+  }
   if (j.contains("mode")) {
     const std::string m = str(j["mode"], "mode");
     if (m == "strict")
@@ -232,6 +250,18 @@ Raw parse_v1(const json& j) {
   // a sortie keeps at least 10 % of a battery for flying (docs/sorties.md)
   if (j.contains("battery_reserve"))
     raw.battery_reserve = in_range(j["battery_reserve"], "battery_reserve", 0.0, 0.9);
+  // a steady wind (issue 32, docs/mission-format.md): speed in m/s, the direction it blows from
+  if (j.contains("wind")) {
+    const json& w = j["wind"];
+    if (!w.is_object())
+      throw InputError("wind", "expected an object {\"speed_mps\": ..., \"from_deg\": ...}");
+    reject_unknown(w, {"speed_mps", "from_deg"}, "wind.");
+    if (!w.contains("speed_mps")) throw InputError("wind.speed_mps", "missing");
+    Wind wind;
+    wind.speed_mps = in_range(w["speed_mps"], "wind.speed_mps", 0.0, 100.0);
+    if (w.contains("from_deg")) wind.from_deg = in_range(w["from_deg"], "wind.from_deg", 0.0, 360.0, true);
+    raw.wind = wind;
+  }
   return raw;
 }
 

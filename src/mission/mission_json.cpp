@@ -105,6 +105,7 @@ json to_json(const Mission& m) {
                {"turn_c2", u.turn_c2}};
     if (u.start) ju["start"] = {u.start->lon, u.start->lat};
     if (u.camera) ju["camera"] = camera_json(*u.camera);
+    if (u.share_auto) ju["share"] = "auto";
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
@@ -125,6 +126,7 @@ json to_json(const Mission& m) {
     j["corridor"] = corridor_json(*m.corridor);
   }
   if (m.pattern) j["pattern"] = pattern_json(*m.pattern);
+  if (m.wind) j["wind"] = {{"speed_mps", m.wind->speed_mps}, {"from_deg", m.wind->from_deg}};
   return j;
 }
 

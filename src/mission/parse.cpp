@@ -125,6 +125,7 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   m.seed = raw.seed;
   m.battery_reserve = raw.battery_reserve;
   m.terrain = raw.terrain;
+  m.wind = raw.wind;
   m.corridor = raw.corridor;
   m.pattern = raw.pattern;
   m.structure = raw.structure;
@@ -194,6 +195,15 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
   }
   if (m.spacing_m * 2 > diag * 4)
     throw InputError(spacing_field, "is far larger than the area; no grid cell would fit");
+
+  // a UAV holding its airspeed into a wind at least as fast makes no ground speed on an upwind leg
+  if (m.wind)
+    for (std::size_t i = 0; i < raw.uavs.size(); ++i)
+      if (m.wind->speed_mps >= raw.uavs[i].speed_mps)
+        throw InputError("wind.speed_mps", "must be below every UAV's speed_mps: " +
+                                               json(m.wind->speed_mps).dump() + " m/s is not below " +
+                                               raw.uavs[i].id + "'s " + json(raw.uavs[i].speed_mps).dump() +
+                                               " m/s, so a leg into the wind cannot be flown");
 
   // UAV starts: not inside a no-fly zone
   for (std::size_t i = 0; i < raw.uavs.size(); ++i) {

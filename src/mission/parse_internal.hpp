@@ -80,6 +80,7 @@ struct Raw {
   double battery_reserve = kDefaultBatteryReserve;
   std::string format = "uavcover-v1";
   std::optional<Terrain> terrain;
+  std::optional<Wind> wind;          ///< issue 32
   std::optional<Corridor> corridor;  ///< docs/patterns.md: its buffer is `area`
   std::optional<Pattern> pattern;
   std::optional<Structure> structure;  ///< docs/patterns.md: its footprint buffered by standoff_m is `area`

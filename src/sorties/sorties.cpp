@@ -40,7 +40,8 @@ struct Geo {
   Geo(const Plan& plan, const geometry::Router& r) : frame(plan.origin), router(r) {}
 };
 
-/// One UAV's coverage laid out for cutting.
+/// One UAV's coverage laid out for cutting. Lengths that time a sortie are air distances (issue 32:
+/// eq. 15 with each leg at its ground speed in the mission's wind; without wind, the lengths).
 struct Layout {
   const Plan& plan;
   std::size_t index;
@@ -51,9 +52,16 @@ struct Layout {
   std::vector<WaypointRef> wp;
   std::vector<std::size_t> wp_cov;  ///< waypoint -> index into cov_parts
   std::vector<std::size_t> cov_parts;
-  std::vector<double> cum;  ///< path length along the plan from waypoint 0
+  std::vector<double> cum;  ///< air distance along the plan from waypoint 0
   std::size_t lead_end = 0, trail_begin = 0;
   double lead_len = 0.0, trail_len = 0.0;
+
+  double air(Point a, Point b) const {
+    return evaluation::air_distance_m(a, b, uav.speed_mps, plan.mission.wind);
+  }
+  double air(const std::vector<Point>& line) const {
+    return evaluation::air_length_m(line, uav.speed_mps, plan.mission.wind);
+  }
 
   Layout(const Plan& p, std::size_t i, const Geo& g)
       : plan(p), index(i), up(p.uavs.at(i)), uav(p.mission.uavs.at(i)), geo(g) {
@@ -69,10 +77,10 @@ struct Layout {
         if (!wp.empty()) {
           const WaypointRef prev = wp.back();
           if (prev.part == pi) {
-            c = cum.back() + bg::distance(up.parts[pi].local[k - 1], part.local[k]);
+            c = cum.back() + air(up.parts[pi].local[k - 1], part.local[k]);
           } else {
             c = cum.back();
-            for (std::size_t q = prev.part + 1; q < pi; ++q) c += geometry::length(up.parts[q].local);
+            for (std::size_t q = prev.part + 1; q < pi; ++q) c += air(up.parts[q].local);
           }
         }
         wp.push_back({pi, k});
@@ -84,9 +92,8 @@ struct Layout {
     if (cov_parts.empty()) return;
     lead_end = cov_parts.front();
     trail_begin = cov_parts.back() + 1;
-    for (std::size_t q = 0; q < lead_end; ++q) lead_len += geometry::length(up.parts[q].local);
-    for (std::size_t q = trail_begin; q < up.parts.size(); ++q)
-      trail_len += geometry::length(up.parts[q].local);
+    for (std::size_t q = 0; q < lead_end; ++q) lead_len += air(up.parts[q].local);
+    for (std::size_t q = trail_begin; q < up.parts.size(); ++q) trail_len += air(up.parts[q].local);
   }
 
   std::size_t n() const { return wp.size(); }
@@ -104,7 +111,7 @@ struct Layout {
   }
   double route_len(Point a, Point b) const {
     if (bg::distance(a, b) < kSamePlaceM) return 0.0;
-    return geometry::length(routed(a, b));
+    return air(routed(a, b));
   }
   double out_len(std::size_t a) const { return a == 0 && lead_end > 0 ? lead_len : route_len(start, at(a)); }
   double back_len(std::size_t b) const {
@@ -167,9 +174,13 @@ struct Layout {
     } else if (auto t = transit(at(b), start)) {
       s.parts.push_back(std::move(*t));
     }
-    for (const auto& part : s.parts) s.length_m += geometry::length(part.local);
+    double air_m = 0.0;
+    for (const auto& part : s.parts) {
+      s.length_m += geometry::length(part.local);
+      air_m += air(part.local);
+    }
     s.turns = static_cast<int>(b - a + 1);
-    s.duration_min = duration(s.length_m, a, b);
+    s.duration_min = duration(air_m, a, b);
     return s;
   }
 };
@@ -273,7 +284,7 @@ std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx) {
     };
     const std::size_t b_bound = last_fitting(n - 1, [&](std::size_t b) {
       const double back =
-          b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : bg::distance(L.at(b), L.start);
+          b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : L.air(L.at(b), L.start);
       return L.duration(out_len + L.cum[b] - L.cum[a] + back, a, b);
     });
     std::size_t b = last_fitting(b_bound, [&](std::size_t b) { return L.cost(out_len, a, b); });

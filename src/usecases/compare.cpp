@@ -18,6 +18,7 @@ Comparison compare(const Mission& mission, const CompareOptions& options, const 
   for (const auto& n : names) (void)planners::require(n, "planners");
   Comparison out;
   out.mission = mission.name;
+  out.wind = mission.wind;
   for (std::size_t k = 0; k < names.size(); ++k) {
     CompareRow row;
     row.planner = names[k];
@@ -38,6 +39,11 @@ Comparison compare(const Mission& mission, const CompareOptions& options, const 
       evaluation::EvaluateOptions eo = options.evaluation;
       eo.coverage.context = &ctx;
       row.evaluation = evaluation::evaluate_plan(row.plan, eo);
+      if (mission.wind && mission.wind->speed_mps > 0.0) {  // the old model's figure, for comparison
+        eo.cost.wind = Wind{};
+        eo.compute_coverage = false;
+        row.flight_time_calm_min = evaluation::evaluate_plan(row.plan, eo).cost.flight_time_min;
+      }
       for (const auto& u : row.plan.uavs)
         row.max_share_deviation =
             std::max(row.max_share_deviation, std::fabs(u.share_actual - u.share_requested));
@@ -81,16 +87,23 @@ nlohmann::json compare_json(const Comparison& c) {
                             {"max_share_deviation", r.max_share_deviation},
                             {"shares", std::move(shares)},
                             {"warnings", r.plan.warnings}});
+    if (r.flight_time_calm_min) e["flight_time_calm_min"] = *r.flight_time_calm_min;
     rows.push_back(std::move(e));
   }
-  return {{"mission", c.mission}, {"planners", std::move(rows)}};
+  nlohmann::json wind = c.wind
+                            ? nlohmann::json{{"speed_mps", c.wind->speed_mps}, {"from_deg", c.wind->from_deg}}
+                            : nlohmann::json(nullptr);
+  return {{"mission", c.mission}, {"wind", std::move(wind)}, {"planners", std::move(rows)}};
 }
 
 std::string compare_markdown(const Comparison& c) {
   std::string md = fmt::format("# {} — planners compared\n\n", c.mission.empty() ? "Mission" : c.mission);
   md +=
       "Every plan is evaluated by the same simulation (square footprint swept along each leg) and cost "
-      "model.\n\n"
+      "model.\n\n" +
+      (c.wind ? fmt::format("Times are in the mission's wind: {} m/s from {} degrees.\n\n", c.wind->speed_mps,
+                            c.wind->from_deg)
+              : std::string()) +
       "| planner | PoC % | PoOC % | turns | length km | coverage km | flight min | batteries/UAV | total min "
       "| "
       "cost EUR | compute s | max share dev. |\n"

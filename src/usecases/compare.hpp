@@ -27,10 +27,13 @@ struct CompareRow {
   evaluation::Evaluation evaluation;
   double compute_s = 0.0;
   double max_share_deviation = 0.0;  ///< max |actual - requested| over the UAVs
+  /// With a wind (issue 32): the same plan's flight time (eq. 17) in calm air, for comparison.
+  std::optional<double> flight_time_calm_min;
 };
 
 struct Comparison {
   std::string mission;
+  std::optional<Wind> wind;  ///< the mission's: every time is in it (issue 32)
   std::vector<CompareRow> rows;
 };
 

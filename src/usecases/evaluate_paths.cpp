@@ -38,6 +38,7 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
 
   evaluation::EvaluateOptions opt = options;
   opt.coverage.context = &ctx;
+  if (!opt.cost.wind) opt.cost.wind = mission.wind;  // other tools' paths timed in the mission's wind
   const double w =
       opt.coverage.footprint_m > 0.0 ? opt.coverage.footprint_m : evaluation::footprint_for(mission);
   evaluation::set_uav_footprints(shown.mission, out.uavs.size(), w, opt.coverage);

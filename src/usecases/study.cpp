@@ -58,6 +58,7 @@ Mission with_uavs(const Mission& m, int n) {
 Study run_study(const Mission& mission, const StudyOptions& options, const Context& ctx) {
   Study study;
   study.mission = mission.name;
+  study.wind = mission.wind;
   std::exception_ptr first_error;
   const auto& counts = options.counts;
   for (std::size_t k = 0; k < counts.size(); ++k) {
@@ -81,6 +82,11 @@ Study run_study(const Mission& mission, const StudyOptions& options, const Conte
       eo.cost = options.cost;
       eo.coverage.context = &ctx;
       row.evaluation = evaluation::evaluate_plan(p, eo);
+      if (mission.wind && mission.wind->speed_mps > 0.0) {  // the old model's figure, for comparison
+        eo.cost.wind = Wind{};
+        eo.compute_coverage = false;
+        row.flight_time_calm_min = evaluation::evaluate_plan(p, eo).cost.flight_time_min;
+      }
       row.ok = true;
     } catch (const Cancelled&) {
       throw;
@@ -112,6 +118,9 @@ Study run_study(const Mission& mission, const StudyOptions& options, const Conte
 nlohmann::json study_json(const Study& study) {
   nlohmann::json j;
   j["mission"] = study.mission;
+  j["wind"] = study.wind
+                  ? nlohmann::json{{"speed_mps", study.wind->speed_mps}, {"from_deg", study.wind->from_deg}}
+                  : nlohmann::json(nullptr);
   j["recommended_uavs"] = study.recommended;
   j["min_uavs_single_battery"] =
       study.min_single_battery > 0 ? nlohmann::json(study.min_single_battery) : nlohmann::json(nullptr);
@@ -138,6 +147,7 @@ nlohmann::json study_json(const Study& study) {
                               {"compute_time_s", r.compute_s},
                               {"complete", r.complete},
                               {"planner_diagnostics", r.planner_diagnostics}});
+      if (r.flight_time_calm_min) e["flight_time_calm_min"] = *r.flight_time_calm_min;
     }
     rows.push_back(std::move(e));
   }

@@ -29,6 +29,8 @@ struct StudyRow {
   double compute_s = 0.0;
   bool complete = true;
   nlohmann::json planner_diagnostics;
+  /// With a wind (issue 32): the same plan's flight time (eq. 17) in calm air, for comparison.
+  std::optional<double> flight_time_calm_min;
 };
 
 struct Study {
@@ -36,6 +38,7 @@ struct Study {
   std::vector<StudyRow> rows;
   int recommended = 0;         ///< least total time
   int min_single_battery = 0;  ///< fewest UAVs for which every UAV flies on one battery; 0 none
+  std::optional<Wind> wind;    ///< the mission's: every time is in it (issue 32)
 };
 
 struct StudyOptions {

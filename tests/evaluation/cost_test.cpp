@@ -94,3 +94,28 @@ TEST(Cost, RejectsBadInput) {
   f[0].speed_mps = 0.0;
   EXPECT_THROW(evaluate_cost_from_durations({1.0}, f, 1e4), InputError);
 }
+
+TEST(GroundSpeed, HeadTailAndCrosswindFollowTheCrabbingModel) {
+  const std::optional<Wind> west{Wind{8.0, 270.0}};  // from the west: travels east
+  EXPECT_DOUBLE_EQ(ground_speed_mps(12.0, std::nullopt, 1.0, 0.0), 12.0);
+  EXPECT_NEAR(ground_speed_mps(12.0, west, 100.0, 0.0), 20.0, 1e-9);                    // east: tailwind
+  EXPECT_NEAR(ground_speed_mps(12.0, west, -100.0, 0.0), 4.0, 1e-9);                    // west: headwind
+  EXPECT_NEAR(ground_speed_mps(12.0, west, 0.0, 50.0), std::sqrt(144.0 - 64.0), 1e-9);  // crosswind
+  // an out-and-back leg pair takes longer in any wind than in calm air
+  const double calm = 2 * 100.0 / 12.0;
+  EXPECT_GT(
+      100.0 / ground_speed_mps(12.0, west, 100.0, 0.0) + 100.0 / ground_speed_mps(12.0, west, -100.0, 0.0),
+      calm);
+  EXPECT_GT(2 * 100.0 / ground_speed_mps(12.0, west, 0.0, 100.0), calm);
+  EXPECT_THROW(ground_speed_mps(8.0, west, 1.0, 0.0), InputError);
+}
+
+TEST(GroundSpeed, AirDistanceTimesEachLegAtItsGroundSpeed) {
+  const std::vector<Point> line{{0, 0}, {300, 0}, {300, 400}, {0, 400}};
+  EXPECT_EQ(air_length_m(line, 10.0, std::nullopt), 1000.0);  // calm air: the length itself
+  EXPECT_EQ(air_length_m(line, 10.0, Wind{0.0, 90.0}), 1000.0);
+  const std::optional<Wind> west{Wind{6.0, 270.0}};  // blows east
+  // east 300 m at 16 m/s, north 400 m at 8 m/s, west 300 m at 4 m/s: (18.75 + 50 + 75) s at 10 m/s
+  EXPECT_NEAR(air_length_m(line, 10.0, west), 10.0 * (300.0 / 16 + 400.0 / 8 + 300.0 / 4), 1e-9);
+  EXPECT_NEAR(air_distance_m({0, 0}, {300, 0}, 10.0, west), 187.5, 1e-9);
+}

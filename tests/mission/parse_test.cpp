@@ -676,3 +676,35 @@ TEST(MissionParse, StructureIsValidatedFieldByField) {
     EXPECT_EQ(std::string(e.field()).rfind("structure.footprint", 0), 0u) << e.what();
   }
 }
+
+TEST(MissionParse, WindBlockParsesRoundTripsAndRefusesWhatCannotBeFlown) {
+  auto j = base();
+  j["uavs"][0]["speed_mps"] = 12;
+  j["uavs"][1]["speed_mps"] = 10;
+  j["wind"] = {{"speed_mps", 8}, {"from_deg", 270}};
+  const auto m = parse_mission(j.dump());
+  ASSERT_TRUE(m.wind.has_value());
+  EXPECT_DOUBLE_EQ(m.wind->speed_mps, 8.0);
+  EXPECT_DOUBLE_EQ(m.wind->from_deg, 270.0);
+  const auto again = parse_mission(uavcover::mission_to_json(m));
+  ASSERT_TRUE(again.wind.has_value());
+  EXPECT_DOUBLE_EQ(again.wind->speed_mps, 8.0);
+  EXPECT_DOUBLE_EQ(again.wind->from_deg, 270.0);
+  // no wind given: none parsed and none written
+  EXPECT_FALSE(parse_mission(base().dump()).wind.has_value());
+  EXPECT_EQ(json::parse(uavcover::mission_to_json(parse_mission(base().dump()))).count("wind"), 0u);
+
+  auto with = [&](const json& w) {
+    auto k = j;
+    k["wind"] = w;
+    return k;
+  };
+  expect_error(with({{"speed_mps", -1}, {"from_deg", 0}}), "wind.speed_mps", "must be in");
+  expect_error(with({{"speed_mps", 5}, {"from_deg", 360}}), "wind.from_deg", "must be in");
+  expect_error(with({{"speed_mps", 5}, {"from_deg", -10}}), "wind.from_deg", "must be in");
+  expect_error(with({{"from_deg", 10}}), "wind.speed_mps", "missing");
+  expect_error(with({{"speed_mps", 5}, {"gust_mps", 9}}), "wind.gust_mps", "unknown field");
+  expect_error(with("strong"), "wind", "expected an object");
+  // uav "b" flies 10 m/s: a 10 m/s wind leaves it no ground speed into the wind
+  expect_error(with({{"speed_mps", 10}, {"from_deg", 90}}), "wind.speed_mps", "cannot be flown");
+}

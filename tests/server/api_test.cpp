@@ -681,3 +681,36 @@ namespace uavcover::server::testing {
 INSTANTIATE_TEST_SUITE_P(Stores, ApiTest, ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          backend_name);
 }  // namespace uavcover::server::testing
+
+namespace uavcover::server::testing {
+namespace {
+
+// The server parses missions with the library's parser (issue 32, docs/wind.md): a wind and shares
+// "auto" come back normalised; a wind the UAVs cannot fly against and an unknown share word are 422
+// naming the field.
+TEST_P(ApiTest, WindAndAutoSharesAreParsedAsTheLibraryDoes) {
+  json doc = json::parse(olive_grove());
+  doc["wind"] = {{"speed_mps", 3}, {"from_deg", 250}};
+  for (auto& u : doc["uavs"]) u.erase("share");
+  doc["shares"] = "capability";
+  const Answer ok = call("POST", "/api/v1/missions/validate", doc.dump());
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  const json m = ok.json()["mission"];
+  EXPECT_EQ(m["wind"]["speed_mps"], 3.0);
+  EXPECT_EQ(m["wind"]["from_deg"], 250.0);
+  for (const auto& u : m["uavs"]) EXPECT_EQ(u["share"], "auto") << u.dump();
+
+  json strong = doc;
+  strong["wind"]["speed_mps"] = 5;  // alpha flies at 5 m/s
+  const Answer a = call("POST", "/api/v1/missions/validate", strong.dump());
+  EXPECT_EQ(a.status, 422);
+  EXPECT_EQ(a.error_field(), "wind.speed_mps");
+  json word = json::parse(olive_grove());
+  word["uavs"][1]["share"] = "most";
+  const Answer b = call("POST", "/api/v1/missions/validate", word.dump());
+  EXPECT_EQ(b.status, 422);
+  EXPECT_EQ(b.error_field(), "uavs[1].share");
+}
+
+}  // namespace
+}  // namespace uavcover::server::testing

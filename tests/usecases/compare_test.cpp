@@ -67,3 +67,29 @@ TEST(PlanOutputs, UnknownExportFormatIsRefusedNamingTheField) {
         << "no CLI flag in a library message: " << e.what();
   }
 }
+
+// In a wind (issue 32, docs/wind.md) every time is in it: each row's flight time is the evaluator's in the
+// mission's wind, longer than the same plan's calm-air figure that the row carries next to it.
+TEST(Compare, TimesAreInTheMissionsWind) {
+  Mission m = rectangle();
+  double slowest = 1e300;
+  for (const auto& u : m.uavs) slowest = std::min(slowest, u.speed_mps);
+  m.wind = Wind{0.5 * slowest, 30.0};
+  usecases::CompareOptions o;
+  o.planners = {"darp", "boustrophedon"};
+  const auto c = usecases::compare(m, o);
+  const auto j = usecases::compare_json(c);
+  EXPECT_EQ(j["wind"]["speed_mps"], 0.5 * slowest);
+  for (std::size_t k = 0; k < c.rows.size(); ++k) {
+    const auto& r = c.rows[k];
+    ASSERT_TRUE(r.ok) << r.planner << ": " << r.error;
+    ASSERT_TRUE(r.flight_time_calm_min);
+    EXPECT_GT(r.evaluation.cost.flight_time_min, *r.flight_time_calm_min) << r.planner;
+    EXPECT_EQ(j["planners"][k]["flight_time_calm_min"].get<double>(), *r.flight_time_calm_min);
+    Plan calm = r.plan;
+    calm.mission.wind.reset();
+    EXPECT_DOUBLE_EQ(evaluation::evaluate_plan(calm).cost.flight_time_min, *r.flight_time_calm_min)
+        << r.planner;
+  }
+  EXPECT_NE(usecases::compare_markdown(c).find("in the mission's wind"), std::string::npos);
+}
