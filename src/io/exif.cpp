@@ -32,9 +32,19 @@ void init_exiv2() {
 std::optional<double> exif_number(const Exiv2::ExifData& exif, const char* key, long index = 0) {
   const auto it = exif.findKey(Exiv2::ExifKey(key));
   if (it == exif.end() || it->count() <= index) return std::nullopt;
-  const Exiv2::Rational r = it->toRational(index);
-  if (r.second == 0) return std::nullopt;
-  const double x = static_cast<double>(r.first) / static_cast<double>(r.second);
+  double x = 0.0;
+  const Exiv2::Value& v = it->value();
+  if (v.typeId() == Exiv2::unsignedRational) {
+    // unsigned 32-bit parts (a writer may use a large denominator: GDAL writes 3.25 as 3250000000/1e9),
+    // which Value::toRational would read as signed
+    const auto& r = static_cast<const Exiv2::URationalValue&>(v).value_.at(static_cast<std::size_t>(index));
+    if (r.second == 0) return std::nullopt;
+    x = static_cast<double>(r.first) / static_cast<double>(r.second);
+  } else {
+    const Exiv2::Rational r = it->toRational(index);
+    if (r.second == 0) return std::nullopt;
+    x = static_cast<double>(r.first) / static_cast<double>(r.second);
+  }
   return std::isfinite(x) ? std::optional<double>(x) : std::nullopt;
 }
 

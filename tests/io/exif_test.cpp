@@ -29,6 +29,30 @@ void expect_refused(const std::string& bytes, const std::string& field, const st
   }
 }
 
+// GDAL's JPEG driver writes the EXIF (no XMP at all): an independent writer, as a non-DJI camera's photo.
+// First in the file: before any photo of the tests' own writer registers DJI's XMP namespace, so the
+// reader must cope without it (a lookup of an unregistered prefix throws in exiv2).
+TEST(Exif, GdalWrittenExifReadsBackWithoutXmp) {
+  const io::PhotoTags t = read(testing::gdal_jpeg(16, 12,
+                                                  {{"EXIF_GPSLatitude", "(40) (36) (1.5)"},
+                                                   {"EXIF_GPSLatitudeRef", "N"},
+                                                   {"EXIF_GPSLongitude", "(22) (57) (3.25)"},
+                                                   {"EXIF_GPSLongitudeRef", "W"},
+                                                   {"EXIF_GPSAltitude", "(160.5)"},
+                                                   {"EXIF_GPSImgDirection", "(90)"},
+                                                   {"EXIF_FocalLengthIn35mmFilm", "24"}}),
+                               "gdal.jpg");
+  EXPECT_NEAR(t.lat, 40.0 + 36.0 / 60 + 1.5 / 3600, 1e-7);
+  EXPECT_NEAR(t.lon, -(22.0 + 57.0 / 60 + 3.25 / 3600), 1e-7);
+  ASSERT_TRUE(t.gps_altitude_m);
+  EXPECT_NEAR(*t.gps_altitude_m, 160.5, 1e-4);  // GDAL writes its own rational approximation
+  EXPECT_FALSE(t.relative_altitude_m) << "no XMP";
+  ASSERT_TRUE(t.yaw_deg);
+  EXPECT_NEAR(*t.yaw_deg, 90.0, 1e-9);
+  ASSERT_TRUE(t.focal_35mm_mm);
+  EXPECT_NEAR(*t.focal_35mm_mm, 24.0, 1e-9);
+}
+
 TEST(Exif, GeotagAltitudesAndDjiGimbalReadBack) {
   PhotoSpec s;
   s.lat = 40.6012345;

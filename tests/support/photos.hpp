@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "uavcover/geometry.hpp"
+
 namespace uavcover::testing {
 
 struct PhotoSpec {
@@ -28,18 +30,22 @@ struct PhotoSpec {
   bool geotag = true;
 };
 
-/// A 32 x 24 grey-gradient JPEG made by GDAL (MEM -> JPEG in /vsimem/).
-inline std::string plain_jpeg() {
+/// A w x h grey-gradient JPEG made by GDAL (MEM -> JPEG in /vsimem/), its EXIF written by GDAL's JPEG driver
+/// from "EXIF_*" metadata items (e.g. {"EXIF_GPSLatitude", "(40) (36) (1.5)"}): a writer independent of
+/// exiv2.
+inline std::string gdal_jpeg(int w, int h,
+                             const std::vector<std::pair<std::string, std::string>>& exif = {}) {
   GDALAllRegister();
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   GDALDriver* jpeg = GetGDALDriverManager()->GetDriverByName("JPEG");
   if (!mem || !jpeg) throw std::runtime_error("GDAL has no MEM or JPEG driver");
-  GDALDataset* src = mem->Create("", 32, 24, 3, GDT_Byte, nullptr);
-  std::vector<std::uint8_t> px(32 * 24);
-  for (int i = 0; i < 32 * 24; ++i) px[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(i % 251);
+  GDALDataset* src = mem->Create("", w, h, 3, GDT_Byte, nullptr);
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(w * h));
+  for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<std::uint8_t>(i % 251);
   for (int b = 1; b <= 3; ++b)
-    if (src->GetRasterBand(b)->RasterIO(GF_Write, 0, 0, 32, 24, px.data(), 32, 24, GDT_Byte, 0, 0) != CE_None)
+    if (src->GetRasterBand(b)->RasterIO(GF_Write, 0, 0, w, h, px.data(), w, h, GDT_Byte, 0, 0) != CE_None)
       throw std::runtime_error("GDAL RasterIO failed");
+  for (const auto& [k, v] : exif) src->SetMetadataItem(k.c_str(), v.c_str());
   const char* path = "/vsimem/uavcover-test-photo.jpg";
   GDALDataset* out = jpeg->CreateCopy(path, src, FALSE, nullptr, nullptr, nullptr);
   GDALClose(src);
@@ -49,9 +55,10 @@ inline std::string plain_jpeg() {
   GByte* data = VSIGetMemFileBuffer(path, &n, TRUE);
   std::string bytes(reinterpret_cast<const char*>(data), static_cast<std::size_t>(n));
   CPLFree(data);
-  VSIUnlink((std::string(path) + ".aux.xml").c_str());
   return bytes;
 }
+
+inline std::string plain_jpeg() { return gdal_jpeg(32, 24); }
 
 /// "d/1 m/1 s*100/100" for EXIF's degrees-minutes-seconds rationals.
 inline std::string dms(double deg) {
@@ -109,6 +116,19 @@ inline std::string photo_jpeg(const PhotoSpec& s) {
   io.seek(0, Exiv2::BasicIo::beg);
   const Exiv2::DataBuf buf = io.read(static_cast<long>(io.size()));
   return std::string(reinterpret_cast<const char*>(buf.pData_), static_cast<std::size_t>(buf.size_));
+}
+
+/// A nadir photo `height` m above take-off at `g`, facing `yaw` (default north), 24 mm equivalent: a
+/// 1.5 h x h footprint (the image's width across the heading).
+inline PhotoSpec nadir_photo(LonLat g, double height, double yaw = 0.0) {
+  PhotoSpec s;
+  s.lat = g.lat;
+  s.lon = g.lon;
+  s.relative_altitude_m = height;
+  s.gimbal_pitch_deg = -90.0;
+  s.gimbal_yaw_deg = yaw;
+  s.focal_35mm = 24;
+  return s;
 }
 
 inline void write_bytes(const std::filesystem::path& p, const std::string& bytes) {
