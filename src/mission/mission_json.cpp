@@ -125,6 +125,16 @@ json to_json(const Mission& m) {
     j.erase("area");
     j["corridor"] = corridor_json(*m.corridor);
   }
+  // a structure mission likewise as its structure (the area is the footprint's buffer by the standoff)
+  if (m.structure) {
+    j.erase("area");
+    const Structure& st = *m.structure;
+    j["structure"] = {{"footprint", geo_polygon_json(st.footprint)},
+                      {"height_m", st.height_m},
+                      {"standoff_m", st.standoff_m},
+                      {"top", st.top}};
+    if (st.safe_height_m != Structure{}.safe_height_m) j["structure"]["safe_height_m"] = st.safe_height_m;
+  }
   if (m.pattern) j["pattern"] = pattern_json(*m.pattern);
   if (m.wind) j["wind"] = {{"speed_mps", m.wind->speed_mps}, {"from_deg", m.wind->from_deg}};
   return j;

@@ -650,6 +650,24 @@ TEST(MissionParse, StructureIsValidatedFieldByField) {
     const double a = uavcover::bg::area(uavcover::geometry::unite(uavcover::geometry::to_local(m.area, f)));
     const double side = 20.3;  // 0.00024 deg of longitude at 40.6 N is 20.3 m, 0.00018 deg of latitude 20.0 m
     EXPECT_NEAR(a, side * 20.0 + 2 * (side + 20.0) * 15 + 3.14159 * 225, 0.02 * a);
+    // the normalised mission (plan.json, the store) is written as its structure, not its buffered area, and
+    // reads back the same
+    const json back = json::parse(uavcover::mission_to_json(m));
+    EXPECT_FALSE(back.contains("area"));
+    ASSERT_TRUE(back.contains("structure"));
+    EXPECT_FALSE(back["structure"].contains("safe_height_m")) << "the default is left out";
+    const uavcover::Mission again = parse_mission(back.dump());
+    ASSERT_TRUE(again.structure.has_value());
+    EXPECT_EQ(again.structure->footprint, m.structure->footprint);
+    EXPECT_DOUBLE_EQ(again.structure->height_m, 40);
+    EXPECT_DOUBLE_EQ(again.structure->standoff_m, 15);
+    EXPECT_EQ(again.area, m.area);
+    json safe = j;
+    safe["structure"]["safe_height_m"] = 8;
+    safe["structure"]["top"] = true;
+    const json b2 = json::parse(uavcover::mission_to_json(parse_mission(safe.dump())));
+    EXPECT_DOUBLE_EQ(b2["structure"]["safe_height_m"].get<double>(), 8);
+    EXPECT_EQ(b2["structure"]["top"], true);
   }
   json k = j;
   k["structure"]["standoff_m"] = 0;
