@@ -115,10 +115,23 @@ Layout best_layout(const MultiPolygon& region, double spacing, std::optional<dou
     ctx.report(kStage, f0 + (f1 - f0) * static_cast<double>(i) / static_cast<double>(cands.size()));
     Layout l;
     l.angle = cands[i];
-    const Frame frame(l.angle);
-    const Decomposition dec = decompose(region, frame, ctx, true);
+    Decomposition dec = decompose(region, Frame(l.angle), ctx, true);
     double covered = 0.0;
     for (const auto& c : dec.cells) covered += area(c);
+    // an edge exactly along the sweep (a division cut at the fixed angle) can make the decomposition lose
+    // the region: the same direction nudged by a microradian, invisible in the legs, decomposes it
+    for (const double nudge : {1e-6, -1e-6}) {
+      if (covered >= (1.0 - 1e-6) * region_area) break;
+      Decomposition again = decompose(region, Frame(cands[i] + nudge), ctx, true);
+      double c2 = 0.0;
+      for (const auto& c : again.cells) c2 += area(c);
+      if (c2 > covered) {
+        covered = c2;
+        dec = std::move(again);
+        l.angle = cands[i] + nudge;
+      }
+    }
+    const Frame frame(l.angle);
     // a decomposition that lost a piece (a failed overlay) ranks after every complete one
     const double lost = covered < (1.0 - 1e-6) * region_area ? 1e9 + region_area - covered : 0.0;
     for (std::size_t c = 0; c < dec.cells.size(); ++c) {
