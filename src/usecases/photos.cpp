@@ -187,19 +187,9 @@ PhotoCoverage photo_coverage(const Plan& plan, const std::vector<io::PhotoTags>&
 
 namespace {
 
-nlohmann::json rings_json(const GeoPolygon& p) {
-  nlohmann::json rings = nlohmann::json::array();
-  for (const auto& ring : p) {
-    nlohmann::json r = nlohmann::json::array();
-    for (const auto& v : ring) r.push_back({v.lon, v.lat});
-    rings.push_back(std::move(r));
-  }
-  return rings;
-}
-
 nlohmann::json gaps_geometry(const ReflyGaps& gaps) {
   nlohmann::json polys = nlohmann::json::array();
-  for (const auto& p : gaps.area) polys.push_back(rings_json(p));
+  for (const auto& p : gaps.area) polys.push_back(polygon_coordinates(p));
   return {{"type", "MultiPolygon"}, {"coordinates", std::move(polys)}};
 }
 
@@ -216,7 +206,7 @@ std::string photos_geojson(const PhotoCoverage& c) {
     props["yaw_deg"] = p.yaw_known ? nlohmann::json(p.yaw_deg) : nlohmann::json(nullptr);
     features.push_back({{"type", "Feature"},
                         {"properties", std::move(props)},
-                        {"geometry", {{"type", "Polygon"}, {"coordinates", rings_json(p.ground)}}}});
+                        {"geometry", {{"type", "Polygon"}, {"coordinates", polygon_coordinates(p.ground)}}}});
   }
   features.push_back({{"type", "Feature"},
                       {"properties", {{"kind", "gap"}, {"area_m2", c.gaps.area_m2}}},

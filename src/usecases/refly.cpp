@@ -68,6 +68,8 @@ MultiPolygon grown(const MultiPolygon& mp, double d, Join join) {
   return out;
 }
 
+}  // namespace
+
 nlohmann::json polygon_coordinates(const GeoPolygon& p) {
   nlohmann::json rings = nlohmann::json::array();
   for (const auto& ring : p) {
@@ -77,8 +79,6 @@ nlohmann::json polygon_coordinates(const GeoPolygon& p) {
   }
   return rings;
 }
-
-}  // namespace
 
 ReflyGaps lattice_gaps(const Plan& plan, const evaluation::CoverageResult& lattice, const Context& ctx) {
   ReflyGaps gaps;

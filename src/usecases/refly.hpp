@@ -2,6 +2,7 @@
 // the mission that covers it: the same mission with the gaps as its area, flown by the UAVs available.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,6 +33,9 @@ ReflyGaps coverage_gaps(const Plan& plan, const std::vector<flight::Track>& trac
 /// area, scan counts inside), e.g. the photos' footprints (usecases/photos.hpp). flown_poc and
 /// planned_poc are left 0 for the caller.
 ReflyGaps lattice_gaps(const Plan& plan, const evaluation::CoverageResult& lattice, const Context& ctx = {});
+
+/// A GeoJSON Polygon's coordinates ([[lon, lat], ...] per ring) of `p`.
+nlohmann::json polygon_coordinates(const GeoPolygon& p);
 
 /// The refly mission: `plan.mission` with the gaps as its area (a corridor or structure becomes the
 /// area it leaves to fly), named "<name> (refly)", flown by `uavs` (ids of the plan's UAVs; empty: all),

@@ -18,14 +18,7 @@ void write_photos(const std::filesystem::path& dir, bool hole) {
     for (int j = 0; j < 10; ++j) {
       const double x = 10.0 + 30.0 * i, y = 10.0 + 20.0 * j;
       if (hole && (i == 1 || i == 2) && (j == 4 || j == 5)) continue;
-      PhotoSpec s;
-      const LonLat g = frame.to_wgs84(Point(x, y));
-      s.lat = g.lat;
-      s.lon = g.lon;
-      s.relative_altitude_m = 30.0;
-      s.gimbal_pitch_deg = -90.0;
-      s.gimbal_yaw_deg = 0.0;
-      s.focal_35mm = 24;
+      const PhotoSpec s = nadir_photo(frame.to_wgs84(Point(x, y)), 30.0);
       write_bytes(dir / ("DJI_" + std::to_string(100 + i * 10 + j) + ".JPG"), photo_jpeg(s));
     }
 }

@@ -495,15 +495,8 @@ TEST_P(FlightApiTest, AReflyPlansTheGapAFailedUavLeftAndTheTwoCoverTheField) {
 /// A nadir photo 20 m above take-off at (x, y) metres from the small field's south-west corner, facing
 /// north, 24 mm equivalent: a 30 m x 20 m footprint.
 std::string field_photo(double x, double y) {
-  uavcover::testing::PhotoSpec s;
-  const LonLat g = geodesy::LocalFrame({22.95, 40.60}).to_wgs84(Point(x, y));
-  s.lat = g.lat;
-  s.lon = g.lon;
-  s.relative_altitude_m = 20.0;
-  s.gimbal_pitch_deg = -90.0;
-  s.gimbal_yaw_deg = 0.0;
-  s.focal_35mm = 24;
-  return uavcover::testing::photo_jpeg(s);
+  return uavcover::testing::photo_jpeg(
+      uavcover::testing::nadir_photo(geodesy::LocalFrame({22.95, 40.60}).to_wgs84(Point(x, y)), 20.0));
 }
 
 TEST_P(FlightApiTest, PhotosTagsCoverageAndAReflyFromThem) {

@@ -14,6 +14,7 @@
 #include "support/photos.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/rectangle_plan.hpp"
 
 namespace uavcover {
 namespace {
@@ -21,14 +22,7 @@ namespace {
 namespace bg = boost::geometry;
 using testing::PhotoSpec;
 
-/// The thesis rectangle (100 m east-west, 200 m north-south, ds 10 m, no camera block), 3 UAVs.
-Plan rectangle_plan() {
-  Mission m = parse_mission(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
-                                                     "mondinelli2025" / "rectangle_3uav.json"));
-  m.planner = "boustrophedon";
-  m.planner_params = nlohmann::json::object();
-  return plan(m);
-}
+using testing::rectangle_plan;
 
 io::PhotoTags tags_of(const PhotoSpec& s, const std::string& name) {
   const std::string bytes = testing::photo_jpeg(s);
@@ -36,17 +30,9 @@ io::PhotoTags tags_of(const PhotoSpec& s, const std::string& name) {
 }
 
 /// A photo at local (x, y) of `frame`, 30 m above take-off, facing north, nadir, 24 mm equivalent (a
-/// 45 m x 30 m footprint: the image's width across the heading).
+/// 45 m x 30 m footprint).
 PhotoSpec nadir_at(const geodesy::LocalFrame& frame, double x, double y) {
-  PhotoSpec s;
-  const LonLat g = frame.to_wgs84(Point(x, y));
-  s.lat = g.lat;
-  s.lon = g.lon;
-  s.relative_altitude_m = 30.0;
-  s.gimbal_pitch_deg = -90.0;
-  s.gimbal_yaw_deg = 0.0;
-  s.focal_35mm = 24;
-  return s;
+  return testing::nadir_photo(frame.to_wgs84(Point(x, y)), 30.0);
 }
 
 /// The field's south-west corner in the plan's frame.

@@ -10,6 +10,7 @@
 #include "support/files.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "usecases/rectangle_plan.hpp"
 
 namespace uavcover {
 namespace {
@@ -17,13 +18,7 @@ namespace {
 namespace bg = boost::geometry;
 using flight::Track;
 
-Plan rectangle_plan() {
-  Mission m = parse_mission(uavcover::testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) /
-                                                     "mondinelli2025" / "rectangle_3uav.json"));
-  m.planner = "boustrophedon";
-  m.planner_params = nlohmann::json::object();
-  return plan(m);
-}
+using testing::rectangle_plan;
 
 /// A UAV's flight as its log would record it: its path's vertices, coverage at the mission's altitude,
 /// transit at its transition altitude; cut after `fraction` of its coverage waypoints (a failure).

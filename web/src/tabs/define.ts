@@ -321,6 +321,7 @@ class DefinePanel {
       if (Object.keys(d.planner_params as object).length === 0) delete d.planner_params;
       this.commit(d);
       this.renderParams();
+      this.objectiveControl.render(d);
     });
     this.field(plan, 'Planner', 'planner', this.plannerSelect);
     this.plannerSummary = el('p', { class: 'define-small muted' });
