@@ -133,7 +133,10 @@ export class FlyPhotos {
 
   private async reflyFromPhotos(): Promise<void> {
     const id = this.flightId();
-    if (id === null || this.tags.length === 0) return;
+    if (id === null || this.tags.length === 0) {
+      this.fail('Refly', 'pick the flight’s photos first');
+      return;
+    }
     this.refly.disabled = true;
     try {
       const job = await api.post<{ id: number; params?: { refly?: { gaps_m2?: number } } }>(`/flights/${id}/refly`, this.body());

@@ -327,10 +327,10 @@ class DefinePanel {
     this.plannerSummary = el('p', { class: 'define-small muted' });
     plan.appendChild(this.plannerSummary);
     this.objectiveControl = new ObjectiveControl(this.host, plan);
-    this.windControls = new WindControls(this.host);
-    plan.appendChild(this.windControls.row);
     this.paramsBox = el('div', { class: 'define-params', 'data-testid': 'planner-params', 'data-anchor': 'planner_params' });
     plan.appendChild(this.paramsBox);
+    this.windControls = new WindControls(this.host);
+    plan.appendChild(this.windControls.row);
     this.seedInput = el('input', { type: 'number', min: '0', step: '1', 'data-testid': 'seed-input' });
     this.seedInput.addEventListener('change', () => {
       const s = num(this.seedInput.value);

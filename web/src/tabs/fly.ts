@@ -403,7 +403,7 @@ export const flyTab: Tab = {
       replay.close();
       live.clear();
       layers.reset();
-      photos.clear();
+      if ((f?.id ?? null) !== (flight?.id ?? null)) photos.clear(); // another flight: its photos go
       flight = f;
       flightBox.hidden = f === null;
       cmdMsg.textContent = '';
