@@ -84,32 +84,20 @@ std::vector<int> fill_free(const MultiPolygon& free, const Lattice& l) {
   return scans;
 }
 
-/// Calls f(row, c0, c1) for the samples whose centres lie in the rectangle swept by a square of
-/// width w along a-b, extended by ext_a before a and ext_b beyond b (w/2 each for a whole leg).
+/// Calls f(row, c0, c1) for the samples whose centres lie in the convex polygon ring[0..n) (one scanline per
+/// lattice row: the span between the edges it crosses).
 template <typename F>
-void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f, double ext_a, double ext_b) {
-  const double dx = b.x() - a.x(), dy = b.y() - a.y();
-  const double len = std::hypot(dx, dy);
-  if (!(len > 1e-9) || !(w > 0.0)) return;
-  const double ux = dx / len, uy = dy / len;  // along
-  const double nx = -uy, ny = ux;             // normal
-  const double h = 0.5 * w;
-  const std::array<Point, 4> c = {
-      Point{a.x() - ux * ext_a + nx * h, a.y() - uy * ext_a + ny * h},
-      Point{b.x() + ux * ext_b + nx * h, b.y() + uy * ext_b + ny * h},
-      Point{b.x() + ux * ext_b - nx * h, b.y() + uy * ext_b - ny * h},
-      Point{a.x() - ux * ext_a - nx * h, a.y() - uy * ext_a - ny * h},
-  };
-  double ymin = c[0].y(), ymax = c[0].y();
-  for (const auto& p : c) ymin = std::min(ymin, p.y()), ymax = std::max(ymax, p.y());
+void rasterise_convex(const Lattice& l, const Point* ring, std::size_t n, F&& f) {
+  double ymin = ring[0].y(), ymax = ring[0].y();
+  for (std::size_t k = 0; k < n; ++k) ymin = std::min(ymin, ring[k].y()), ymax = std::max(ymax, ring[k].y());
   const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - l.y0) / l.s)));
   const int r1 = std::min(l.rows - 1, static_cast<int>(std::floor((ymax - l.y0) / l.s)));
   for (int r = r0; r <= r1; ++r) {
     const double y = l.y0 + r * l.s;
     double xmin = 1e300, xmax = -1e300;
-    for (int k = 0; k < 4; ++k) {
-      const Point& p = c[static_cast<std::size_t>(k)];
-      const Point& q = c[static_cast<std::size_t>((k + 1) % 4)];
+    for (std::size_t k = 0; k < n; ++k) {
+      const Point& p = ring[k];
+      const Point& q = ring[(k + 1) % n];
       const double ylo = std::min(p.y(), q.y()), yhi = std::max(p.y(), q.y());
       if (y < ylo || y > yhi) continue;
       if (yhi - ylo < 1e-12) {
@@ -128,54 +116,34 @@ void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f, double e
   }
 }
 
+/// Calls f(row, c0, c1) for the samples whose centres lie in the rectangle swept by a square of
+/// width w along a-b, extended by ext_a before a and ext_b beyond b (w/2 each for a whole leg).
+template <typename F>
+void rasterise_leg(const Lattice& l, Point a, Point b, double w, F&& f, double ext_a, double ext_b) {
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  const double len = std::hypot(dx, dy);
+  if (!(len > 1e-9) || !(w > 0.0)) return;
+  const double ux = dx / len, uy = dy / len;  // along
+  const double nx = -uy, ny = ux;             // normal
+  const double h = 0.5 * w;
+  const std::array<Point, 4> c = {
+      Point{a.x() - ux * ext_a + nx * h, a.y() - uy * ext_a + ny * h},
+      Point{b.x() + ux * ext_b + nx * h, b.y() + uy * ext_b + ny * h},
+      Point{b.x() + ux * ext_b - nx * h, b.y() + uy * ext_b - ny * h},
+      Point{a.x() - ux * ext_a - nx * h, a.y() - uy * ext_a - ny * h},
+  };
+  rasterise_convex(l, c.data(), c.size(), f);
+}
+
 /// Calls f(row, c0, c1) for the samples whose centres lie in the convex hull of `pts`.
 template <typename F>
-void rasterise_hull(const Lattice& l, std::vector<Point> pts, F&& f) {
-  // monotone chain
-  std::sort(pts.begin(), pts.end(), [](const Point& a, const Point& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Point& o, const Point& a, const Point& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Point> hull(2 * pts.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  hull.resize(k > 1 ? k - 1 : k);
-  if (hull.size() < 3) return;
-  double ymin = hull[0].y(), ymax = hull[0].y();
-  for (const auto& p : hull) ymin = std::min(ymin, p.y()), ymax = std::max(ymax, p.y());
-  const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - l.y0) / l.s)));
-  const int r1 = std::min(l.rows - 1, static_cast<int>(std::floor((ymax - l.y0) / l.s)));
-  for (int r = r0; r <= r1; ++r) {
-    const double y = l.y0 + r * l.s;
-    double xmin = 1e300, xmax = -1e300;
-    for (std::size_t e = 0; e < hull.size(); ++e) {
-      const Point& p = hull[e];
-      const Point& q = hull[(e + 1) % hull.size()];
-      const double ylo = std::min(p.y(), q.y()), yhi = std::max(p.y(), q.y());
-      if (y < ylo || y > yhi) continue;
-      if (yhi - ylo < 1e-12) {
-        xmin = std::min({xmin, p.x(), q.x()});
-        xmax = std::max({xmax, p.x(), q.x()});
-      } else {
-        const double x = p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x());
-        xmin = std::min(xmin, x);
-        xmax = std::max(xmax, x);
-      }
-    }
-    if (xmin > xmax) continue;
-    const int c0 = std::max(0, static_cast<int>(std::ceil((xmin - l.x0) / l.s)));
-    const int c1 = std::min(l.cols - 1, static_cast<int>(std::floor((xmax - l.x0) / l.s)));
-    if (c0 <= c1) f(r, c0, c1);
-  }
+void rasterise_hull(const Lattice& l, const std::vector<Point>& pts, F&& f) {
+  bg::model::multi_point<Point> mp(pts.begin(), pts.end());
+  Polygon hull;
+  bg::convex_hull(mp, hull);
+  const auto& ring = hull.outer();  // closed: the last point repeats the first
+  if (ring.size() < 4) return;
+  rasterise_convex(l, ring.data(), ring.size() - 1, f);
 }
 
 /// A coverage part flown with a tilted gimbal (docs/patterns.md "Obliques"), with a footprint on the ground.
@@ -348,7 +316,7 @@ CoverageResult evaluate_coverage(const MultiPolygon& free, const std::vector<Fli
           const auto cb = photo::footprint_corners(*fp, b, heading);
           std::vector<Point> pts(ca.begin(), ca.end());
           pts.insert(pts.end(), cb.begin(), cb.end());
-          rasterise_hull(l, std::move(pts), count);
+          rasterise_hull(l, pts, count);
           continue;
         }
         if (!options.widths) {
