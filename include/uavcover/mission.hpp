@@ -70,6 +70,9 @@ struct Uav {
   std::optional<CameraGeometry> camera_geometry;
   /// `"share": "auto"` (issue 32, docs/mission-format.md): the share is derived from the UAV's area rate.
   bool share_auto = false;
+  /// Vehicle profile (issue 31, docs/vehicle-limits.md): "px4", "ardupilot", "dji" or "litchi"; empty:
+  /// the mission's `autopilot`.
+  std::string autopilot = {};
 };
 
 inline constexpr double kDefaultBatteryReserve = 0.2;
@@ -152,6 +155,22 @@ struct Mission {
   /// Transition altitudes (issue 32): "hong" (one per UAV, Hong et al. 2021 §2.3) or "layers" (the
   /// conflict graph's colouring: only UAVs whose transits cross others' work or transits differ).
   std::string transition_altitudes = "hong";
+  /// Rally points (issue 31, docs/fence-rally.md): safe landing points, each inside the area's
+  /// bounding box margin and outside every no-fly zone. Empty: none given (the exports then write the
+  /// planner's proposed points when `propose_rally` is set).
+  std::vector<LonLat> rally = {};
+  /// Propose one rally point per UAV (free ground near its work, away from the no-fly zones).
+  bool propose_rally = false;
+  /// Resume with overlap (issue 31, docs/sorties.md): a resumed flight, and every battery sortie after
+  /// the first, starts this far before its first waypoint along the path. Absent: one photo base
+  /// (trigger_distance_m), or 0 without a camera.
+  std::optional<double> resume_backoff_m = {};
+  /// Vehicle profile (issue 31, docs/vehicle-limits.md) every UAV without its own flies: "px4",
+  /// "ardupilot", "dji", "litchi"; empty: none named (exports default to px4).
+  std::string autopilot = {};
+  /// The profile's mission item capacity overridden (ArduPilot's depends on the board); empty: the
+  /// profile's.
+  std::optional<int> max_mission_items = {};
 };
 
 struct ParseOptions {

@@ -42,6 +42,10 @@ struct PathPart {
     return segment >= camera_off.size() || camera_off[segment] == 0;
   }
   Attitude attitude = {};  ///< coverage parts of patterns (structure, oblique); empty: the defaults
+  /// Resume with overlap (issue 31, Mission::resume_backoff_m): the leading vertices of a sortie's first
+  /// coverage piece that re-fly the stretch before its first waypoint, flown like the rest (the part's
+  /// height, camera on) but not counted as coverage waypoints. 0 in a plan's own parts.
+  std::size_t lead_in = 0;
 };
 
 /// One battery's flight of a UAV (docs/sorties.md): from take-off (the UAV's start) at its transition
@@ -95,6 +99,9 @@ struct Plan {
   nlohmann::json selection = nullptr;
   /// Altitude layers (issue 32): the vertical separation left in every pair of UAVs; null when unused.
   nlohmann::json separation = nullptr;
+  /// Rally points (issue 31, docs/fence-rally.md): the mission's `rally`, or with `propose_rally` the
+  /// planner's proposal (one per UAV, free ground near its work); what the exports and uploads carry.
+  std::vector<LonLat> rally = {};
 };
 
 }  // namespace uavcover

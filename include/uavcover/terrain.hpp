@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,15 @@ struct HeightGrid {
 /// The mission's `terrain` block (docs/mission-format.md).
 struct Terrain {
   std::string dem;              ///< the GeoTIFF, as given (the CLI resolves it against the mission's folder)
+  long long dem_id = 0;         ///< the server: a DEM stored with POST /api/v1/dems (issue 31); 0: none
+  std::string source;           ///< "server": the tiles of `serve --dem-dir` (issue 31); empty: dem or dem_id
   std::string mode = "follow";  ///< "follow": constant height above ground; "off": heights as without a DEM
   double tolerance_m = 1.0;     ///< follow: largest deviation of the flown height above ground along a leg
+  /// Climb and descent limits while following (issue 31): vertical speeds in m/s, or a grade (metres of
+  /// height per metre flown); empty: none. Where the ground is steeper the UAV slows down on that leg.
+  std::optional<double> max_climb_mps;
+  std::optional<double> max_descent_mps;
+  std::optional<double> max_grade;
   /// Filled by io::load_terrain() (src/io/dem.hpp); missing until the DEM is read. Not serialised.
   std::shared_ptr<const HeightGrid> grid;
 

@@ -115,6 +115,14 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   cmd->add_flag(
       "--per-sortie", args->opt.per_sortie,
       "One file per battery sortie for " + per_sortie_format_list() + ": <id>.s<k>.<ext> (docs/sorties.md)");
+  cmd->add_flag("--terrain-frame", args->opt.altitude.terrain_frame,
+                "With a DEM and terrain following, for ArduPilot: coverage heights above the terrain in "
+                "MAV_FRAME_GLOBAL_TERRAIN_ALT (the vehicle follows the ground from its own terrain data); "
+                "default: above mean sea level (docs/photogrammetry.md)");
+  cmd->add_flag("--split-capacity", args->opt.split_capacity,
+                "Split each UAV's missions to the vehicle's item capacity (PX4 500, ArduPilot 700 or the "
+                "mission's max_mission_items, DJI 65535 and Litchi 99 waypoints): <id>.s<k>.<ext> as "
+                "--per-sortie, each sortie cut further where it holds more (docs/vehicle-limits.md)");
   cmd->add_option("--dji-drone", args->opt.dji_drone_enum, "DJI WPML droneEnumValue (77 Mavic 3 Enterprise)")
       ->capture_default_str()
       ->check(integer_in(0, 100'000));

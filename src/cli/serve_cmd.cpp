@@ -37,6 +37,7 @@ struct ServeArgs {
   int export_threads = 2;
   std::size_t max_cells = ParseOptions{}.max_cells;
   bool log_json = false;
+  std::optional<std::string> dem_dir;
 };
 
 std::string trim(const std::string& s) {
@@ -107,6 +108,7 @@ void run_serve(const ServeArgs& a) {
   opt.export_cache_bytes = std::int64_t{a.export_cache_mb} << 20;
   opt.export_threads = a.export_threads;
   opt.max_cells = a.max_cells;
+  if (a.dem_dir) opt.dem_dir = std::filesystem::path(*a.dem_dir);
   if (a.log_json) spdlog::set_pattern("%v");  // the request lines are whole JSON objects
   server::serve(opt);
 }
@@ -128,6 +130,10 @@ const bool registered = CommandRegistry::add(60, [](CLI::App& app) {
       "--tiles", args->tiles,
       "Serve the map's tiles from this raster MBTiles file (png, jpg, webp) at /tiles/{z}/{x}/{y}; "
       "the web app then needs no internet for its map (scripts/make-tiles; docs/offline-maps.md)");
+  cmd->add_option("--dem-dir", args->dem_dir,
+                  "A folder of GeoTIFF or SRTM .hgt elevation tiles: missions with \"terrain\": {\"source\": "
+                  "\"server\"} take their ground heights from the tiles that cover them (docs/api.md)")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--cors-origin", args->cors_origin,
                   "Allow browser requests from this origin (CORS); other foreign origins get 403");
   cmd->add_option("--allowed-host", args->allowed_hosts,

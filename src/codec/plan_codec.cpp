@@ -187,6 +187,12 @@ json plan_json(const Plan& plan, const json& extra) {
   // issue 32: how "planner": "auto" chose (docs/planners.md), the altitude layers' separations
   if (!plan.selection.is_null()) j["selection"] = plan.selection;
   if (!plan.separation.is_null()) j["separation"] = plan.separation;
+  // issue 31: the rally points the exports and uploads carry (given or proposed)
+  if (!plan.rally.empty()) {
+    json r = json::array();
+    for (const auto& p : plan.rally) r.push_back({p.lon, p.lat});
+    j["rally"] = std::move(r);
+  }
   for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
   return j;
 }
@@ -276,6 +282,17 @@ Plan load_plan(const json& pj, const json& gj) {
     plan.planner = pj.at("planner").get<std::string>();
     if (pj.contains("selection")) plan.selection = pj.at("selection");
     if (pj.contains("separation")) plan.separation = pj.at("separation");
+    if (pj.contains("rally")) {
+      const json& r = pj.at("rally");
+      if (!r.is_array() || r.size() > 1000)
+        throw InputError("plan.json: rally", "expected at most 1000 positions");
+      for (std::size_t k = 0; k < r.size(); ++k) {
+        const std::string f = "plan.json: rally[" + std::to_string(k) + "]";
+        const LonLat p = position(r[k], f);
+        (void)local(p, f);
+        plan.rally.push_back(p);
+      }
+    }
     plan.complete = pj.at("complete").get<bool>();
     plan.diagnostics = pj.at("planner_diagnostics");
     plan.warnings = pj.at("warnings").get<std::vector<std::string>>();

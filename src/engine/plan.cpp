@@ -11,6 +11,7 @@
 #include <random>
 
 #include "engine/local_mission.hpp"
+#include "engine/rally.hpp"
 #include "engine/shares.hpp"
 #include "engine/test_hold.hpp"
 #include "evaluation/evaluate.hpp"
@@ -18,6 +19,7 @@
 #include "planners/planner.hpp"
 #include "planners/structure/structure.hpp"
 #include "sorties/sorties.hpp"
+#include "terrain/terrain.hpp"
 #include "uavcover/uavcover.hpp"
 #include "waypoints/waypoints.hpp"
 
@@ -431,6 +433,27 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   // a UAV with a leg longer than one battery keeps no sorties, with a warning (docs/sorties.md)
   // (the planner's own boundaries where it gives them)
   sorties::fill_sorties(out, sortie_options, &out.warnings, &router, &ctx);
+  // climb and descent limits (issue 31): where the ground is too steep to follow at speed, said
+  if (out.mission.terrain && out.mission.terrain->follow() && terrain::grid(out.mission) != nullptr &&
+      (out.mission.terrain->max_climb_mps || out.mission.terrain->max_descent_mps ||
+       out.mission.terrain->max_grade))
+    for (std::size_t i = 0; i < out.uavs.size(); ++i) {
+      if (ctx.stop_requested()) throw Cancelled();
+      try {
+        const auto legs = waypoints::steep_legs(out, i, waypoints::mission_items(out, i));
+        for (std::size_t k = 0; k < legs.size() && k < 5; ++k)
+          out.warnings.push_back(
+              fmt::format("uav '{}': terrain: {}", out.uavs[i].id, waypoints::describe(legs[k], out)));
+        if (legs.size() > 5)
+          out.warnings.push_back(
+              fmt::format("uav '{}': terrain: {} more steep legs", out.uavs[i].id, legs.size() - 5));
+      } catch (const InputError&) {
+        // altitudes the default options cannot separate: the export says so with its own options
+      }
+    }
+  // rally points (issue 31): the mission's, or the proposal (one per UAV inside its region)
+  out.rally = out.mission.rally;
+  if (out.mission.propose_rally) out.rally = engine::propose_rally(out, lm.no_fly, lm.frame);
   if (out.mission.transition_altitudes == "layers") assign_layers(out, &out.warnings);
   set_expected_finish(out);
   ctx.report("done", 1.0);

@@ -6,16 +6,18 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "autopilot/fence.hpp"
 #include "autopilot/rules.hpp"
-#include "export/geofence.hpp"
 #include "export/separation.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
+#include "uavcover/vehicle.hpp"
 #include "waypoints/ardupilot.hpp"
 
 namespace uavcover::exporting {
 
 using namespace waypoints;  // the waypoint model the formats write
+using autopilot::no_fly_violations;
 using nlohmann::json;
 
 /// UAV ids are used unchanged in file names: the parser's id rule, checked again here for plan
@@ -40,13 +42,21 @@ void check_consumers(const Plan& p, std::size_t i, const std::vector<MissionItem
     std::vector<autopilot::Problem> problems;
     bool warn;
   };
+  // the capacities of the vehicle profiles (issue 31), with the mission's max_mission_items
+  autopilot::ArduPilotLimits ap;
+  ap.max_items = mission_capacity(*vehicle_profile("ardupilot"), p.mission.max_mission_items);
+  autopilot::Px4Params px4;
+  px4.max_items = mission_capacity(*vehicle_profile("px4"), p.mission.max_mission_items);
   const Consumer consumers[] = {
-      {"ArduPilot", autopilot::ardupilot_problems(items), autopilot == "ardupilot"},
-      {"PX4", autopilot::px4_problems(items, home, terrain::home_ground(p.mission, i)), autopilot == "px4"}};
+      {"ArduPilot", autopilot::ardupilot_problems(items, ap), autopilot == "ardupilot"},
+      {"PX4", autopilot::px4_problems(items, home, terrain::home_ground(p.mission, i), px4),
+       autopilot == "px4"}};
   // an export for ArduPilot with headings carries MAV_CMD_CONDITION_YAW (ardupilot_mission_items),
   // which PX4 does not run in a mission: those items are for ArduPilot only, and PX4's rules do not apply
-  const bool ardupilot_only = std::any_of(items.begin(), items.end(),
-                                          [](const MissionItem& it) { return it.command == kConditionYaw; });
+  // (and one in the terrain frame, issue 31, which PX4 refuses: the export is for ArduPilot alone)
+  const bool ardupilot_only = std::any_of(items.begin(), items.end(), [](const MissionItem& it) {
+    return it.command == kConditionYaw || it.frame == kFrameGlobalTerrainAlt;
+  });
   for (const Consumer& c : consumers)
     for (const autopilot::Problem& pr : c.problems) {
       if (ardupilot_only && std::string(c.name) == "PX4") break;
@@ -56,6 +66,17 @@ void check_consumers(const Plan& p, std::size_t i, const std::vector<MissionItem
       if (c.warn)
         warnings.push_back(fmt::format("uav '{}': {}: {}", id, c.name, autopilot::describe(pr, items)));
     }
+}
+
+std::size_t stored_items(const Plan& p, std::size_t i, const std::string& autopilot,
+                         const waypoints::AltitudeOptions& altitude) {
+  if (autopilot == "ardupilot") return ardupilot_mission_items(p, i, altitude).size() + 1;  // + home, item 0
+  const auto items = mission_items(p, i, altitude);
+  if (autopilot == "px4") return items.size();
+  // DJI and Litchi count waypoints
+  return static_cast<std::size_t>(std::count_if(items.begin(), items.end(), [](const MissionItem& it) {
+    return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
+  }));
 }
 
 CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::string>& warnings) {
@@ -69,6 +90,15 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
     throw InputError("trajectory_step_s", "must be 0 (the segment form) or a step of at least 0.001 s");
   CheckedPlan checked;
   checked.autopilot = export_autopilot(plan, opt);  // an unknown one refuses before anything
+  if (opt.altitude.terrain_frame) {
+    // heights relative to terrain (issue 31): ArduPilot only, and only where the plan follows a DEM
+    if (checked.autopilot != "ardupilot")
+      throw InputError("terrain_frame",
+                       "MAV_FRAME_GLOBAL_TERRAIN_ALT is for ArduPilot (PX4 refuses it in a mission, DJI and "
+                       "Litchi files have no such frame); export with autopilot ardupilot");
+    if (terrain::grid(plan.mission) == nullptr || !plan.mission.terrain->follow())
+      throw InputError("terrain_frame", "needs a mission whose terrain block follows a DEM");
+  }
   for (std::size_t i = 0; i < plan.uavs.size(); ++i)
     if (!usable_id(plan.uavs[i].id) || plan.uavs[i].id != plan.mission.uavs[i].id)
       throw InputError(fmt::format("uavs[{}].id", i),
@@ -97,13 +127,25 @@ CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::st
     }
     checked.flown.push_back(i);
     auto items = items_clear_of_zones(plan, i);
-    if (!opt.per_sortie) check_consumers(plan, i, items, checked.autopilot, warnings);
+    if (!opt.per_sortie && !opt.split_capacity) check_consumers(plan, i, items, checked.autopilot, warnings);
     checked.items[i] = std::move(items);
   }
   if (checked.flown.empty()) throw InputError("uavs", "no UAV has coverage parts: nothing to export");
-  if (opt.per_sortie)
+  if (opt.per_sortie || opt.split_capacity)
     for (const std::size_t i : checked.flown) {
-      auto list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
+      std::vector<Sortie> list;
+      if (opt.split_capacity) {
+        // the vehicle's capacity (issue 31): the profile the export is for (the option), else the UAV's
+        const std::string name =
+            opt.autopilot.empty() ? std::string(uav_autopilot(plan.mission, i)) : opt.autopilot;
+        const VehicleProfile& profile = *vehicle_profile(name);
+        const std::size_t capacity = mission_capacity(profile, plan.mission.max_mission_items);
+        list = sorties::capacity_sorties(plan, i, capacity, [&](const Plan& sp, std::size_t u) {
+          return stored_items(sp, u, name, opt.altitude);
+        });
+      } else {
+        list = plan.uavs[i].sorties.empty() ? sorties::cut_sorties(plan, i) : plan.uavs[i].sorties;
+      }
       for (std::size_t k = 0; k < list.size(); ++k) {
         const Plan sp = sorties::sortie_plan(plan, i, list[k]);
         auto items = items_clear_of_zones(sp, i);

@@ -23,6 +23,11 @@ bool usable_id(const std::string& id);
 void check_consumers(const Plan& p, std::size_t i, const std::vector<waypoints::MissionItem>& items,
                      const std::string& autopilot, std::vector<std::string>& warnings);
 
+/// The items UAV `i`'s mission in `p` puts in the vehicle for `autopilot` (a profile name): ArduPilot's
+/// with home as item 0, PX4's as exported, DJI's and Litchi's waypoints (issue 31's capacity split).
+std::size_t stored_items(const Plan& p, std::size_t i, const std::string& autopilot,
+                         const waypoints::AltitudeOptions& altitude);
+
 /// What the checks found a plan's export may write.
 struct CheckedPlan {
   std::string autopilot;           ///< export_autopilot()

@@ -54,7 +54,13 @@ Artifacts CheckedExport::write(const std::vector<std::string>& formats,
   Artifacts out;
   for (const auto& name : wanted) {
     const Format& f = *find_format(name);
-    const bool split = opt.per_sortie && f.per_sortie;
+    // the terrain frame (issue 31) is MAVLink's: formats that write heights of their own have none
+    if (opt.altitude.terrain_frame && name != "qgc" && name != "wpl" && name != "csv" && name != "geojson")
+      throw InputError("terrain_frame",
+                       fmt::format("the {} format has no terrain frame (MAV_FRAME_GLOBAL_TERRAIN_ALT "
+                                   "is for the .plan, .waypoints and CSV); export it without it",
+                                   name));
+    const bool split = (opt.per_sortie || opt.split_capacity) && f.per_sortie;
     for (const std::size_t i : checked.flown) {
       const std::string& id = plan.uavs[i].id;
       if (!split) {

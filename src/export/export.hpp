@@ -54,6 +54,10 @@ struct ExportOptions {
   /// the UAV's transition altitude, its coverage, return) in place of export/<id>.<ext>. geojson and
   /// trajectory stay one file per UAV.
   bool per_sortie = false;
+  /// Missions split to the vehicle's item capacity (issue 31, docs/vehicle-limits.md): like per_sortie
+  /// (export/<id>.s<k>.<ext>), each sortie cut further where its mission holds more items than the
+  /// profile (autopilot, else the UAV's or the mission's) stores; implies per_sortie.
+  bool split_capacity = false;
   std::vector<std::string>* warnings = nullptr;  ///< when set, receives every warning (clamps, skips)
   /// The mission items of the UAV being written, for the plan (or sortie) being written, as the checks
   /// made them (CheckedExport sets it for each writer call: the items are made once per UAV per export,

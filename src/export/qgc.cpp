@@ -6,21 +6,23 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "export/geofence.hpp"
+#include "autopilot/fence.hpp"
 #include "export/support.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/error.hpp"
+#include "uavcover/vehicle.hpp"
 #include "waypoints/ardupilot.hpp"
 
 namespace uavcover::exporting {
 
 using namespace waypoints;  // the waypoint model the formats write
+using autopilot::inclusion_fence;
+using autopilot::kPx4MaxFenceVertices;
 using nlohmann::json;
 
-std::string export_autopilot(const Plan& /*plan*/, const ExportOptions& opt) {
-  if (opt.autopilot.empty()) return "px4";
-  for (const char* a : {"px4", "ardupilot", "dji", "litchi"})
-    if (opt.autopilot == a) return opt.autopilot;
+std::string export_autopilot(const Plan& plan, const ExportOptions& opt) {
+  if (opt.autopilot.empty()) return plan.mission.autopilot.empty() ? "px4" : plan.mission.autopilot;
+  if (vehicle_profile(opt.autopilot) != nullptr) return opt.autopilot;
   std::string shown = opt.autopilot.substr(0, 64);
   for (char& c : shown)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
@@ -32,6 +34,17 @@ int qgc_firmware_type(const Plan& plan, const ExportOptions& opt) {
   if (opt.qgc_firmware_type >= 0) return opt.qgc_firmware_type;
   return autopilot == "ardupilot" ? 3 : 12;
 }
+
+namespace {
+json rally_points(const Plan& plan, std::size_t index) {
+  // QGC's RallyPointController: [lat, lon, alt] with the altitude relative to home, the height the
+  // vehicle returns at (this UAV's transition altitude)
+  json points = json::array();
+  const double alt = plan.uavs.at(index).transition_altitude_m;
+  for (const auto& p : plan.rally) points.push_back({p.lat, p.lon, alt});
+  return points;
+}
+}  // namespace
 
 json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
   const int firmware = qgc_firmware_type(plan, opt);
@@ -51,7 +64,8 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
       j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4),
                      it.lat,          it.lon,          it.alt};
       j["Altitude"] = it.alt;
-      j["AltitudeMode"] = it.frame == kFrameGlobal ? 2 : 1;  // QGC AltMode: 2 absolute (AMSL), 1 relative
+      // QGC AltMode: 2 absolute (AMSL), 4 terrain frame (MAV_FRAME_GLOBAL_TERRAIN_ALT), 1 relative
+      j["AltitudeMode"] = it.frame == kFrameGlobal ? 2 : it.frame == kFrameGlobalTerrainAlt ? 4 : 1;
       j["AMSLAltAboveTerrain"] = nullptr;
     } else {
       j["params"] = {jnum(it.param1), jnum(it.param2), jnum(it.param3), jnum(it.param4), 0, 0, 0};
@@ -93,13 +107,16 @@ json qgc_plan(const Plan& plan, std::size_t index, const ExportOptions& opt) {
            {{"version", 2},
             {"firmwareType", firmware},
             {"vehicleType", opt.qgc_vehicle_type},
-            {"globalPlanAltitudeMode", terrain::grid(plan.mission) != nullptr ? 2 : 1},
+            // 0 mixed: the terrain frame's items beside AMSL take-off and transit (each item says)
+            {"globalPlanAltitudeMode", opt.altitude.terrain_frame               ? 0
+                                       : terrain::grid(plan.mission) != nullptr ? 2
+                                                                                : 1},
             {"cruiseSpeed", uav.speed_mps},
             {"hoverSpeed", uav.speed_mps},
             {"plannedHomePosition", {home.lat, home.lon, terrain::home_ground(plan.mission, index)}},
             {"items", jitems}}},
           {"geoFence", {{"version", 2}, {"circles", json::array()}, {"polygons", polygons}}},
-          {"rallyPoints", {{"version", 2}, {"points", json::array()}}}};
+          {"rallyPoints", {{"version", 2}, {"points", rally_points(plan, index)}}}};
 }
 
 }  // namespace uavcover::exporting

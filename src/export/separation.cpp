@@ -110,7 +110,9 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
       if (!positioned) continue;
       if (prev != nullptr) {
         const bool low = std::min(prev->alt, it.alt) <= low_limit;
-        auto in_leg = [](const MissionItem* m) { return m->role == "coverage" || m->role == "terrain"; };
+        auto in_leg = [](const MissionItem* m) {
+          return m->role == "coverage" || m->role == "terrain" || m->role == "lead_in";
+        };
         const bool coverage_leg = in_leg(prev) && in_leg(&it) && prev->part == it.part && it.part >= 0;
         if (low && !coverage_leg && it.command != kNavLand) {
           const Point a = frame.to_local({prev->lon, prev->lat});

@@ -94,7 +94,7 @@ FlightConfig parse_config(const json& body, const Plan& plan) {
   known_keys(body,
              {"vehicles", "simulate", "link_timeout_s", "reassign_after_s", "auto_reassign",
               "auto_next_sortie", "separation_m", "deviation_m", "low_battery_pct", "log_period_s",
-              "acceptance_radius_m", "command_retries"},
+              "acceptance_radius_m", "command_retries", "fence_rally"},
              "");
   FlightConfig c;
   const json* vehicles = member(body, "vehicles");
@@ -147,6 +147,7 @@ FlightConfig parse_config(const json& body, const Plan& plan) {
   c.log_period_s = number(body, "log_period_s", c.log_period_s, 0.05, 3600, "");
   c.acceptance_radius_m = number(body, "acceptance_radius_m", c.acceptance_radius_m, 0.1, 100, "");
   c.command_retries = static_cast<int>(integer(body, "command_retries", c.command_retries, 0, 20, ""));
+  c.fence_rally = boolean(body, "fence_rally", c.fence_rally, "");
   return c;
 }
 
@@ -169,7 +170,8 @@ json config_json(const FlightConfig& c) {
           {"low_battery_pct", c.low_battery_pct},
           {"log_period_s", c.log_period_s},
           {"acceptance_radius_m", c.acceptance_radius_m},
-          {"command_retries", c.command_retries}};
+          {"command_retries", c.command_retries},
+          {"fence_rally", c.fence_rally}};
 }
 
 Command parse_command(const json& body) {

@@ -57,6 +57,9 @@ struct FlightConfig {
   double log_period_s = 1.0;             ///< telemetry kept in the log at most this often per UAV
   double acceptance_radius_m = 2.0;      ///< Hong et al.: a waypoint is reached within this radius
   int command_retries = 3;               ///< COMMAND_LONG resends without COMMAND_ACK (1 s each)
+  /// After each mission upload, the geofence and the rally points (issue 31) with their own mission
+  /// types, where the vehicle's profile takes them (docs/fence-rally.md).
+  bool fence_rally = true;
 };
 
 /// Parses and validates the "vehicles"/settings part of POST /plans/{id}/flights against the plan

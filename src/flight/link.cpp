@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "autopilot/fence.hpp"
 #include "evaluation/cost.hpp"
 #include "flight/runtime.hpp"
 #include "mavlink/mission_protocol.hpp"
+#include "uavcover/vehicle.hpp"
 
 namespace uavcover::flight {
 
@@ -20,7 +22,17 @@ namespace {
 
 constexpr std::uint8_t kArmedFlag = 128;
 constexpr std::uint8_t kStateActive = 3, kStatePaused = 4, kStateComplete = 5;
-constexpr std::size_t kBatch = 256;  // messages handled per lock
+constexpr std::size_t kBatch = 256;     // messages handled per lock
+constexpr double kFenceMarginM = 20.0;  // the inclusion fence's margin, as the .plan export's default
+
+/// The vehicle profile a flight's UAV flies (issue 31): the mission's (the UAV's own, else the
+/// mission's) when it names a MAVLink one, else ArduPilot for a binding with a home item, else PX4.
+const VehicleProfile& flight_profile(const Mission& mission, std::size_t index, bool home_item) {
+  const bool named = !mission.uavs.at(index).autopilot.empty() || !mission.autopilot.empty();
+  const VehicleProfile* p = named ? vehicle_profile(uav_autopilot(mission, index)) : nullptr;
+  if (p == nullptr || !p->mavlink) p = vehicle_profile(home_item ? "ardupilot" : "px4");
+  return *p;
+}
 
 // Flight mode names from HEARTBEAT.custom_mode by autopilot (PX4 12, ArduPilot 3, else our simulator's
 // generic numbering, docs/simulate.md).
@@ -348,7 +360,7 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
 
   // the next action step
   std::optional<Action> upload;
-  std::vector<mav::MissionItemInt> items;
+  std::vector<mav::MissionItemInt> items, fence, rally;
   std::string phase_before;
   {
     std::lock_guard lock(mutex);
@@ -387,6 +399,26 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
         std::optional<LonLat> home;
         if (u.binding.home_item) home = plan.mission.uavs[u.index].start_resolved;
         items = mav::to_mission_items(m.items, home);
+        // the vehicle profile's capacity (issue 31): refused before anything is sent
+        const VehicleProfile& profile = flight_profile(plan.mission, u.index, u.binding.home_item);
+        const std::size_t capacity = mission_capacity(profile, plan.mission.max_mission_items);
+        if (items.size() > capacity) {
+          const std::string why =
+              fmt::format("mission {} has {} items, more than {} stores ({}); nothing was sent", a.mission,
+                          items.size(), profile.label, capacity);
+          record(u.binding.uav, "ack",
+                 {{"command", "upload"}, {"ok", false}, {"result", why}, {"mission", a.mission}});
+          set_alert("capacity", u.binding.uav, "", true, why);
+          u.actions.clear();
+          return;
+        }
+        fence.clear();
+        rally.clear();
+        if (config.fence_rally && profile.fence)
+          fence = mav::to_mission_items(autopilot::fence_items(plan, u.index, m.items, kFenceMarginM),
+                                        std::nullopt);
+        if (config.fence_rally && profile.rally && !plan.rally.empty())
+          rally = mav::to_mission_items(autopilot::rally_items(plan, u.index), std::nullopt);
         m.state = "uploading";
         phase_before = u.phase == "uploading" ? "idle" : u.phase;
         set_phase(u, "uploading");
@@ -407,7 +439,21 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
       res = mav::upload_mission(link, items, opt);
       if (res.ok) break;
     }
+    // then the geofence and the rally points (issue 31), each with its own mission type; a vehicle
+    // that does not take them (MAV_MISSION_UNSUPPORTED) still flies the mission
+    std::vector<std::pair<const char*, mav::UploadResult>> extra;
+    for (const auto& [what, list, type] : {std::tuple{"fence", &fence, mav::kMissionTypeFence},
+                                           std::tuple{"rally", &rally, mav::kMissionTypeRally}}) {
+      if (!res.ok || list->empty() || stop.stop_requested()) continue;
+      mav::UploadOptions o = opt;
+      o.mission_type = type;
+      o.retries = 1;  // a vehicle without fence support may stay silent
+      extra.emplace_back(what, mav::upload_mission(link, *list, o));
+    }
     std::lock_guard lock(mutex);
+    for (const auto& [what, r] : extra)
+      record(uavs[i].binding.uav, "ack",
+             {{"command", what}, {"ok", r.ok}, {"result", r.ok ? "accepted" : r.error}, {"items", r.count}});
     UavRt& u = uavs[i];
     MissionSpec& m = u.missions[upload->mission];
     record(u.binding.uav, "ack",

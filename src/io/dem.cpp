@@ -7,15 +7,19 @@
 #include <cpl_error.h>
 #include <fmt/format.h>
 #include <gdal_priv.h>
+#include <gdal_utils.h>
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/quiet_gdal.hpp"
@@ -84,6 +88,40 @@ class ToPixel {
 
 }  // namespace
 
+namespace {
+
+/// A unique /vsimem/ name for one read.
+std::string vsimem_name(const char* ext) {
+  static std::atomic<unsigned long long> counter{0};
+  return fmt::format("/vsimem/uavcover-dem-{}{}", counter.fetch_add(1), ext);
+}
+
+/// Removes a /vsimem/ file when it goes out of scope.
+struct MemFile {
+  std::string name;
+  explicit MemFile(std::string n) : name(std::move(n)) {}
+  MemFile(MemFile&& o) noexcept : name(std::exchange(o.name, {})) {}  // the moved-from one unlinks nothing
+  MemFile(const MemFile&) = delete;
+  MemFile& operator=(const MemFile&) = delete;
+  MemFile& operator=(MemFile&&) = delete;
+  ~MemFile() {
+    if (!name.empty()) VSIUnlink(name.c_str());
+  }
+};
+
+/// Opens `path` (a file, /vsimem/ or a VRT) with `drivers` only; refuses naming `shown` when it cannot.
+GDALDatasetUniquePtr open_dem(const std::string& path, const char* const* drivers, const std::string& shown) {
+  GDALDatasetUniquePtr ds(GDALDataset::FromHandle(
+      GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, nullptr, nullptr)));
+  if (!ds) refuse("'" + shown + "' is not a GeoTIFF that GDAL can read (" + QuietGdal::last() + ")");
+  return ds;
+}
+
+HeightGrid read_dataset(GDALDataset* ds, const fs::path& file, double west, double south, double east,
+                        double north, const DemLimits& limits);
+
+}  // namespace
+
 HeightGrid read_dem(const fs::path& file, double west, double south, double east, double north,
                     const DemLimits& limits) {
   std::error_code ec;
@@ -91,12 +129,134 @@ HeightGrid read_dem(const fs::path& file, double west, double south, double east
   if (ec || !fs::exists(st)) refuse("cannot open '" + file.string() + "': no such file");
   if (!fs::is_regular_file(st)) refuse("'" + file.string() + "' is not a regular file");
   if (!(west < east) || !(south < north)) refuse("the mission's extent is empty");
-
   QuietGdal quiet("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
   const char* const drivers[] = {"GTiff", nullptr};
-  GDALDatasetUniquePtr ds(GDALDataset::FromHandle(
-      GDALOpenEx(file.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, nullptr, nullptr)));
-  if (!ds) refuse("'" + file.string() + "' is not a GeoTIFF that GDAL can read (" + QuietGdal::last() + ")");
+  const GDALDatasetUniquePtr ds = open_dem(file.string(), drivers, file.string());
+  return read_dataset(ds.get(), file, west, south, east, north, limits);
+}
+
+namespace {
+
+/// A GeoTIFF held in memory, opened through /vsimem/ (GDAL reads the caller's buffer in place, which
+/// outlives the dataset); the dataset closes before the file is unlinked.
+struct MemDem {
+  MemFile file;
+  GDALDatasetUniquePtr ds;
+};
+
+MemDem open_bytes(std::string_view bytes, const std::string& name) {
+  MemDem m{MemFile(vsimem_name(".tif")), nullptr};
+  VSILFILE* f =
+      VSIFileFromMemBuffer(m.file.name.c_str(), reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
+                           static_cast<vsi_l_offset>(bytes.size()), FALSE);
+  if (f == nullptr) refuse("'" + name + "' cannot be read from memory");
+  VSIFCloseL(f);
+  const char* const drivers[] = {"GTiff", nullptr};
+  m.ds = open_dem(m.file.name, drivers, name);
+  return m;
+}
+
+}  // namespace
+
+HeightGrid read_dem_bytes(std::string_view bytes, const std::string& name, double west, double south,
+                          double east, double north, const DemLimits& limits) {
+  if (!(west < east) || !(south < north)) refuse("the mission's extent is empty");
+  QuietGdal quiet("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
+  const MemDem m = open_bytes(bytes, name);
+  return read_dataset(m.ds.get(), fs::path(name), west, south, east, north, limits);
+}
+
+DemInfo inspect_dem_bytes(std::string_view bytes, const std::string& name) {
+  QuietGdal quiet("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
+  const MemDem m = open_bytes(bytes, name);
+  GDALDataset* ds = m.ds.get();
+  DemInfo info;
+  info.width = ds->GetRasterXSize();
+  info.height = ds->GetRasterYSize();
+  if (ds->GetRasterCount() < 1) refuse("'" + name + "' has no raster band");
+  double gt[6];
+  if (ds->GetGeoTransform(gt) != CE_None) refuse("'" + name + "' has no georeferencing (geotransform)");
+  const OGRSpatialReference* srs = ds->GetSpatialRef();
+  if (srs == nullptr || srs->IsEmpty())
+    refuse("'" + name +
+           "' has no coordinate reference system: write one into the GeoTIFF (gdal_edit.py -a_srs)");
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  OGRSpatialReference dem(*srs);
+  dem.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dem, &wgs84));
+  if (!back)
+    refuse("its coordinate reference system cannot be transformed to WGS84 (" + QuietGdal::last() + ")");
+  Box b;
+  const int W = info.width, H = info.height;
+  for (const auto& [cx, cy] : std::initializer_list<std::pair<int, int>>{{0, 0}, {W, 0}, {0, H}, {W, H}}) {
+    double X = gt[0] + cx * gt[1] + cy * gt[2], Y = gt[3] + cx * gt[4] + cy * gt[5];
+    if (back->Transform(1, &X, &Y) && std::isfinite(X) && std::isfinite(Y)) b.add(X, Y);
+  }
+  if (b.n != 4 || !(b.x0 >= -180.0 && b.x1 <= 180.0 && b.y0 >= -90.0 && b.y1 <= 90.0))
+    refuse("'" + name + "' does not lie on the globe in WGS84");
+  info.west = b.x0, info.south = b.y0, info.east = b.x1, info.north = b.y1;
+  const char* wkt_name = srs->GetName();
+  info.crs = wkt_name != nullptr ? wkt_name : "";
+  return info;
+}
+
+HeightGrid read_dem_dir(const fs::path& dir, double west, double south, double east, double north,
+                        const DemLimits& limits) {
+  if (!(west < east) || !(south < north)) refuse("the mission's extent is empty");
+  std::error_code ec;
+  std::vector<std::string> tiles;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    std::string ext = it->path().extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".tif" || ext == ".tiff" || ext == ".hgt") tiles.push_back(it->path().string());
+    if (tiles.size() > 100000) break;
+  }
+  if (ec) refuse("cannot read the server's DEM folder (" + ec.message() + ")");
+  if (tiles.empty()) refuse("the server's DEM folder holds no GeoTIFF or SRTM .hgt tiles");
+  std::sort(tiles.begin(), tiles.end());  // the same mosaic whatever the folder's order
+  QuietGdal quiet("GDAL_DISABLE_READDIR_ON_OPEN", "EMPTY_DIR");
+  // the tiles that overlap the box, as one virtual mosaic (GDALBuildVRT)
+  const char* const tile_drivers[] = {"GTiff", "SRTMHGT", nullptr};
+  std::vector<GDALDatasetH> open;
+  std::vector<GDALDatasetUniquePtr> keep;
+  for (const auto& t : tiles) {
+    GDALDatasetUniquePtr ds(GDALDataset::FromHandle(
+        GDALOpenEx(t.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, tile_drivers, nullptr, nullptr)));
+    if (!ds) continue;  // not a raster GDAL reads: not a tile
+    double gt[6];
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    if (ds->GetGeoTransform(gt) != CE_None || srs == nullptr || !srs->IsGeographic()) continue;
+    const double x0 = gt[0], x1 = gt[0] + gt[1] * ds->GetRasterXSize();
+    const double y1 = gt[3], y0 = gt[3] + gt[5] * ds->GetRasterYSize();
+    if (std::min(x0, x1) > east || std::max(x0, x1) < west || std::min(y0, y1) > north ||
+        std::max(y0, y1) < south)
+      continue;
+    open.push_back(GDALDataset::ToHandle(ds.get()));
+    keep.push_back(std::move(ds));
+  }
+  if (open.empty())
+    refuse(fmt::format(
+        "no tile of the server's DEM folder covers the mission (longitude {:.6f}..{:.6f}, latitude "
+        "{:.6f}..{:.6f}; the folder holds {} files)",
+        west, east, south, north, tiles.size()));
+  MemFile vrt{vsimem_name(".vrt")};
+  int usage_error = 0;
+  GDALDatasetH mosaic = GDALBuildVRT(vrt.name.c_str(), static_cast<int>(open.size()), open.data(), nullptr,
+                                     nullptr, &usage_error);
+  if (mosaic == nullptr) refuse("the server's DEM tiles cannot be joined (" + QuietGdal::last() + ")");
+  GDALDatasetUniquePtr ds(GDALDataset::FromHandle(mosaic));
+  HeightGrid g = read_dataset(ds.get(), fs::path("server DEM tiles"), west, south, east, north, limits);
+  g.source = fmt::format("server DEM folder: {} of {} tiles", open.size(), tiles.size());
+  return g;
+}
+
+namespace {
+
+HeightGrid read_dataset(GDALDataset* ds, const fs::path& file, double west, double south, double east,
+                        double north, const DemLimits& limits) {
   if (ds->GetRasterCount() < 1) refuse("'" + file.string() + "' has no raster band");
   const int W = ds->GetRasterXSize(), H = ds->GetRasterYSize();
   double gt[6];
@@ -251,8 +411,9 @@ HeightGrid read_dem(const fs::path& file, double west, double south, double east
   return g;
 }
 
-void load_terrain(Mission& mission, const fs::path& base_dir, const DemLimits& limits) {
-  if (!mission.terrain) return;
+}  // namespace
+
+TerrainBox terrain_box(const Mission& mission) {
   Box b;
   auto add_rings = [&](const std::vector<GeoPolygon>& polys) {
     for (const auto& poly : polys)
@@ -268,13 +429,37 @@ void load_terrain(Mission& mission, const fs::path& base_dir, const DemLimits& l
   const double mlat = margin_m / kMetresPerDegree;
   const double mlon =
       margin_m / (kMetresPerDegree * std::max(0.01, std::cos(lat * std::numbers::pi / 180.0)));
+  return {std::max(-180.0, b.x0 - mlon), std::max(-90.0, b.y0 - mlat), std::min(180.0, b.x1 + mlon),
+          std::min(90.0, b.y1 + mlat)};
+}
+
+void load_terrain(Mission& mission, const fs::path& base_dir, const DemLimits& limits) {
+  if (!mission.terrain) return;
+  if (mission.terrain->dem_id > 0 || mission.terrain->source == "server")
+    refuse(
+        "names a DEM stored in a server (dem_id) or the server's tiles (source): plan it through the "
+        "server, or name the GeoTIFF file (dem)");
+  const TerrainBox box = terrain_box(mission);
   fs::path file(mission.terrain->dem);
   if (file.is_relative()) file = base_dir / file;
-  auto grid = std::make_shared<HeightGrid>(
-      read_dem(file, std::max(-180.0, b.x0 - mlon), std::max(-90.0, b.y0 - mlat),
-               std::min(180.0, b.x1 + mlon), std::min(90.0, b.y1 + mlat), limits));
+  auto grid = std::make_shared<HeightGrid>(read_dem(file, box.west, box.south, box.east, box.north, limits));
   mission.terrain->dem = fs::absolute(file).lexically_normal().string();
   mission.terrain->grid = std::move(grid);
+}
+
+void load_terrain_bytes(Mission& mission, std::string_view bytes, const std::string& name,
+                        const DemLimits& limits) {
+  if (!mission.terrain) return;
+  const TerrainBox box = terrain_box(mission);
+  mission.terrain->grid = std::make_shared<HeightGrid>(
+      read_dem_bytes(bytes, name, box.west, box.south, box.east, box.north, limits));
+}
+
+void load_terrain_dir(Mission& mission, const fs::path& dir, const DemLimits& limits) {
+  if (!mission.terrain) return;
+  const TerrainBox box = terrain_box(mission);
+  mission.terrain->grid =
+      std::make_shared<HeightGrid>(read_dem_dir(dir, box.west, box.south, box.east, box.north, limits));
 }
 
 }  // namespace uavcover::io

@@ -242,6 +242,7 @@ void Vehicle::request(std::uint16_t seq) {
   req.target_system = gcs_system_;
   req.target_component = gcs_component_;
   req.seq = seq;
+  req.mission_type = type_;
   link_.send(req);
   ++stats_.requests_sent;
   deadline_ = clock::now() + opt_.item_timeout;
@@ -252,13 +253,15 @@ void Vehicle::ack(std::uint8_t type, std::uint8_t target_system, std::uint8_t ta
   a.target_system = target_system;
   a.target_component = target_component;
   a.type = type;
+  a.mission_type = type_;
   link_.send(a);
 }
 
 void Vehicle::end_transfer() {
   receiving_ = false;
   incoming_.clear();
-  if (opt_.store_as_received) ++mission_version_;  // what was stored so far is the mission now
+  // what was stored so far is the mission now
+  if (type_ == kMissionTypeMission && opt_.store_as_received) ++mission_version_;
 }
 
 void Vehicle::on_timeout() {
@@ -278,26 +281,45 @@ bool Vehicle::handle(const Received& r) {
     if (!for_me(mc->target_system, link_.sysid())) return true;
     gcs_system_ = r.header.sysid;
     gcs_component_ = r.header.compid;
-    if (mc->mission_type != kMissionTypeMission) {
+    if (receiving_ && mc->mission_type != type_) {  // one transfer at a time: the other one is dropped
+      end_transfer();
+      ++stats_.cancelled;
+    }
+    type_ = mc->mission_type;
+    const bool fence_or_rally = type_ == kMissionTypeFence || type_ == kMissionTypeRally;
+    if (type_ != kMissionTypeMission && !(fence_or_rally && opt_.fence_rally)) {
       ack(kMissionUnsupported, gcs_system_, gcs_component_);
       return true;
     }
-    if (mc->count > opt_.max_items) {
+    const std::size_t capacity = type_ == kMissionTypeFence   ? opt_.max_fence_items
+                                 : type_ == kMissionTypeRally ? opt_.max_rally_items
+                                                              : opt_.max_items;
+    if (mc->count > capacity) {
       ack(kMissionNoSpace, gcs_system_, gcs_component_);
       return true;
     }
-    if (mc->count == 0) {  // an empty upload clears the mission
-      mission_.clear();
+    if (mc->count == 0) {  // an empty upload clears the mission (or the fence, the rally points)
       receiving_ = false;
-      ++stats_.uploads_accepted;
-      ++mission_version_;
       last_completed_count_ = 0;
+      if (type_ == kMissionTypeMission) {
+        mission_.clear();
+        ++stats_.uploads_accepted;
+        ++mission_version_;
+      } else if (type_ == kMissionTypeFence) {
+        fence_.clear();
+        ++fence_version_;
+        ++stats_.fence_uploads;
+      } else {
+        rally_.clear();
+        ++stats_.rally_uploads;
+      }
       ack(kMissionAccepted, gcs_system_, gcs_component_);
       return true;
     }
     receiving_ = true;  // a new count (also a resent one) (re)starts the transfer
     count_ = mc->count;
-    if (opt_.store_as_received && mission_.size() > count_) mission_.resize(count_);  // ArduPilot truncates
+    if (type_ == kMissionTypeMission && opt_.store_as_received && mission_.size() > count_)
+      mission_.resize(count_);  // ArduPilot truncates
     expected_ = 0;
     incoming_.clear();
     retries_left_ = opt_.retries;
@@ -305,6 +327,7 @@ bool Vehicle::handle(const Received& r) {
     request(0);
   } else if (const auto* item = std::get_if<MissionItemInt>(&r.message)) {
     if (!for_me(item->target_system, link_.sysid())) return true;
+    if (receiving_ && item->mission_type != type_) return true;  // not the transfer in progress
     if (!receiving_) {
       // The GCS repeats the final item when our ACK was lost: repeat the ACK.
       if (last_completed_count_ && *last_completed_count_ > 0 && item->seq + 1 == *last_completed_count_) {
@@ -324,10 +347,23 @@ bool Vehicle::handle(const Received& r) {
       return true;
     }
     std::uint8_t verdict = kMissionAccepted;
-    if (opt_.refuse_item && item->seq == *opt_.refuse_item)
+    if (type_ == kMissionTypeFence) {  // fence and rally: their own commands only (MAV_CMD_NAV_FENCE_*
+      // 5001-5004, MAV_CMD_NAV_RALLY_POINT 5100)
+      if (item->command < 5001 || item->command > 5004) verdict = kMissionUnsupported;
+    } else if (type_ == kMissionTypeRally) {
+      if (item->command != 5100) verdict = kMissionUnsupported;
+    } else if (opt_.refuse_item && item->seq == *opt_.refuse_item) {
       verdict = opt_.refuse_result;
-    else if (opt_.check_item)
+    } else if (opt_.check_item) {
       verdict = opt_.check_item(*item);
+    }
+    if (verdict != kMissionAccepted && type_ != kMissionTypeMission) {  // the stored one stays
+      ++stats_.refused;
+      receiving_ = false;
+      incoming_.clear();
+      ack(verdict, gcs_system_, gcs_component_);
+      return true;
+    }
     if (verdict != kMissionAccepted) {
       ++stats_.refused;
       if (opt_.store_as_received) {
@@ -342,7 +378,7 @@ bool Vehicle::handle(const Received& r) {
       return true;
     }
     incoming_.push_back(*item);
-    if (opt_.store_as_received) {  // ArduPilot writes each item to its storage as it arrives
+    if (type_ == kMissionTypeMission && opt_.store_as_received) {  // ArduPilot writes each as it arrives
       if (item->seq < mission_.size())
         mission_[item->seq] = *item;
       else
@@ -351,22 +387,55 @@ bool Vehicle::handle(const Received& r) {
     ++expected_;
     retries_left_ = opt_.retries;
     if (expected_ == count_) {
-      mission_ = std::move(incoming_);
-      incoming_.clear();
       receiving_ = false;
+      if (type_ == kMissionTypeFence && opt_.check_fence) {
+        if (const std::uint8_t v = opt_.check_fence(incoming_); v != kMissionAccepted) {
+          ++stats_.refused;
+          incoming_.clear();
+          ack(v, gcs_system_, gcs_component_);
+          return true;
+        }
+      }
       last_completed_count_ = count_;
-      ++stats_.uploads_accepted;
-      ++mission_version_;
+      if (type_ == kMissionTypeFence) {
+        fence_ = std::move(incoming_);
+        ++fence_version_;
+        ++stats_.fence_uploads;
+      } else if (type_ == kMissionTypeRally) {
+        rally_ = std::move(incoming_);
+        ++stats_.rally_uploads;
+      } else {
+        mission_ = std::move(incoming_);
+        ++stats_.uploads_accepted;
+        ++mission_version_;
+      }
+      incoming_.clear();
       ack(kMissionAccepted, gcs_system_, gcs_component_);
     } else {
       request(expected_);
     }
   } else if (const auto* clear = std::get_if<MissionClearAll>(&r.message)) {
     if (!for_me(clear->target_system, link_.sysid())) return true;
-    mission_.clear();
+    // MAV_MISSION_TYPE_ALL (255) clears all three
+    const std::uint8_t t = clear->mission_type;
+    if (t != kMissionTypeMission && t != 255 &&
+        !((t == kMissionTypeFence || t == kMissionTypeRally) && opt_.fence_rally)) {
+      type_ = t;
+      ack(kMissionUnsupported, r.header.sysid, r.header.compid);
+      return true;
+    }
+    if (t == kMissionTypeMission || t == 255) {
+      mission_.clear();
+      ++mission_version_;
+    }
+    if (t == kMissionTypeFence || t == 255) {
+      fence_.clear();
+      ++fence_version_;
+    }
+    if (t == kMissionTypeRally || t == 255) rally_.clear();
     receiving_ = false;
-    ++mission_version_;
     ++stats_.clears;
+    type_ = t;
     ack(kMissionAccepted, r.header.sysid, r.header.compid);
   } else {
     return false;

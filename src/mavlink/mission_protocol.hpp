@@ -113,6 +113,14 @@ struct VehicleOptions {
   /// received before it, as ArduPilot keeps them (it stores each item as it comes; issue 34 saw a 3-item
   /// mission left after a refusal at item 3). The simulator uses autopilot::ardupilot_item_result.
   std::function<std::uint8_t(const MissionItemInt&)> check_item;
+  /// Fence and rally points (MAV_MISSION_TYPE_FENCE, _RALLY; issue 31): stored apart from the mission,
+  /// each replaced only when its upload completes. Off: both types are answered MAV_MISSION_UNSUPPORTED.
+  bool fence_rally = true;
+  std::size_t max_fence_items = 256;  ///< MAV_MISSION_NO_SPACE above this
+  std::size_t max_rally_items = 100;
+  /// The autopilot's verdict on a whole fence once every item has arrived (MAV_MISSION_RESULT; empty =
+  /// accept): a refused fence leaves the stored one unchanged. The simulator uses autopilot::read_fence.
+  std::function<std::uint8_t(const std::vector<MissionItemInt>&)> check_fence;
 };
 
 class Vehicle {
@@ -127,6 +135,8 @@ class Vehicle {
     std::size_t acks_resent = 0;      ///< final item seen again after the ACK: ACK repeated
     std::size_t refused = 0;          ///< transfers ended by refusing an item (check_item, refuse_item)
     std::size_t clears = 0;           ///< MISSION_CLEAR_ALL handled
+    std::size_t fence_uploads = 0;    ///< fence uploads accepted (issue 31)
+    std::size_t rally_uploads = 0;    ///< rally uploads accepted
   };
 
   /// The link's sysid/compid are the vehicle's; replies go to whoever sent last.
@@ -152,6 +162,11 @@ class Vehicle {
   [[nodiscard]] bool receiving() const { return receiving_; }
 
   [[nodiscard]] const std::vector<MissionItemInt>& mission() const { return mission_; }
+  /// The stored fence and rally items (issue 31).
+  [[nodiscard]] const std::vector<MissionItemInt>& fence() const { return fence_; }
+  [[nodiscard]] const std::vector<MissionItemInt>& rally() const { return rally_; }
+  /// Counts every change of the stored fence.
+  [[nodiscard]] std::size_t fence_version() const { return fence_version_; }
   [[nodiscard]] const Stats& stats() const { return stats_; }
   /// Counts every change of the stored mission (accepted uploads and clears).
   [[nodiscard]] std::size_t mission_version() const { return mission_version_; }
@@ -165,7 +180,10 @@ class Vehicle {
   Link& link_;
   VehicleOptions opt_;
   std::vector<MissionItemInt> mission_;
+  std::vector<MissionItemInt> fence_, rally_;
+  std::size_t fence_version_ = 0;
   // transfer in progress
+  std::uint8_t type_ = kMissionTypeMission;  ///< its MAV_MISSION_TYPE
   bool receiving_ = false;
   std::uint16_t count_ = 0;
   std::uint16_t expected_ = 0;

@@ -1,4 +1,6 @@
 // The uavcover v1 input format (GeoJSON conventions): its members, the UAV list and the terrain block.
+#include <fmt/format.h>
+
 #include <cctype>
 
 #include "geodesy/local_frame.hpp"
@@ -7,22 +9,66 @@
 #include "mission/pattern.hpp"
 #include "planners/planner.hpp"
 #include "uavcover/error.hpp"
+#include "uavcover/vehicle.hpp"
 
 namespace uavcover::mission::detail {
 
 namespace {
 
+constexpr std::size_t kMaxRallyPoints = 100;
+
+/// A vehicle profile's name (issue 31, include/uavcover/vehicle.hpp).
+std::string autopilot_name(const json& j, const std::string& field) {
+  const std::string name = str(j, field);
+  if (vehicle_profile(name) == nullptr) {
+    std::string known;
+    for (const auto& p : kVehicleProfiles)
+      known += (known.empty() ? "\"" : ", \"") + std::string(p.name) + "\"";
+    throw InputError(field, "expected one of " + known + ", got \"" + name + "\"");
+  }
+  return name;
+}
+
 // The terrain block: a DEM file name (read later by io::load_terrain), the mode and the tolerance.
 Terrain parse_terrain(const json& j) {
   if (!j.is_object()) throw InputError("terrain", std::string("expected an object, got ") + type_name(j));
-  reject_unknown(j, {"dem", "mode", "tolerance_m"}, "terrain.");
-  if (!j.contains("dem")) throw InputError("terrain.dem", "missing: name the GeoTIFF elevation model");
+  reject_unknown(
+      j, {"dem", "dem_id", "source", "mode", "tolerance_m", "max_climb_mps", "max_descent_mps", "max_grade"},
+      "terrain.");
+  // where the heights come from (issue 31): a file (the CLI), a DEM stored in the server, or the
+  // server's tile folder; exactly one
+  const int given =
+      (j.contains("dem") ? 1 : 0) + (j.contains("dem_id") ? 1 : 0) + (j.contains("source") ? 1 : 0);
+  if (given == 0)
+    throw InputError("terrain.dem",
+                     "missing: name the GeoTIFF elevation model (dem), a stored one (dem_id) or "
+                     "\"source\": \"server\"");
+  if (given > 1) throw InputError("terrain", "give one of dem, dem_id or source");
   Terrain t;
-  t.dem = str(j["dem"], "terrain.dem");
-  if (t.dem.empty() || t.dem.size() > 4096)
-    throw InputError("terrain.dem", "must name a file (1 to 4096 bytes)");
-  if (t.dem.find('\0') != std::string::npos)
-    throw InputError("terrain.dem", "must not contain NUL characters");
+  if (j.contains("dem")) {
+    t.dem = str(j["dem"], "terrain.dem");
+    if (t.dem.empty() || t.dem.size() > 4096)
+      throw InputError("terrain.dem", "must name a file (1 to 4096 bytes)");
+    if (t.dem.find('\0') != std::string::npos)
+      throw InputError("terrain.dem", "must not contain NUL characters");
+  }
+  if (j.contains("dem_id")) {
+    const json& d = j["dem_id"];
+    if (!d.is_number_integer() || d.get<long long>() <= 0)
+      throw InputError("terrain.dem_id", "expected the positive id of a DEM stored with POST /api/v1/dems");
+    t.dem_id = d.get<long long>();
+  }
+  if (j.contains("source")) {
+    if (j["source"] != "server")
+      throw InputError("terrain.source",
+                       "expected \"server\" (the tiles of `serve --dem-dir`), got " + j["source"].dump());
+    t.source = "server";
+  }
+  if (j.contains("max_climb_mps"))
+    t.max_climb_mps = in_range(j["max_climb_mps"], "terrain.max_climb_mps", 0.1, 50.0);
+  if (j.contains("max_descent_mps"))
+    t.max_descent_mps = in_range(j["max_descent_mps"], "terrain.max_descent_mps", 0.1, 50.0);
+  if (j.contains("max_grade")) t.max_grade = in_range(j["max_grade"], "terrain.max_grade", 0.01, 10.0);
   if (j.contains("mode")) {
     const json& m = j["mode"];
     if (!m.is_string() || (m != "follow" && m != "off"))
@@ -61,7 +107,7 @@ void parse_uavs(const json& j, Raw& raw) {
     if (!ju.is_object()) throw InputError(f, std::string("expected an object, got ") + type_name(ju));
     reject_unknown(ju,
                    {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1",
-                    "turn_c2", "camera"},
+                    "turn_c2", "camera", "autopilot"},
                    f + ".");
     Uav u;
     u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
@@ -94,6 +140,7 @@ void parse_uavs(const json& j, Raw& raw) {
       u.camera = parse_camera(ju["camera"], f + ".camera");
       u.camera_geometry = camera_geometry(*u.camera, f + ".camera");
     }
+    if (ju.contains("autopilot")) u.autopilot = autopilot_name(ju["autopilot"], f + ".autopilot");
     raw.uavs.push_back(u);
     raw.shares.push_back(share);
   }
@@ -148,12 +195,34 @@ GeoPolygon structure_area(const Structure& s) {
 
 Raw parse_v1(const json& j) {
   Raw raw;
-  reject_unknown(j, {"name",    "area",           "no_fly_zones", "spacing_m",
-                     "camera",  "altitude_m",     "uavs",         "mode",
-                     "planner", "planner_params", "seed",         "battery_reserve",
-                     "terrain", "version",        "$schema",      "corridor",
-                     "pattern", "structure",      "objective",    "transition_altitudes",
-                     "wind",    "shares"},
+  reject_unknown(j,
+                 {"name",
+                  "area",
+                  "no_fly_zones",
+                  "spacing_m",
+                  "camera",
+                  "altitude_m",
+                  "uavs",
+                  "mode",
+                  "planner",
+                  "planner_params",
+                  "seed",
+                  "battery_reserve",
+                  "terrain",
+                  "version",
+                  "$schema",
+                  "corridor",
+                  "pattern",
+                  "structure",
+                  "objective",
+                  "transition_altitudes",
+                  "wind",
+                  "shares",
+                  "rally",
+                  "propose_rally",
+                  "resume_backoff_m",
+                  "autopilot",
+                  "max_mission_items"},
                  "");
   if (j.contains("version") && j["version"] != 1) throw InputError("version", "only version 1 is supported");
   if (j.contains("name")) raw.name = checked_name(str(j["name"], "name"), "name");
@@ -261,6 +330,30 @@ Raw parse_v1(const json& j) {
     wind.speed_mps = in_range(w["speed_mps"], "wind.speed_mps", 0.0, 100.0);
     if (w.contains("from_deg")) wind.from_deg = in_range(w["from_deg"], "wind.from_deg", 0.0, 360.0, true);
     raw.wind = wind;
+  }
+  // rally points (issue 31, docs/fence-rally.md): [[lon, lat], ...]
+  if (j.contains("rally")) {
+    const json& r = j["rally"];
+    if (!r.is_array()) throw InputError("rally", "expected an array of [lon, lat] positions");
+    if (r.size() > kMaxRallyPoints)
+      throw InputError("rally", fmt::format("at most {} rally points, got {}", kMaxRallyPoints, r.size()));
+    for (std::size_t i = 0; i < r.size(); ++i) raw.rally.push_back(position(r[i], idx("rally", i)));
+  }
+  if (j.contains("propose_rally")) {
+    if (!j["propose_rally"].is_boolean()) throw InputError("propose_rally", "expected true or false");
+    raw.propose_rally = j["propose_rally"].get<bool>();
+    if (raw.propose_rally && !raw.rally.empty())
+      throw InputError("propose_rally", "give rally points or ask for a proposal, not both");
+  }
+  if (j.contains("resume_backoff_m"))
+    raw.resume_backoff = in_range(j["resume_backoff_m"], "resume_backoff_m", 0.0, 10000.0);
+  if (j.contains("autopilot")) raw.autopilot = autopilot_name(j["autopilot"], "autopilot");
+  if (j.contains("max_mission_items")) {
+    const json& v = j["max_mission_items"];
+    if (!v.is_number_integer() || v.get<long long>() < 8 || v.get<long long>() > 65535)
+      throw InputError("max_mission_items",
+                       "expected an integer in [8, 65535] (MAVLink counts items in 16 bits)");
+    raw.max_mission_items = static_cast<int>(v.get<long long>());
   }
   return raw;
 }

@@ -106,6 +106,7 @@ json to_json(const Mission& m) {
     if (u.start) ju["start"] = {u.start->lon, u.start->lat};
     if (u.camera) ju["camera"] = camera_json(*u.camera);
     if (u.share_auto) ju["share"] = "auto";
+    if (!u.autopilot.empty()) ju["autopilot"] = u.autopilot;
     uavs.push_back(std::move(ju));
   }
   j["uavs"] = std::move(uavs);
@@ -117,9 +118,19 @@ json to_json(const Mission& m) {
   j["seed"] = m.seed;
   // written when not the default, so that missions without it keep their JSON unchanged
   if (m.battery_reserve != kDefaultBatteryReserve) j["battery_reserve"] = m.battery_reserve;
-  if (m.terrain)
-    j["terrain"] = {
-        {"dem", m.terrain->dem}, {"mode", m.terrain->mode}, {"tolerance_m", m.terrain->tolerance_m}};
+  if (m.terrain) {
+    const Terrain& t = *m.terrain;
+    j["terrain"] = {{"mode", t.mode}, {"tolerance_m", t.tolerance_m}};
+    if (t.dem_id > 0)
+      j["terrain"]["dem_id"] = t.dem_id;
+    else if (t.source == "server")
+      j["terrain"]["source"] = "server";
+    else
+      j["terrain"]["dem"] = t.dem;
+    if (t.max_climb_mps) j["terrain"]["max_climb_mps"] = *t.max_climb_mps;
+    if (t.max_descent_mps) j["terrain"]["max_descent_mps"] = *t.max_descent_mps;
+    if (t.max_grade) j["terrain"]["max_grade"] = *t.max_grade;
+  }
   // a corridor mission is written as its corridor (the area is its buffer, derived again on reading)
   if (m.corridor) {
     j.erase("area");
@@ -137,6 +148,16 @@ json to_json(const Mission& m) {
   }
   if (m.pattern) j["pattern"] = pattern_json(*m.pattern);
   if (m.wind) j["wind"] = {{"speed_mps", m.wind->speed_mps}, {"from_deg", m.wind->from_deg}};
+  // issue 31: each written only when given, so that missions without them keep their JSON unchanged
+  if (!m.rally.empty()) {
+    json r = json::array();
+    for (const auto& p : m.rally) r.push_back({p.lon, p.lat});
+    j["rally"] = std::move(r);
+  }
+  if (m.propose_rally) j["propose_rally"] = true;
+  if (m.resume_backoff_m) j["resume_backoff_m"] = *m.resume_backoff_m;
+  if (!m.autopilot.empty()) j["autopilot"] = m.autopilot;
+  if (m.max_mission_items) j["max_mission_items"] = *m.max_mission_items;
   return j;
 }
 

@@ -280,6 +280,23 @@ Mission parse_mission(std::string_view text, const ParseOptions& options) {
               vfov, far_edge, mission::kMaxObliqueFarEdgeDeg,
               mission::kMaxObliqueFarEdgeDeg - 0.5 * vfov - 90.0));
   }
+  // rally points (issue 31, docs/fence-rally.md): safe landing points, never in a no-fly zone, near
+  // the work (within 10 km of the area)
+  for (std::size_t i = 0; i < raw.rally.size(); ++i) {
+    const Point p = frame.to_local(raw.rally[i]);
+    if (!no_fly.empty() && bg::covered_by(p, no_fly))
+      throw InputError(idx("rally", i), "the rally point lies in a no-fly zone");
+    const double far = geometry::distance(area_union, p);
+    if (far > 10000.0)
+      throw InputError(
+          idx("rally", i),
+          fmt::format("the rally point is {:.1f} km from the area (at most 10 km)", far / 1000.0));
+  }
+  m.rally = raw.rally;
+  m.propose_rally = raw.propose_rally;
+  m.resume_backoff_m = raw.resume_backoff;
+  m.autopilot = raw.autopilot;
+  m.max_mission_items = raw.max_mission_items;
   m.uavs = raw.uavs;
   return m;
 }

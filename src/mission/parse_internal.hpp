@@ -84,6 +84,11 @@ struct Raw {
   std::optional<Corridor> corridor;  ///< docs/patterns.md: its buffer is `area`
   std::optional<Pattern> pattern;
   std::optional<Structure> structure;  ///< docs/patterns.md: its footprint buffered by standoff_m is `area`
+  std::vector<LonLat> rally;           ///< issue 31, checked against the no-fly zones in parse.cpp
+  bool propose_rally = false;
+  std::optional<double> resume_backoff;
+  std::string autopilot;  ///< "" or a vehicle profile's name
+  std::optional<int> max_mission_items;
 };
 
 /// `structure`: {"footprint": Polygon, "height_m", "standoff_m", "top", "safe_height_m"} (input_v1.cpp).

@@ -93,6 +93,7 @@ void add_api_routes(Router& router, ApiContext& ctx) {
   detail::add_mission_routes(router, ctx);
   detail::add_job_routes(router, ctx);
   detail::add_catalog_routes(router, ctx);
+  detail::add_dem_routes(router, ctx);
   detail::add_flight_routes(router, ctx);
   detail::add_tile_routes(router, ctx);
   router.add("GET", detail::kApi + "/planners", guarded([](const Request&) {

@@ -10,6 +10,7 @@
 
 #include "json/iso_time.hpp"
 #include "server/http.hpp"
+#include "server/terrain_source.hpp"
 #include "store/store.hpp"
 #include "uavcover/mission.hpp"
 
@@ -24,6 +25,8 @@ struct ApiConfig {
   /// Missions whose grid needs more cells than ParseOptions::max_cells are refused (422 naming the field;
   /// `serve --max-cells`): every route that parses a mission uses these options.
   ParseOptions parse = {};
+  /// `serve --dem-dir`: GeoTIFF or SRTM .hgt tiles for missions with "terrain": {"source": "server"}.
+  DemDir dem_dir = {};
 };
 
 class FlightManager;
@@ -53,11 +56,12 @@ void add_api_routes(Router& router, ApiContext& ctx);
 /// A submitted mission document made ready to store: catalog references resolved through the store's
 /// catalogs, parsed and normalised by the CLI's parser (InputError naming the field), its area's
 /// bounding box; `source` is the document as given.
+/// A terrain block must name a stored DEM (dem_id) or the server's tiles (`dem_dir`; terrain_source.hpp).
 store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store,
-                                   const ParseOptions& options = {});
+                                   const ParseOptions& options = {}, const DemDir& dem_dir = {});
 /// The same document resolved and parsed only (POST /missions/validate).
 uavcover::Mission resolve_mission(const nlohmann::json& document, store::Store& store,
-                                  const ParseOptions& options = {});
+                                  const ParseOptions& options = {}, const DemDir& dem_dir = {});
 
 /// "2026-11-26T01:02:03.456Z" from Unix milliseconds (json/iso_time.hpp).
 using uavcover::iso_time;

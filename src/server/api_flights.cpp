@@ -288,7 +288,7 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                  }
                  params.erase("uavs");
                }
-               const Plan flown = load_job_plan(ctx.store, job);
+               const Plan flown = load_job_plan(ctx.store, job, ctx.config.dem_dir);
                // the gaps from the photos' footprints when the body gives them (docs/photos.md), else
                // from the flight's tracks
                const bool from_photos = params.contains("photos");
@@ -332,7 +332,7 @@ void add_flight_routes(Router& router, ApiContext& ctx) {
                const store::Id id = id_param(req, "id");
                json body = parse_body(req, ctx, false);
                if (!body.is_object()) throw InputError("body", "expected a JSON object {\"photos\": [...]}");
-               const Plan plan = load_job_plan(ctx.store, flight_plan_job(ctx, id));
+               const Plan plan = load_job_plan(ctx.store, flight_plan_job(ctx, id), ctx.config.dem_dir);
                const usecases::PhotoCoverage c = photos_of_body(body, plan);
                if (!body.empty())
                  throw InputError(body.begin().key().substr(0, 64),

@@ -45,6 +45,8 @@ void add_job_routes(Router& router, ApiContext& ctx);
 Response enqueue_job(ApiContext& ctx, store::JobKind kind, store::Id mission_id, int revision,
                      const nlohmann::json& params);
 void add_catalog_routes(Router& router, ApiContext& ctx);
+/// /dems (issue 31): upload, list and describe elevation models (api_dems.cpp).
+void add_dem_routes(Router& router, ApiContext& ctx);
 void add_flight_routes(Router& router, ApiContext& ctx);
 /// GET /tiles/metadata.json and /tiles/{z}/{x}/{y} (docs/offline-maps.md), from ctx.tiles.
 void add_tile_routes(Router& router, ApiContext& ctx);

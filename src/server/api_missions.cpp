@@ -7,6 +7,7 @@
 #include "io/import.hpp"
 #include "json/strict.hpp"
 #include "server/api_internal.hpp"
+#include "server/terrain_source.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
@@ -62,7 +63,7 @@ store::Bbox area_bbox(const Mission& mission) {
 }
 
 store::NewRevision new_revision(const Request& req, ApiContext& ctx) {
-  return prepare_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse);
+  return prepare_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse, ctx.config.dem_dir);
 }
 
 double parse_number(const std::string& text, const std::string& field) {
@@ -187,19 +188,19 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
              }));
   // a mission checked and normalised without storing it: the web app shows spacing, GSD and footprint
   // as the operator types, computed by the library, and the field-named error of a bad value
-  router.add("POST", base + "/validate", guarded([&ctx](const Request& req) {
-               const Mission m = resolve_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse);
-               auto opt = [](const std::optional<double>& v) {
-                 return v ? nlohmann::json(*v) : nlohmann::json();
-               };
-               return Response::json(200, {{"mission", stored_json(mission_to_json(m))},
-                                           {"spacing_m", m.spacing_m},
-                                           {"gsd_m", opt(m.gsd_m)},
-                                           {"footprint_m", opt(m.footprint_m)},
-                                           {"altitude_m", m.altitude_m},
-                                           {"altitude_source", m.altitude_source},
-                                           {"bbox", bbox_json(area_bbox(m))}});
-             }));
+  router.add(
+      "POST", base + "/validate", guarded([&ctx](const Request& req) {
+        const Mission m =
+            resolve_mission(parse_body(req, ctx, false), ctx.store, ctx.config.parse, ctx.config.dem_dir);
+        auto opt = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
+        return Response::json(200, {{"mission", stored_json(mission_to_json(m))},
+                                    {"spacing_m", m.spacing_m},
+                                    {"gsd_m", opt(m.gsd_m)},
+                                    {"footprint_m", opt(m.footprint_m)},
+                                    {"altitude_m", m.altitude_m},
+                                    {"altitude_source", m.altitude_source},
+                                    {"bbox", bbox_json(area_bbox(m))}});
+      }));
   // a mission skeleton from an uploaded vector file (docs/import.md); not stored: the client stores
   // it as any other mission. Runs on the handler pool like every router route.
   router.add("POST", std::string(kImportRoute),
@@ -251,7 +252,8 @@ void add_mission_routes(Router& router, ApiContext& ctx) {
 
 }  // namespace detail
 
-Mission resolve_mission(const nlohmann::json& document, store::Store& store, const ParseOptions& options) {
+Mission resolve_mission(const nlohmann::json& document, store::Store& store, const ParseOptions& options,
+                        const DemDir& dem_dir) {
   auto lookup = [&store](store::CatalogKind kind) {
     return [&store, kind](long long id) -> std::optional<nlohmann::json> {
       if (id <= 0) return std::nullopt;
@@ -263,18 +265,14 @@ Mission resolve_mission(const nlohmann::json& document, store::Store& store, con
   const nlohmann::json resolved = usecases::resolve_catalog_refs(document, lookup(store::CatalogKind::Uav),
                                                                  lookup(store::CatalogKind::Camera));
   Mission mission = parse_mission(resolved.dump(), options);
-  // a DEM named by a mission would be a path on the server's disk chosen by a client: refused (the server
-  // reads no elevation models; terrain-following plans are made with the command line, docs/api.md)
-  if (mission.terrain)
-    throw InputError("terrain.dem",
-                     "the server does not read elevation models named in a mission; plan "
-                     "terrain-following missions with `uavcover plan`");
+  // terrain (issue 31): a stored DEM (dem_id) or the server's tiles; never a path on the server's disk
+  check_server_terrain(mission, store, dem_dir);
   return mission;
 }
 
 store::NewRevision prepare_mission(const nlohmann::json& document, store::Store& store,
-                                   const ParseOptions& options) {
-  const Mission mission = resolve_mission(document, store, options);
+                                   const ParseOptions& options, const DemDir& dem_dir) {
+  const Mission mission = resolve_mission(document, store, options, dem_dir);
   store::NewRevision rev;
   rev.name = mission.name;
   rev.document = mission_to_json(mission);

@@ -104,15 +104,18 @@ void serve(const ServeOptions& options) {
 
   FlightLimits flight_limits;
   flight_limits.allow_remote = options.http.token.has_value();  // vehicles beyond loopback need the token
+  flight_limits.dem_dir = options.dem_dir;
   FlightManager flights(*store, flight_limits);
   flights.start();  // the flights that were flying when the server stopped are followed again
   ExportConfig ec;
   ec.threads = options.export_threads;
   ec.cache_cap_bytes = options.export_cache_bytes;
+  ec.dem_dir = options.dem_dir;
   ExportService exports(*store, ec);
   ApiContext ctx{*store, ApiConfig{}, &flights, &exports, tiles.get()};
   ctx.config.max_queued = options.max_queued;
   ctx.config.parse.max_cells = options.max_cells;
+  ctx.config.dem_dir = options.dem_dir;
   ctx.config.max_body_bytes = options.http.max_body;
   ctx.config.planner_threads = options.workers > 0
                                    ? options.workers
@@ -140,6 +143,7 @@ void serve(const ServeOptions& options) {
   wc.max_attempts = kMaxAttempts;
   wc.keep_plans = options.keep_plans;
   wc.parse = ctx.config.parse;
+  wc.dem_dir = options.dem_dir;
   wc.on_job_finished = [](const store::Job& job, store::JobState state, double seconds) {
     if (job.kind == store::JobKind::Plan && state == store::JobState::Done) observe_plan_duration(seconds);
   };

@@ -26,6 +26,8 @@ struct ServeOptions {
   std::optional<std::filesystem::path> tiles;
   /// `--max-cells`: missions whose grid needs more cells are refused (ParseOptions::max_cells)
   std::size_t max_cells = ParseOptions{}.max_cells;
+  /// `--dem-dir DIR`: GeoTIFF or SRTM .hgt tiles for "terrain": {"source": "server"} (issue 31)
+  std::optional<std::filesystem::path> dem_dir;
 };
 
 /// Blocks until the server is stopped. Throws InputError / OperationError.

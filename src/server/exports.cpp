@@ -69,7 +69,9 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
   double step = 0;  // a plan job's trajectory_step_s: the sampled trajectory CSV
   if (const auto it = job.params.find("trajectory_step_s"); it != job.params.end() && it->is_number())
     step = it->get<double>();
-  usecases::BuiltExport built = usecases::build_export(plan->bytes, paths->bytes, format, step);
+  usecases::BuiltExport built =
+      usecases::build_export(plan->bytes, paths->bytes, format, step, {},
+                             [this](Mission& m) { load_server_terrain(m, store_, config_.dem_dir); });
   auto e = std::make_shared<ExportEntry>();
   e->key = key;
   for (const auto& f : built.files) e->names.push_back(f.name);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "server/terrain_source.hpp"
 #include "store/store.hpp"
 #include "uavcover/artifact.hpp"
 
@@ -27,6 +28,8 @@ struct ExportConfig {
   std::int64_t cache_cap_bytes = std::int64_t{128} << 20;  ///< the cache's size cap (--export-cache-mb)
   /// Test hook: called on the pool before each build with the cache key (a test holds a build here).
   std::function<void(const std::string& key)> before_build;
+  /// `serve --dem-dir` (issue 31): a terrain plan's ground comes from its stored DEM or these tiles.
+  DemDir dem_dir = {};
 };
 
 /// One export format of one plan: the files' names, its warnings or its refusal.

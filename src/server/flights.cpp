@@ -119,7 +119,7 @@ SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_
 
 }  // namespace
 
-Plan load_job_plan(store::Store& store, const store::Job& job) {
+Plan load_job_plan(store::Store& store, const store::Job& job, const DemDir& dem_dir) {
   const auto plan = store.get_artifact(job.id, "plan.json");
   const auto paths = store.get_artifact(job.id, "paths.geojson");
   if (!plan || !paths)
@@ -128,7 +128,9 @@ Plan load_job_plan(store::Store& store, const store::Job& job) {
   const json gj = json::parse(paths->bytes, nullptr, false);
   if (pj.is_discarded() || gj.is_discarded())
     throw store::StoreError("plan " + std::to_string(job.id) + ": a stored artifact is not JSON");
-  return codec::load_plan(pj, gj);
+  Plan loaded = codec::load_plan(pj, gj);
+  load_server_terrain(loaded.mission, store, dem_dir);
+  return loaded;
 }
 
 json flight_json(const store::StoredFlight& row, const json& snapshot) {
@@ -244,7 +246,7 @@ std::shared_ptr<FlightManager::Live> FlightManager::find(store::Id id) const {
 void FlightManager::attach(const store::StoredFlight& row, const std::optional<json>& restored) {
   const auto job = store_.get_job(row.plan_id);
   if (!job) throw store::NotFound("plan " + std::to_string(row.plan_id) + " does not exist");
-  Plan plan = load_job_plan(store_, *job);
+  Plan plan = load_job_plan(store_, *job, limits_.dem_dir);
   flight::FlightConfig config = flight::parse_config(row.config, plan);
   auto live = std::make_shared<Live>();
   live->row = row;
@@ -264,7 +266,7 @@ json FlightManager::create(const store::Job& plan_job, const json& body) {
   if (live_count() >= limits_.max_live)
     throw HttpError(
         409, "", fmt::format("{} flights are followed already (at most {})", live_count(), limits_.max_live));
-  Plan plan = load_job_plan(store_, plan_job);
+  Plan plan = load_job_plan(store_, plan_job, limits_.dem_dir);
   json request = body;
   std::unique_ptr<sim::Fleet> fleet;
   const bool simulated = member(body, "simulate") != nullptr;
@@ -448,7 +450,7 @@ std::shared_ptr<const FlightManager::Coverage> FlightManager::coverage(store::Id
     if (!row) throw store::NotFound("no flight " + std::to_string(id));
     const auto job = store_.get_job(row->plan_id);
     if (!job) throw store::NotFound("plan " + std::to_string(row->plan_id) + " does not exist");
-    plan = load_job_plan(store_, *job);
+    plan = load_job_plan(store_, *job, limits_.dem_dir);
   }
   const flight::FlownCoverage fc = flight::flown_coverage(plan, tracks(id));
   auto out = std::make_shared<Coverage>();

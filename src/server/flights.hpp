@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "flight/flight.hpp"
+#include "server/terrain_source.hpp"
 #include "store/store.hpp"
 #include "uavcover/plan.hpp"
 
@@ -31,13 +32,15 @@ struct FlightLimits {
   bool allow_remote = false;      ///< endpoints other than loopback (only when the server has a token)
   std::chrono::milliseconds flush_period{200};      ///< the writer's period
   std::chrono::milliseconds snapshot_period{1000};  ///< a changed snapshot is stored at most this often
+  DemDir dem_dir = {};                              ///< `serve --dem-dir` (issue 31): a terrain plan's ground
 };
 
 /// Each UAV's flown track in WGS84 with altitudes (flight::Flight::tracks()).
 using Tracks = std::vector<std::pair<std::string, std::vector<std::array<double, 3>>>>;
 
 /// The plan of a done plan job, from its plan.json and paths.geojson artifacts.
-Plan load_job_plan(store::Store& store, const store::Job& job);
+/// A done plan job's plan, with its ground heights when its mission follows terrain (issue 31).
+Plan load_job_plan(store::Store& store, const store::Job& job, const DemDir& dem_dir = {});
 
 /// The Flight object of docs/flights.md: the snapshot with the stored flight's id, plan, mission, times,
 /// config and state.

@@ -117,13 +117,14 @@ std::string media_type(std::string_view content_type);
 /// True for 127.0.0.0/8, ::1 (and ::ffff:127.x.y.z) and "localhost".
 bool is_loopback(const std::string& host);
 
-/// The routes whose body is multipart/form-data, not JSON: the vector importer's upload (docs/import.md) and
-/// the photos' tags (docs/photos.md). The transport lets that media type through for them alone (a foreign
-/// page is refused by the Origin check first); the API registers them.
+/// The routes whose body is multipart/form-data, not JSON: the vector importer's upload (docs/import.md),
+/// the photos' tags (docs/photos.md) and the elevation models (docs/api.md). The transport lets that media
+/// type through for them alone (a foreign page is refused by the Origin check first); the API registers them.
 inline constexpr std::string_view kImportRoute = "/api/v1/missions/import";
 inline constexpr std::string_view kPhotoTagsRoute = "/api/v1/photos/tags";
+inline constexpr std::string_view kDemsRoute = "/api/v1/dems";  ///< an elevation model (issue 31)
 inline bool multipart_route(std::string_view method, std::string_view path) {
-  return method == "POST" && (path == kImportRoute || path == kPhotoTagsRoute);
+  return method == "POST" && (path == kImportRoute || path == kPhotoTagsRoute || path == kDemsRoute);
 }
 
 /// One part of a multipart/form-data body (RFC 7578).

@@ -10,6 +10,7 @@
 #include <stop_token>
 
 #include "engine/test_hold.hpp"
+#include "server/terrain_source.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
 #include "usecases/jobs.hpp"
@@ -203,6 +204,10 @@ void WorkerPool::run(store::Job job, const std::stop_token& pool_stop) {
   usecases::JobResult result;
   nlohmann::json error;
   try {
+    // the ground heights of a stored DEM or the server's tiles (issue 31), read on this pool
+    ctx.report("terrain", 0.0);
+    load_server_terrain(mission, store_, config_.dem_dir);
+    if (ctx.stop_requested()) throw Cancelled();
     result = usecases::run_job(job_type(job.kind), mission, job.params, ctx);
     // storing: a cancel that came meanwhile wins (the store also records a late one as cancelled)
     ctx.report("storing", 1.0);

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "server/terrain_source.hpp"
 #include "store/store.hpp"
 #include "usecases/jobs.hpp"
 
@@ -30,6 +31,8 @@ struct WorkerConfig {
   int keep_plans = 0;
   /// How stored missions are parsed (`serve --max-cells`: the same options as the API's).
   ParseOptions parse = {};
+  /// `serve --dem-dir` (issue 31): the tiles of missions with "terrain": {"source": "server"}.
+  DemDir dem_dir = {};
   /// Called after a job ended and was recorded (state done, failed or cancelled), with its run time.
   std::function<void(const store::Job& job, store::JobState state, double seconds)> on_job_finished;
 };

@@ -67,6 +67,11 @@ std::uint8_t SimVehicle::arm(bool on, bool force) {
   return mav::kResultAccepted;
 }
 
+namespace {
+// a breach is more than this outside the fence: the controller cuts corners within its acceptance radius
+constexpr double kFenceSlackM = 2.5;
+}  // namespace
+
 std::uint8_t SimVehicle::start_mission(int first, int last) {
   if (mission_.empty() || !st_.armed || st_.battery <= 0) return mav::kResultDenied;
   if (st_.mode == Mode::Mission) return mav::kResultAccepted;  // a repeated command changes nothing
@@ -74,6 +79,18 @@ std::uint8_t SimVehicle::start_mission(int first, int last) {
   first = std::max(first, is_home_item(0) ? 1 : 0);
   if (last < 0 || last >= n) last = n - 1;
   if (first > last) return mav::kResultDenied;
+  // the fence (issue 31): a mission with a position outside it is refused, as PX4's feasibility check
+  // refuses a mission that violates the geofence
+  if (!fence_.empty() && frame_)
+    for (int i = first; i <= last; ++i) {
+      const auto& it = mission_[static_cast<std::size_t>(i)];
+      if (!is_global(it.frame) || (it.x == 0 && it.y == 0) || is_home_item(static_cast<std::size_t>(i)))
+        continue;
+      if (!autopilot::fence_allows(fence_, LonLat{it.y * 1e-7, it.x * 1e-7})) {
+        status(mav::kSeverityError, "Fence: mission item " + std::to_string(i) + " lies outside the fence");
+        return mav::kResultDenied;
+      }
+    }
   first_item_ = static_cast<std::size_t>(first);
   last_item_ = static_cast<std::size_t>(last);
   // planned path length from here (for failure injection at a fraction of the mission)
@@ -86,6 +103,7 @@ std::uint8_t SimVehicle::start_mission(int first, int last) {
     }
   st_.flown_m = 0;
   st_.mission_complete = false;
+  fence_breached_ = false;
   paused_ = false;
   st_.mode = Mode::Mission;
   status(mav::kSeverityInfo, "mission started");
@@ -267,6 +285,16 @@ void SimVehicle::fly(double dt) {
   st_.p = {st_.p.x + st_.v.x * dt, st_.p.y + st_.v.y * dt, st_.p.z + st_.v.z * dt};
   if (st_.p.z > kGround) st_.airborne = true;
   if (st_.mode == Mode::Mission) st_.flown_m += norm(sub(st_.p, before));
+  // a fence breach in flight (issue 31): ArduPilot's FENCE_ACTION 1, return to launch
+  if (!fence_.empty() && frame_ && st_.airborne && !fence_breached_ && st_.mode != Mode::Rtl &&
+      st_.mode != Mode::Land &&
+      !autopilot::fence_allows(fence_, frame_->to_wgs84(Point(st_.p.x, st_.p.y)), kFenceSlackM)) {
+    fence_breached_ = true;
+    st_.fence_breach = true;
+    status(mav::kSeverityCritical, "Fence breached: returning to launch");
+    (void)return_to_launch();
+    return;
+  }
 
   // Arrival.
   if (landing && st_.p.z <= kGround) {

@@ -42,6 +42,11 @@ mav::VehicleOptions protocol_options(const VehicleConfig& c) {
   o.store_as_received = c.store_as_received;
   o.refuse_item = c.refuse_item;
   accept_as_ardupilot(o);
+  // a fence that does not read as one (vertex counts, commands) is refused whole (issue 31)
+  o.check_fence = [](const std::vector<mav::MissionItemInt>& items) -> std::uint8_t {
+    autopilot::Fence f;
+    return autopilot::read_fence(items, f) ? mav::kMissionInvalid : mav::kMissionAccepted;
+  };
   return o;
 }
 
@@ -85,6 +90,11 @@ void SimVehicle::handle(const mav::Received& r) {
       mission_version_ = protocol_.mission_version();
       mission_ = protocol_.mission();
       load_mission();
+    }
+    if (protocol_.fence_version() != fence_version_) {  // a fence upload completed (or a clear)
+      fence_version_ = protocol_.fence_version();
+      (void)autopilot::read_fence(protocol_.fence(), fence_);  // checked on upload (check_fence)
+      if (!fence_.empty()) status(mav::kSeverityInfo, "fence loaded");
     }
     return;
   }

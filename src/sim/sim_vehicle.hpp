@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "autopilot/fence.hpp"
 #include "geodesy/local_frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -96,6 +97,7 @@ struct VehicleState {
   double flown_m = 0;                  ///< odometer during missions
   double planned_m = 0;                ///< planned path length of the mission from where it started
   bool mission_complete = false;
+  bool fence_breach = false;  ///< left its fence (issue 31): switched to RTL
 };
 
 class SimVehicle {
@@ -115,6 +117,11 @@ class SimVehicle {
     return protocol_.mission();
   }
   [[nodiscard]] const std::vector<mavlink::MissionItemInt>& mission() const { return protocol_.mission(); }
+  /// The fence and rally points uploaded (issue 31; empty: none).
+  [[nodiscard]] const autopilot::Fence& fence() const { return fence_; }
+  [[nodiscard]] const std::vector<mavlink::MissionItemInt>& rally() const { return protocol_.rally(); }
+  /// Tests without a link: the fence as an upload would set it.
+  void set_fence(const autopilot::Fence& fence) { fence_ = fence; }
   [[nodiscard]] LonLat position_wgs84() const;
   /// Where telemetry goes until a ground station speaks (then: whoever sent last). UDP only: a TCP
   /// vehicle talks to its client.
@@ -182,6 +189,9 @@ class SimVehicle {
   bool low_battery_sent_ = false;
   double next_fast_ = 0, next_slow_ = 0;
   std::optional<std::uint16_t> last_sent_current_;
+  autopilot::Fence fence_;
+  std::size_t fence_version_ = 0;
+  bool fence_breached_ = false;
   std::uint8_t last_sent_state_ = 0;
 };
 

@@ -26,6 +26,19 @@ double reserve_of(const Plan& plan, const Options& o) {
   return r;
 }
 
+}  // namespace
+
+double resume_backoff_m(const Plan& plan, std::size_t index) {
+  const Mission& m = plan.mission;
+  if (m.resume_backoff_m) return *m.resume_backoff_m;
+  const Uav& u = m.uavs.at(index);
+  if (u.camera_geometry && u.camera_geometry->trigger_distance_m > 0)
+    return u.camera_geometry->trigger_distance_m;
+  return m.trigger_distance_m.value_or(0.0);
+}
+
+namespace {
+
 /// The no-fly zones' router in the plan's local frame (as the engine routes transit legs).
 struct Geo {
   geodesy::LocalFrame frame;
@@ -55,6 +68,7 @@ struct Layout {
   std::vector<double> cum;  ///< air distance along the plan from waypoint 0
   std::size_t lead_end = 0, trail_begin = 0;
   double lead_len = 0.0, trail_len = 0.0;
+  double backoff_m = 0.0;  ///< resume_backoff_m (issue 31): a later sortie starts this far back
 
   double air(Point a, Point b) const {
     return evaluation::air_distance_m(a, b, uav.speed_mps, plan.mission.wind);
@@ -89,11 +103,51 @@ struct Layout {
       }
       cov_parts.push_back(pi);
     }
+    backoff_m = resume_backoff_m(p, i);
     if (cov_parts.empty()) return;
     lead_end = cov_parts.front();
     trail_begin = cov_parts.back() + 1;
     for (std::size_t q = 0; q < lead_end; ++q) lead_len += air(up.parts[q].local);
     for (std::size_t q = trail_begin; q < up.parts.size(); ++q) trail_len += air(up.parts[q].local);
+  }
+
+  /// Where a sortie (or a resume) starting at waypoint `a` begins flying its coverage: backoff_m back
+  /// along its coverage part (issue 31), so that no gap opens at the seam. None for the first waypoint,
+  /// at a part's first vertex, or without a backoff; clipped at the part's first vertex.
+  struct LeadIn {
+    std::size_t seg = 0;  ///< the point lies on segment (seg, seg + 1) of the part, seg < vertex of a
+    Point p;
+    double air_m = 0.0;  ///< the stretch's air distance
+  };
+  std::optional<LeadIn> lead_in(std::size_t a) const {
+    if (!(backoff_m > kSamePlaceM) || a == 0 || a >= n() || wp[a].vertex == 0) return std::nullopt;
+    const auto& local = up.parts[wp[a].part].local;
+    std::size_t k = wp[a].vertex;
+    double left = backoff_m;
+    LeadIn li{0, local[0], 0.0};
+    while (k > 0) {
+      const double len = bg::distance(local[k - 1], local[k]);
+      if (len >= left) {
+        const double t = len > 0 ? left / len : 0.0;
+        li.seg = k - 1;
+        li.p = Point(local[k].x() + t * (local[k - 1].x() - local[k].x()),
+                     local[k].y() + t * (local[k - 1].y() - local[k].y()));
+        break;
+      }
+      left -= len;
+      --k;
+    }
+    if (k == 0) li = LeadIn{0, local[0], 0.0};
+    std::vector<Point> line{li.p};
+    line.insert(line.end(), local.begin() + static_cast<long>(li.seg) + 1,
+                local.begin() + static_cast<long>(wp[a].vertex) + 1);
+    li.air_m = air(line);
+    return li;
+  }
+  /// Where the transit out of a sortie starting at `a` ends: its lead-in's start, or waypoint a.
+  Point entry(std::size_t a) const {
+    const auto li = lead_in(a);
+    return li ? li->p : at(a);
   }
 
   std::size_t n() const { return wp.size(); }
@@ -113,7 +167,11 @@ struct Layout {
     if (bg::distance(a, b) < kSamePlaceM) return 0.0;
     return air(routed(a, b));
   }
-  double out_len(std::size_t a) const { return a == 0 && lead_end > 0 ? lead_len : route_len(start, at(a)); }
+  double out_len(std::size_t a) const {
+    if (a == 0 && lead_end > 0) return lead_len;
+    const auto li = lead_in(a);
+    return li ? route_len(start, li->p) + li->air_m : route_len(start, at(a));
+  }
   double back_len(std::size_t b) const {
     return b + 1 == n() && trail_begin < up.parts.size() ? trail_len : route_len(at(b), start);
   }
@@ -142,26 +200,42 @@ struct Layout {
       if (!out->local.empty()) s.parts.push_back(*out);
     } else if (a == 0 && lead_end > 0) {
       s.parts.insert(s.parts.end(), up.parts.begin(), up.parts.begin() + static_cast<long>(lead_end));
-    } else if (auto t = transit(start, at(a))) {
+    } else if (auto t = transit(start, entry(a))) {
       s.parts.push_back(std::move(*t));
     }
+    const auto li = lead_in(a);
     for (std::size_t j = wp_cov[a]; j <= wp_cov[b]; ++j) {
       const PathPart& src = up.parts[cov_parts[j]];
-      const std::size_t from = j == wp_cov[a] ? wp[a].vertex : 0;
+      // the first piece starts at its lead-in: the point on segment li->seg, then the vertices after it
+      const bool lead = j == wp_cov[a] && li;
+      const std::size_t from = j == wp_cov[a] ? (lead ? li->seg : wp[a].vertex) : 0;
       const std::size_t to = j == wp_cov[b] ? wp[b].vertex : src.local.size() - 1;
       PathPart piece{PartKind::Coverage, {}, {}};
       piece.local.assign(src.local.begin() + static_cast<long>(from),
                          src.local.begin() + static_cast<long>(to) + 1);
       piece.wgs84.assign(src.wgs84.begin() + static_cast<long>(from),
                          src.wgs84.begin() + static_cast<long>(to) + 1);
+      if (lead) {  // vertex `from` replaced by the lead-in's start on the segment after it
+        piece.local.front() = li->p;
+        piece.wgs84.front() = geo.frame.to_wgs84(li->p);
+        piece.lead_in = wp[a].vertex - li->seg;
+      }
       if (!src.camera_off.empty() && to > from)  // the camera-off flags of the piece's segments
         piece.camera_off.assign(
             src.camera_off.begin() + static_cast<long>(std::min(from, src.camera_off.size())),
             src.camera_off.begin() + static_cast<long>(std::min(to, src.camera_off.size())));
       piece.attitude = src.attitude;  // the piece's own headings: those of its vertices
-      if (src.attitude.heading_deg.size() == src.local.size())
+      if (src.attitude.heading_deg.size() == src.local.size()) {
         piece.attitude.heading_deg.assign(src.attitude.heading_deg.begin() + static_cast<long>(from),
                                           src.attitude.heading_deg.begin() + static_cast<long>(to) + 1);
+        if (lead) {  // the lead-in's start lies inside segment `from`: its heading turned the short way
+          const double h0 = src.attitude.heading_deg[from], h1 = src.attitude.heading_deg[from + 1];
+          const double len = bg::distance(src.local[from], src.local[from + 1]);
+          const double u = len > 0 ? bg::distance(src.local[from], li->p) / len : 0.0;
+          const double turn = std::remainder(h1 - h0, 360.0);
+          piece.attitude.heading_deg.front() = std::fmod(h0 + u * turn + 360.0, 360.0);
+        }
+      }
       s.parts.push_back(std::move(piece));
       if (j < wp_cov[b])
         s.parts.insert(s.parts.end(), up.parts.begin() + static_cast<long>(cov_parts[j]) + 1,
@@ -325,6 +399,55 @@ void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* 
   }
 }
 
+std::vector<Sortie> capacity_sorties(const Plan& plan, std::size_t index, std::size_t capacity,
+                                     const ItemCount& count) {
+  const Geo geo(plan);
+  const Layout L(plan, index, geo);
+  std::vector<Sortie> out;
+  const std::size_t n = L.n();
+  if (n == 0) return out;
+  std::vector<Sortie> base = plan.uavs.at(index).sorties;
+  if (base.empty()) base = {L.build(0, n - 1)};
+  auto items_of = [&](const Sortie& s) { return count(sortie_plan(plan, index, s), index); };
+  for (const Sortie& whole : base) {
+    auto a = static_cast<std::size_t>(whole.first_waypoint);
+    const auto last = static_cast<std::size_t>(whole.last_waypoint);
+    for (;;) {
+      // the whole rest as the plan has it (its own transits), or cut: the last b that fits, by bisection
+      Sortie rest = a == static_cast<std::size_t>(whole.first_waypoint) ? whole : L.build(a, last);
+      if (items_of(rest) <= capacity) {
+        out.push_back(std::move(rest));
+        break;
+      }
+      const std::size_t bmin = L.ends_part(a) ? a : a + 1;
+      Sortie piece = L.build(a, bmin);
+      if (bmin >= last || items_of(piece) > capacity)
+        throw InputError(
+            "max_mission_items",
+            fmt::format("UAV \"{}\": the mission of the coverage leg from waypoint {} to {} alone "
+                        "has {} items, more than the vehicle stores ({})",
+                        L.up.id, a, bmin, items_of(piece), capacity));
+      std::size_t lo = bmin, hi = last;  // lo fits, hi does not
+      while (hi - lo > 1) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        Sortie s = L.build(a, mid);
+        if (items_of(s) <= capacity) {
+          lo = mid;
+          piece = std::move(s);
+        } else {
+          hi = mid;
+        }
+      }
+      if (piece.last_waypoint != static_cast<int>(lo)) piece = L.build(a, lo);
+      out.push_back(std::move(piece));
+      a = L.ends_part(lo) ? lo + 1 : lo;
+      if (a > last) break;
+    }
+  }
+  for (std::size_t k = 0; k < out.size(); ++k) out[k].index = static_cast<int>(k);
+  return out;
+}
+
 void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& sorties,
                      const std::string& field) {
   const Geo geo(plan);
@@ -357,7 +480,7 @@ void rebuild_sorties(const Plan& plan, std::size_t index, std::vector<Sortie>& s
         throw InputError(f + "." + name, "does not join take-off and the sortie's waypoint");
     };
     const PathPart out = s.parts[0], back = s.parts[1];
-    check_transit(out, L.start, L.at(a), "transit_out");
+    check_transit(out, L.start, L.entry(a), "transit_out");  // to the lead-in's start (issue 31)
     check_transit(back, L.at(b), L.start, "transit_back");
     const int index_kept = s.index;
     s = L.build(a, b, out, back);

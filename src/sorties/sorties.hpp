@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,12 @@ struct WaypointRef {
 /// The UAV's coverage waypoints in flight order (the vertices of its coverage parts).
 std::vector<WaypointRef> coverage_waypoints(const UavPlan& uav);
 
+/// How far before its first waypoint a resume, or a battery sortie after the first, starts flying its
+/// coverage (issue 31): the mission's resume_backoff_m, else one photo base (the UAV's camera trigger
+/// distance, else the mission's), else 0. The stretch is the sortie's lead-in (PathPart::lead_in),
+/// clipped at the start of the coverage part.
+double resume_backoff_m(const Plan& plan, std::size_t index);
+
 /// The battery budget of UAV `index` in minutes: endurance_min * (1 - reserve).
 double budget_min(const Plan& plan, std::size_t index, const Options& options = {});
 
@@ -54,6 +61,18 @@ std::vector<Sortie> cut_sorties(const Plan& plan, std::size_t index, const Optio
 /// `ctx`: progress per UAV ("sorties") and a stop between sorties (Cancelled).
 void fill_sorties(Plan& plan, const Options& options = {}, std::vector<std::string>* warnings = nullptr,
                   const geometry::Router* router = nullptr, const Context* ctx = nullptr);
+
+/// The item count of one mission (a sortie's plan, UAV `index`) as the vehicle would store it.
+using ItemCount = std::function<std::size_t(const Plan& sortie_plan, std::size_t index)>;
+
+/// Missions that fit a vehicle storing at most `capacity` items (issue 31, docs/vehicle-limits.md): the
+/// UAV's sorties (or its whole coverage as one), each cut further at coverage waypoints where `count`
+/// of its mission exceeds the capacity, as few pieces as bisection finds; every piece a whole mission
+/// (take-off, transit out, its coverage with the lead-in of resume_backoff_m, back). Indices run 0, 1,
+/// ... over the result. Throws InputError naming "max_mission_items" when one coverage leg's mission
+/// alone does not fit.
+std::vector<Sortie> capacity_sorties(const Plan& plan, std::size_t index, std::size_t capacity,
+                                     const ItemCount& count);
 
 /// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
 /// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts

@@ -155,6 +155,19 @@ DELETE FROM job_artifacts WHERE job_id IN (SELECT id FROM jobs WHERE kind = 'pla
 DELETE FROM blobs b WHERE NOT EXISTS (SELECT 1 FROM job_artifacts a WHERE a.sha256 = b.sha256);
 )sql";
 
+// Migration 5: elevation models uploaded to the server (issue 31), as the SQLite backend's.
+const char* const kSchemaV5 = R"sql(
+CREATE TABLE dems (
+  id BIGSERIAL PRIMARY KEY,
+  name TEXT NOT NULL,
+  sha256 TEXT NOT NULL UNIQUE,
+  size BIGINT NOT NULL,
+  info TEXT NOT NULL,
+  data BYTEA NOT NULL,
+  created_ms BIGINT NOT NULL
+);
+)sql";
+
 Id insert_entry(PGconn* c, const char* kind, const std::string& name, const nlohmann::json& data) {
   return exec(c,
               "INSERT INTO catalog (kind, name, data, updated_ms) VALUES ($1, $2, $3, " NOW_MS
@@ -181,8 +194,9 @@ const Migration kMigrations[] = {
     {2, seed_catalogs},
     {3, [](PGconn* c) { pg::exec_script(c, kSchemaV3); }},
     {4, [](PGconn* c) { pg::exec_script(c, kSchemaV4); }},
+    {5, [](PGconn* c) { pg::exec_script(c, kSchemaV5); }},
 };
-constexpr int kLatestVersion = 4;
+constexpr int kLatestVersion = 5;
 
 // ---- rows ----
 
@@ -790,6 +804,57 @@ class PostgresStore final : public Store {
     if (exec(c, "SELECT id FROM catalog WHERE kind = 'camera' AND id = $1 FOR SHARE", {integer(camera)})
             .rows() == 0)
       throw Conflict(camera_missing_text(camera));
+  }
+
+  // ---- elevation models ----
+
+  std::pair<Id, bool> put_dem(const std::string& name, std::string_view bytes,
+                              const nlohmann::json& info) override {
+    return transaction([&](PGconn* c) -> std::pair<Id, bool> {
+      // the key is the SHA-256 of the bytes, computed by the database as for the blobs
+      const auto r =
+          exec(c,
+               "WITH b AS (SELECT encode(sha256($2::bytea), 'hex') AS h), "
+               "ins AS (INSERT INTO dems (name, sha256, size, info, data, created_ms) "
+               "SELECT $1, h, length($2::bytea), $3, $2::bytea, " NOW_MS
+               " FROM b "
+               "ON CONFLICT (sha256) DO NOTHING RETURNING id) "
+               "SELECT id, true FROM ins UNION ALL "
+               "SELECT d.id, false FROM dems d, b WHERE d.sha256 = b.h AND NOT EXISTS (SELECT 1 FROM ins)",
+               {text(name), pg::bytes(bytes), text(info.dump())});
+      if (r.rows() == 0) throw StoreError("database: the DEM was neither stored nor found");
+      return {r.i64(0, 0), r.boolean(0, 1)};
+    });
+  }
+
+  std::optional<StoredDem> get_dem(Id id) override {
+    return read([&](PGconn* c) -> std::optional<StoredDem> {
+      const auto r =
+          exec(c, "SELECT id, name, sha256, size, info, created_ms FROM dems WHERE id = $1", {integer(id)});
+      if (r.rows() == 0) return std::nullopt;
+      return StoredDem{r.i64(0, 0), r.str(0, 1), r.str(0, 2), r.i64(0, 3), parse_json(r.str(0, 4)),
+                       r.i64(0, 5)};
+    });
+  }
+
+  std::optional<std::string> dem_bytes(Id id) override {
+    return read([&](PGconn* c) -> std::optional<std::string> {
+      const auto r = exec(c, "SELECT data FROM dems WHERE id = $1", {integer(id)}, true);
+      if (r.rows() == 0) return std::nullopt;
+      return r.str(0, 0);
+    });
+  }
+
+  std::vector<StoredDem> list_dems(int limit) override {
+    return read([&](PGconn* c) {
+      const auto r = exec(c, "SELECT id, name, sha256, size, info, created_ms FROM dems ORDER BY id LIMIT $1",
+                          {integer(std::clamp(limit, 1, 1000))});
+      std::vector<StoredDem> out;
+      for (int i = 0; i < r.rows(); ++i)
+        out.push_back(
+            {r.i64(i, 0), r.str(i, 1), r.str(i, 2), r.i64(i, 3), parse_json(r.str(i, 4)), r.i64(i, 5)});
+      return out;
+    });
   }
 
   Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) override {

@@ -11,7 +11,7 @@ namespace uavcover::store::sqlite_schema {
 /// The migration that seeds the catalogs (from store/catalog_seed.hpp, in C++).
 inline constexpr int kSeedMigration = 2;
 
-inline constexpr std::array<std::string_view, 4> kMigrations{
+inline constexpr std::array<std::string_view, 5> kMigrations{
     // 1: missions with revisions, the job queue, artifacts over content-addressed blobs, catalogs, meta
     R"sql(
 CREATE TABLE missions (
@@ -140,6 +140,18 @@ CREATE INDEX export_cache_sha256 ON export_cache(sha256);
 DELETE FROM job_artifacts WHERE job_id IN (SELECT id FROM jobs WHERE kind = 'plan')
   AND (substr(name, 1, 7) = 'export/' OR substr(name, 1, 11) = 'trajectory/');
 DELETE FROM blobs WHERE sha256 NOT IN (SELECT sha256 FROM job_artifacts);
+)sql",
+    // 5: elevation models uploaded to the server (issue 31), content-addressed by their SHA-256
+    R"sql(
+CREATE TABLE dems (
+  id INTEGER PRIMARY KEY,
+  name TEXT NOT NULL,
+  sha256 TEXT NOT NULL UNIQUE,
+  size INTEGER NOT NULL,
+  info TEXT NOT NULL,
+  bytes BLOB NOT NULL,
+  created_ms INTEGER NOT NULL
+);
 )sql",
 };
 

@@ -1124,6 +1124,56 @@ class SqliteStore final : public Store {
     if (!q.step()) throw Conflict(camera_missing_text(camera));
   }
 
+  // ---- elevation models ----
+
+  std::pair<Id, bool> put_dem(const std::string& name, std::string_view bytes,
+                              const nlohmann::json& info) override {
+    const std::string sha = sha256_hex(bytes);
+    const std::string text = info.dump();
+    return write([&](Connection& c) -> std::pair<Id, bool> {
+      {
+        Query q(c, "SELECT id FROM dems WHERE sha256 = ?1");
+        q.bind(1, sha);
+        if (q.step()) return {q.i64(0), false};
+      }
+      Query q(
+          c,
+          "INSERT INTO dems (name, sha256, size, info, bytes, created_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+      q.bind(1, name).bind(2, sha).bind(3, static_cast<std::int64_t>(bytes.size())).bind(4, text);
+      q.bind_blob(5, bytes).bind(6, now_ms()).run();
+      return {static_cast<Id>(sqlite3_last_insert_rowid(c.db())), true};
+    });
+  }
+
+  std::optional<StoredDem> get_dem(Id id) override {
+    return read([&](Connection& c) -> std::optional<StoredDem> {
+      Query q(c, "SELECT id, name, sha256, size, info, created_ms FROM dems WHERE id = ?1");
+      q.bind(1, id);
+      if (!q.step()) return std::nullopt;
+      return StoredDem{q.i64(0), q.text(1), q.text(2), q.i64(3), parse_column(q.text(4)), q.i64(5)};
+    });
+  }
+
+  std::optional<std::string> dem_bytes(Id id) override {
+    return read([&](Connection& c) -> std::optional<std::string> {
+      Query q(c, "SELECT bytes FROM dems WHERE id = ?1");
+      q.bind(1, id);
+      if (!q.step()) return std::nullopt;
+      return q.blob(0);
+    });
+  }
+
+  std::vector<StoredDem> list_dems(int limit) override {
+    return read([&](Connection& c) {
+      std::vector<StoredDem> out;
+      Query q(c, "SELECT id, name, sha256, size, info, created_ms FROM dems ORDER BY id LIMIT ?1");
+      q.bind(1, std::clamp(limit, 1, 1000));
+      while (q.step())
+        out.push_back({q.i64(0), q.text(1), q.text(2), q.i64(3), parse_column(q.text(4)), q.i64(5)});
+      return out;
+    });
+  }
+
   Id create_entry(CatalogKind kind, const std::string& name, const nlohmann::json& data) override {
     const std::string text = data.dump();
     return write([&](Connection& c) {

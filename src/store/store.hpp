@@ -15,6 +15,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -113,6 +114,16 @@ struct ArtifactRef {
   std::string media_type;
   std::string sha256;  ///< hex; the blob's key
   std::int64_t size = 0;
+};
+
+/// A stored elevation model (issue 31).
+struct StoredDem {
+  Id id = 0;
+  std::string name;
+  std::string sha256;  ///< hex, of its bytes
+  std::int64_t size = 0;
+  nlohmann::json info = nlohmann::json::object();  ///< io::DemInfo as JSON (size, extent, CRS)
+  std::int64_t created_ms = 0;
 };
 
 struct Job {
@@ -313,6 +324,18 @@ class Store {
   /// Deletes the flight and its log. NotFound. (delete_mission deletes its missions' flights with its
   /// jobs, and refuses with Conflict while one of them is not done or aborted.)
   virtual void delete_flight(Id flight) = 0;
+
+  // elevation models (issue 31, docs/api.md "Elevation models"): GeoTIFFs uploaded with
+  // POST /api/v1/dems, content-addressed by their SHA-256
+  /// Stores `bytes` under their SHA-256: the same bytes again give the stored DEM's id (created false).
+  virtual std::pair<Id, bool> put_dem(const std::string& name, std::string_view bytes,
+                                      const nlohmann::json& info) = 0;
+  /// A DEM's description (no bytes), or empty.
+  virtual std::optional<StoredDem> get_dem(Id id) = 0;
+  /// A DEM's bytes, or empty.
+  virtual std::optional<std::string> dem_bytes(Id id) = 0;
+  /// Every stored DEM, oldest first, at most `limit` (clamped to 1..1000).
+  virtual std::vector<StoredDem> list_dems(int limit) = 0;
 
   /// True exactly once per database: the caller then seeds it (example missions). Atomic.
   virtual bool claim_first_start() = 0;

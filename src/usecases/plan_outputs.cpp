@@ -281,13 +281,16 @@ std::string export_source_format(const std::string& format) {
 }
 
 BuiltExport build_export(const std::string& plan_json_text, const std::string& paths_geojson_text,
-                         const std::string& format, double trajectory_step_s, const Context& ctx) {
+                         const std::string& format, double trajectory_step_s, const Context& ctx,
+                         const std::function<void(Mission&)>& load_terrain) {
   nlohmann::json pj, pg;
   Plan plan;
   try {
     pj = nlohmann::json::parse(plan_json_text);
     pg = nlohmann::json::parse(paths_geojson_text);
     plan = codec::load_plan(pj, pg);
+    // a terrain plan's heights are above mean sea level: the ground comes with it (issue 31)
+    if (plan.mission.terrain && load_terrain) load_terrain(plan.mission);
   } catch (const nlohmann::json::exception& e) {
     throw OperationError(std::string("the stored plan cannot be read: ") + e.what());
   } catch (const InputError& e) {

@@ -3,6 +3,7 @@
 // the server stores and serves the same bytes.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -98,7 +99,10 @@ std::string export_source_format(const std::string& format);
 /// paths.geojson (the texts a plan job stored), with the options of a plan job: the same bytes a plan
 /// job's eager export of the same plan gave. A stop request throws Cancelled; OperationError when the
 /// documents are not a plan.
+/// `load_terrain`: sets the mission's ground heights when its terrain block names a source the caller
+/// reads (the server's stored DEMs and tiles, issue 31); empty: a plan with terrain is refused.
 BuiltExport build_export(const std::string& plan_json, const std::string& paths_geojson,
-                         const std::string& format, double trajectory_step_s = 0, const Context& ctx = {});
+                         const std::string& format, double trajectory_step_s = 0, const Context& ctx = {},
+                         const std::function<void(Mission&)>& load_terrain = {});
 
 }  // namespace uavcover::usecases

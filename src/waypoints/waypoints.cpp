@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "geodesy/local_frame.hpp"
@@ -140,6 +141,47 @@ double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved
 
 namespace {
 
+/// Climb and descent limits (issue 31, terrain.max_climb_mps / max_descent_mps): a leg whose ground
+/// climbs or falls faster than the limit at cruise speed is flown slower, a MAV_CMD_DO_CHANGE_SPEED
+/// before it and the cruise speed again after.
+void slow_steep_legs(std::vector<MissionItem>& items, const Plan& plan, std::size_t index) {
+  std::vector<SteepLeg> legs = steep_legs(plan, index, items);
+  legs.erase(std::remove_if(legs.begin(), legs.end(),
+                            [](const SteepLeg& s) { return !(s.speed_mps < s.cruise_mps); }),
+             legs.end());
+  if (legs.empty()) return;
+  const double v = plan.mission.uavs.at(index).speed_mps;
+  auto speed = [](double mps) {
+    MissionItem it;
+    it.command = kDoChangeSpeed;
+    it.frame = kFrameMission;
+    it.param1 = 1.0f;  // ground speed
+    it.param2 = static_cast<float>(mps);
+    it.param3 = -1.0f;
+    it.param4 = 0.0f;
+    it.role = "speed";
+    return it;
+  };
+  std::map<std::size_t, double> slowed;  // item where a slowed leg starts -> its speed
+  for (const auto& s : legs) slowed[s.from_item] = s.speed_mps;
+  std::vector<MissionItem> out;
+  out.reserve(items.size() + 2 * legs.size());
+  double current = v;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    out.push_back(items[k]);
+    const MissionItem& it = items[k];
+    if (it.command != kNavWaypoint && it.command != kNavTakeoff) continue;
+    // the speed of the leg that starts here: set when it differs from the one flown so far
+    const auto f = slowed.find(k);
+    const double want = f != slowed.end() ? f->second : v;
+    if (want != current) {
+      out.push_back(speed(want));
+      current = want;
+    }
+  }
+  items = std::move(out);
+}
+
 /// mission_items(), with CONDITION_YAW items for ArduPilot when `condition_yaw`.
 std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const AltitudeOptions& options,
                                     bool condition_yaw) {
@@ -156,6 +198,7 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
   const HeightGrid* ground = terrain::grid(plan.mission);
   const bool follow = ground != nullptr && plan.mission.terrain->follow();
   const double tolerance = follow ? plan.mission.terrain->tolerance_m : 0.0;
+  const bool terrain_frame = follow && options.terrain_frame;
   const double home_ground = ground != nullptr ? ground->at(home) : 0.0;
   const std::uint8_t alt_frame = ground != nullptr ? kFrameGlobal : kFrameGlobalRelativeAlt;
   const double transit_alt = flight_transit_altitude(plan, opt, index);
@@ -267,6 +310,10 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
           items.push_back(
               command_item(kConditionYaw, static_cast<float>(*heading), 0.0f, 0.0f, 0.0f, "heading"));
         items.push_back(waypoint_at(p, part_alt_at(p), std::move(role)));
+        if (terrain_frame) {  // the height above the ground under it, which the vehicle keeps itself
+          items.back().frame = kFrameGlobalTerrainAlt;
+          items.back().alt = static_cast<float>(part_alt);
+        }
         if (heading) items.back().param4 = static_cast<float>(*heading);
       };
       auto heading_at = [&](std::size_t k) -> std::optional<double> {
@@ -295,8 +342,10 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
       }
       // the first coverage waypoint is the descent to mission altitude
       high = false;
-      part_waypoint(entry, heading_at(0), "coverage");
-      items.back().waypoint = waypoint++;
+      // a lead-in (issue 31, PathPart::lead_in) re-flies the stretch before the sortie's first waypoint
+      // like coverage, without counting its vertices as coverage waypoints
+      part_waypoint(entry, heading_at(0), part.lead_in > 0 ? "lead_in" : "coverage");
+      if (part.lead_in == 0) items.back().waypoint = waypoint++;
       // photogrammetry (src/photo/photo.hpp): every leg shot on its own, nothing in turns or transit
       const bool local = part.local.size() == part.wgs84.size();
       for (std::size_t k = 1; k < part.wgs84.size(); ++k) {
@@ -329,7 +378,7 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
                 {std::hypot(shots[s].x() - part.local[k - 1].x(), shots[s].y() - part.local[k - 1].y()),
                  shots[s], true});
         }
-        if (follow && local) {
+        if (follow && local && !terrain_frame) {
           const auto pts =
               terrain::follow_points(*ground, frame, part.local[k - 1], part.local[k], tolerance);
           for (std::size_t s = 1; s + 1 < pts.size(); ++s) stops.push_back({pts[s].s, pts[s].p, false});
@@ -348,8 +397,8 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
             capture();
           }
         }
-        part_waypoint(part.wgs84[k], heading_at(k), "coverage");
-        items.back().waypoint = waypoint++;
+        part_waypoint(part.wgs84[k], heading_at(k), k < part.lead_in ? "lead_in" : "coverage");
+        if (k >= part.lead_in) items.back().waypoint = waypoint++;
         if (leg && !hover) trigg(0.0);
         if (leg && hover) {
           hold_at_last_waypoint();
@@ -372,7 +421,7 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
     }
     for (std::size_t k = first_new; k < items.size(); ++k)
       if (items[k].role == "transit" || items[k].role == "coverage" || items[k].role == "capture" ||
-          items[k].role == "terrain")
+          items[k].role == "terrain" || items[k].role == "lead_in")
         items[k].part = static_cast<int>(pi);
   }
   if (!high) items.push_back(waypoint_at(here, transit_alt, "transition"));
@@ -382,10 +431,65 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
   } else {
     items.push_back(command_item(kNavReturnToLaunch, 0, 0, 0, 0, "rtl"));
   }
+  if (follow && !terrain_frame) slow_steep_legs(items, plan, index);
   return items;
 }
 
 }  // namespace
+
+std::vector<SteepLeg> steep_legs(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items) {
+  std::vector<SteepLeg> out;
+  const auto& t = plan.mission.terrain;
+  if (!t || !(t->max_climb_mps || t->max_descent_mps || t->max_grade)) return out;
+  const double v = plan.mission.uavs.at(index).speed_mps;
+  const geodesy::LocalFrame frame(plan.origin);
+  auto in_leg = [](const MissionItem& it) {
+    return it.command == kNavWaypoint &&
+           (it.role == "coverage" || it.role == "terrain" || it.role == "lead_in" || it.role == "capture");
+  };
+  const MissionItem* prev = nullptr;
+  std::size_t prev_k = 0;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const MissionItem& it = items[k];
+    if (it.command != kNavWaypoint && it.command != kNavTakeoff && it.command != kNavLand) continue;
+    if (prev != nullptr && in_leg(*prev) && in_leg(it) && prev->part == it.part) {
+      const Point a = frame.to_local({prev->lon, prev->lat}), b = frame.to_local({it.lon, it.lat});
+      const double d = std::hypot(b.x() - a.x(), b.y() - a.y());
+      const double dz = static_cast<double>(it.alt) - static_cast<double>(prev->alt);
+      if (d > 1e-6 && std::fabs(dz) > 1e-6) {
+        SteepLeg s{prev_k, k, {prev->lon, prev->lat}, {it.lon, it.lat}, d, dz, v, v, false};
+        const double rate = std::fabs(dz) * v / d;  // m/s at cruise speed
+        const std::optional<double> lim = dz > 0 ? t->max_climb_mps : t->max_descent_mps;
+        if (lim && rate > *lim) s.speed_mps = std::max(0.1, *lim * d / std::fabs(dz));
+        s.over_grade = t->max_grade && std::fabs(dz) / d > *t->max_grade;
+        if (s.speed_mps < v || s.over_grade) out.push_back(s);
+      }
+    }
+    prev = &it;
+    prev_k = k;
+  }
+  return out;
+}
+
+std::string describe(const SteepLeg& s, const Plan& plan) {
+  const auto& t = *plan.mission.terrain;
+  std::string what;
+  if (s.speed_mps < s.cruise_mps)
+    what = fmt::format(
+        "{} {:.1f} m over {:.1f} m, {:.2f} m/s at {:g} m/s, more than {} {:g} m/s: flown at "
+        "{:.2f} m/s",
+        s.dz_m > 0 ? "climbs" : "descends", std::fabs(s.dz_m), s.length_m,
+        std::fabs(s.dz_m) * s.cruise_mps / s.length_m, s.cruise_mps,
+        s.dz_m > 0 ? "max_climb_mps" : "max_descent_mps", s.dz_m > 0 ? *t.max_climb_mps : *t.max_descent_mps,
+        s.speed_mps);
+  if (s.over_grade)
+    what += fmt::format(
+        "{}a grade of {:.0f} %, more than max_grade {:.0f} %: the ground is too steep to follow "
+        "at a constant height there",
+        what.empty() ? "" : "; ", 100.0 * std::fabs(s.dz_m) / s.length_m, 100.0 * *t.max_grade);
+  return fmt::format("the leg from ({:.6f}, {:.6f}) to ({:.6f}, {:.6f}) {}", s.from.lon, s.from.lat, s.to.lon,
+                     s.to.lat, what);
+}
 
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
   return make_items(plan, index, opt, false);
@@ -430,6 +534,76 @@ std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const
       best = std::move(lp);
   }
   return best;
+}
+
+std::optional<PathProfile> path_profile(const Plan& plan, std::size_t index, std::size_t max_samples,
+                                        const AltitudeOptions& opt) {
+  const HeightGrid* ground = terrain::grid(plan.mission);
+  if (ground == nullptr) return std::nullopt;
+  const auto items = mission_items(plan, index, opt);
+  const LonLat home = plan.mission.uavs.at(index).start_resolved;
+  const double home_ground = ground->at(home);
+  const geodesy::LocalFrame frame(plan.origin);
+  struct Node {
+    Point p;
+    double alt;
+    bool coverage;
+  };
+  std::vector<Node> nodes{{frame.to_local(home), home_ground, false}};
+  for (const auto& it : items) {
+    if (it.command == kNavReturnToLaunch) {
+      nodes.push_back({frame.to_local(home), nodes.back().alt, false});
+      nodes.push_back({frame.to_local(home), home_ground, false});
+      continue;
+    }
+    if (it.command != kNavWaypoint && it.command != kNavTakeoff && it.command != kNavLand) continue;
+    const bool cov =
+        it.role == "coverage" || it.role == "terrain" || it.role == "lead_in" || it.role == "capture";
+    const LonLat ll{it.lon, it.lat};
+    double alt = it.alt;
+    if (it.frame == kFrameGlobalRelativeAlt) alt += home_ground;
+    if (it.frame == kFrameGlobalTerrainAlt) alt += ground->at(ll);
+    nodes.push_back({frame.to_local(ll), alt, cov});
+  }
+  PathProfile out;
+  out.uav = plan.uavs.at(index).id;
+  out.altitude_m = plan.mission.altitude_m;
+  out.tolerance_m =
+      plan.mission.terrain && plan.mission.terrain->follow() ? plan.mission.terrain->tolerance_m : 0.0;
+  std::vector<double> cum{0.0};
+  for (std::size_t k = 1; k < nodes.size(); ++k)
+    cum.push_back(cum.back() + bg::distance(nodes[k - 1].p, nodes[k].p));
+  out.length_m = cum.back();
+  const std::size_t n = std::max<std::size_t>(max_samples, 2);
+  const double step = out.length_m > 0 ? out.length_m / static_cast<double>(n - 1) : 1.0;
+  bool any = false;
+  auto add = [&](double s, Point p, double flight, bool cov) {
+    const double g = ground->at(frame.to_wgs84(p));
+    out.samples.push_back({s, g, flight, cov});
+    if (cov) {
+      const double agl = flight - g;
+      out.agl_min_m = any ? std::min(out.agl_min_m, agl) : agl;
+      out.agl_max_m = any ? std::max(out.agl_max_m, agl) : agl;
+      any = true;
+    }
+  };
+  for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
+    const Node& a = nodes[k];
+    const Node& b = nodes[k + 1];
+    const double len = cum[k + 1] - cum[k];
+    const bool cov = a.coverage && b.coverage;
+    add(cum[k], a.p, a.alt, cov && a.coverage);
+    if (len <= 0) continue;
+    for (double s = std::ceil(cum[k] / step) * step; s < cum[k + 1]; s += step) {
+      if (s <= cum[k]) continue;
+      const double t = (s - cum[k]) / len;
+      add(s, Point(a.p.x() + t * (b.p.x() - a.p.x()), a.p.y() + t * (b.p.y() - a.p.y())),
+          a.alt + t * (b.alt - a.alt), cov);
+      if (out.samples.size() > 4 * n) break;  // bounded whatever the path
+    }
+  }
+  add(out.length_m, nodes.back().p, nodes.back().alt, false);
+  return out;
 }
 
 }  // namespace uavcover::waypoints

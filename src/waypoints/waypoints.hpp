@@ -26,7 +26,12 @@ enum MavCmd : std::uint16_t {
   kImageStartCapture = 2000,
 };
 /// MAV_FRAME numbers used here.
-enum MavFrame : std::uint8_t { kFrameGlobal = 0, kFrameMission = 2, kFrameGlobalRelativeAlt = 3 };
+enum MavFrame : std::uint8_t {
+  kFrameGlobal = 0,
+  kFrameMission = 2,
+  kFrameGlobalRelativeAlt = 3,
+  kFrameGlobalTerrainAlt = 10,  ///< height above the terrain under the item (issue 31, ArduPilot)
+};
 
 struct MissionItem {
   std::uint16_t command = kNavWaypoint;
@@ -40,7 +45,8 @@ struct MissionItem {
   bool autocontinue = true;
   /// "takeoff", "transition", "coverage", "transit", "speed", "gimbal", "camera" (a trigger command),
   /// "capture" (a hover-and-capture stop between coverage waypoints), "terrain" (a waypoint inside a
-  /// coverage leg where terrain following changes the height), "rtl", "land"
+  /// coverage leg where terrain following changes the height), "lead_in" (a sortie's re-flown stretch
+  /// before its first waypoint, issue 31), "rtl", "land"
   std::string role;
   int part = -1;  ///< index into UavPlan::parts the item comes from; -1 for virtual/command items
   /// On "coverage" items: the index of the coverage waypoint among the UAV's coverage waypoints (the
@@ -59,6 +65,11 @@ struct AltitudeOptions {
   /// at least this large; below it the altitudes are refused.
   double min_vertical_separation_m = 5.0;
   bool land_instead_of_rtl = false;
+  /// Terrain frame (issue 31, docs/photogrammetry.md): with a DEM and terrain following, the coverage
+  /// waypoints carry their height above the ground in MAV_FRAME_GLOBAL_TERRAIN_ALT (10) and the vehicle
+  /// follows the ground itself from its own terrain data: no "terrain" waypoints between them. Take-off,
+  /// transit and landing stay above mean sea level. ArduPilot only (PX4 refuses the frame).
+  bool terrain_frame = false;
 };
 
 /// Altitude layers (Mission::transition_altitudes "layers", docs/mission-format.md): the number of
@@ -87,6 +98,21 @@ AltitudeOptions resolve_altitudes(const AltitudeOptions& opt, std::size_t uav_co
 /// step.
 double flight_transit_altitude(const Plan& plan, const AltitudeOptions& resolved, std::size_t index);
 
+/// A coverage leg whose ground is too steep for the terrain block's limits (issue 31): climbing or
+/// descending faster than max_climb_mps / max_descent_mps at cruise speed (flown slower: speed_mps), or
+/// steeper than max_grade (said, not changed: no speed makes a grade smaller).
+struct SteepLeg {
+  std::size_t from_item = 0, to_item = 0;  ///< indices into the items
+  LonLat from, to;
+  double length_m = 0, dz_m = 0;
+  double cruise_mps = 0, speed_mps = 0;  ///< the UAV's speed, and the leg's (lower when slowed)
+  bool over_grade = false;
+};
+/// The steep legs of UAV `index`'s items (empty without a limit or without terrain following).
+std::vector<SteepLeg> steep_legs(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items);
+/// "the leg from (lon, lat) to (lon, lat) climbs 12.0 m over 30.0 m, ...: flown at 2.50 m/s".
+std::string describe(const SteepLeg& leg, const Plan& plan);
+
 /// Mission items for UAV `index` of `plan` (home = the UAV's start, not included as an item), with the
 /// transition altitudes of resolve_altitudes() for the plan's UAVs. With a DEM every altitude is above
 /// mean sea level (frame 0, MAV_FRAME_GLOBAL); in follow mode each coverage waypoint flies at the
@@ -109,5 +135,23 @@ struct LegProfile {
 /// The profile of UAV `index`'s coverage leg with the most terrain waypoints (ties: the longer), from
 /// its mission items; std::nullopt without a DEM or without coverage.
 std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
+
+/// The ground under UAV `index`'s whole flight (issue 31, the web app's ground profile): its mission
+/// items' path from take-off to landing sampled at most `max_samples` times (evenly by distance, and at
+/// every positioned item), with the ground and the flight's height AMSL (linear between the items), and
+/// the band of heights above ground over its coverage legs. std::nullopt without a DEM.
+struct PathProfile {
+  std::string uav;
+  double length_m = 0.0;
+  struct Sample {
+    double s_m = 0, ground_m = 0, flight_m = 0;
+    bool coverage = false;  ///< on a coverage leg
+  };
+  std::vector<Sample> samples;
+  double agl_min_m = 0.0, agl_max_m = 0.0;  ///< height above ground over the coverage legs
+  double altitude_m = 0.0, tolerance_m = 0.0;
+};
+std::optional<PathProfile> path_profile(const Plan& plan, std::size_t index, std::size_t max_samples = 1000,
+                                        const AltitudeOptions& opt = {});
 
 }  // namespace uavcover::waypoints

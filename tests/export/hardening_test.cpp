@@ -10,10 +10,10 @@
 #include <pugixml.hpp>
 #include <set>
 
+#include "autopilot/fence.hpp"
 #include "export/check.hpp"
 #include "export/export.hpp"
 #include "export/fixture.hpp"
-#include "export/geofence.hpp"
 #include "export/xml.hpp"
 #include "io/plan_io.hpp"
 #include "mavlink/mission_protocol.hpp"
@@ -21,6 +21,7 @@
 
 using namespace uavcover;
 using namespace uavcover::exporting;
+using namespace uavcover::autopilot;
 using namespace uavcover::waypoints;
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -291,3 +291,110 @@ TEST(Terrain, CommandLinePlansExportsAndRefusesBadDems) {
 
 }  // namespace
 }  // namespace uavcover
+
+namespace uavcover {
+namespace {
+
+// Issue 31, climb and descent limits: over the 60 m hill a 0.5 m/s limit at 5 m/s slows the steep legs
+// (a DO_CHANGE_SPEED before each run of them, the cruise speed back after), their vertical speed at the
+// flown speed stays within the limit, and plan() says where; max_grade is said, not changed.
+TEST(Terrain, ClimbLimitsSlowTheSteepLegsAndSayWhere) {
+  const TempDir dir("climb");
+  testdem::write_hill(dir.path / "hill.tif", geodesy::LocalFrame(kOrigin), kHill);
+  auto j = nlohmann::json::parse(testdem::mission_text("hill.tif"));
+  j["terrain"]["max_climb_mps"] = 0.5;
+  j["terrain"]["max_descent_mps"] = 0.5;
+  j["terrain"]["max_grade"] = 0.2;
+  Mission m = parse_mission(j.dump());
+  io::load_terrain(m, dir.path);
+  const Plan p = plan(m);
+  int said = 0;
+  for (const auto& w : p.warnings) said += w.find("terrain: the leg from (") != std::string::npos;
+  EXPECT_GT(said, 0);
+  const geodesy::LocalFrame f(p.origin);
+  for (std::size_t i = 0; i < p.uavs.size(); ++i) {
+    SCOPED_TRACE(p.uavs[i].id);
+    const auto items = waypoints::mission_items(p, i);
+    const double cruise = p.mission.uavs[i].speed_mps;
+    double speed = cruise;
+    int slowed = 0;
+    const MissionItem* prev = nullptr;
+    for (const auto& it : items) {
+      if (it.command == waypoints::kDoChangeSpeed) {
+        speed = it.param2;
+        if (speed < cruise) ++slowed;
+        continue;
+      }
+      if (!positioned(it)) continue;
+      if (prev != nullptr && in_leg(*prev) && in_leg(it) && prev->part == it.part) {
+        const Point a = f.to_local({prev->lon, prev->lat}), b = f.to_local({it.lon, it.lat});
+        const double d = std::hypot(b.x() - a.x(), b.y() - a.y());
+        if (d > 0.01) {
+          EXPECT_LE(std::fabs(it.alt - prev->alt) * speed / d, 0.5 + 1e-3) << it.lon << " " << it.lat;
+        }
+      }
+      prev = &it;
+    }
+    EXPECT_GT(slowed, 0);
+    EXPECT_EQ(speed, cruise);  // back to cruise before the end
+  }
+  // without limits: no speed item but the first
+  const Plan free = hill_plan(dir);
+  for (std::size_t i = 0; i < free.uavs.size(); ++i) {
+    const auto items = waypoints::mission_items(free, i);
+    EXPECT_EQ(std::count_if(items.begin(), items.end(),
+                            [](const MissionItem& it) { return it.command == waypoints::kDoChangeSpeed; }),
+              1);
+  }
+}
+
+// Issue 31, the terrain frame: for ArduPilot the coverage waypoints carry their height above the ground in
+// MAV_FRAME_GLOBAL_TERRAIN_ALT without terrain waypoints between them; take-off and transit stay AMSL;
+// the .plan marks them AltitudeMode 4 in a mixed plan; PX4 and a plan without a DEM refuse it.
+TEST(Terrain, TerrainFrameForArduPilot) {
+  const TempDir dir("frame");
+  const Plan p = hill_plan(dir);
+  exporting::ExportOptions opt;
+  opt.autopilot = "ardupilot";
+  opt.altitude.terrain_frame = true;
+  const auto items = waypoints::mission_items(p, 0, opt.altitude);
+  int terrain = 0, amsl = 0;
+  for (const auto& it : items) {
+    if (!positioned(it)) continue;
+    EXPECT_NE(it.role, "terrain");
+    if (it.frame == waypoints::kFrameGlobalTerrainAlt) {
+      ++terrain;
+      EXPECT_FLOAT_EQ(it.alt, static_cast<float>(p.mission.altitude_m));
+    } else {
+      ++amsl;
+      EXPECT_EQ(it.frame, waypoints::kFrameGlobal);
+    }
+  }
+  EXPECT_GT(terrain, 4);
+  EXPECT_GT(amsl, 1);
+  const auto arts = exporting::export_artifacts(p, {"qgc,wpl"}, opt);
+  const auto qgc =
+      std::find_if(arts.begin(), arts.end(), [](const auto& a) { return a.name == "export/a.plan"; });
+  ASSERT_NE(qgc, arts.end());
+  const auto doc = nlohmann::json::parse(qgc->bytes);
+  EXPECT_EQ(doc["mission"]["globalPlanAltitudeMode"], 0);
+  int mode4 = 0;
+  for (const auto& it : doc["mission"]["items"])
+    mode4 += it.value("AltitudeMode", -1) == 4 && it["frame"] == 10;
+  EXPECT_EQ(mode4, terrain);
+  EXPECT_THROW(exporting::export_artifacts(p, {"dji"}, opt), InputError);  // WPML has its own heights
+  opt.autopilot = "px4";
+  EXPECT_THROW(exporting::export_artifacts(p, {"qgc"}, opt), InputError);
+  Plan flat = p;
+  flat.mission.terrain.reset();
+  opt.autopilot = "ardupilot";
+  try {
+    (void)exporting::export_artifacts(flat, {"qgc"}, opt);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "terrain_frame");
+  }
+}
+
+}  // namespace
+}  // namespace uavcover

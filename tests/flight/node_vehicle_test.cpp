@@ -89,9 +89,27 @@ TEST(NodeVehicle, AFlightFollowsANodeMavlinkVehicleToTheEnd) {
     EXPECT_TRUE(wait_wall(40s, [&] { return f.finished(); })) << f.snapshot().dump();
   }
   f.stop();
-  const std::string uploaded = read_line(pipe);  // {"items": [...]} as node-mavlink decoded them
-  const std::string flown = read_line(pipe);     // {"flown": [seqs]}
+  // {"items": [...]} as node-mavlink decoded them, {"fence": [...]} (issue 31), then {"flown": [seqs]}
+  std::string uploaded, flown, fence;
+  for (int k = 0; k < 4 && flown.empty(); ++k) {
+    const std::string line = read_line(pipe);
+    if (line.empty()) break;
+    const json j = json::parse(line);
+    if (j.contains("items")) uploaded = line;
+    if (j.contains("fence")) fence = line;
+    if (j.contains("flown")) flown = line;
+  }
   EXPECT_EQ(::pclose(pipe), 0);
+  // the geofence came after the mission with its own mission type: one inclusion polygon around
+  // everything flown, each vertex a MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION with the vertex count
+  ASSERT_FALSE(fence.empty());
+  const json fence_items = json::parse(fence).at("fence");
+  ASSERT_GE(fence_items.size(), 3U);
+  for (const auto& it : fence_items) {
+    EXPECT_EQ(it.at("command").get<int>(), 5001);
+    EXPECT_EQ(it.at("param1").get<double>(), static_cast<double>(fence_items.size()));
+    EXPECT_EQ(it.at("missionType").get<int>(), 1);
+  }
   ASSERT_TRUE(ready);
 
   EXPECT_EQ(f.state(), "done");

@@ -64,7 +64,8 @@ struct VehicleThread {
   std::atomic<bool> stop{false};
   std::thread thread;
   explicit VehicleThread(std::uint8_t sysid) : link(Endpoint{"127.0.0.1", 0}, sysid, 1), vehicle(link) {
-    thread = std::thread([this] { vehicle.run(30s, &stop, true); });
+    // until joined: after the mission come the fence and the rally points (issue 31)
+    thread = std::thread([this] { vehicle.run(30s, &stop); });
   }
   ~VehicleThread() { join(); }
   void join() {
@@ -198,4 +199,72 @@ TEST_F(CliUpload, RefusedAndNotClearedWarnsOfAPartialMission) {
       << r.err;
   EXPECT_EQ(clears_ignored, 3U);  // the clear and its 2 resends
   EXPECT_EQ(vehicle.mission().size(), 3U);
+}
+
+// Issue 31: after the mission, the geofence (inclusion polygon around everything flown, no-fly zones as
+// exclusions) and the rally points, each with its own mission type; --no-fence leaves them out.
+TEST_F(CliUpload, SendsTheFenceAndTheRallyPointsAfterTheMission) {
+  // the olive grove with the planner's proposed rally points
+  std::stringstream src;
+  src << std::ifstream(fs::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json").rdbuf();
+  std::string text = src.str();
+  const auto brace = text.find('{');
+  text.insert(brace + 1, "\"propose_rally\": true, ");
+  const fs::path mission = dir_ / "rally.json", rally_dir = dir_ / "rally-plan";
+  std::ofstream(mission) << text;
+  auto r = run_cli("-q plan '" + mission.string() + "' -o '" + rally_dir.string() + "'", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Plan plan = io::load_plan_dir(rally_dir);
+  ASSERT_EQ(plan.rally.size(), plan.uavs.size());
+  VehicleThread v(1);
+  r = run_cli("upload '" + rally_dir.string() + "' --uav " + plan.uavs[0].id + " --to " + v.address(), dir_);
+  v.join();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fence items accepted"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rally items accepted"), std::string::npos) << r.out;
+  EXPECT_FALSE(v.vehicle.mission().empty());
+  const auto& fence = v.vehicle.fence();
+  ASSERT_GE(fence.size(), 3U);
+  std::size_t exclusion = 0;
+  for (const auto& it : fence) {
+    EXPECT_TRUE(it.command == 5001 || it.command == 5002) << it.command;
+    EXPECT_EQ(it.mission_type, kMissionTypeFence);
+    exclusion += it.command == 5002;
+  }
+  std::size_t zone_vertices = 0;
+  for (const auto& z : plan.mission.no_fly_zones) zone_vertices += z.front().size() - 1;
+  EXPECT_EQ(exclusion, zone_vertices);
+  const auto& rally = v.vehicle.rally();
+  ASSERT_EQ(rally.size(), plan.rally.size());
+  for (std::size_t k = 0; k < rally.size(); ++k) {
+    EXPECT_EQ(rally[k].command, 5100);
+    EXPECT_EQ(rally[k].x, static_cast<std::int32_t>(std::llround(plan.rally[k].lat * 1e7)));
+    EXPECT_EQ(rally[k].y, static_cast<std::int32_t>(std::llround(plan.rally[k].lon * 1e7)));
+  }
+  VehicleThread bare(2);
+  r = run_cli("-q upload '" + rally_dir.string() + "' --uav " + plan.uavs[0].id + " --to " + bare.address() +
+                  " --target-system 2 --no-fence",
+              dir_);
+  bare.join();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(bare.vehicle.mission().empty());
+  EXPECT_TRUE(bare.vehicle.fence().empty());
+  EXPECT_TRUE(bare.vehicle.rally().empty());
+}
+
+// Issue 31: a mission over the vehicle's capacity is refused before anything is sent (a real vehicle
+// answers MAV_MISSION_NO_SPACE halfway, or drops items), naming the option and the split export.
+TEST_F(CliUpload, OverCapacityIsRefusedBeforeAnythingIsSent) {
+  const Plan plan = io::load_plan_dir(plan_dir_);
+  VehicleThread v(1);
+  const auto r = run_cli("upload '" + plan_dir_.string() + "' --uav " + plan.uavs[0].id + " --to " +
+                             v.address() + " --max-items 20",
+                         dir_);
+  v.join();
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--max-items"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nothing was sent"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--split-capacity"), std::string::npos) << r.err;
+  EXPECT_EQ(v.vehicle.stats().requests_sent, 0U);
+  EXPECT_TRUE(v.vehicle.mission().empty());
 }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "autopilot/fence.hpp"
 #include "export/fixture.hpp"
 #include "mavlink/frame.hpp"
 #include "mavlink/messages.hpp"
@@ -399,4 +400,67 @@ TEST(NodeMavlinkPeer, UploadCarriesCameraTriggersAndGimbal) {
   EXPECT_EQ(gimbal, 1);
   EXPECT_EQ(start, 6);  // alpha's loop: 6 legs, each started and stopped
   EXPECT_EQ(stop, 6);
+}
+
+// Issue 31: the geofence and the rally points go up after the mission with their own mission types
+// (MAV_MISSION_TYPE_FENCE, _RALLY), and node-mavlink's vehicle keeps the three apart.
+TEST(NodeMavlinkPeer, UploadsFenceAndRallyWithTheirMissionTypes) {
+  SKIP_WITHOUT_NODE();
+  uavcover::Plan plan = uavcover::fixture::two_uav_plan(false);
+  const uavcover::geodesy::LocalFrame frame(plan.origin);
+  plan.rally = {frame.to_wgs84({-60, 20}), frame.to_wgs84({40, 20})};
+  plan.uavs[0].transition_altitude_m = 60.0;
+  const auto exported = uavcover::waypoints::mission_items(plan, 0);
+  const auto fence =
+      to_mission_items(uavcover::autopilot::fence_items(plan, 0, exported, 20.0), std::nullopt);
+  const auto rally = to_mission_items(uavcover::autopilot::rally_items(plan, 0), std::nullopt);
+  const auto mission = to_mission_items(exported, std::nullopt);
+  ASSERT_EQ(rally.size(), 2U);
+
+  const std::string cmd = "node '" + (kNodeDir / "vehicle.js").string() + "' all 9 udp";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  const auto port = json::parse(read_line(pipe)).at("port").get<std::uint16_t>();
+  auto gcs = open_link(parse_link_address("udp:127.0.0.1:" + std::to_string(port), "--to"), 255, 190);
+  UploadOptions opt;
+  opt.target_system = 9;
+  std::vector<UploadResult> results;
+  for (const auto& [items, type] :
+       {std::pair{&mission, kMissionTypeMission}, std::pair{&fence, kMissionTypeFence},
+        std::pair{&rally, kMissionTypeRally}}) {
+    opt.mission_type = type;
+    results.push_back(upload_mission(*gcs, *items, opt));
+  }
+  std::vector<json> lines;
+  for (int k = 0; k < 3; ++k) lines.push_back(json::parse(read_line(pipe)));
+  EXPECT_EQ(::pclose(pipe), 0);
+  for (const auto& r : results) EXPECT_TRUE(r.ok) << r.error;
+  ASSERT_TRUE(lines[0].contains("items"));
+  ASSERT_TRUE(lines[1].contains("fence"));
+  ASSERT_TRUE(lines[2].contains("rally"));
+  EXPECT_EQ(lines[0]["items"].size(), mission.size());
+  // the fence: the inclusion polygon, then the no-fly zone (4 vertices) as an exclusion polygon
+  const json& f = lines[1]["fence"];
+  ASSERT_EQ(f.size(), fence.size());
+  std::size_t inclusion = 0, exclusion = 0;
+  for (const auto& it : f) {
+    EXPECT_EQ(it.at("missionType").get<int>(), 1);
+    const int c = it.at("command").get<int>();
+    (c == 5001 ? inclusion : exclusion) += 1;
+    EXPECT_TRUE(c == 5001 || c == 5002) << c;
+  }
+  EXPECT_EQ(exclusion, 4U);
+  EXPECT_GE(inclusion, 3U);
+  for (const auto& it : f)
+    EXPECT_EQ(it.at("param1").get<double>(),
+              static_cast<double>(it.at("command").get<int>() == 5001 ? inclusion : exclusion));
+  const json& r = lines[2]["rally"];
+  ASSERT_EQ(r.size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(r[k].at("command").get<int>(), 5100);
+    EXPECT_EQ(r[k].at("missionType").get<int>(), 2);
+    EXPECT_EQ(at(r[k], "x").get<std::int64_t>(), std::llround(plan.rally[k].lat * 1e7));
+    EXPECT_EQ(at(r[k], "y").get<std::int64_t>(), std::llround(plan.rally[k].lon * 1e7));
+    EXPECT_FLOAT_EQ(r[k].at("z").get<float>(), 60.0F);
+  }
 }

@@ -726,3 +726,59 @@ TEST(MissionParse, WindBlockParsesRoundTripsAndRefusesWhatCannotBeFlown) {
   // uav "b" flies 10 m/s: a 10 m/s wind leaves it no ground speed into the wind
   expect_error(with({{"speed_mps", 10}, {"from_deg", 90}}), "wind.speed_mps", "cannot be flown");
 }
+
+// Issue 31: rally points, resume with overlap, vehicle profiles; each refusal names its field, and the
+// normalised mission writes them back.
+TEST(MissionParse, RallyBackoffAndVehicleProfile) {
+  auto j = base();
+  j["no_fly_zones"] = json::parse(
+      R"([{"type": "Polygon", "coordinates": [[[22.905, 40.603], [22.906, 40.603], [22.906, 40.604], [22.905, 40.604]]]}])");
+  j["rally"] = json::parse("[[22.899, 40.599], [22.91, 40.605]]");
+  j["resume_backoff_m"] = 12.5;
+  j["autopilot"] = "ardupilot";
+  j["max_mission_items"] = 1200;
+  j["uavs"][1]["autopilot"] = "px4";
+  const auto m = parse_mission(j.dump());
+  ASSERT_EQ(m.rally.size(), 2u);
+  EXPECT_DOUBLE_EQ(m.rally[1].lon, 22.91);
+  EXPECT_EQ(*m.resume_backoff_m, 12.5);
+  EXPECT_EQ(m.autopilot, "ardupilot");
+  EXPECT_EQ(*m.max_mission_items, 1200);
+  EXPECT_EQ(m.uavs[0].autopilot, "");
+  EXPECT_EQ(m.uavs[1].autopilot, "px4");
+  const auto again = parse_mission(uavcover::mission_to_json(m));
+  EXPECT_EQ(again.rally, m.rally);
+  EXPECT_EQ(again.resume_backoff_m, m.resume_backoff_m);
+  EXPECT_EQ(again.autopilot, "ardupilot");
+  EXPECT_EQ(again.max_mission_items, m.max_mission_items);
+  EXPECT_EQ(again.uavs[1].autopilot, "px4");
+
+  auto bad = j;
+  bad["rally"] = json::parse("[[22.9055, 40.6035]]");
+  expect_error(bad, "rally[0]", "no-fly zone");
+  bad["rally"] = json::parse("[[23.2, 40.6]]");
+  expect_error(bad, "rally[0]", "km from the area");
+  bad["rally"] = json::parse("[[22.9, 95]]");
+  expect_error(bad, "rally[0]", "");
+  bad["rally"] = "here";
+  expect_error(bad, "rally", "array");
+  bad = j;
+  bad["propose_rally"] = true;
+  expect_error(bad, "propose_rally", "not both");
+  bad["propose_rally"] = "yes";
+  expect_error(bad, "propose_rally", "true or false");
+  bad = j;
+  bad["resume_backoff_m"] = -1;
+  expect_error(bad, "resume_backoff_m", "");
+  bad = j;
+  bad["autopilot"] = "inav";
+  expect_error(bad, "autopilot", "\"px4\", \"ardupilot\", \"dji\", \"litchi\"");
+  bad = j;
+  bad["uavs"][0]["autopilot"] = 3;
+  expect_error(bad, "uavs[0].autopilot", "");
+  bad = j;
+  bad["max_mission_items"] = 2.5;
+  expect_error(bad, "max_mission_items", "integer");
+  bad["max_mission_items"] = 70000;
+  expect_error(bad, "max_mission_items", "65535");
+}

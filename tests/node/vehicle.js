@@ -1,8 +1,11 @@
 #!/usr/bin/env node
 // Independent MAVLink vehicle for tests/mavlink, built on node-mavlink: receives one mission upload over
 // UDP (or TCP) on 127.0.0.1 and prints what it got.
-// Usage: node vehicle.js [sequential|reverse|fly] [sysid] [udp|tcp]
+// Usage: node vehicle.js [sequential|reverse|fly|all] [sysid] [udp|tcp]
 //   prints {"port": N} once bound, then, after acking the upload, {"items": [...]} and exits 0.
+//   Fence and rally uploads (MAV_MISSION_TYPE_FENCE 1, _RALLY 2; issue 31) are answered with their own
+//   mission type, kept apart from the mission and printed as {"fence": [...]} or {"rally": [...]}.
+//   "all": stays after the mission until a fence and a rally upload came too, then exits 0.
 //   "tcp": listens for one TCP connection instead (as SITL does on 5760) and writes every frame in two
 //   pieces, the first 3 bytes and the rest in a later write, so the GCS reads frames split mid-header.
 //   "reverse" requests the items last to first (out of order, to exercise the GCS).
@@ -30,6 +33,8 @@ let peer = null
 let txSeq = 0
 let gcs = { system: 0, component: 0 }
 let count = -1
+let missionType = 0  // of the transfer in progress
+const received = new Set()  // mission types uploaded
 let items = new Map()
 let pending = []  // seqs still to request, in request order
 let timer = null
@@ -53,7 +58,7 @@ function requestNext() {
   req.targetSystem = gcs.system
   req.targetComponent = gcs.component
   req.seq = pending[0]
-  req.missionType = 0
+  req.missionType = missionType
   send(req)
   timer = setTimeout(requestNext, 250)
 }
@@ -64,14 +69,19 @@ function finish() {
   ack.targetSystem = gcs.system
   ack.targetComponent = gcs.component
   ack.type = 0
-  ack.missionType = 0
+  ack.missionType = missionType
   send(ack)
   const list = [...items.keys()].sort((a, b) => a - b).map((k) => items.get(k))
-  process.stdout.write(JSON.stringify({ items: list }) + '\n')
+  const key = missionType === 1 ? 'fence' : missionType === 2 ? 'rally' : 'items'
+  process.stdout.write(JSON.stringify({ [key]: list }) + '\n')
+  received.add(missionType)
+  count = -1
   if (order === 'fly') {
-    mission = list
+    if (missionType === 0) mission = list
     return
   }
+  if (order === 'all' && !(received.has(0) && received.has(1) && received.has(2))) return
+  if (order !== 'all' && missionType !== 0) return
   setTimeout(() => { shutdown(); process.exit(0) }, 50)
 }
 
@@ -167,13 +177,15 @@ parser.on('data', (packet) => {
   if (clazz === common.MissionCount && data.targetSystem === sysid) {
     gcs = { system: packet.header.sysid, component: packet.header.compid }
     count = data.count
+    missionType = data.missionType || 0
     items = new Map()
     pending = [...Array(count).keys()]
     if (order === 'reverse') pending.reverse()
     requestNext()
   } else if (clazz === common.CommandLong && order === 'fly') {
     onCommand({ ...data, command: data.command, header: packet.header })
-  } else if (clazz === common.MissionItemInt && data.targetSystem === sysid && count >= 0) {
+  } else if (clazz === common.MissionItemInt && data.targetSystem === sysid && count >= 0 &&
+             (data.missionType || 0) === missionType) {
     if (pending.length > 0 && data.seq === pending[0]) {
       items.set(data.seq, data)
       pending.shift()

@@ -9,8 +9,7 @@
 #include <mutex>
 #include <thread>
 
-#include "server/api_fixture.hpp"
-#include "server/worker.hpp"
+#include "server/worker_fixture.hpp"
 
 namespace uavcover::server::testing {
 namespace {
@@ -27,50 +26,6 @@ void drop_timings(json& j) {
     for (auto& v : j) drop_timings(v);
   }
 }
-
-class WorkerTest : public ApiTest {
- protected:
-  void start_workers() {
-    WorkerConfig config;
-    config.threads = 1;
-    config.lease = std::chrono::milliseconds(2000);
-    config.heartbeat = std::chrono::milliseconds(100);
-    config.idle = std::chrono::milliseconds(50);
-    config.on_job_finished = [this](const store::Job& job, store::JobState state, double seconds) {
-      EXPECT_GE(seconds, 0.0);
-      if (job.kind == store::JobKind::Plan && state == store::JobState::Done) ++plans_done_;
-    };
-    pool_ = std::make_unique<WorkerPool>(*store_, config);
-    pool_->start();
-  }
-  void TearDown() override {
-    pool_.reset();
-    ApiTest::TearDown();
-  }
-
-  /// Polls the job until `until` holds or `timeout` passes; returns the last Job JSON.
-  json wait_job(const std::string& url, const std::function<bool(const json&)>& until,
-                std::chrono::seconds timeout = std::chrono::seconds(600)) {
-    const auto end = Clock::now() + timeout;
-    json job;
-    while (Clock::now() < end) {
-      const Answer a = call("GET", url);
-      EXPECT_EQ(a.status, 200) << a.body;
-      job = a.json();
-      if (until(job)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return job;
-  }
-
-  static bool terminal(const json& job) {
-    const std::string s = job.at("state");
-    return s == "done" || s == "failed" || s == "cancelled";
-  }
-
-  std::unique_ptr<WorkerPool> pool_;
-  std::atomic<int> plans_done_{0};
-};
 
 TEST_P(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
   const auto mission_id = create_mission(olive_grove());

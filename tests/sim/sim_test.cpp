@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "autopilot/fence.hpp"
 #include "autopilot/rules.hpp"
 #include "geodesy/local_frame.hpp"
 #include "io/plan_io.hpp"
@@ -539,4 +540,93 @@ TEST(SimFleet, RefusesWhatArduPilotRefuses) {
       EXPECT_EQ(stored, items);
     }
   }
+}
+
+namespace {
+
+/// A ring of local (east, north) metres around kHome.
+GeoRing ring_around(std::vector<std::pair<double, double>> pts) {
+  const geodesy::LocalFrame f(kHome);
+  GeoRing r;
+  for (const auto& [x, y] : pts) r.push_back(f.to_wgs84({x, y}));
+  return r;
+}
+
+}  // namespace
+
+// Issue 31: the simulator holds a fence as PX4 reads it. A mission with a waypoint outside it is refused
+// at start; a flight that crosses an exclusion zone between two allowed waypoints breaches it and
+// returns to launch.
+TEST(SimVehicleModel, RefusesToFlyOutOfItsFence) {
+  auto c = config(9);
+  c.home = kHome;
+  autopilot::Fence inside_all;
+  inside_all.inclusion.push_back(ring_around({{-50, -50}, {350, -50}, {350, 350}, {-50, 350}}));
+  autopilot::Fence too_small;
+  too_small.inclusion.push_back(ring_around({{-50, -50}, {200, -50}, {200, 350}, {-50, 350}}));
+  autopilot::Fence crossed = inside_all;
+  crossed.exclusion.push_back(ring_around({{130, -20}, {170, -20}, {170, 20}, {130, 20}}));
+  auto run = [&](const autopilot::Fence& fence, std::uint8_t want_start) {
+    auto v = std::make_unique<sim::SimVehicle>(c);
+    v->set_mission(square_mission());
+    v->set_fence(fence);
+    EXPECT_EQ(v->arm(true), kResultAccepted);
+    EXPECT_EQ(v->start_mission(), want_start);
+    for (int i = 0; i < 40000 && want_start == kResultAccepted && (v->state().armed || v->state().t < 1); ++i)
+      v->step(0.05);
+    return v;
+  };
+  const auto ok = run(inside_all, kResultAccepted);
+  EXPECT_TRUE(ok->state().mission_complete);
+  EXPECT_FALSE(ok->state().fence_breach);
+  (void)run(too_small, kResultDenied);  // (300, 0) lies outside
+  const auto breached = run(crossed, kResultAccepted);
+  const auto& s = breached->state();
+  EXPECT_TRUE(s.fence_breach);
+  EXPECT_FALSE(s.mission_complete);
+  EXPECT_FALSE(s.airborne);
+  EXPECT_LT(std::hypot(s.p.x, s.p.y), 1.0);  // back home
+  EXPECT_LT(s.reached.size(), square_mission().size());
+}
+
+// Issue 31: a fence uploaded over MAVLink (MAV_MISSION_TYPE_FENCE) is stored apart from the mission; one
+// that does not read as a fence (a vertex count that does not match its group) is refused whole.
+TEST(SimFleet, FenceUploadIsStoredApartAndCheckedWhole) {
+  const GeoRing ring = ring_around({{-50, -50}, {350, -50}, {350, 350}, {-50, 350}});
+  std::vector<MissionItemInt> fence;
+  for (const auto& p : ring) {
+    MissionItemInt it;
+    it.command = autopilot::kFencePolygonVertexInclusion;
+    it.frame = 0;
+    it.param1 = static_cast<float>(ring.size());
+    it.x = static_cast<std::int32_t>(std::llround(p.lat * 1e7));
+    it.y = static_cast<std::int32_t>(std::llround(p.lon * 1e7));
+    fence.push_back(it);
+  }
+  auto bad = fence;
+  bad[2].param1 = 3;  // a vertex of another polygon in the middle of this one
+  RunningFleet f({config(6)}, 50.0, 600.0);
+  Gcs gcs(f.vehicle(0).port(), 6);
+  UploadOptions opt;
+  opt.target_system = 6;
+  const auto mission = upload_mission(gcs.link, square_mission(), opt);
+  opt.mission_type = kMissionTypeFence;
+  const auto good = upload_mission(gcs.link, fence, opt);
+  const auto refused = upload_mission(gcs.link, bad, opt);
+  const std::size_t after_refusal = f.vehicle(0).fence().inclusion.size();
+  const auto again = upload_mission(gcs.link, fence, opt);
+  f.thread.request_stop();
+  f.join();
+  EXPECT_TRUE(mission.ok) << mission.error;
+  EXPECT_TRUE(good.ok) << good.error;
+  EXPECT_FALSE(refused.ok);
+  ASSERT_TRUE(refused.ack.has_value());
+  EXPECT_EQ(*refused.ack, kMissionInvalid);
+  // the uploader then clears the fence (MISSION_CLEAR_ALL of the fence type): no fence, the mission kept
+  EXPECT_TRUE(refused.cleared) << refused.error;
+  EXPECT_EQ(after_refusal, 0U);
+  EXPECT_EQ(f.vehicle(0).mission().size(), square_mission().size());
+  EXPECT_TRUE(again.ok) << again.error;
+  ASSERT_EQ(f.vehicle(0).fence().inclusion.size(), 1U);
+  EXPECT_EQ(f.vehicle(0).fence().inclusion[0].size(), ring.size());
 }

@@ -16,6 +16,7 @@
 
 #include "evaluation/cost.hpp"
 #include "evaluation/evaluate.hpp"
+#include "export/checks.hpp"
 #include "export/export.hpp"
 #include "geometry/geometry.hpp"
 #include "io/plan_io.hpp"
@@ -24,6 +25,7 @@
 #include "support/shapes.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "uavcover/vehicle.hpp"
 #include "usecases/study.hpp"
 
 namespace uavcover {
@@ -53,9 +55,10 @@ Plan with_endurance(const Plan& base, double minutes, double reserve = kDefaultB
 std::multiset<std::pair<std::pair<double, double>, std::pair<double, double>>> legs_of(
     const std::vector<PathPart>& parts) {
   std::multiset<std::pair<std::pair<double, double>, std::pair<double, double>>> out;
+  // a sortie's lead-in (issue 31: the stretch before its first waypoint, flown again) is not its own work
   for (const auto& part : parts)
     if (part.kind == PartKind::Coverage)
-      for (std::size_t k = 1; k < part.local.size(); ++k)
+      for (std::size_t k = part.lead_in + 1; k < part.local.size(); ++k)
         out.insert({{part.local[k - 1].x(), part.local[k - 1].y()}, {part.local[k].x(), part.local[k].y()}});
   return out;
 }
@@ -63,7 +66,8 @@ std::multiset<std::pair<std::pair<double, double>, std::pair<double, double>>> l
 std::vector<Point> coverage_points(const std::vector<PathPart>& parts) {
   std::vector<Point> out;
   for (const auto& part : parts)
-    if (part.kind == PartKind::Coverage) out.insert(out.end(), part.local.begin(), part.local.end());
+    if (part.kind == PartKind::Coverage)
+      out.insert(out.end(), part.local.begin() + static_cast<long>(part.lead_in), part.local.end());
   return out;
 }
 
@@ -687,11 +691,176 @@ TEST(Sorties, PiecesKeepTheirPartsAttitude) {
       EXPECT_EQ(part.attitude.gimbal_pitch_deg, -30.0);
       EXPECT_EQ(part.attitude.altitude_m, 33.0);
       ASSERT_EQ(part.attitude.heading_deg.size(), part.local.size());
-      for (std::size_t k = 0; k < part.local.size(); ++k, ++vertices)
+      // (a lead-in's start, issue 31, lies inside a segment: its heading is turned between the ends)
+      for (std::size_t k = part.lead_in > 0 ? 1 : 0; k < part.local.size(); ++k, ++vertices)
         EXPECT_EQ(part.attitude.heading_deg[k], heading_of(part.local[k])) << k;
     }
   EXPECT_GT(pieces, p.uavs[bravo].sorties.size() - 1);
   EXPECT_GT(vertices, 0u);
 }
 
+}  // namespace uavcover
+
+namespace uavcover {
+namespace {
+
+/// The length of a polyline.
+double along(const std::vector<Point>& pts, std::size_t from, std::size_t to) {
+  double s = 0;
+  for (std::size_t k = from + 1; k <= to; ++k) s += bg::distance(pts[k - 1], pts[k]);
+  return s;
+}
+
+/// Distance from `p` to the UAV's own coverage polylines (its plan's coverage parts).
+double off_own_coverage(const UavPlan& up, Point p) {
+  double best = 1e300;
+  for (const auto& part : up.parts)
+    if (part.kind == PartKind::Coverage && part.local.size() >= 2) {
+      bg::model::linestring<Point> line(part.local.begin(), part.local.end());
+      best = std::min(best, static_cast<double>(bg::distance(p, line)));
+    }
+  return best;
+}
+
+// Issue 31, resume with overlap: a resumed flight and every battery sortie after the first start one
+// photo base (the camera's trigger distance; resume_backoff_m when given) before their first waypoint,
+// back along the UAV's own path, flown at mission altitude with the camera on, so no gap opens at the seam.
+TEST(Sorties, ResumeAndLaterSortiesStartOnePhotoBaseBack) {
+  const Plan p = with_endurance(olive_grove(), 12.0);
+  const double base = *p.mission.trigger_distance_m;
+  ASSERT_GT(base, 1.0);
+  EXPECT_DOUBLE_EQ(sorties::resume_backoff_m(p, 0), base);
+  int checked = 0;
+  for (std::size_t i = 0; i < p.uavs.size(); ++i) {
+    const UavPlan& up = p.uavs[i];
+    SCOPED_TRACE(up.id);
+    const auto wps = sorties::coverage_waypoints(up);
+    for (std::size_t k = 0; k < up.sorties.size(); ++k) {
+      const Sortie& s = up.sorties[k];
+      const auto first = std::find_if(s.parts.begin(), s.parts.end(),
+                                      [](const PathPart& q) { return q.kind == PartKind::Coverage; });
+      ASSERT_NE(first, s.parts.end());
+      const sorties::WaypointRef w = wps[static_cast<std::size_t>(s.first_waypoint)];
+      if (k == 0 || w.vertex == 0) {  // the first sortie, or one that starts a coverage part: none
+        EXPECT_EQ(first->lead_in, 0U);
+        continue;
+      }
+      ++checked;
+      ASSERT_GE(first->lead_in, 1U);
+      // the lead-in ends at the sortie's first waypoint, runs back along the UAV's own path for one
+      // photo base (or to the part's start), and the transit out ends where it begins
+      const Point wp = up.parts[w.part].local[w.vertex];
+      EXPECT_LT(bg::distance(first->local[first->lead_in], wp), 1e-9);
+      const double avail = along(up.parts[w.part].local, 0, w.vertex);
+      EXPECT_NEAR(along(first->local, 0, first->lead_in), std::min(base, avail), 1e-6);
+      EXPECT_LT(off_own_coverage(up, first->local.front()), 1e-6);
+      EXPECT_LT(bg::distance(std::prev(first)->local.back(), first->local.front()), 0.01);
+      // as a mission: the lead-in's waypoints at mission altitude and not counted, the camera started
+      // before the sortie's first waypoint
+      const auto items = waypoints::mission_items(sorties::sortie_plan(p, i, s), i);
+      const auto wp_item =
+          std::find_if(items.begin(), items.end(), [](const auto& it) { return it.waypoint == 0; });
+      ASSERT_NE(wp_item, items.end());
+      int lead = 0;
+      bool camera_on = false;
+      for (auto it = items.begin(); it != wp_item; ++it) {
+        if (it->role == "lead_in") {
+          ++lead;
+          EXPECT_EQ(it->waypoint, -1);
+          EXPECT_FLOAT_EQ(it->alt, static_cast<float>(p.mission.altitude_m));
+        }
+        if (it->command == waypoints::kDoSetCamTriggDist && it->param1 > 0) camera_on = true;
+      }
+      EXPECT_EQ(lead, static_cast<int>(first->lead_in));
+      EXPECT_TRUE(camera_on);
+    }
+    // a resume mid-leg: back along the path from the last reached waypoint
+    if (up.sorties.size() < 2) continue;
+    const int r = (up.sorties[1].first_waypoint + up.sorties[1].last_waypoint) / 2;
+    const auto rest = sorties::resume_sorties(p, i, r);
+    ASSERT_FALSE(rest.empty());
+    const auto cov = std::find_if(rest.front().parts.begin(), rest.front().parts.end(),
+                                  [](const PathPart& q) { return q.kind == PartKind::Coverage; });
+    const sorties::WaypointRef w = wps[static_cast<std::size_t>(rest.front().first_waypoint)];
+    EXPECT_EQ(cov->lead_in > 0, w.vertex > 0);
+    // resume_backoff_m 0: starts at the waypoint itself
+    Plan zero = p;
+    zero.mission.resume_backoff_m = 0.0;
+    const auto exact = sorties::resume_sorties(zero, i, r);
+    for (const auto& part : exact.front().parts) EXPECT_EQ(part.lead_in, 0U);
+    // and a longer one is clipped at the start of the coverage part
+    Plan far = p;
+    far.mission.resume_backoff_m = 1e5;
+    const auto clipped = sorties::resume_sorties(far, i, r);
+    const auto c2 = std::find_if(clipped.front().parts.begin(), clipped.front().parts.end(),
+                                 [](const PathPart& q) { return q.kind == PartKind::Coverage; });
+    if (w.vertex > 0) {
+      EXPECT_EQ(c2->lead_in, w.vertex);
+      EXPECT_LT(bg::distance(c2->local.front(), up.parts[w.part].local.front()), 1e-9);
+    }
+  }
+  EXPECT_GT(checked, 0);
+}
+
+// Issue 31, vehicle limits: a UAV's missions split to what each profile stores (PX4 500, ArduPilot 700
+// or the board's max_mission_items, DJI, Litchi 99 waypoints), every piece a whole mission, together
+// every coverage waypoint in order.
+TEST(Sorties, CapacitySplitFitsEveryProfile) {
+  Plan p = olive_grove();
+  std::size_t i = 0;  // the UAV with the most coverage waypoints
+  for (std::size_t k = 1; k < p.uavs.size(); ++k)
+    if (sorties::coverage_waypoints(p.uavs[k]).size() > sorties::coverage_waypoints(p.uavs[i]).size()) i = k;
+  const int n = static_cast<int>(sorties::coverage_waypoints(p.uavs[i]).size());
+  ASSERT_GT(n, 10);
+  for (const auto& profile : kVehicleProfiles) {
+    SCOPED_TRACE(std::string(profile.name));
+    const std::string name(profile.name);
+    const std::size_t whole = exporting::stored_items(p, i, name, {});
+    // the profile's own capacity, or a smaller board's where the whole mission fits it
+    Plan q = p;
+    if (whole <= profile.max_items) q.mission.max_mission_items = static_cast<int>(whole * 2 / 3);
+    const std::size_t cap = mission_capacity(profile, q.mission.max_mission_items);
+    ASSERT_LT(cap, whole);
+    const auto pieces = sorties::capacity_sorties(
+        q, i, cap, [&](const Plan& sp, std::size_t u) { return exporting::stored_items(sp, u, name, {}); });
+    ASSERT_GE(pieces.size(), (whole + cap - 1) / cap);
+    std::vector<int> covered;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const Sortie& s = pieces[k];
+      EXPECT_EQ(s.index, static_cast<int>(k));
+      const Plan sp = sorties::sortie_plan(q, i, s);
+      EXPECT_LE(exporting::stored_items(sp, i, name, {}), cap);
+      const auto items = waypoints::mission_items(sp, i);
+      EXPECT_EQ(items.front().command, waypoints::kNavTakeoff);
+      EXPECT_EQ(items.back().command, waypoints::kNavReturnToLaunch);
+      for (const auto& it : items)
+        if (it.waypoint >= 0) covered.push_back(it.waypoint + s.first_waypoint);
+    }
+    covered.erase(std::unique(covered.begin(), covered.end()), covered.end());
+    ASSERT_EQ(covered.size(), static_cast<std::size_t>(n));
+    for (int g = 0; g < n; ++g) EXPECT_EQ(covered[static_cast<std::size_t>(g)], g);
+  }
+  // a capacity below one leg's mission names the field
+  EXPECT_THROW(
+      (void)sorties::capacity_sorties(
+          p, i, 3, [](const Plan& sp, std::size_t u) { return exporting::stored_items(sp, u, "px4", {}); }),
+      InputError);
+  // the export writes the pieces as whole missions (export/<id>.s<k>.plan), each within the capacity
+  const int cap = static_cast<int>(exporting::stored_items(p, i, "ardupilot", {}) * 2 / 3);
+  p.mission.max_mission_items = cap;
+  exporting::ExportOptions opt;
+  opt.split_capacity = true;
+  opt.autopilot = "ardupilot";
+  const auto arts = exporting::export_artifacts(p, {"qgc"}, opt);
+  int files = 0;
+  for (const auto& a : arts) {
+    if (a.name.find("export/" + p.uavs[i].id + ".s") != 0) continue;
+    ++files;
+    const json doc = strict::parse_json(a.bytes, "plan");
+    EXPECT_LE(doc.at("mission").at("items").size() + 1, static_cast<std::size_t>(cap)) << a.name;  // + home
+  }
+  EXPECT_GE(files, 2);
+}
+
+}  // namespace
 }  // namespace uavcover

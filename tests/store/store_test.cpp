@@ -1245,6 +1245,34 @@ TEST_P(StoreConformance, KillNineWhileCachingLosesNoAcknowledgedEntryAndLeavesNo
   EXPECT_EQ(store_->collect_orphan_blobs(), 0);
 }
 
+// Issue 31: elevation models are stored content-addressed: the same bytes twice are one DEM (the first
+// name kept), bytes come back exactly (binary, with NUL bytes), and the list is in id order.
+TEST_P(StoreConformance, DemsAreContentAddressed) {
+  std::string tif("II*\0", 4);
+  for (int i = 0; i < 3000; ++i) tif += static_cast<char>(i * 37 % 256);
+  const nlohmann::json info{{"width", 10}, {"height", 12}};
+  const auto [a, created] = store_->put_dem("hill.tif", tif, info);
+  EXPECT_TRUE(created);
+  const auto [b, again] = store_->put_dem("copy.tif", tif, info);
+  EXPECT_FALSE(again);
+  EXPECT_EQ(a, b);
+  const auto [c, other] = store_->put_dem("other.tif", tif + "x", info);
+  EXPECT_TRUE(other);
+  EXPECT_NE(c, a);
+  const auto d = store_->get_dem(a);
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->name, "hill.tif");
+  EXPECT_EQ(d->size, static_cast<std::int64_t>(tif.size()));
+  EXPECT_EQ(d->sha256.size(), 64U);
+  EXPECT_EQ(d->info, info);
+  EXPECT_EQ(*store_->dem_bytes(a), tif);
+  EXPECT_FALSE(store_->get_dem(c + 1000).has_value());
+  EXPECT_FALSE(store_->dem_bytes(c + 1000).has_value());
+  const auto list = store_->list_dems(1000);
+  ASSERT_GE(list.size(), 2U);
+  EXPECT_LT(list.front().id, list.back().id);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, StoreConformance,
                          ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          [](const ::testing::TestParamInfo<std::string>& info) {

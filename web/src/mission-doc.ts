@@ -505,3 +505,51 @@ export function withSharesAuto(doc: MissionDoc, on: boolean): MissionDoc {
     }),
   };
 }
+
+// ---------------------------------------------------------------- terrain (issue 31)
+
+/** where the ground heights come from: none (flat), a DEM stored in the server, or the server's tiles */
+export type TerrainSource = { kind: 'none' } | { kind: 'dem'; dem_id: number } | { kind: 'server' };
+
+export interface TerrainInput {
+  source: TerrainSource;
+  follow: boolean;
+  tolerance_m: number;
+  max_climb_mps?: number;
+  max_descent_mps?: number;
+}
+
+export const TERRAIN_DEFAULTS = { tolerance_m: 1 } as const;
+
+/** the document's terrain block as the app edits it (a block naming a file path reads as none) */
+export function terrainOf(doc: MissionDoc | null): TerrainInput {
+  const t = doc?.terrain as Record<string, unknown> | undefined;
+  const none: TerrainInput = { source: { kind: 'none' }, follow: true, tolerance_m: TERRAIN_DEFAULTS.tolerance_m };
+  if (!t || typeof t !== 'object') return none;
+  const source: TerrainSource =
+    typeof t.dem_id === 'number' ? { kind: 'dem', dem_id: t.dem_id } : t.source === 'server' ? { kind: 'server' } : { kind: 'none' };
+  const out: TerrainInput = {
+    source,
+    follow: t.mode !== 'off',
+    tolerance_m: typeof t.tolerance_m === 'number' ? t.tolerance_m : TERRAIN_DEFAULTS.tolerance_m,
+  };
+  if (typeof t.max_climb_mps === 'number') out.max_climb_mps = t.max_climb_mps;
+  if (typeof t.max_descent_mps === 'number') out.max_descent_mps = t.max_descent_mps;
+  return out;
+}
+
+/** a copy of the document with this terrain block (source none removes it) */
+export function withTerrain(doc: MissionDoc, t: TerrainInput): MissionDoc {
+  const out = { ...doc };
+  if (t.source.kind === 'none') {
+    delete out.terrain;
+    return out;
+  }
+  const block: Record<string, unknown> = t.source.kind === 'dem' ? { dem_id: t.source.dem_id } : { source: 'server' };
+  block.mode = t.follow ? 'follow' : 'off';
+  block.tolerance_m = t.tolerance_m;
+  if (t.max_climb_mps !== undefined) block.max_climb_mps = t.max_climb_mps;
+  if (t.max_descent_mps !== undefined) block.max_descent_mps = t.max_descent_mps;
+  out.terrain = block;
+  return out;
+}

@@ -1,5 +1,6 @@
-// The Define tab's mission options beyond the area grid (issues 30 and 32): the structure (facade) scan's
-// numbers, the oblique passes, the wind, the auto planner's objective and the shares from capabilities.
+// The Define tab's mission options beyond the area grid (issues 30, 31 and 32): the structure (facade) scan's
+// numbers, the oblique passes, the wind, the terrain, the auto planner's objective and the shares from
+// capabilities.
 // Each control writes its block of the mission document through the tab's commit; render() shows the
 // document's values. The map side of a structure (drawing its footprint) stays in define.ts.
 import { el } from '../dom.ts';
@@ -7,16 +8,20 @@ import {
   OBJECTIVES,
   OBLIQUE_DEFAULTS,
   STRUCTURE_DEFAULTS,
+  TERRAIN_DEFAULTS,
   obliqueOf,
   sharesAuto,
   structureOf,
+  terrainOf,
   windOf,
   withOblique,
   withSharesAuto,
   withStructure,
+  withTerrain,
   withWind,
   type MissionDoc,
   type StructureScan,
+  type TerrainSource,
 } from '../mission-doc.ts';
 
 export interface ExtrasHost {
@@ -185,5 +190,147 @@ export class SharesAutoControl {
 
   render(doc: MissionDoc): void {
     this.input.checked = sharesAuto(doc);
+  }
+}
+
+/** one stored elevation model as GET /api/v1/dems lists it */
+export interface DemEntry {
+  id: number;
+  name: string;
+  size: number;
+}
+
+/** where the server finds elevation models: its stored DEMs, its tiles, and the upload */
+export interface TerrainHost extends ExtrasHost {
+  listDems(): Promise<{ items: DemEntry[]; server_tiles: boolean }>;
+  uploadDem(file: File): Promise<DemEntry>;
+  say(message: string, error?: boolean): void;
+}
+
+/** terrain (issue 31): the ground from an uploaded DEM or the server's tiles, following it, its tolerance
+ * and climb limits */
+export class TerrainControls {
+  readonly row = el('div', { class: 'define-terrain', 'data-testid': 'terrain-options' });
+  private source = el('select', { 'data-testid': 'terrain-source', title: 'where the ground heights come from' });
+  private upload = el('input', { type: 'file', accept: '.tif,.tiff,image/tiff', 'data-testid': 'terrain-upload', title: 'upload a GeoTIFF elevation model' });
+  private follow = el('input', { type: 'checkbox', 'data-testid': 'terrain-follow', title: 'fly the camera’s height above the ground under every waypoint' });
+  private tolerance = numberInput('terrain-tolerance', '0.1', '100', 'largest deviation of the height above ground along a leg', String(TERRAIN_DEFAULTS.tolerance_m));
+  private climb = numberInput('terrain-max-climb', '0.1', '50', 'climb limit while following: steeper legs are flown slower', '');
+  private detail = el('div', { class: 'define-terrain-detail' });
+  private dems: DemEntry[] = [];
+  private serverTiles = false;
+
+  constructor(private host: TerrainHost) {
+    host.field(this.row, 'Ground', 'terrain terrain.dem_id terrain.source terrain.dem', this.source);
+    host.field(this.row, 'Upload DEM', 'terrain.dem_id', this.upload);
+    host.field(this.detail, 'Follow terrain', 'terrain.mode', this.follow);
+    host.field(this.detail, 'Tolerance', 'terrain.tolerance_m', this.tolerance, 'm');
+    host.field(this.detail, 'Max climb', 'terrain.max_climb_mps terrain.max_descent_mps', this.climb, 'm/s');
+    this.row.appendChild(this.detail);
+    for (const i of [this.source, this.follow, this.tolerance, this.climb]) i.addEventListener('change', () => this.changed());
+    this.upload.addEventListener('change', () => void this.uploaded());
+    void this.refresh();
+  }
+
+  /** the server's DEMs and tiles, into the select */
+  async refresh(): Promise<void> {
+    try {
+      const r = await this.host.listDems();
+      this.dems = r.items;
+      this.serverTiles = r.server_tiles;
+    } catch {
+      this.dems = [];
+    }
+    this.fill();
+    this.render(this.host.doc());
+  }
+
+  private fill(): void {
+    this.source.replaceChildren(el('option', { value: 'none' }, 'Flat (no elevation model)'));
+    if (this.serverTiles) this.source.appendChild(el('option', { value: 'server' }, 'The server’s DEM tiles'));
+    for (const d of this.dems) this.source.appendChild(el('option', { value: `dem:${d.id}` }, `${d.name} (#${d.id})`));
+  }
+
+  private async uploaded(): Promise<void> {
+    const f = this.upload.files?.[0];
+    if (!f) return;
+    try {
+      const d = await this.host.uploadDem(f);
+      await this.refresh();
+      this.source.value = `dem:${d.id}`;
+      this.changed();
+      this.host.say(`Elevation model “${d.name}” stored (#${d.id}).`);
+    } catch (e) {
+      this.host.say(e instanceof Error ? e.message : String(e), true);
+    }
+    this.upload.value = '';
+  }
+
+  private changed(): void {
+    const v = this.source.value;
+    const source: TerrainSource = v.startsWith('dem:') ? { kind: 'dem', dem_id: Number(v.slice(4)) } : v === 'server' ? { kind: 'server' } : { kind: 'none' };
+    const climb = num(this.climb.value);
+    this.host.commit(
+      withTerrain(this.host.doc(), {
+        source,
+        follow: this.follow.checked,
+        tolerance_m: num(this.tolerance.value) ?? TERRAIN_DEFAULTS.tolerance_m,
+        ...(climb === undefined ? {} : { max_climb_mps: climb, max_descent_mps: climb }),
+      }),
+    );
+  }
+
+  render(doc: MissionDoc): void {
+    const t = terrainOf(doc);
+    const want = t.source.kind === 'dem' ? `dem:${t.source.dem_id}` : t.source.kind;
+    if (![...this.source.options].some((o) => o.value === want)) this.source.appendChild(el('option', { value: want }, want === 'server' ? 'The server’s DEM tiles' : `DEM #${want.slice(4)}`));
+    this.source.value = want;
+    this.detail.hidden = t.source.kind === 'none';
+    this.follow.checked = t.follow;
+    this.tolerance.value = t.tolerance_m === TERRAIN_DEFAULTS.tolerance_m ? '' : String(t.tolerance_m);
+    this.climb.value = t.max_climb_mps === undefined ? '' : String(t.max_climb_mps);
+  }
+}
+
+/** the flight software and field options (issue 31): the vehicle profile, its item capacity, the resume
+ * overlap and the planner's rally points */
+export class FieldControls {
+  readonly row = el('div', { class: 'define-vehicle', 'data-testid': 'field-options' });
+  private autopilot = el('select', { 'data-testid': 'autopilot-select', title: 'the flight software the missions are for: its item capacity and limits (docs/vehicle-limits.md)' });
+  private items = numberInput('max-mission-items', '8', '65535', 'the vehicle’s mission item capacity where the board decides (ArduPilot)', '');
+  private backoff = numberInput('resume-backoff', '0', '10000', 'a resumed flight and every later sortie start this far back along the path; empty: one photo base', '');
+  private rally = el('input', { type: 'checkbox', 'data-testid': 'propose-rally', title: 'propose a safe landing point per UAV in its region, clear of the no-fly zones' });
+
+  constructor(private host: ExtrasHost) {
+    this.autopilot.appendChild(el('option', { value: '' }, 'any (PX4 files)'));
+    for (const [v, t] of [['px4', 'PX4 (500 items)'], ['ardupilot', 'ArduPilot (~700 items)'], ['dji', 'DJI WPML'], ['litchi', 'Litchi (99 waypoints)']])
+      this.autopilot.appendChild(el('option', { value: v }, t));
+    host.field(this.row, 'Autopilot', 'autopilot', this.autopilot);
+    host.field(this.row, 'Mission items', 'max_mission_items', this.items);
+    host.field(this.row, 'Resume overlap', 'resume_backoff_m', this.backoff, 'm');
+    host.field(this.row, 'Rally points', 'propose_rally rally', this.rally);
+    for (const i of [this.autopilot, this.items, this.backoff, this.rally]) i.addEventListener('change', () => this.changed());
+  }
+
+  private changed(): void {
+    const d = { ...this.host.doc() };
+    const set = (k: string, v: unknown) => {
+      if (v === undefined || v === '' || v === false) delete d[k];
+      else d[k] = v;
+    };
+    set('autopilot', this.autopilot.value);
+    const n = num(this.items.value);
+    set('max_mission_items', n === undefined ? undefined : Math.round(n));
+    set('resume_backoff_m', num(this.backoff.value));
+    if (this.rally.checked) delete d.rally;
+    set('propose_rally', this.rally.checked);
+    this.host.commit(d);
+  }
+
+  render(doc: MissionDoc): void {
+    this.autopilot.value = typeof doc.autopilot === 'string' ? doc.autopilot : '';
+    this.items.value = typeof doc.max_mission_items === 'number' ? String(doc.max_mission_items) : '';
+    this.backoff.value = typeof doc.resume_backoff_m === 'number' ? String(doc.resume_backoff_m) : '';
+    this.rally.checked = doc.propose_rally === true;
   }
 }

@@ -41,7 +41,17 @@ import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '..
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
-import { ObjectiveControl, ObliqueControls, SharesAutoControl, StructureControls, WindControls, type ExtrasHost } from './define-extras.ts';
+import {
+  FieldControls,
+  ObjectiveControl,
+  ObliqueControls,
+  SharesAutoControl,
+  StructureControls,
+  TerrainControls,
+  WindControls,
+  type DemEntry,
+  type ExtrasHost,
+} from './define-extras.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
 const AUTO_PLANNER = {
@@ -154,6 +164,8 @@ class DefinePanel {
   private structureControls!: StructureControls;
   private obliqueControls!: ObliqueControls;
   private windControls!: WindControls;
+  private terrainControls!: TerrainControls;
+  private fieldControls!: FieldControls;
   private objectiveControl!: ObjectiveControl;
   private sharesAutoControl!: SharesAutoControl;
   private readonly host: ExtrasHost = {
@@ -331,6 +343,23 @@ class DefinePanel {
     plan.appendChild(this.paramsBox);
     this.windControls = new WindControls(this.host);
     plan.appendChild(this.windControls.row);
+    // terrain (issue 31): a DEM uploaded to the server, or its tiles
+    this.terrainControls = new TerrainControls({
+      ...this.host,
+      listDems: () => api.get<{ items: DemEntry[]; server_tiles: boolean }>('/dems'),
+      uploadDem: (file: File) => {
+        const form = new FormData();
+        form.append('file', file, file.name);
+        return api.postForm<DemEntry>('/dems', form);
+      },
+      say: (message: string, error = false) => {
+        if (error) this.showGeneral(message, 'terrain.dem_id');
+        else this.status.textContent = message;
+      },
+    });
+    plan.appendChild(this.terrainControls.row);
+    this.fieldControls = new FieldControls(this.host);
+    plan.appendChild(this.fieldControls.row);
     this.seedInput = el('input', { type: 'number', min: '0', step: '1', 'data-testid': 'seed-input' });
     this.seedInput.addEventListener('change', () => {
       const s = num(this.seedInput.value);
@@ -563,6 +592,8 @@ class DefinePanel {
     this.renderParams();
     this.objectiveControl.render(d);
     this.windControls.render(d);
+    this.terrainControls.render(d);
+    this.fieldControls.render(d);
     this.sharesAutoControl.render(d);
     this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
     this.seedInput.placeholder = '1';

@@ -9,6 +9,7 @@ import { exportsPanel } from '../exports.ts';
 import { el, errorText, JobView } from '../job-ui.ts';
 import { facadePanel, type FacadeJson } from '../facade-view.ts';
 import { metricsPanel } from '../metrics.ts';
+import { profilePanel } from '../profile.ts';
 import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
 import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
 import { dropPlan, loadPlan, type PreparedPlan } from '../plan-source.ts';
@@ -24,6 +25,7 @@ interface Planner {
 
 let drawn: DrawnPlan | null = null;
 let heat: L.ImageOverlay | null = null;
+let rallyLayer: L.LayerGroup | null = null;
 let visible = false;
 let lastPlan: { job: Job; prepared: PreparedPlan } | null = null;
 
@@ -78,8 +80,10 @@ export const planTab: Tab = {
     heatRow.append(heatToggle, document.createTextNode(' Coverage heatmap '), heatNote);
     const metricsBox = section('Metrics', true, 'metrics-section');
     const exportsBox = section('Exports', true, 'exports-section');
+    // the ground under each UAV's flight, for plans that follow a DEM (issue 31)
+    const profileBox = section('Ground profile', true, 'profile-section');
     const results = el('div', { class: 'plan-results', hidden: '' });
-    results.append(legend, heatRow, metricsBox.box, exportsBox.box);
+    results.append(legend, heatRow, metricsBox.box, profileBox.box, exportsBox.box);
     const study = section('Study: how many UAVs?', false, 'study-section');
     study.body.append(studyPanel(missionId));
     const compare = section('Compare planners', false, 'compare-section');
@@ -98,6 +102,8 @@ export const planTab: Tab = {
     const clear = () => {
       drawn?.remove();
       drawn = null;
+      rallyLayer?.remove();
+      rallyLayer = null;
       heat?.remove();
       heat = null;
       heatToggle.checked = false;
@@ -133,6 +139,15 @@ export const planTab: Tab = {
         // the plan's view first, without animation: the tiles are drawn once, for that view
         if (summary.bounds) app.map.fitBounds(summary.bounds, { padding: [20, 20], animate: false });
         drawn = drawPlan(app.map, prepared);
+        // rally points (issue 31): the mission's, or those the planner proposed
+        const rally = Array.isArray(plan.rally) ? (plan.rally as [number, number][]) : [];
+        if (rally.length > 0) {
+          rallyLayer = L.layerGroup(
+            rally.map(([lon, lat], k) =>
+              L.circleMarker([lat, lon], { radius: 7, color: '#0a7d32', weight: 3, fillColor: '#fff', fillOpacity: 1, className: 'plan-rally' }).bindTooltip(`Rally point ${k + 1}`),
+            ),
+          ).addTo(app.map);
+        }
       }
       legend.replaceChildren();
       for (const c of summary.uavs) {
@@ -165,6 +180,10 @@ export const planTab: Tab = {
       // a structure scan: its wall unrolled, coloured by the photos that see it
       if (plan?.facade) metricsBox.body.append(facadePanel(plan.facade as FacadeJson));
       exportsBox.body.replaceChildren(exportsPanel(job.id, plan.uavs.map((u) => u.id)));
+      const terrain = (plan.mission as Record<string, unknown> | undefined)?.terrain;
+      profileBox.box.hidden = !terrain;
+      profileBox.body.replaceChildren();
+      if (terrain) profileBox.body.append(profilePanel(job.id, summary.uavs.filter((c) => c.paths > 0).map((c) => c.id)));
       results.hidden = false;
     };
 

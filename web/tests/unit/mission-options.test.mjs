@@ -8,7 +8,9 @@ import {
   obliqueOf,
   sharesAuto,
   structureOf,
+  terrainOf,
   windOf,
+  withTerrain,
   withArea,
   withCorridor,
   withOblique,
@@ -73,4 +75,18 @@ test('shares from capabilities: every UAV auto, or none', () => {
   doc = withSharesAuto(doc, false);
   assert.deepEqual(doc.uavs.map((u) => u.share), [undefined, undefined, undefined]);
   assert.equal(sharesAuto({ uavs: [] }), false);
+});
+
+test('terrain (issue 31): a stored DEM or the server tiles, follow, tolerance and climb limit round-trip', () => {
+  const doc = { name: 'm', area: {}, uavs: 1 };
+  assert.deepEqual(terrainOf(doc), { source: { kind: 'none' }, follow: true, tolerance_m: 1 });
+  const withDem = withTerrain(doc, { source: { kind: 'dem', dem_id: 7 }, follow: true, tolerance_m: 2, max_climb_mps: 1.5, max_descent_mps: 1.5 });
+  assert.deepEqual(withDem.terrain, { dem_id: 7, mode: 'follow', tolerance_m: 2, max_climb_mps: 1.5, max_descent_mps: 1.5 });
+  assert.deepEqual(terrainOf(withDem), { source: { kind: 'dem', dem_id: 7 }, follow: true, tolerance_m: 2, max_climb_mps: 1.5, max_descent_mps: 1.5 });
+  const tiles = withTerrain(doc, { source: { kind: 'server' }, follow: false, tolerance_m: 1 });
+  assert.deepEqual(tiles.terrain, { source: 'server', mode: 'off', tolerance_m: 1 });
+  assert.equal(terrainOf(tiles).follow, false);
+  assert.equal('terrain' in withTerrain(withDem, { source: { kind: 'none' }, follow: true, tolerance_m: 1 }), false);
+  // a file path (the CLI's) reads as none: the server refuses it
+  assert.deepEqual(terrainOf({ terrain: { dem: 'hill.tif' } }).source, { kind: 'none' });
 });

@@ -1,4 +1,4 @@
-#include "export/geofence.hpp"
+#include "autopilot/fence.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 
 #include "geodesy/local_frame.hpp"
 
-namespace uavcover::exporting {
+namespace uavcover::autopilot {
 
 using namespace waypoints;  // the waypoint model the formats write
 
@@ -173,4 +173,124 @@ std::vector<std::string> no_fly_violations(const Plan& plan, std::size_t index,
   return out;
 }
 
-}  // namespace uavcover::exporting
+namespace {
+
+/// An open ring (the closing vertex dropped).
+GeoRing open_ring(const GeoRing& ring) {
+  GeoRing r = ring;
+  if (r.size() >= 2 && r.front().lat == r.back().lat && r.front().lon == r.back().lon) r.pop_back();
+  return r;
+}
+
+void push_polygon(std::vector<MissionItem>& out, const GeoRing& ring, std::uint16_t command) {
+  const GeoRing r = open_ring(ring);
+  if (r.size() < 3) return;
+  for (const auto& v : r) {
+    MissionItem it;
+    it.command = command;
+    it.frame = kFrameGlobal;
+    it.param1 = static_cast<float>(r.size());
+    it.param4 = 0.0f;
+    it.lat = v.lat;
+    it.lon = v.lon;
+    it.alt = 0.0f;
+    it.role = "fence";
+    out.push_back(it);
+  }
+}
+
+}  // namespace
+
+std::vector<MissionItem> fence_items(const Plan& plan, std::size_t index,
+                                     const std::vector<MissionItem>& items, double margin_m) {
+  std::vector<MissionItem> out;
+  push_polygon(out, inclusion_fence(plan, index, items, margin_m), kFencePolygonVertexInclusion);
+  for (const auto& poly : plan.mission.no_fly_zones)
+    if (!poly.empty()) push_polygon(out, poly.front(), kFencePolygonVertexExclusion);
+  return out;
+}
+
+std::vector<MissionItem> rally_items(const Plan& plan, std::size_t index) {
+  std::vector<MissionItem> out;
+  const double alt = plan.uavs.at(index).transition_altitude_m;
+  for (const auto& p : plan.rally) {
+    MissionItem it;
+    it.command = kRallyPoint;
+    it.frame = kFrameGlobalRelativeAlt;
+    it.param1 = 0.0f;  // RALLY_FLAGS: none
+    it.param4 = 0.0f;
+    it.lat = p.lat;
+    it.lon = p.lon;
+    it.alt = static_cast<float>(alt);
+    it.role = "rally";
+    out.push_back(it);
+  }
+  return out;
+}
+
+std::optional<std::string> read_fence(const std::vector<mavlink::MissionItemInt>& items, Fence& out) {
+  out = Fence{};
+  std::size_t i = 0;
+  while (i < items.size()) {
+    const auto& it = items[i];
+    const LonLat at{it.y / 1e7, it.x / 1e7};
+    if (!(std::abs(at.lat) <= 90.0 && std::abs(at.lon) <= 180.0))
+      return fmt::format("fence item {}: latitude or longitude out of range", i);
+    if (it.command == kFenceCircleInclusion || it.command == kFenceCircleExclusion) {
+      if (!(std::isfinite(it.param1) && it.param1 > 0.0f))
+        return fmt::format("fence item {}: a circle needs a positive radius in param1", i);
+      (it.command == kFenceCircleInclusion ? out.inclusion_circles : out.exclusion_circles)
+          .push_back({at, static_cast<double>(it.param1)});
+      ++i;
+      continue;
+    }
+    if (it.command != kFencePolygonVertexInclusion && it.command != kFencePolygonVertexExclusion)
+      return fmt::format("fence item {}: command {} is not a fence command", i, it.command);
+    if (!(std::isfinite(it.param1) && it.param1 >= 3.0f && it.param1 <= 65535.0f &&
+          std::floor(it.param1) == it.param1))
+      return fmt::format("fence item {}: a polygon vertex needs the vertex count (at least 3) in param1", i);
+    const auto n = static_cast<std::size_t>(it.param1);
+    if (i + n > items.size())
+      return fmt::format("fence item {}: the polygon's {} vertices run past the end", i, n);
+    GeoRing ring;
+    for (std::size_t k = i; k < i + n; ++k) {
+      if (items[k].command != it.command || items[k].param1 != it.param1)
+        return fmt::format("fence item {}: not a vertex of the polygon that starts at item {}", k, i);
+      ring.push_back({items[k].y / 1e7, items[k].x / 1e7});
+    }
+    (it.command == kFencePolygonVertexInclusion ? out.inclusion : out.exclusion).push_back(std::move(ring));
+    i += n;
+  }
+  return std::nullopt;
+}
+
+bool fence_allows(const Fence& fence, LonLat p) {
+  auto in_circle = [&](const Fence::Circle& c) {
+    const geodesy::LocalFrame frame(c.centre);
+    const Point q = frame.to_local(p);
+    return std::hypot(q.x(), q.y()) <= c.radius_m;
+  };
+  const bool any_inclusion = !fence.inclusion.empty() || !fence.inclusion_circles.empty();
+  bool inside = !any_inclusion;
+  for (const auto& r : fence.inclusion) inside = inside || inside_ring(p, r);
+  for (const auto& c : fence.inclusion_circles) inside = inside || in_circle(c);
+  if (!inside) return false;
+  for (const auto& r : fence.exclusion)
+    if (inside_ring(p, r)) return false;
+  for (const auto& c : fence.exclusion_circles)
+    if (in_circle(c)) return false;
+  return true;
+}
+
+bool fence_allows(const Fence& fence, LonLat p, double slack_m) {
+  if (fence_allows(fence, p)) return true;
+  if (!(slack_m > 0)) return false;
+  const geodesy::LocalFrame frame(p);
+  for (int k = 0; k < 8; ++k) {
+    const double a = k * std::numbers::pi / 4;
+    if (fence_allows(fence, frame.to_wgs84(Point(slack_m * std::cos(a), slack_m * std::sin(a))))) return true;
+  }
+  return false;
+}
+
+}  // namespace uavcover::autopilot
