@@ -10,7 +10,6 @@
 #include "evaluation/cost.hpp"
 #include "flight/runtime.hpp"
 #include "mavlink/mission_protocol.hpp"
-#include "uavcover/vehicle.hpp"
 
 namespace uavcover::flight {
 
@@ -24,15 +23,6 @@ constexpr std::uint8_t kArmedFlag = 128;
 constexpr std::uint8_t kStateActive = 3, kStatePaused = 4, kStateComplete = 5;
 constexpr std::size_t kBatch = 256;     // messages handled per lock
 constexpr double kFenceMarginM = 20.0;  // the inclusion fence's margin, as the .plan export's default
-
-/// The vehicle profile a flight's UAV flies (issue 31): the mission's (the UAV's own, else the
-/// mission's) when it names a MAVLink one, else ArduPilot for a binding with a home item, else PX4.
-const VehicleProfile& flight_profile(const Mission& mission, std::size_t index, bool home_item) {
-  const bool named = !mission.uavs.at(index).autopilot.empty() || !mission.autopilot.empty();
-  const VehicleProfile* p = named ? vehicle_profile(uav_autopilot(mission, index)) : nullptr;
-  if (p == nullptr || !p->mavlink) p = vehicle_profile(home_item ? "ardupilot" : "px4");
-  return *p;
-}
 
 // Flight mode names from HEARTBEAT.custom_mode by autopilot (PX4 12, ArduPilot 3, else our simulator's
 // generic numbering, docs/simulate.md).
@@ -400,7 +390,7 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
         if (u.binding.home_item) home = plan.mission.uavs[u.index].start_resolved;
         items = mav::to_mission_items(m.items, home);
         // the vehicle profile's capacity (issue 31): refused before anything is sent
-        const VehicleProfile& profile = flight_profile(plan.mission, u.index, u.binding.home_item);
+        const VehicleProfile& profile = profile_of(u.index);
         const std::size_t capacity = mission_capacity(profile, plan.mission.max_mission_items);
         if (items.size() > capacity) {
           const std::string why =

@@ -45,6 +45,19 @@ MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<waypoints::M
   return m;
 }
 
+bool Flight::Impl::home_item_of(std::size_t uav) const {
+  for (const auto& b : config.vehicles)
+    if (b.uav == plan.uavs.at(uav).id) return b.home_item;
+  return false;
+}
+
+const VehicleProfile& Flight::Impl::profile_of(std::size_t uav) const {
+  const bool named = !plan.mission.uavs.at(uav).autopilot.empty() || !plan.mission.autopilot.empty();
+  const VehicleProfile* p = named ? vehicle_profile(uav_autopilot(plan.mission, uav)) : nullptr;
+  if (p == nullptr || !p->mavlink) p = vehicle_profile(home_item_of(uav) ? "ardupilot" : "px4");
+  return *p;
+}
+
 std::vector<MissionSpec> Flight::Impl::own_missions(std::size_t uav, int from_waypoint) const {
   std::vector<MissionSpec> out;
   const int n = static_cast<int>(sorties::coverage_waypoints(plan.uavs[uav]).size());
@@ -59,6 +72,30 @@ std::vector<MissionSpec> Flight::Impl::own_missions(std::size_t uav, int from_wa
     // a leg that does not fit one battery: the plan has no sorties; fly it as one mission
     ss = {Sortie{0, 0, n - 1, {}, 0, 0, 0}};
     items = {waypoints::mission_items(plan, uav)};
+  }
+  // the vehicle's capacity (issue 31): a sortie too long for one upload is cut into consecutive whole
+  // missions (each with its lead-in); a leg too long for it alone stays, and its upload is refused
+  const std::size_t capacity = mission_capacity(profile_of(uav), plan.mission.max_mission_items);
+  const std::size_t home = home_item_of(uav) ? 1 : 0;
+  const bool over =
+      std::any_of(items.begin(), items.end(), [&](const auto& it) { return it.size() + home > capacity; });
+  if (over && !ss.empty() && !plan.uavs[uav].sorties.empty()) {
+    try {
+      auto pieces = sorties::capacity_sorties(
+          plan, uav, capacity,
+          [&](const Plan& sp, std::size_t u) { return waypoints::mission_items(sp, u).size() + home; }, &ss);
+      std::vector<std::vector<waypoints::MissionItem>> cut;
+      for (const auto& s : pieces) {
+        auto its = waypoints::mission_items(sorties::sortie_plan(plan, uav, s), uav);
+        for (auto& it : its)
+          if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
+        cut.push_back(std::move(its));
+      }
+      ss = std::move(pieces);
+      items = std::move(cut);
+    } catch (const InputError&) {
+      // one leg's mission alone is over the capacity: the upload refuses it (alert "capacity")
+    }
   }
   for (std::size_t k = 0; k < ss.size() && k < items.size(); ++k) {
     MissionSpec m = make_mission(uav, std::move(items[k]));

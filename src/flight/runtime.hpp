@@ -21,6 +21,7 @@
 #include "geodesy/local_frame.hpp"
 #include "mavlink/messages.hpp"
 #include "mavlink/udp.hpp"
+#include "uavcover/vehicle.hpp"
 #include "waypoints/waypoints.hpp"
 
 namespace uavcover::flight::detail {
@@ -172,6 +173,11 @@ struct Flight::Impl {
   void supervise_locked(detail::Clock::time_point now);
   detail::MissionSpec make_mission(std::size_t uav, std::vector<waypoints::MissionItem> items) const;
   [[nodiscard]] std::vector<detail::MissionSpec> own_missions(std::size_t uav, int from_waypoint) const;
+  /// The vehicle profile UAV `uav` flies (issue 31): the mission's (the UAV's own, else the mission's)
+  /// when it names a MAVLink one, else ArduPilot for a binding with a home item, else PX4.
+  [[nodiscard]] const VehicleProfile& profile_of(std::size_t uav) const;
+  /// Whether UAV `uav`'s binding sends the home position as item 0.
+  [[nodiscard]] bool home_item_of(std::size_t uav) const;
   void apply_reassignment(detail::ReassignmentRt& r);
   [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,
                                                        const ReassignedWork& w, std::size_t k) const;

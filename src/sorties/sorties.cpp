@@ -400,13 +400,13 @@ void fill_sorties(Plan& plan, const Options& options, std::vector<std::string>* 
 }
 
 std::vector<Sortie> capacity_sorties(const Plan& plan, std::size_t index, std::size_t capacity,
-                                     const ItemCount& count) {
+                                     const ItemCount& count, const std::vector<Sortie>* given_base) {
   const Geo geo(plan);
   const Layout L(plan, index, geo);
   std::vector<Sortie> out;
   const std::size_t n = L.n();
   if (n == 0) return out;
-  std::vector<Sortie> base = plan.uavs.at(index).sorties;
+  std::vector<Sortie> base = given_base != nullptr ? *given_base : plan.uavs.at(index).sorties;
   if (base.empty()) base = {L.build(0, n - 1)};
   auto items_of = [&](const Sortie& s) { return count(sortie_plan(plan, index, s), index); };
   for (const Sortie& whole : base) {

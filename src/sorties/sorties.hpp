@@ -71,8 +71,9 @@ using ItemCount = std::function<std::size_t(const Plan& sortie_plan, std::size_t
 /// (take-off, transit out, its coverage with the lead-in of resume_backoff_m, back). Indices run 0, 1,
 /// ... over the result. Throws InputError naming "max_mission_items" when one coverage leg's mission
 /// alone does not fit.
+/// `base`: the sorties to cut instead of the UAV's own (a resume's, sorties::resume_sorties()).
 std::vector<Sortie> capacity_sorties(const Plan& plan, std::size_t index, std::size_t capacity,
-                                     const ItemCount& count);
+                                     const ItemCount& count, const std::vector<Sortie>* base = nullptr);
 
 /// Checks sorties read from a file against the UAV's coverage: consecutive, from the first coverage
 /// waypoint to the last, boundaries shared inside a coverage part; and rebuilds their coverage parts

@@ -19,6 +19,7 @@
 #include "support/errors.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/waypoints.hpp"
 
 namespace uavcover {
 namespace {
@@ -411,6 +412,45 @@ TEST(Flight, ThreeBatterySortiesFlownOneAfterAnother) {
     EXPECT_EQ(flown[uav], (std::vector<int>{0, 1, 2})) << uav;
     EXPECT_EQ(swaps[uav], 2) << uav;  // before the second and the third sortie
   }
+}
+
+// Issue 31, vehicle limits in flights: with a vehicle that stores fewer items than a sortie's mission
+// (max_mission_items), the flight cuts the sortie into consecutive whole missions that each fit, uploads
+// each (never more than the capacity), and every coverage waypoint is reached; the fence goes up after
+// each mission.
+TEST(Flight, SortiesOverTheCapacityAreFlownAsSeveralMissions) {
+  Mission m = field(200, 150, 2);
+  const Plan base = plan(m);
+  std::size_t most = 0;
+  for (std::size_t i = 0; i < base.uavs.size(); ++i)
+    most = std::max(most, waypoints::mission_items(base, i).size());
+  const int cap = static_cast<int>(most * 2 / 3);
+  m.max_mission_items = cap;  // PX4's own 500 lowered to a small board's
+  const Plan p = plan(m);
+  Sim s(p, 100);
+  Recorder rec;
+  flight::Flight f(4, p, s.config(), rec);
+  ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 6000));
+  const json snap = f.snapshot();
+  std::size_t missions = 0;
+  for (const auto& u : snap["uavs"]) {
+    const std::string wp = u["waypoints"];
+    EXPECT_EQ(wp, std::string(wp.size(), 'R'));
+    missions += u["missions"].size();
+  }
+  EXPECT_GT(missions, snap["uavs"].size());  // at least one UAV flew its coverage in several missions
+  int uploads = 0, fences = 0;
+  for (const auto& r : rec.all()) {
+    if (r.kind != "ack") continue;
+    if (r.data["command"] == "upload") {
+      ++uploads;
+      EXPECT_TRUE(r.data["ok"].get<bool>()) << r.data.dump();
+      EXPECT_LE(r.data["items"].get<int>(), cap);
+    }
+    if (r.data["command"] == "fence") fences += r.data["ok"].get<bool>();
+  }
+  EXPECT_EQ(uploads, static_cast<int>(missions));
+  EXPECT_EQ(fences, uploads);
 }
 
 TEST(Flight, LinkFailureOffersReassignmentAndHelpersFlyIt) {
