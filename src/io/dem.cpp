@@ -18,6 +18,7 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,6 +90,24 @@ class ToPixel {
 }  // namespace
 
 namespace {
+
+/// The extent in WGS84 of a raster's four corners (W x H pixels, geotransform `gt`, CRS `srs`); empty when
+/// the CRS cannot be transformed to WGS84. `n` counts the corners that transformed to finite values.
+std::optional<Box> wgs84_extent(const OGRSpatialReference& srs, const double* gt, int W, int H) {
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  OGRSpatialReference dem(srs);
+  dem.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dem, &wgs84));
+  if (!back) return std::nullopt;
+  Box b;
+  for (const auto& [cx, cy] : std::initializer_list<std::pair<int, int>>{{0, 0}, {W, 0}, {0, H}, {W, H}}) {
+    double X = gt[0] + cx * gt[1] + cy * gt[2], Y = gt[3] + cx * gt[4] + cy * gt[5];
+    if (back->Transform(1, &X, &Y) && std::isfinite(X) && std::isfinite(Y)) b.add(X, Y);
+  }
+  return b;
+}
 
 /// A unique /vsimem/ name for one read.
 std::string vsimem_name(const char* ext) {
@@ -180,20 +199,11 @@ DemInfo inspect_dem_bytes(std::string_view bytes, const std::string& name) {
   if (srs == nullptr || srs->IsEmpty())
     refuse("'" + name +
            "' has no coordinate reference system: write one into the GeoTIFF (gdal_edit.py -a_srs)");
-  OGRSpatialReference wgs84;
-  wgs84.SetWellKnownGeogCS("WGS84");
-  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  OGRSpatialReference dem(*srs);
-  dem.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dem, &wgs84));
-  if (!back)
-    refuse("its coordinate reference system cannot be transformed to WGS84 (" + QuietGdal::last() + ")");
-  Box b;
   const int W = info.width, H = info.height;
-  for (const auto& [cx, cy] : std::initializer_list<std::pair<int, int>>{{0, 0}, {W, 0}, {0, H}, {W, H}}) {
-    double X = gt[0] + cx * gt[1] + cy * gt[2], Y = gt[3] + cx * gt[4] + cy * gt[5];
-    if (back->Transform(1, &X, &Y) && std::isfinite(X) && std::isfinite(Y)) b.add(X, Y);
-  }
+  const std::optional<Box> extent = wgs84_extent(*srs, gt, W, H);
+  if (!extent)
+    refuse("its coordinate reference system cannot be transformed to WGS84 (" + QuietGdal::last() + ")");
+  const Box& b = *extent;
   if (b.n != 4 || !(b.x0 >= -180.0 && b.x1 <= 180.0 && b.y0 >= -90.0 && b.y1 <= 90.0))
     refuse("'" + name + "' does not lie on the globe in WGS84");
   info.west = b.x0, info.south = b.y0, info.east = b.x1, info.north = b.y1;
@@ -318,21 +328,8 @@ HeightGrid read_dataset(GDALDataset* ds, const fs::path& file, double west, doub
   if (outside.n > 0) {
     // the DEM's own extent in WGS84 (its corners), to say what it does cover
     std::string covers;
-    OGRSpatialReference wgs84;
-    wgs84.SetWellKnownGeogCS("WGS84");
-    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    OGRSpatialReference dem(*srs);
-    dem.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dem, &wgs84));
-    if (back) {
-      Box b;
-      for (const auto& [cx, cy] :
-           std::initializer_list<std::pair<int, int>>{{0, 0}, {W, 0}, {0, H}, {W, H}}) {
-        double X = gt[0] + cx * gt[1] + cy * gt[2], Y = gt[3] + cx * gt[4] + cy * gt[5];
-        if (back->Transform(1, &X, &Y)) b.add(X, Y);
-      }
-      if (b.n == 4) covers = "; the DEM covers " + b.lonlat();
-    }
+    if (const auto b = wgs84_extent(*srs, gt, W, H); b && b->n == 4)
+      covers = "; the DEM covers " + b->lonlat();
     refuse(fmt::format("'{}' does not cover the mission: no ground heights for {} ({} of {} grid points){}",
                        file.string(), outside.lonlat(), outside.n,
                        static_cast<std::size_t>(g.cols) * static_cast<std::size_t>(g.rows), covers));
