@@ -119,6 +119,9 @@ class SimVehicle {
   [[nodiscard]] const std::vector<mavlink::MissionItemInt>& mission() const { return protocol_.mission(); }
   /// The fence and rally points uploaded (issue 31; empty: none).
   [[nodiscard]] const autopilot::Fence& fence() const { return fence_; }
+  /// The fence items as stored by the mission protocol (set before it acknowledges an upload or a clear,
+  /// so a ground station that heard the ack sees them; fence() follows once the vehicle has read them).
+  [[nodiscard]] const std::vector<mavlink::MissionItemInt>& stored_fence() const { return protocol_.fence(); }
   [[nodiscard]] const std::vector<mavlink::MissionItemInt>& rally() const { return protocol_.rally(); }
   /// Tests without a link: the fence as an upload would set it.
   void set_fence(const autopilot::Fence& fence) { fence_ = fence; }

@@ -613,7 +613,8 @@ TEST(SimFleet, FenceUploadIsStoredApartAndCheckedWhole) {
   opt.mission_type = kMissionTypeFence;
   const auto good = upload_mission(gcs.link, fence, opt);
   const auto refused = upload_mission(gcs.link, bad, opt);
-  const std::size_t after_refusal = f.vehicle(0).fence().inclusion.size();
+  // the protocol stores (clears) the fence before it acknowledges; the parsed fence() follows after the ack
+  const std::size_t after_refusal = f.vehicle(0).stored_fence().size();
   const auto again = upload_mission(gcs.link, fence, opt);
   f.thread.request_stop();
   f.join();
