@@ -21,10 +21,6 @@ namespace {
 
 constexpr int kFenceDirections = 16;
 
-bool positioned(const MissionItem& it) {
-  return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
-}
-
 }  // namespace
 
 bool inside_ring(LonLat p, const GeoRing& ring) {
@@ -50,7 +46,7 @@ GeoRing inclusion_fence(const Plan& plan, std::size_t index, const std::vector<M
       for (const auto& p : poly.front()) pts.push_back(frame.to_local(p));
   pts.push_back(frame.to_local(plan.mission.uavs.at(index).start_resolved));
   for (const auto& it : items)
-    if (positioned(it)) pts.push_back(frame.to_local({it.lon, it.lat}));
+    if (has_position(it)) pts.push_back(frame.to_local({it.lon, it.lat}));
   // a discrete oriented polygon: the intersection of the half-planes n_k . x <= max_p n_k . p + margin
   // for 16 evenly spread normals n_k. Each is a supporting line of the points' hull pushed out by the
   // margin, so consecutive lines meet at the polygon's vertices.
@@ -113,7 +109,7 @@ std::vector<std::string> no_fly_violations(const Plan& plan, std::size_t index,
   // the places flown, in order, with a description each
   std::vector<std::pair<LonLat, std::string>> places{{home, "home"}};
   for (std::size_t k = 0; k < items.size(); ++k)
-    if (positioned(items[k]))
+    if (has_position(items[k]))
       places.emplace_back(LonLat{items[k].lon, items[k].lat},
                           fmt::format("mission item {} ({})", k + 1, items[k].role));
   places.emplace_back(home, "the return home");

@@ -19,6 +19,10 @@
 
 namespace uavcover::autopilot {
 
+/// The inclusion fence's default margin around everything flown (m): the .plan export's
+/// (ExportOptions::geofence_margin_m, `--geofence-margin`), `uavcover upload`'s and server flights' fence.
+inline constexpr double kFenceMarginM = 20.0;
+
 /// PX4 keeps at most this many fence vertices (dataman DM_KEY_FENCE_POINTS_MAX).
 inline constexpr std::size_t kPx4MaxFenceVertices = 64;
 

@@ -202,10 +202,6 @@ bool in(const std::uint16_t (&list)[N], std::uint16_t c) {
   return false;
 }
 
-bool positioned(const MissionItem& it) {
-  return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
-}
-
 // PX4's get_distance_to_next_waypoint (lib/geo): haversine on a sphere of CONSTANTS_RADIUS_OF_EARTH.
 double px4_distance_m(double lat_a, double lon_a, double lat_b, double lon_b) {
   constexpr double kRadius = 6371000.0;
@@ -324,7 +320,7 @@ std::vector<Problem> px4_problems(const std::vector<MissionItem>& items, LonLat 
     if (!in(kPx4Commands, it.command))
       out.push_back({true, at, feasibility + "checkMissionItemValidity",
                      fmt::format("unsupported command {}", it.command)});
-    const bool pos = positioned(it);
+    const bool pos = has_position(it);
     // MavlinkMissionManager::parse_mavlink_mission_item: global frames for positioned items, mission frame
     // for the others; coordinates are read as they are
     if (pos) {

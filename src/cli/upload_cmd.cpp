@@ -110,9 +110,8 @@ void run_upload(const UploadArgs& a) {
   // the geofence and the rally points (issue 31): sent after the mission with their own mission types
   std::vector<mavlink::MissionItemInt> fence, rally;
   if (!a.no_fence && profile->fence)
-    fence = mavlink::to_mission_items(
-        autopilot::fence_items(plan, index, exported, exporting::ExportOptions{}.geofence_margin_m),
-        std::nullopt);
+    fence = mavlink::to_mission_items(autopilot::fence_items(plan, index, exported, autopilot::kFenceMarginM),
+                                      std::nullopt);
   if (!a.no_fence && profile->rally && !plan.rally.empty())
     rally = mavlink::to_mission_items(autopilot::rally_items(plan, index), std::nullopt);
 

@@ -74,9 +74,7 @@ std::size_t stored_items(const Plan& p, std::size_t i, const std::string& autopi
   const auto items = mission_items(p, i, altitude);
   if (autopilot == "px4") return items.size();
   // DJI and Litchi count waypoints
-  return static_cast<std::size_t>(std::count_if(items.begin(), items.end(), [](const MissionItem& it) {
-    return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
-  }));
+  return static_cast<std::size_t>(std::count_if(items.begin(), items.end(), has_position));
 }
 
 CheckedPlan check_plan(const Plan& plan, ExportOptions& opt, std::vector<std::string>& warnings) {

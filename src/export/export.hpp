@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "autopilot/fence.hpp"
 #include "trajectory/trajectory.hpp"
 #include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
@@ -41,9 +42,10 @@ struct ExportOptions {
   /// QGC .plan firmwareType (MAV_AUTOPILOT: 12 PX4, 3 ArduPilot); -1 = from the autopilot (3 for
   /// "ardupilot", 12 otherwise). An explicit value wins (the CLI's --firmware-type).
   int qgc_firmware_type = -1;
-  int qgc_vehicle_type = 2;         ///< MAV_TYPE: 2 quadrotor
-  double geofence_margin_m = 20.0;  ///< .plan inclusion fence: distance kept around everything flown
-  bool kmz = false;                 ///< also export <id>.kmz next to <id>.kml
+  int qgc_vehicle_type = 2;  ///< MAV_TYPE: 2 quadrotor
+  /// .plan inclusion fence: distance kept around everything flown
+  double geofence_margin_m = autopilot::kFenceMarginM;
+  bool kmz = false;                                    ///< also export <id>.kmz next to <id>.kml
   std::string kml_altitude_mode = "relativeToGround";  ///< clampToGround, relativeToGround or absolute
   int dji_drone_enum = 77;       ///< wpml:droneEnumValue (77 = Mavic 3 Enterprise series)
   int dji_drone_sub_enum = 0;    ///< wpml:droneSubEnumValue (77: 0 M3E, 1 M3T, 2 M3M)

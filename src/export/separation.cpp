@@ -105,15 +105,11 @@ std::vector<std::string> check_separation(const Plan& plan, const AltitudeOption
                                  : mission_alt + 1e-3;
     const MissionItem* prev = nullptr;
     for (const auto& it : items) {
-      const bool positioned =
-          it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
-      if (!positioned) continue;
+      if (!has_position(it)) continue;
       if (prev != nullptr) {
         const bool low = std::min(prev->alt, it.alt) <= low_limit;
-        auto in_leg = [](const MissionItem* m) {
-          return m->role == "coverage" || m->role == "terrain" || m->role == "lead_in";
-        };
-        const bool coverage_leg = in_leg(prev) && in_leg(&it) && prev->part == it.part && it.part >= 0;
+        const bool coverage_leg = waypoints::in_coverage_leg(*prev) && waypoints::in_coverage_leg(it) &&
+                                  prev->part == it.part && it.part >= 0;
         if (low && !coverage_leg && it.command != kNavLand) {
           const Point a = frame.to_local({prev->lon, prev->lat});
           const Point b = frame.to_local({it.lon, it.lat});

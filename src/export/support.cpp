@@ -22,10 +22,6 @@ std::vector<MissionItem> items_of(const Plan& plan, std::size_t index, const Exp
   return mission_items(plan, index, altitudes);
 }
 
-bool has_position(const MissionItem& it) {
-  return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
-}
-
 /// Positioned items a waypoint-only format (DJI, Litchi) flies: everything but take-off and landing.
 std::vector<const MissionItem*> flown_waypoints(const std::vector<MissionItem>& items) {
   std::vector<const MissionItem*> out;

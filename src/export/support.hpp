@@ -12,9 +12,6 @@
 
 namespace uavcover::exporting {
 
-/// True for the items with a position: take-off, waypoint, land.
-bool has_position(const waypoints::MissionItem& it);
-
 /// Positioned items a waypoint-only format (DJI, Litchi) flies: everything but take-off and landing.
 std::vector<const waypoints::MissionItem*> flown_waypoints(const std::vector<waypoints::MissionItem>& items);
 

@@ -21,8 +21,7 @@ namespace {
 
 constexpr std::uint8_t kArmedFlag = 128;
 constexpr std::uint8_t kStateActive = 3, kStatePaused = 4, kStateComplete = 5;
-constexpr std::size_t kBatch = 256;     // messages handled per lock
-constexpr double kFenceMarginM = 20.0;  // the inclusion fence's margin, as the .plan export's default
+constexpr std::size_t kBatch = 256;  // messages handled per lock
 
 // Flight mode names from HEARTBEAT.custom_mode by autopilot (PX4 12, ArduPilot 3, else our simulator's
 // generic numbering, docs/simulate.md).
@@ -405,8 +404,8 @@ void Flight::Impl::vehicle_step(std::size_t i, mav::Link& link, Clock::time_poin
         fence.clear();
         rally.clear();
         if (config.fence_rally && profile.fence)
-          fence = mav::to_mission_items(autopilot::fence_items(plan, u.index, m.items, kFenceMarginM),
-                                        std::nullopt);
+          fence = mav::to_mission_items(
+              autopilot::fence_items(plan, u.index, m.items, autopilot::kFenceMarginM), std::nullopt);
         if (config.fence_rally && profile.rally && !plan.rally.empty())
           rally = mav::to_mission_items(autopilot::rally_items(plan, u.index), std::nullopt);
         m.state = "uploading";

@@ -420,9 +420,7 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
       here = part.wgs84.back();
     }
     for (std::size_t k = first_new; k < items.size(); ++k)
-      if (items[k].role == "transit" || items[k].role == "coverage" || items[k].role == "capture" ||
-          items[k].role == "terrain" || items[k].role == "lead_in")
-        items[k].part = static_cast<int>(pi);
+      if (items[k].role == "transit" || in_coverage_leg(items[k])) items[k].part = static_cast<int>(pi);
   }
   if (!high) items.push_back(waypoint_at(here, transit_alt, "transition"));
   if (!same_place(here, home)) items.push_back(waypoint_at(home, transit_alt, "transit"));
@@ -443,15 +441,12 @@ std::vector<SteepLeg> steep_legs(const Plan& plan, std::size_t index, const std:
   if (!t || !(t->max_climb_mps || t->max_descent_mps || t->max_grade)) return out;
   const double v = plan.mission.uavs.at(index).speed_mps;
   const geodesy::LocalFrame frame(plan.origin);
-  auto in_leg = [](const MissionItem& it) {
-    return it.command == kNavWaypoint &&
-           (it.role == "coverage" || it.role == "terrain" || it.role == "lead_in" || it.role == "capture");
-  };
+  auto in_leg = [](const MissionItem& it) { return it.command == kNavWaypoint && in_coverage_leg(it); };
   const MissionItem* prev = nullptr;
   std::size_t prev_k = 0;
   for (std::size_t k = 0; k < items.size(); ++k) {
     const MissionItem& it = items[k];
-    if (it.command != kNavWaypoint && it.command != kNavTakeoff && it.command != kNavLand) continue;
+    if (!has_position(it)) continue;
     if (prev != nullptr && in_leg(*prev) && in_leg(it) && prev->part == it.part) {
       const Point a = frame.to_local({prev->lon, prev->lat}), b = frame.to_local({it.lon, it.lat});
       const double d = std::hypot(b.x() - a.x(), b.y() - a.y());
@@ -556,9 +551,8 @@ std::optional<PathProfile> path_profile(const Plan& plan, std::size_t index, std
       nodes.push_back({frame.to_local(home), home_ground, false});
       continue;
     }
-    if (it.command != kNavWaypoint && it.command != kNavTakeoff && it.command != kNavLand) continue;
-    const bool cov =
-        it.role == "coverage" || it.role == "terrain" || it.role == "lead_in" || it.role == "capture";
+    if (!has_position(it)) continue;
+    const bool cov = in_coverage_leg(it);
     const LonLat ll{it.lon, it.lat};
     double alt = it.alt;
     if (it.frame == kFrameGlobalRelativeAlt) alt += home_ground;

@@ -54,6 +54,17 @@ struct MissionItem {
   int waypoint = -1;
 };
 
+/// True for the items with a position: take-off, waypoint, land.
+[[nodiscard]] inline bool has_position(const MissionItem& it) {
+  return it.command == kNavWaypoint || it.command == kNavTakeoff || it.command == kNavLand;
+}
+
+/// True for an item on a coverage leg: a "coverage" waypoint or one the leg holds ("terrain", "capture",
+/// "lead_in"). Two such items of the same part are ends of a leg that sweeps (not a transit).
+[[nodiscard]] inline bool in_coverage_leg(const MissionItem& it) {
+  return it.role == "coverage" || it.role == "terrain" || it.role == "lead_in" || it.role == "capture";
+}
+
 struct AltitudeOptions {
   /// First UAV's transition altitude; 0 = automatic: the larger of 60 m and mission altitude + 20 m.
   double transition_base_m = 0.0;
