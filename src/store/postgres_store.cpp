@@ -822,8 +822,13 @@ class PostgresStore final : public Store {
                "SELECT id, true FROM ins UNION ALL "
                "SELECT d.id, false FROM dems d, b WHERE d.sha256 = b.h AND NOT EXISTS (SELECT 1 FROM ins)",
                {text(name), pg::bytes(bytes), text(info.dump())});
-      if (r.rows() == 0) throw StoreError("database: the DEM was neither stored nor found");
-      return {r.i64(0, 0), r.boolean(0, 1)};
+      if (r.rows() > 0) return {r.i64(0, 0), r.boolean(0, 1)};
+      // another transaction stored the same bytes meanwhile: the insert waited for it and did nothing,
+      // and this statement's snapshot predates it; a new statement (READ COMMITTED) sees its row
+      const auto again =
+          exec(c, "SELECT id FROM dems WHERE sha256 = encode(sha256($1::bytea), 'hex')", {pg::bytes(bytes)});
+      if (again.rows() == 0) throw StoreError("database: the DEM was neither stored nor found");
+      return {again.i64(0, 0), false};
     });
   }
 

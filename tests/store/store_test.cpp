@@ -1273,6 +1273,38 @@ TEST_P(StoreConformance, DemsAreContentAddressed) {
   EXPECT_LT(list.front().id, list.back().id);
 }
 
+// Two operators upload the same GeoTIFF at once: one row, both get its id, no error (PostgreSQL's
+// ON CONFLICT DO NOTHING leaves the waiting insert's snapshot without the other's row).
+TEST_P(StoreConformance, ConcurrentUploadsOfOneDemGiveOneRow) {
+  constexpr int kThreads = 8, kRounds = 10;
+  for (int round = 0; round < kRounds; ++round) {
+    std::string tif("II*\0", 4);
+    tif += unique_name("dem") + std::to_string(round);
+    for (int i = 0; i < 2000; ++i) tif += static_cast<char>((i * 31 + round) % 256);
+    std::vector<std::pair<Id, bool>> got(kThreads);
+    std::atomic<int> errors{0};
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t)
+      threads.emplace_back([&, t] {
+        try {
+          got[t] = store_->put_dem("same.tif", tif, nlohmann::json::object());
+        } catch (const std::exception& e) {
+          ++errors;
+          ADD_FAILURE() << e.what();
+        }
+      });
+    for (auto& t : threads) t.join();
+    ASSERT_EQ(errors.load(), 0);
+    int created = 0;
+    for (const auto& [id, made] : got) {
+      EXPECT_EQ(id, got[0].first);
+      created += made ? 1 : 0;
+    }
+    EXPECT_EQ(created, 1) << "round " << round;
+    EXPECT_EQ(*store_->dem_bytes(got[0].first), tif);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, StoreConformance,
                          ::testing::ValuesIn(uavcover::testing::store_test_urls()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
