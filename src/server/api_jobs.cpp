@@ -12,6 +12,7 @@
 #include "server/worker.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/mission.hpp"
+#include "uavcover/vehicle.hpp"
 #include "usecases/jobs.hpp"
 #include "usecases/plan_outputs.hpp"
 
@@ -157,6 +158,33 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
+/// A yes/no query option: absent or "false"/"0" is false, "true"/"1" true; anything else is a 400 naming it.
+bool flag_param(const Request& req, const std::string& name) {
+  const auto it = req.query.find(name);
+  if (it == req.query.end() || it->second == "false" || it->second == "0") return false;
+  if (it->second == "true" || it->second == "1") return true;
+  throw HttpError(400, name, "expected true or false, got \"" + it->second.substr(0, 40) + "\"");
+}
+
+/// The client's export options of GET /plans/{id}/exports/{format} (issue 31): ?autopilot=px4|ardupilot|
+/// dji|litchi, ?terrain_frame=true (ArduPilot's terrain frame), ?split_capacity=true (the UAV's missions
+/// cut to the profile's item capacity, served as one zip).
+usecases::ExportVariant export_variant(const Request& req) {
+  usecases::ExportVariant v;
+  if (const auto it = req.query.find("autopilot"); it != req.query.end()) {
+    if (vehicle_profile(it->second) == nullptr) {
+      std::string names;
+      for (const auto& p : kVehicleProfiles) names += (names.empty() ? "" : ", ") + std::string(p.name);
+      throw HttpError(400, "autopilot",
+                      "unknown autopilot \"" + it->second.substr(0, 40) + "\"; expected one of " + names);
+    }
+    v.autopilot = it->second;
+  }
+  v.terrain_frame = flag_param(req, "terrain_frame");
+  v.split_capacity = flag_param(req, "split_capacity");
+  return v;
+}
+
 Response export_response(ApiContext& ctx, const Request& req) {
   const store::Job job = get_job_or_404(ctx, id_param(req, "id"), store::JobKind::Plan);
   const std::string format = req.params.at("format");
@@ -172,17 +200,23 @@ Response export_response(ApiContext& ctx, const Request& req) {
   // made from the stored plan on first request, then cached (docs/cache.md)
   if (ctx.exports == nullptr) throw HttpError(501, "format", "this server makes no exports");
   const std::string source = usecases::export_source_format(format);
-  const auto entry = ctx.exports->get(job, source);
+  const usecases::ExportVariant variant = export_variant(req);
+  const auto entry = ctx.exports->get(job, source, variant);
   // a plan job stored before exports were made on request has no plan to make them from
   if (!entry)
     throw HttpError(
         404, "artifact",
         "plan " + std::to_string(job.id) + " has no stored plan.json and paths.geojson to export");
-  if (!entry->refused.empty())
+  if (!entry->refused.empty()) {
+    // a refusal of the client's own option names it: 422 (else the plan has no such export)
+    const std::string& f = entry->refused_field;
+    if ((f == "autopilot" && !variant.autopilot.empty()) || (f == "terrain_frame" && variant.terrain_frame))
+      throw HttpError(422, f, entry->refused);
     throw HttpError(404, "format", "the plan has no " + format + " export: " + entry->refused);
+  }
   const auto& names = entry->names;
   if (const auto name = usecases::export_artifact_name(names, format, uav)) {
-    auto file = ctx.exports->read(*entry, job, source, *name);
+    auto file = ctx.exports->read(*entry, job, source, *name, variant);
     if (!file) throw HttpError(404, "artifact", "the job has no artifact " + *name);
     Response r = file_response(std::move(*file), *name, true);
     // the exporter's warnings (clamped speeds, skipped UAVs, separation hazards), ASCII JSON

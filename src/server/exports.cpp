@@ -60,7 +60,8 @@ std::shared_ptr<const ExportEntry> ExportService::from_cache(const std::string& 
 }
 
 std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, const std::string& key,
-                                                        const std::string& format) {
+                                                        const std::string& format,
+                                                        const usecases::ExportVariant& variant) {
   if (config_.before_build) config_.before_build(key);
   const auto plan = store_.get_artifact(job.id, "plan.json");
   const auto paths = store_.get_artifact(job.id, "paths.geojson");
@@ -69,9 +70,9 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
   double step = 0;  // a plan job's trajectory_step_s: the sampled trajectory CSV
   if (const auto it = job.params.find("trajectory_step_s"); it != job.params.end() && it->is_number())
     step = it->get<double>();
-  usecases::BuiltExport built =
-      usecases::build_export(plan->bytes, paths->bytes, format, step, {},
-                             [this](Mission& m) { load_server_terrain(m, store_, config_.dem_dir); });
+  usecases::BuiltExport built = usecases::build_export(
+      plan->bytes, paths->bytes, format, step, {},
+      [this](Mission& m) { load_server_terrain(m, store_, config_.dem_dir); }, variant);
   auto e = std::make_shared<ExportEntry>();
   e->key = key;
   for (const auto& f : built.files) e->names.push_back(f.name);
@@ -97,7 +98,8 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
   return e;
 }
 
-std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, const std::string& format) {
+std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, const std::string& format,
+                                                      const usecases::ExportVariant& variant) {
   const std::string prefix = store::plan_cache_prefix(job.artifacts);
   if (prefix.empty()) return nullptr;
   // the trajectory of a job with trajectory_step_s is sampled: its own entry
@@ -105,6 +107,7 @@ std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, con
   if (const auto it = job.params.find("trajectory_step_s");
       format == "trajectory" && it != job.params.end() && it->is_number())
     key += "@" + it->dump();
+  key += variant.key();
   std::shared_future<std::shared_ptr<const ExportEntry>> future;
   {
     std::unique_lock lock(mutex_);
@@ -119,9 +122,9 @@ std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, con
       auto promise = std::make_shared<std::promise<std::shared_ptr<const ExportEntry>>>();
       it = inflight_.emplace(key, promise->get_future().share()).first;
       ++builds_;
-      boost::asio::post(pool_, [this, promise, job, key, format] {
+      boost::asio::post(pool_, [this, promise, job, key, format, variant] {
         try {
-          promise->set_value(build(job, key, format));
+          promise->set_value(build(job, key, format, variant));
         } catch (...) {
           promise->set_exception(std::current_exception());
         }
@@ -144,14 +147,15 @@ std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, con
 }
 
 std::optional<Artifact> ExportService::read(const ExportEntry& entry, const store::Job& job,
-                                            const std::string& format, const std::string& name) {
+                                            const std::string& format, const std::string& name,
+                                            const usecases::ExportVariant& variant) {
   if (std::find(entry.names.begin(), entry.names.end(), name) == entry.names.end()) return std::nullopt;
   if (entry.files)
     for (const auto& f : *entry.files)
       if (f.name == name) return f;
   if (auto a = store_.cached_file(entry.key, name)) return a;
   // evicted between the entry and its file: built again
-  const auto again = get(job, format);
+  const auto again = get(job, format, variant);
   if (!again) return std::nullopt;
   if (std::find(again->names.begin(), again->names.end(), name) == again->names.end()) return std::nullopt;
   if (again->files)

@@ -20,6 +20,7 @@
 #include "server/terrain_source.hpp"
 #include "store/store.hpp"
 #include "uavcover/artifact.hpp"
+#include "usecases/plan_outputs.hpp"
 
 namespace uavcover::server {
 
@@ -52,12 +53,14 @@ class ExportService {
   /// Export format `format` (exporting::known_formats(): "kml" also holds the .kmz) of the done plan job
   /// `job`: from the cache, else built on the pool and cached. Concurrent callers for the same plan and
   /// format share one build. Null when the job has no stored plan.json and paths.geojson to make it from
-  /// (a plan stored before exports were made on request). Throws StoreError.
-  std::shared_ptr<const ExportEntry> get(const store::Job& job, const std::string& format);
+  /// (a plan stored before exports were made on request). Throws StoreError. `variant`: the client's
+  /// export options (autopilot, terrain frame, capacity split), each variant its own cache entry.
+  std::shared_ptr<const ExportEntry> get(const store::Job& job, const std::string& format,
+                                         const usecases::ExportVariant& variant = {});
   /// The file `name` of an entry get() gave (built again when the cache evicted it meanwhile), or empty
   /// when the entry has no such file (or the plan no longer has its stored files).
   std::optional<Artifact> read(const ExportEntry& entry, const store::Job& job, const std::string& format,
-                               const std::string& name);
+                               const std::string& name, const usecases::ExportVariant& variant = {});
 
   /// Builds done since start (tests: concurrent first requests build once).
   [[nodiscard]] std::int64_t builds() const;
@@ -66,7 +69,7 @@ class ExportService {
 
  private:
   std::shared_ptr<const ExportEntry> build(const store::Job& job, const std::string& key,
-                                           const std::string& format);
+                                           const std::string& format, const usecases::ExportVariant& variant);
   std::shared_ptr<const ExportEntry> from_cache(const std::string& key);
 
   store::Store& store_;

@@ -239,17 +239,21 @@ const std::vector<ExportRoute>& export_routes() {
     std::vector<ExportRoute> r;
     for (const exporting::Format& f : exporting::formats()) {
       ExportRoute route{std::string(f.name), std::string(f.name), std::string(f.title), {}};
+      // a split export (ExportVariant::split_capacity) serves the zip of the UAV's missions
+      if (f.per_sortie) route.files.push_back("export/{}" + std::string(f.extension) + ".zip");
       if (f.name == "trajectory") {
         route.files = {"trajectory/{}" + std::string(f.extension)};  // its writer names its own file
       } else if (f.name == "litchi") {
         // a mission split in parts is served as the zip of them all (build_export)
-        route.files = {"export/{}.litchi.zip", "export/{}" + std::string(f.extension)};
+        route.files.insert(route.files.end(),
+                           {"export/{}.litchi.zip", "export/{}" + std::string(f.extension)});
       } else {
-        route.files = {"export/{}" + std::string(f.extension)};
+        route.files.push_back("export/{}" + std::string(f.extension));
       }
       r.push_back(std::move(route));
       // a plan job builds "kml" with ExportOptions::kmz: each .kml comes with its .kmz
-      if (f.name == "kml") r.push_back({"kmz", std::string(f.name), "KMZ (zipped KML)", {"export/{}.kmz"}});
+      if (f.name == "kml")
+        r.push_back({"kmz", std::string(f.name), "KMZ (zipped KML)", {"export/{}.kmz.zip", "export/{}.kmz"}});
     }
     return r;
   }();
@@ -280,9 +284,54 @@ std::string export_source_format(const std::string& format) {
   return route == nullptr ? format : route->format;
 }
 
+std::string ExportVariant::key() const {
+  std::string k;
+  if (!autopilot.empty()) k += "@autopilot=" + autopilot;
+  if (terrain_frame) k += "@terrain_frame";
+  if (split_capacity) k += "@split_capacity";
+  return k;
+}
+
+std::string split_zip_name(const std::string& id, std::string_view extension) {
+  return "export/" + id + std::string(extension) + ".zip";
+}
+
+namespace {
+
+/// A split export's files export/<id>.s<k><ext> replaced by one zip per UAV and extension (the
+/// entries named <id>.s<k><ext>; k = 1, 2, ... is the flight order).
+void zip_split_parts(Artifacts& files, const Plan& plan) {
+  std::map<std::string, std::map<std::string, std::string>> zips;  // zip name -> its entries
+  Artifacts kept;
+  // the longest id first: "a.s1"'s export/a.s1.s2.plan is not UAV "a"'s
+  std::vector<const UavPlan*> uavs;
+  for (const auto& u : plan.uavs) uavs.push_back(&u);
+  std::sort(uavs.begin(), uavs.end(),
+            [](const UavPlan* a, const UavPlan* b) { return a->id.size() > b->id.size(); });
+  for (auto& f : files) {
+    bool taken = false;
+    for (const UavPlan* up : uavs) {
+      const UavPlan& u = *up;
+      const std::string prefix = "export/" + u.id + ".s";
+      if (!f.name.starts_with(prefix)) continue;
+      const std::size_t digits = f.name.find_first_not_of("0123456789", prefix.size());
+      if (digits == prefix.size() || digits == std::string::npos || f.name[digits] != '.') continue;
+      zips[split_zip_name(u.id, f.name.substr(digits))][f.name.substr(7)] = std::move(f.bytes);
+      taken = true;
+      break;
+    }
+    if (!taken) kept.push_back(std::move(f));
+  }
+  for (const auto& [name, entries] : zips)
+    kept.push_back({name, "application/zip", exporting::zip_bytes(entries)});
+  files = std::move(kept);
+}
+
+}  // namespace
+
 BuiltExport build_export(const std::string& plan_json_text, const std::string& paths_geojson_text,
                          const std::string& format, double trajectory_step_s, const Context& ctx,
-                         const std::function<void(Mission&)>& load_terrain) {
+                         const std::function<void(Mission&)>& load_terrain, const ExportVariant& variant) {
   nlohmann::json pj, pg;
   Plan plan;
   try {
@@ -304,6 +353,9 @@ BuiltExport build_export(const std::string& plan_json_text, const std::string& p
   eo.warnings = &warnings;
   eo.kmz = true;
   eo.trajectory_step_s = trajectory_step_s;  // the job's trajectory_step_s (0: the segment form)
+  eo.autopilot = variant.autopilot;
+  eo.altitude.terrain_frame = variant.terrain_frame;
+  eo.split_capacity = variant.split_capacity;
   try {
     out.files = exporting::export_artifacts(plan, {format}, eo);
   } catch (const InputError& e) {
@@ -314,6 +366,7 @@ BuiltExport build_export(const std::string& plan_json_text, const std::string& p
   for (auto& w : warnings)
     if (std::find(out.warnings.begin(), out.warnings.end(), w) == out.warnings.end())
       out.warnings.push_back(std::move(w));
+  if (variant.split_capacity) zip_split_parts(out.files, plan);
   if (format == "geojson") {
     // the per-UAV document is the UAV's part of the stored paths.geojson: the same features with the
     // lengths measured on the planner's own coordinates (a plan read back from WGS84 measures its

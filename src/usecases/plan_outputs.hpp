@@ -95,14 +95,33 @@ nlohmann::json export_routes_json();
 /// "kmz" (a .kmz comes with each .kml), else `format` itself (ExportRoute::format).
 std::string export_source_format(const std::string& format);
 
+/// The export options an API client may ask for (GET /plans/{id}/exports/{format}?autopilot=&terrain_frame=
+/// &split_capacity=, issue 31): the CLI's `export --autopilot`, `--terrain-frame` and `--split-capacity`.
+/// Each variant is its own cache entry (key()).
+struct ExportVariant {
+  std::string autopilot;        ///< "" = the mission's (ExportOptions::autopilot)
+  bool terrain_frame = false;   ///< ArduPilot's MAV_FRAME_GLOBAL_TERRAIN_ALT (AltitudeOptions::terrain_frame)
+  bool split_capacity = false;  ///< whole missions that fit the profile's capacity, zipped per UAV
+  /// "" for the default, else "@autopilot=px4@terrain_frame@split_capacity" (the parts that are set).
+  [[nodiscard]] std::string key() const;
+};
+
+/// The artifact a split export (ExportVariant::split_capacity) serves for UAV `id` of a format whose
+/// files end in `extension` (".plan", ".kmz"): "export/<id><extension>.zip", the zip of its missions
+/// <id>.s<k><extension> in flight order.
+std::string split_zip_name(const std::string& id, std::string_view extension);
+
 /// Makes export format `format` (one of exporting::known_formats()) of the plan stored as plan.json and
 /// paths.geojson (the texts a plan job stored), with the options of a plan job: the same bytes a plan
 /// job's eager export of the same plan gave. A stop request throws Cancelled; OperationError when the
 /// documents are not a plan.
 /// `load_terrain`: sets the mission's ground heights when its terrain block names a source the caller
 /// reads (the server's stored DEMs and tiles, issue 31); empty: a plan with terrain is refused.
+/// `variant`: the client's export options; a split export's per-sortie files come as one zip per UAV
+/// (split_zip_name()), and a format that has no such split (geojson, trajectory) ignores it as the CLI does.
 BuiltExport build_export(const std::string& plan_json, const std::string& paths_geojson,
                          const std::string& format, double trajectory_step_s = 0, const Context& ctx = {},
-                         const std::function<void(Mission&)>& load_terrain = {});
+                         const std::function<void(Mission&)>& load_terrain = {},
+                         const ExportVariant& variant = {});
 
 }  // namespace uavcover::usecases

@@ -4,8 +4,13 @@
 // "source": "server"; and the refusals, each naming its field.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <set>
+#include <sstream>
 
+#include "export/check.hpp"
 #include "geodesy/local_frame.hpp"
 #include "server/multipart.hpp"
 #include "server/worker_fixture.hpp"
@@ -169,6 +174,94 @@ TEST_P(TerrainApi, TheServersTileFolderServesSourceServer) {
   EXPECT_EQ(call("GET", "/api/v1/dems").json()["server_tiles"], true);
   start_workers();
   expect_follows_the_hill(plan_and_export(field({{"source", "server"}})));
+}
+
+// Issue 31, the export route's options (the CLI's --terrain-frame, --split-capacity, --autopilot): the
+// .waypoints in ArduPilot's terrain frame, the UAV's missions cut to its capacity and served as one zip
+// (read with libzip), each variant apart from the default export in the cache; bad options name
+// themselves (400), options the plan cannot take are refused naming them (422).
+TEST_P(TerrainApi, ExportOptionsGiveTheTerrainFrameAndTheCapacitySplit) {
+  const geodesy::LocalFrame f(kOrigin);
+  const Answer a = upload("hill.tif", read_bytes(testdem::write_hill(dir_ / "hill.tif", f, hill_)));
+  ASSERT_EQ(a.status, 201) << a.body;
+  start_workers();
+  json m = field({{"dem_id", a.json().at("id")}, {"tolerance_m", 1}});
+  m["autopilot"] = "ardupilot";
+  constexpr std::size_t kCapacity = 40;
+  m["max_mission_items"] = kCapacity;
+  const json whole = plan_and_export(m);
+  ASSERT_TRUE(whole.is_object());
+  const std::string base = plan_url_ + "/exports/";
+  // the places of a .plan's waypoints (MAV_CMD_NAV_WAYPOINT), to 1e-7 degrees
+  auto waypoints_of = [](const json& plan) {
+    std::set<std::pair<long long, long long>> out;
+    for (const auto& it : plan["mission"]["items"])
+      if (it["command"] == 16)
+        out.emplace(std::llround(it["params"][4].get<double>() * 1e7),
+                    std::llround(it["params"][5].get<double>() * 1e7));
+    return out;
+  };
+  ASSERT_GT(whole["mission"]["items"].size() + 1, kCapacity) << "the test needs a mission over the capacity";
+
+  // the terrain frame: QGC WPL 110 lines "seq current frame command p1 p2 p3 p4 lat lon alt auto"
+  Answer e = call("GET", base + "wpl?terrain_frame=true");
+  ASSERT_EQ(e.status, 200) << e.body;
+  std::istringstream lines(e.body);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line.rfind("QGC WPL 110", 0), 0U);
+  int terrain = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream in(line);
+    std::vector<double> v;
+    for (std::string field; std::getline(in, field, '\t');)
+      v.push_back(std::strtod(field.c_str(), nullptr));  // NaN yaws
+    ASSERT_EQ(v.size(), 12U) << line;
+    if (v[2] == 10) {
+      EXPECT_EQ(v[3], 16) << line;
+      EXPECT_NEAR(v[10], 40.0, 1e-3) << line;  // metres above the ground
+      ++terrain;
+    }
+  }
+  EXPECT_GT(terrain, 4);
+  const Answer amsl = call("GET", base + "wpl");
+  ASSERT_EQ(amsl.status, 200);
+  EXPECT_EQ(amsl.body.find("\t10\t16\t"), std::string::npos) << "the default stays AMSL";
+
+  // the capacity split: one zip of whole missions, each within the capacity with ArduPilot's home
+  e = call("GET", base + "qgc?split_capacity=true");
+  ASSERT_EQ(e.status, 200) << e.body;
+  const auto parts = check::unzip_bytes(e.body);
+  ASSERT_GE(parts.size(), 2U);
+  std::set<std::pair<long long, long long>> flown;
+  int k = 1;
+  for (const auto& [name, bytes] : parts) {
+    EXPECT_TRUE(name.starts_with("a.s") && name.ends_with(".plan")) << name;
+    const json part = json::parse(bytes);
+    const auto& items = part["mission"]["items"];
+    EXPECT_LE(items.size() + 1, kCapacity) << name;
+    EXPECT_EQ(items.front()["command"], 22) << name << ": a whole mission takes off";
+    EXPECT_TRUE(items.back()["command"] == 20 || items.back()["command"] == 21) << name;
+    flown.merge(waypoints_of(part));
+    EXPECT_TRUE(parts.contains("a.s" + std::to_string(k++) + ".plan"));
+  }
+  for (const auto& w : waypoints_of(whole)) EXPECT_TRUE(flown.contains(w)) << "the parts fly every waypoint";
+  // the default export is still the single .plan (its own cache entry)
+  EXPECT_EQ(json::parse(call("GET", base + "qgc").body)["mission"]["items"], whole["mission"]["items"]);
+
+  // refusals name the option
+  e = call("GET", base + "qgc?terrain_frame=maybe");
+  EXPECT_EQ(e.status, 400);
+  EXPECT_EQ(e.error_field(), "terrain_frame");
+  e = call("GET", base + "qgc?autopilot=betaflight");
+  EXPECT_EQ(e.status, 400);
+  EXPECT_EQ(e.error_field(), "autopilot");
+  e = call("GET", base + "qgc?terrain_frame=true&autopilot=px4");
+  EXPECT_EQ(e.status, 422) << e.body;
+  EXPECT_EQ(e.error_field(), "terrain_frame");
+  e = call("GET", base + "dji?terrain_frame=1");
+  EXPECT_EQ(e.status, 422) << e.body;
+  EXPECT_EQ(e.error_field(), "terrain_frame");
 }
 
 INSTANTIATE_TEST_SUITE_P(Stores, TerrainApi, ::testing::ValuesIn(uavcover::testing::store_test_urls()),

@@ -62,11 +62,43 @@ export function saveBlob(blob: Blob, name: string): void {
   setTimeout(() => URL.revokeObjectURL(url), 10000);
 }
 
+/** The server's export options (GET /plans/{id}/exports/{format}?autopilot=&terrain_frame=&split_capacity=,
+ *  docs/api.md): for which autopilot, heights in ArduPilot's terrain frame, missions split to the vehicle's
+ *  item capacity (one zip per UAV). */
+export interface ExportOptionValues {
+  autopilot: string;
+  terrainFrame: boolean;
+  splitCapacity: boolean;
+}
+
+/** The query of an export URL: the UAV and the options that differ from the defaults. */
+export function exportQuery(uav: string, o: ExportOptionValues): string {
+  const q = new URLSearchParams({ uav });
+  if (o.autopilot) q.set('autopilot', o.autopilot);
+  if (o.terrainFrame) q.set('terrain_frame', 'true');
+  if (o.splitCapacity) q.set('split_capacity', 'true');
+  return q.toString();
+}
+
+function checkbox(testid: string, label: string, title: string): [HTMLLabelElement, HTMLInputElement] {
+  const box = el('input', { type: 'checkbox', 'data-testid': testid });
+  const l = el('label', { class: 'plan-export-option', title });
+  l.append(box, document.createTextNode(` ${label}`));
+  return [l, box];
+}
+
 export function exportsPanel(planId: number, uavIds: string[]): HTMLElement {
   const wrap = el('div', { class: 'plan-exports', 'data-testid': 'exports-panel' });
   const status = el('div', { class: 'plan-export-status', role: 'status', 'data-testid': 'export-status' });
   const zip = el('button', { type: 'button', 'data-testid': 'export-zip', disabled: '' }, 'All as zip');
-  wrap.append(zip, status);
+  const options = el('div', { class: 'plan-export-row plan-export-options' });
+  const autopilot = el('select', { 'data-testid': 'export-autopilot', title: 'The autopilot the files are for: its limits, commands and item capacity' });
+  for (const [value, label] of [['', "Mission's autopilot"], ['px4', 'PX4'], ['ardupilot', 'ArduPilot'], ['dji', 'DJI'], ['litchi', 'Litchi']])
+    autopilot.append(el('option', { value }, label));
+  const [splitLabel, split] = checkbox('export-split', 'Split to item capacity', "Whole missions that fit the vehicle's mission storage, one zip per UAV");
+  const [frameLabel, frame] = checkbox('export-terrain-frame', 'Terrain frame', "ArduPilot with a DEM: coverage heights relative to terrain (MAV_FRAME_GLOBAL_TERRAIN_ALT)");
+  options.append(el('span', { class: 'plan-export-uav' }, 'Options'), autopilot, splitLabel, frameLabel);
+  wrap.append(options, zip, status);
   status.textContent = 'Loading the export formats…';
   exportRoutes().then(
     (formats) => {
@@ -79,7 +111,8 @@ export function exportsPanel(planId: number, uavIds: string[]): HTMLElement {
     },
   );
   const url = (format: string, uav: string) =>
-    `${API}/plans/${planId}/exports/${format}?uav=${encodeURIComponent(uav)}`;
+    `${API}/plans/${planId}/exports/${format}?` +
+    exportQuery(uav, { autopilot: autopilot.value, terrainFrame: frame.checked, splitCapacity: split.checked });
 
   function fill(formats: ExportRoute[]): void {
     const rows = uavIds.map((uav, i) => {
@@ -107,7 +140,7 @@ export function exportsPanel(planId: number, uavIds: string[]): HTMLElement {
       }
       return row;
     });
-    zip.before(...rows);
+    options.before(...rows);
     zip.disabled = false;
     zip.addEventListener('click', async () => {
       zip.disabled = true;
