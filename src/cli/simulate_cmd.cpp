@@ -10,6 +10,7 @@
 
 #include "cli/command.hpp"
 #include "cli/interrupt.hpp"
+#include "cli/mission_file.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
@@ -126,8 +127,10 @@ void run_simulate(const SimulateArgs& a) {
   // Optional preloaded missions: vehicle i flies UAV i of the plan (cycling when there are more vehicles).
   std::vector<std::vector<mavlink::MissionItemInt>> missions;
   std::vector<LonLat> starts;
+  std::shared_ptr<const HeightGrid> ground;  // the plan's DEM: heights above the terrain are flown over it
   if (!a.plan_dir.empty()) {
-    const Plan plan = io::load_plan_dir(a.plan_dir);
+    const Plan plan = read_plan_dir(a.plan_dir);
+    if (plan.mission.terrain) ground = plan.mission.terrain->grid;
     for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
       if (exporting::idle(plan.uavs[i])) continue;
       const LonLat start = plan.mission.uavs.at(i).start_resolved;
@@ -145,6 +148,9 @@ void run_simulate(const SimulateArgs& a) {
     c.tcp = tcp;
     c.home = home;
     if (!home && !starts.empty()) c.home = starts[static_cast<std::size_t>(i) % starts.size()];
+    // a plan with a DEM: the ground under the vehicle (AMSL heights, and the terrain frame of an upload)
+    c.ground = ground;
+    if (ground && c.home) c.home_amsl_m = ground->at(*c.home);
     c.v_max = a.speed;
     c.a_max = a.accel;
     c.acceptance_radius_m = a.radius;

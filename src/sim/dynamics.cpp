@@ -34,7 +34,17 @@ Vec3 SimVehicle::to_local(std::int32_t lat_e7, std::int32_t lon_e7) const {
 }
 
 double SimVehicle::item_alt(const mav::MissionItemInt& item) const {
-  return is_amsl(item.frame) ? static_cast<double>(item.z) - cfg_.home_amsl_m : static_cast<double>(item.z);
+  if (is_amsl(item.frame)) return static_cast<double>(item.z) - cfg_.home_amsl_m;
+  if (is_terrain(item.frame) && cfg_.ground && frame_) {
+    const Vec3 at = to_local(item.x, item.y);
+    return static_cast<double>(item.z) + ground_above_home(at.x, at.y);
+  }
+  return static_cast<double>(item.z);
+}
+
+double SimVehicle::ground_above_home(double x, double y) const {
+  if (!cfg_.ground || !frame_) return 0.0;
+  return cfg_.ground->at(frame_->to_wgs84(Point(x, y))) - cfg_.home_amsl_m;
 }
 
 bool SimVehicle::is_home_item(std::size_t seq) const {
@@ -91,6 +101,15 @@ std::uint8_t SimVehicle::start_mission(int first, int last) {
         return mav::kResultDenied;
       }
     }
+  // heights above the terrain need terrain data (ArduPilot: "PreArm: Waiting for terrain data")
+  if (!cfg_.ground)
+    for (int i = first; i <= last; ++i)
+      if (is_terrain(mission_[static_cast<std::size_t>(i)].frame) &&
+          is_nav(mission_[static_cast<std::size_t>(i)].command)) {
+        status(mav::kSeverityCritical,
+               "PreArm: Waiting for terrain data (mission item " + std::to_string(i) + " is above terrain)");
+        return mav::kResultDenied;
+      }
   first_item_ = static_cast<std::size_t>(first);
   last_item_ = static_cast<std::size_t>(last);
   // planned path length from here (for failure injection at a fraction of the mission)
@@ -132,7 +151,7 @@ std::uint8_t SimVehicle::pause(bool on) {
 
 std::uint8_t SimVehicle::return_to_launch() {
   if (!st_.airborne) return mav::kResultDenied;
-  targets_ = {Target{{0, 0, std::max(st_.p.z, 2.0)}, false}, Target{{0, 0, 0}, true}};
+  targets_ = {Target{{0, 0, std::max(st_.p.z, 2.0)}, false, {}}, Target{{0, 0, 0}, true, {}}};
   target_ = 0;
   paused_ = false;
   st_.mode = Mode::Rtl;
@@ -145,7 +164,7 @@ std::uint8_t SimVehicle::land_here() {
     if (st_.armed) touchdown();
     return st_.armed ? mav::kResultDenied : mav::kResultAccepted;
   }
-  targets_ = {Target{{st_.p.x, st_.p.y, 0}, true}};
+  targets_ = {Target{{st_.p.x, st_.p.y, 0}, true, {}}};
   target_ = 0;
   paused_ = false;
   st_.mode = Mode::Land;
@@ -167,17 +186,19 @@ std::vector<SimVehicle::Target> SimVehicle::item_targets(const mav::MissionItemI
   const double alt = std::isfinite(item_alt(item)) ? std::clamp(item_alt(item), 0.0, 10'000.0) : 0.0;
   switch (item.command) {
     case wp::kNavTakeoff:  // straight up where it stands
-      return {Target{{from.x, from.y, std::max(alt, 1.0)}, false}};
+      return {Target{{from.x, from.y, std::max(alt, 1.0)}, false, {}}};
     case wp::kNavWaypoint:
     case 17:  // LOITER_UNLIM, LOITER_TURNS (18), LOITER_TIME (19): flown as waypoints
     case 18:
     case 19:
     case 82:  // SPLINE_WAYPOINT
-      return {Target{{xy.x, xy.y, alt}, false}};
+      if (is_terrain(item.frame) && cfg_.ground && std::isfinite(item.z))
+        return {Target{{xy.x, xy.y, alt}, false, std::clamp(static_cast<double>(item.z), 0.0, 10'000.0)}};
+      return {Target{{xy.x, xy.y, alt}, false, {}}};
     case wp::kNavLand:
-      return {Target{{xy.x, xy.y, from.z}, false}, Target{{xy.x, xy.y, 0}, true}};
+      return {Target{{xy.x, xy.y, from.z}, false, {}}, Target{{xy.x, xy.y, 0}, true, {}}};
     case wp::kNavReturnToLaunch:
-      return {Target{{0, 0, std::max(from.z, 2.0)}, false}, Target{{0, 0, 0}, true}};
+      return {Target{{0, 0, std::max(from.z, 2.0)}, false, {}}, Target{{0, 0, 0}, true, {}}};
     default:  // DO_CHANGE_SPEED, camera triggers, ...: done at once
       return {};
   }
@@ -240,10 +261,16 @@ void SimVehicle::fly(double dt) {
   // Where to go: the current target of the mission, RTL or landing; or hold.
   Vec3 goal = st_.p;
   bool landing = false;
+  bool terrain_leg = false;  // flying to a terrain-frame item
   const bool chained = st_.mode == Mode::Mission || st_.mode == Mode::Rtl || st_.mode == Mode::Land;
   if (chained && target_ < targets_.size()) {
     goal = targets_[target_].p;
     landing = targets_[target_].land;
+    // above the terrain: the height follows the ground under the vehicle
+    if (const auto& agl = targets_[target_].agl) {
+      goal.z = ground_above_home(st_.p.x, st_.p.y) + *agl;
+      terrain_leg = true;
+    }
   } else if (st_.mode == Mode::Hold) {
     goal = hold_;
   } else if (!st_.airborne) {
@@ -308,6 +335,8 @@ void SimVehicle::fly(double dt) {
     st_.p.z = 0;
     st_.v.z = std::max(0.0, st_.v.z);
   }
+  if (terrain_leg && st_.airborne)
+    st_.agl_min_m = std::min(st_.agl_min_m, st_.p.z - ground_above_home(st_.p.x, st_.p.y));
   if (chained && target_ < targets_.size() && !landing &&
       norm(sub(targets_[target_].p, st_.p)) <= cfg_.acceptance_radius_m) {
     ++target_;
@@ -328,7 +357,7 @@ void SimVehicle::drain(double dt) {
       status(mav::kSeverityCritical, "battery empty: forced landing");
       st_.mode = Mode::Land;
       paused_ = false;
-      targets_ = {Target{{st_.p.x, st_.p.y, 0}, true}};
+      targets_ = {Target{{st_.p.x, st_.p.y, 0}, true, {}}};
       target_ = 0;
     } else if (!st_.airborne) {
       touchdown();
@@ -348,7 +377,7 @@ void SimVehicle::check_failure() {
   status(mav::kSeverityCritical, "failure: forced landing");
   st_.mode = Mode::Land;
   paused_ = false;
-  targets_ = {Target{{st_.p.x, st_.p.y, 0}, true}};
+  targets_ = {Target{{st_.p.x, st_.p.y, 0}, true, {}}};
   target_ = 0;
 }
 

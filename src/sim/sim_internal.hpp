@@ -39,6 +39,8 @@ inline bool is_global(std::uint8_t frame) {
   return frame == 0 || frame == 3 || frame == 5 || frame == 6 || frame == 10 || frame == 11;
 }
 inline bool is_amsl(std::uint8_t frame) { return frame == 0 || frame == 5; }
+/// MAV_FRAME_GLOBAL_TERRAIN_ALT (10) and its _INT form (11): heights above the ground.
+inline bool is_terrain(std::uint8_t frame) { return frame == 10 || frame == 11; }
 
 // The navigation commands flown (the others are done at once).
 inline bool is_nav(std::uint16_t command) {

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>
@@ -25,6 +26,7 @@
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/udp.hpp"
 #include "uavcover/geometry.hpp"
+#include "uavcover/terrain.hpp"
 
 namespace uavcover::sim {
 
@@ -47,7 +49,12 @@ struct VehicleConfig {
   /// Where the vehicle stands at start. Unset: at the home (or take-off) position of the first mission
   /// uploaded before it flies.
   std::optional<LonLat> home;
-  double home_amsl_m = 0.0;          ///< ground altitude above mean sea level (GLOBAL_POSITION_INT.alt)
+  double home_amsl_m = 0.0;  ///< ground altitude above mean sea level (GLOBAL_POSITION_INT.alt)
+  /// The ground (issue 31): heights in the terrain frame (MAV_FRAME_GLOBAL_TERRAIN_ALT, 10 and 11) are
+  /// above it, followed under the vehicle along each leg as ArduPilot's terrain following does. Null: no
+  /// terrain data, and MISSION_START of a mission with such items is refused ("PreArm: Waiting for
+  /// terrain data"), as ArduPilot without terrain data refuses it.
+  std::shared_ptr<const HeightGrid> ground;
   double v_max = 5.0;                ///< m/s horizontal, until the mission's DO_CHANGE_SPEED
   double a_max = 2.0;                ///< m/s^2
   double v_up = 3.0, v_down = 1.5;   ///< vertical speed limits, m/s
@@ -98,6 +105,8 @@ struct VehicleState {
   double planned_m = 0;                ///< planned path length of the mission from where it started
   bool mission_complete = false;
   bool fence_breach = false;  ///< left its fence (issue 31): switched to RTL
+  /// With VehicleConfig::ground: the lowest height above the ground on the way to terrain-frame items (m).
+  double agl_min_m = std::numeric_limits<double>::infinity();
 };
 
 class SimVehicle {
@@ -151,6 +160,9 @@ class SimVehicle {
   struct Target {
     Vec3 p;
     bool land = false;  ///< descend to the ground (then the item is done on touchdown)
+    /// A terrain-frame item's height above the ground: the goal's height follows the ground under the
+    /// vehicle (p.z is the height at the target itself, for the arrival check).
+    std::optional<double> agl;
   };
   void handle(const mavlink::Received& r);
   void on_command(const mavlink::CommandLong& c, const mavlink::Received& r);
@@ -159,6 +171,8 @@ class SimVehicle {
   [[nodiscard]] std::vector<Target> item_targets(const mavlink::MissionItemInt& item, const Vec3& from) const;
   [[nodiscard]] Vec3 to_local(std::int32_t lat_e7, std::int32_t lon_e7) const;
   [[nodiscard]] double item_alt(const mavlink::MissionItemInt& item) const;
+  /// The ground's height above home under local point (x, y) (0 without VehicleConfig::ground).
+  [[nodiscard]] double ground_above_home(double x, double y) const;
   void begin_item(std::size_t seq);
   void item_done();
   void complete_mission();

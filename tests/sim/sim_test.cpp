@@ -32,17 +32,27 @@ namespace {
 
 const LonLat kHome{22.95, 40.60};
 
-// home, take-off to 30 m, 10 m/s, a 300 m square (3 legs, each cut into `per_side` waypoints), RTL:
-// about 1.2 km and 160 s.
-std::vector<MissionItemInt> square_mission(int per_side = 1, double side = 300.0, double speed = 10.0) {
-  geodesy::LocalFrame f(kHome);
-  std::vector<wp::MissionItem> items;
+wp::MissionItem takeoff_at_home(float alt) {
   wp::MissionItem takeoff;
   takeoff.command = wp::kNavTakeoff;
   takeoff.lat = kHome.lat;
   takeoff.lon = kHome.lon;
-  takeoff.alt = 30;
-  items.push_back(takeoff);
+  takeoff.alt = alt;
+  return takeoff;
+}
+
+wp::MissionItem return_to_launch() {
+  wp::MissionItem rtl;
+  rtl.command = wp::kNavReturnToLaunch;
+  rtl.frame = wp::kFrameMission;
+  return rtl;
+}
+
+// home, take-off to 30 m, 10 m/s, a 300 m square (3 legs, each cut into `per_side` waypoints), RTL:
+// about 1.2 km and 160 s.
+std::vector<MissionItemInt> square_mission(int per_side = 1, double side = 300.0, double speed = 10.0) {
+  geodesy::LocalFrame f(kHome);
+  std::vector<wp::MissionItem> items{takeoff_at_home(30)};
   wp::MissionItem spd;
   spd.command = wp::kDoChangeSpeed;
   spd.frame = wp::kFrameMission;
@@ -65,10 +75,7 @@ std::vector<MissionItemInt> square_mission(int per_side = 1, double side = 300.0
     wp.alt = 30;
     items.push_back(wp);
   }
-  wp::MissionItem rtl;
-  rtl.command = wp::kNavReturnToLaunch;
-  rtl.frame = wp::kFrameMission;
-  items.push_back(rtl);
+  items.push_back(return_to_launch());
   return to_mission_items(items, kHome);
 }
 
@@ -587,6 +594,72 @@ TEST(SimVehicleModel, RefusesToFlyOutOfItsFence) {
   EXPECT_FALSE(s.airborne);
   EXPECT_LT(std::hypot(s.p.x, s.p.y), 1.0);  // back home
   EXPECT_LT(s.reached.size(), square_mission().size());
+}
+
+// Issue 31, the terrain frame: heights in MAV_FRAME_GLOBAL_TERRAIN_ALT are above the ground under the
+// vehicle along the whole leg (ArduPilot's terrain following), where the same height relative to home
+// comes down to a fraction of it over a hill; without terrain data MISSION_START is refused.
+TEST(SimVehicleModel, TerrainFrameItemsFollowTheGround) {
+  const geodesy::LocalFrame f(kHome);
+  // a 30 m hill 150 m east of home on a 200 m plain, on a 201 x 201 grid of 1e-4 degrees
+  auto grid = std::make_shared<HeightGrid>();
+  grid->cols = grid->rows = 201;
+  grid->dlon = grid->dlat = 1e-4;
+  grid->lon0 = kHome.lon - 100 * grid->dlon;
+  grid->lat0 = kHome.lat - 100 * grid->dlat;
+  for (int r = 0; r < grid->rows; ++r)
+    for (int c = 0; c < grid->cols; ++c) {
+      const Point q = f.to_local(LonLat{grid->lon0 + c * grid->dlon, grid->lat0 + r * grid->dlat});
+      const double d2 = (q.x() - 150) * (q.x() - 150) + q.y() * q.y();
+      grid->heights.push_back(static_cast<float>(200.0 + 30.0 * std::exp(-d2 / (2 * 60.0 * 60.0))));
+    }
+  grid->step_m = 8.4;
+  grid->max_m = 230;
+  auto mission = [&](std::uint8_t frame) {
+    std::vector<wp::MissionItem> items{takeoff_at_home(40)};
+    for (const double x : {0.0, 300.0}) {
+      wp::MissionItem w;
+      const LonLat ll = f.to_wgs84(Point(x, 0));
+      w.lat = ll.lat;
+      w.lon = ll.lon;
+      w.alt = 40;
+      w.frame = frame;
+      items.push_back(w);
+    }
+    items.push_back(return_to_launch());
+    return to_mission_items(items, kHome);
+  };
+  // the lowest height above the ground on the leg over the hill (to item 3, home item 0), and the end
+  auto fly = [&](std::uint8_t frame, std::shared_ptr<const HeightGrid> ground, std::uint8_t want_start) {
+    auto c = config(9);
+    c.home = kHome;
+    c.ground = std::move(ground);
+    c.home_amsl_m = grid->at(kHome);
+    c.v_max = 5;
+    sim::SimVehicle v(c);
+    v.set_mission(mission(frame));
+    EXPECT_EQ(v.arm(true), kResultAccepted);
+    EXPECT_EQ(v.start_mission(), want_start);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 40000 && want_start == kResultAccepted && !v.state().mission_complete; ++i) {
+      v.step(0.05);
+      const auto& s = v.state();
+      if (s.current_seq == 3 && std::hypot(s.p.x, s.p.y) > 30)
+        lowest = std::min(lowest, s.p.z - (grid->at(v.position_wgs84()) - c.home_amsl_m));
+    }
+    if (want_start == kResultAccepted) {
+      EXPECT_TRUE(v.state().mission_complete);
+    }
+    return std::pair{lowest, v.state().agl_min_m};
+  };
+  const auto [terrain, tracked] = fly(wp::kFrameGlobalTerrainAlt, grid, kResultAccepted);
+  EXPECT_GT(terrain, 37.0) << "40 m above the ground over the hill";
+  EXPECT_LT(terrain, 41.0);
+  EXPECT_GT(tracked, 37.0);
+  const auto [relative, untracked] = fly(wp::kFrameGlobalRelativeAlt, grid, kResultAccepted);
+  EXPECT_LT(relative, 20.0) << "40 m above home is about 15 m above the hill's top";
+  EXPECT_TRUE(std::isinf(untracked));
+  (void)fly(wp::kFrameGlobalTerrainAlt, nullptr, kResultDenied);  // no terrain data
 }
 
 // Issue 31: a fence uploaded over MAVLink (MAV_MISSION_TYPE_FENCE) is stored apart from the mission; one
