@@ -28,6 +28,8 @@ export interface ExtrasHost {
   doc(): MissionDoc;
   commit(d: MissionDoc): void;
   field(parent: HTMLElement, label: string, anchors: string, input: HTMLElement, unit?: string): HTMLElement;
+  /** the next map click adds a rally point (issue 31) */
+  placeRally?(): void;
 }
 
 function num(s: string): number | undefined {
@@ -300,6 +302,9 @@ export class FieldControls {
   private items = numberInput('max-mission-items', '8', '65535', 'the vehicle’s mission item capacity where the board decides (ArduPilot)', '');
   private backoff = numberInput('resume-backoff', '0', '10000', 'a resumed flight and every later sortie start this far back along the path; empty: one photo base', '');
   private rally = el('input', { type: 'checkbox', 'data-testid': 'propose-rally', title: 'propose a safe landing point per UAV in its region, clear of the no-fly zones' });
+  private addRally = el('button', { type: 'button', class: 'define-place', 'data-testid': 'rally-add', title: 'click the map where a UAV may land safely; drag a point to move it, right-click it to remove it' }, 'Add');
+  private clearRally = el('button', { type: 'button', class: 'define-place', 'data-testid': 'rally-clear', title: 'remove the rally points given' }, 'Clear');
+  private rallyCount = el('span', { class: 'muted define-small', 'data-testid': 'rally-count' });
 
   constructor(private host: ExtrasHost) {
     this.autopilot.appendChild(el('option', { value: '' }, 'any (PX4 files)'));
@@ -308,7 +313,16 @@ export class FieldControls {
     host.field(this.row, 'Autopilot', 'autopilot', this.autopilot);
     host.field(this.row, 'Mission items', 'max_mission_items', this.items);
     host.field(this.row, 'Resume overlap', 'resume_backoff_m', this.backoff, 'm');
-    host.field(this.row, 'Rally points', 'propose_rally rally', this.rally);
+    const given = el('span', { class: 'define-rally-given' });
+    given.append(this.addRally, this.clearRally, this.rallyCount);
+    host.field(this.row, 'Rally points', 'rally', given);
+    host.field(this.row, 'Propose rally', 'propose_rally', this.rally);
+    this.addRally.addEventListener('click', () => host.placeRally?.());
+    this.clearRally.addEventListener('click', () => {
+      const d = { ...this.host.doc() };
+      delete d.rally;
+      this.host.commit(d);
+    });
     for (const i of [this.autopilot, this.items, this.backoff, this.rally]) i.addEventListener('change', () => this.changed());
   }
 
@@ -332,5 +346,16 @@ export class FieldControls {
     this.items.value = typeof doc.max_mission_items === 'number' ? String(doc.max_mission_items) : '';
     this.backoff.value = typeof doc.resume_backoff_m === 'number' ? String(doc.resume_backoff_m) : '';
     this.rally.checked = doc.propose_rally === true;
+    const n = rallyOf(doc).length;
+    this.rallyCount.textContent = n === 0 ? '' : `${n} given`;
+    this.clearRally.hidden = n === 0;
+    this.addRally.disabled = this.rally.checked;
   }
+}
+
+/** the mission's own rally points, [lon, lat] (issue 31); malformed entries are left out */
+export function rallyOf(doc: MissionDoc): [number, number][] {
+  const r = doc.rally;
+  if (!Array.isArray(r)) return [];
+  return r.filter((p): p is [number, number] => Array.isArray(p) && typeof p[0] === 'number' && typeof p[1] === 'number');
 }

@@ -43,6 +43,7 @@ import '../define.css';
 import { errorText } from './missions.ts';
 import {
   FieldControls,
+  rallyOf,
   ObjectiveControl,
   ObliqueControls,
   SharesAutoControl,
@@ -61,6 +62,8 @@ const AUTO_PLANNER = {
 };
 
 // a building's footprint on the map
+/** `placing` value while the next map click adds a rally point (else it is the UAV whose start is placed) */
+const RALLY = -1;
 const STRUCTURE_STYLE: L.PathOptions = { color: '#5b4636', weight: 2, fillColor: '#8d6e63', fillOpacity: 0.6 };
 
 interface CatalogUav {
@@ -175,6 +178,7 @@ class DefinePanel {
       this.refreshForm();
     },
     field: (parent, label, anchors, input, unit) => this.field(parent, label, anchors, input, unit),
+    placeRally: () => this.startPlacing(RALLY),
   };
   private uavRows!: HTMLElement;
   private uavSelect!: HTMLSelectElement;
@@ -1127,7 +1131,9 @@ class DefinePanel {
       if (this.placing !== null && this.visible) {
         const i = this.placing;
         this.stopPlacing();
-        this.setUav(i, { start: [round(e.latlng.lng, 7), round(e.latlng.lat, 7)] });
+        const at: [number, number] = [round(e.latlng.lng, 7), round(e.latlng.lat, 7)];
+        if (i === RALLY) this.setRally([...rallyOf(this.doc), at]);
+        else this.setUav(i, { start: at });
       } else if (!this.drawKind) this.select(null);
     });
   }
@@ -1200,6 +1206,35 @@ class DefinePanel {
       });
       m.addTo(this.startLayer);
     });
+    // the rally points given (issue 31): drag to move, right-click to remove
+    const rally = rallyOf(this.doc);
+    rally.forEach(([lon, lat], k) => {
+      const icon = L.divIcon({ className: 'define-start-icon', html: `<div class="define-rally" data-testid="rally-point">R${k + 1}</div>`, iconSize: [26, 26], iconAnchor: [13, 13] });
+      const m = L.marker([lat, lon], { icon, draggable: true, pmIgnore: true, title: `rally point ${k + 1}: drag to move, right-click to remove`, keyboard: false, autoPan: true });
+      m.on('dragend', () => {
+        const ll = m.getLatLng();
+        const next = [...rally];
+        next[k] = [round(ll.lng, 7), round(ll.lat, 7)];
+        this.setRally(next);
+      });
+      m.on('contextmenu', (e: L.LeafletMouseEvent) => {
+        L.DomEvent.preventDefault(e.originalEvent);
+        this.setRally(rally.filter((_, j) => j !== k));
+      });
+      m.addTo(this.startLayer);
+    });
+  }
+
+  /** the mission's rally points: given ones replace the planner's proposal */
+  private setRally(points: [number, number][]): void {
+    const d = { ...this.doc };
+    if (points.length === 0) delete d.rally;
+    else {
+      d.rally = points;
+      delete d.propose_rally;
+    }
+    this.host.commit(d);
+    this.renderStarts();
   }
 
   private setEditing(on: boolean): void {
@@ -1348,7 +1383,8 @@ class DefinePanel {
     this.placing = i;
     this.app.map.getContainer().classList.add('define-placing');
     this.uavRows.querySelectorAll('[data-testid="uav-place-start"]').forEach((b, k) => b.classList.toggle('active', k === i));
-    this.status.textContent = `Click the map where ${String(this.uavs()[i]?.id ?? `UAV ${i + 1}`)} takes off (Esc cancels).`;
+    this.status.textContent =
+      i === RALLY ? 'Click the map where a UAV may land safely (Esc cancels).' : `Click the map where ${String(this.uavs()[i]?.id ?? `UAV ${i + 1}`)} takes off (Esc cancels).`;
   }
 
   private stopPlacing(): void {

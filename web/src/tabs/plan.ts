@@ -11,6 +11,7 @@ import { facadePanel, type FacadeJson } from '../facade-view.ts';
 import { metricsPanel } from '../metrics.ts';
 import { profilePanel } from '../profile.ts';
 import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
+import { fieldLayer, planFences } from '../plan-field.ts';
 import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
 import { dropPlan, loadPlan, type PreparedPlan } from '../plan-source.ts';
 import type { App, Tab } from '../state.ts';
@@ -25,7 +26,7 @@ interface Planner {
 
 let drawn: DrawnPlan | null = null;
 let heat: L.ImageOverlay | null = null;
-let rallyLayer: L.LayerGroup | null = null;
+let fieldGroup: L.LayerGroup | null = null; // rally points and geofences (issue 31)
 let visible = false;
 let lastPlan: { job: Job; prepared: PreparedPlan } | null = null;
 
@@ -78,12 +79,16 @@ export const planTab: Tab = {
     const heatToggle = el('input', { type: 'checkbox', 'data-testid': 'heatmap-toggle', disabled: '' });
     const heatNote = el('span', { class: 'muted' });
     heatRow.append(heatToggle, document.createTextNode(' Coverage heatmap '), heatNote);
+    const fenceRow = el('label', { class: 'plan-check', title: 'each UAV’s geofence as the .plan export and the upload send it: the inclusion polygon around everything it flies (the no-fly zones are its exclusions)' });
+    const fenceToggle = el('input', { type: 'checkbox', 'data-testid': 'fence-toggle' });
+    const fenceNote = el('span', { class: 'muted', 'data-testid': 'fence-note' });
+    fenceRow.append(fenceToggle, document.createTextNode(' Geofence '), fenceNote);
     const metricsBox = section('Metrics', true, 'metrics-section');
     const exportsBox = section('Exports', true, 'exports-section');
     // the ground under each UAV's flight, for plans that follow a DEM (issue 31)
     const profileBox = section('Ground profile', true, 'profile-section');
     const results = el('div', { class: 'plan-results', hidden: '' });
-    results.append(legend, heatRow, metricsBox.box, profileBox.box, exportsBox.box);
+    results.append(legend, heatRow, fenceRow, metricsBox.box, profileBox.box, exportsBox.box);
     const study = section('Study: how many UAVs?', false, 'study-section');
     study.body.append(studyPanel(missionId));
     const compare = section('Compare planners', false, 'compare-section');
@@ -102,8 +107,9 @@ export const planTab: Tab = {
     const clear = () => {
       drawn?.remove();
       drawn = null;
-      rallyLayer?.remove();
-      rallyLayer = null;
+      fieldGroup?.remove();
+      fieldGroup = null;
+      fenceNote.textContent = '';
       heat?.remove();
       heat = null;
       heatToggle.checked = false;
@@ -130,6 +136,30 @@ export const planTab: Tab = {
     };
     heatToggle.addEventListener('change', showHeatmap);
 
+    // the rally points (the mission's, or those the planner proposed) and, when asked, the geofences
+    const showField = async () => {
+      fieldGroup?.remove();
+      fieldGroup = null;
+      if (!lastPlan || !visible) return;
+      const shown = lastPlan;
+      const plan = shown.prepared.plan;
+      const rally = Array.isArray(plan.rally) ? (plan.rally as [number, number][]) : [];
+      let fences = null;
+      if (fenceToggle.checked) {
+        fenceNote.textContent = '(loading…)';
+        fences = await planFences(shown.job.id, plan.uavs.map((u) => u.id));
+        if (lastPlan !== shown || !visible) return;
+        const n = fences.reduce((s, f) => s + f.polygons.length, 0);
+        fenceNote.textContent = `(${n} inclusion polygon${n === 1 ? '' : 's'}; the no-fly zones are its exclusions)`;
+        fenceNote.dataset.polygons = String(n);
+      } else {
+        fenceNote.textContent = '';
+      }
+      (fieldGroup as L.LayerGroup | null)?.remove(); // another call may have drawn meanwhile
+      fieldGroup = fieldLayer(rally, fences).addTo(app.map);
+    };
+    fenceToggle.addEventListener('change', () => void showField());
+
     const render = (job: Job, prepared: PreparedPlan) => {
       clear();
       lastPlan = { job, prepared };
@@ -139,15 +169,7 @@ export const planTab: Tab = {
         // the plan's view first, without animation: the tiles are drawn once, for that view
         if (summary.bounds) app.map.fitBounds(summary.bounds, { padding: [20, 20], animate: false });
         drawn = drawPlan(app.map, prepared);
-        // rally points (issue 31): the mission's, or those the planner proposed
-        const rally = Array.isArray(plan.rally) ? (plan.rally as [number, number][]) : [];
-        if (rally.length > 0) {
-          rallyLayer = L.layerGroup(
-            rally.map(([lon, lat], k) =>
-              L.circleMarker([lat, lon], { radius: 7, color: '#0a7d32', weight: 3, fillColor: '#fff', fillOpacity: 1, className: 'plan-rally' }).bindTooltip(`Rally point ${k + 1}`),
-            ),
-          ).addTo(app.map);
-        }
+        void showField();
       }
       legend.replaceChildren();
       for (const c of summary.uavs) {
@@ -313,6 +335,7 @@ export const planTab: Tab = {
       if (lastPlan && !drawn) {
         drawn = drawPlan(app.map, lastPlan.prepared);
         showHeatmap();
+        void showField();
       }
     };
     this.hide = () => {
@@ -321,6 +344,8 @@ export const planTab: Tab = {
       drawn = null;
       heat?.remove();
       heat = null;
+      fieldGroup?.remove();
+      fieldGroup = null;
     };
   },
 };

@@ -2,11 +2,14 @@
 // field, uploads a GeoTIFF elevation model (written by GDAL's own gdal_translate in the test) in the
 // Define tab, turns terrain following on with a tolerance and a climb limit, plans, and sees the ground
 // profile under each UAV's path with its band of heights above ground; screenshots at 1440x900 and
-// 768x1024.
+// 768x1024. Then the export options: the .waypoints in ArduPilot's terrain frame, and the .plan split to
+// the vehicle's item capacity (a zip of whole missions). Last the field options: rally points placed on
+// the map (one removed with a right-click), planned, drawn on the plan map with each UAV's geofence, and
+// in the .plan export.
 //   UAVCOVER_CLI   the uavcover binary (default <repo>/build/uavcover)
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
@@ -103,4 +106,87 @@ test('upload a DEM, follow the terrain, plan, and see the ground profile', async
   await page.locator('[data-testid=profile-section]').scrollIntoViewIfNeeded();
   await h.shot(page, 'terrain-02-profile-768');
   await page.setViewportSize({ width: 1440, height: 900 });
+});
+
+test('export for ArduPilot in the terrain frame, and split to the item capacity', async () => {
+  const planId = Number(await page.locator('[data-testid=metrics-panel]').getAttribute('data-plan-id'));
+  assert.ok(planId > 0, 'the plan tab names its plan');
+  const uav = (await api(`/plans/${planId}`)).result.uavs[0].id;
+  await page.locator('[data-testid=exports-panel]').scrollIntoViewIfNeeded();
+  await page.selectOption('[data-testid=export-autopilot]', 'ardupilot');
+  await page.check('[data-testid=export-terrain-frame]');
+  const [wpl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=export-wpl][data-uav="${uav}"]`)]);
+  const rows = readFileSync(await wpl.path(), 'utf8').trim().split('\n');
+  assert.equal(rows[0], 'QGC WPL 110');
+  const terrain = rows.slice(1).map((r) => r.split('\t').map(Number)).filter((v) => v[2] === 10);
+  assert.ok(terrain.length > 4, `${terrain.length} waypoints in MAV_FRAME_GLOBAL_TERRAIN_ALT`);
+  for (const v of terrain) assert.ok(Math.abs(v[10] - 40) < 1e-3, `terrain-frame height ${v[10]}`);
+  // the terrain frame is ArduPilot's: the PX4 export refuses it, in words
+  await page.selectOption('[data-testid=export-autopilot]', 'px4');
+  await page.click(`[data-testid=export-qgc][data-uav="${uav}"]`);
+  await page.waitForFunction(() => /ArduPilot/.test(document.querySelector('[data-testid=export-status]')?.textContent ?? ''), null, { timeout: 15000 });
+  await h.shot(page, 'terrain-03-export-refused');
+  await page.uncheck('[data-testid=export-terrain-frame]');
+  await page.selectOption('[data-testid=export-autopilot]', '');
+  await page.check('[data-testid=export-split]');
+  const [zip] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=export-qgc][data-uav="${uav}"]`)]);
+  assert.equal(zip.suggestedFilename(), `${uav}.plan.zip`);
+  const bytes = readFileSync(await zip.path());
+  assert.equal(bytes.readUInt32LE(0), 0x04034b50, 'a zip');
+  const listing = execFileSync('unzip', ['-Z1', await zip.path()], { encoding: 'utf8' }).trim().split('\n')
+    .sort((a, b) => Number(a.match(/\.s(\d+)\./)?.[1]) - Number(b.match(/\.s(\d+)\./)?.[1]));
+  // its battery sorties, each a whole mission within the PX4 capacity
+  assert.ok(listing.length >= 1 && listing.every((n, k) => n === `${uav}.s${k + 1}.plan`), listing.join(', '));
+  for (const name of listing) {
+    const part = JSON.parse(execFileSync('unzip', ['-p', await zip.path(), name], { encoding: 'utf8' }));
+    assert.equal(part.fileType, 'Plan');
+    assert.ok(part.mission.items.length <= 500 && part.mission.items[0].command === 22, name);
+  }
+  await h.shot(page, 'terrain-04-export-options');
+});
+
+test('place rally points on the map, plan, and see them with the geofence', async () => {
+  await h.tab(page, 'define');
+  for (const [x, y] of [[0.5, 0.45], [0.45, 0.52]]) {
+    await page.click('[data-testid=rally-add]');
+    await page.mouse.click(...(await h.mapPoint(page, x, y)));
+  }
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=rally-point]').length === 2, null, { timeout: 10000 });
+  assert.equal(await page.textContent('[data-testid=rally-count]'), '2 given');
+  await page.click('[data-testid=rally-point] >> nth=1', { button: 'right' });
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=rally-point]').length === 1, null, { timeout: 10000 });
+  await h.shot(page, 'terrain-05-rally-define');
+  await page.click('[data-testid=mission-save]');
+  const name = `e2e terrain ${stamp}`;
+  const { id } = (await api(`/missions?name=${encodeURIComponent(name)}`)).items[0];
+  await page.waitForFunction(async (m) => ((await (await fetch(`/api/v1/missions/${m}`)).json()).mission.rally ?? []).length === 1, id, { timeout: 15000 });
+  const [point] = (await api(`/missions/${id}`)).mission.rally;
+
+  await h.tab(page, 'plan');
+  const before = Number(await page.locator('[data-testid=metrics-panel]').getAttribute('data-plan-id'));
+  await page.click('[data-testid=plan-start]');
+  await page.waitForFunction((b) => Number(document.querySelector('[data-testid=metrics-panel]')?.getAttribute('data-plan-id')) > b, before, { timeout: 180000 });
+  const planId = Number(await page.locator('[data-testid=metrics-panel]').getAttribute('data-plan-id'));
+  await page.waitForFunction(() => document.querySelectorAll('#map .plan-rally').length === 1, null, { timeout: 15000 });
+  await page.check('[data-testid=fence-toggle]');
+  await page.waitForFunction(() => Number(document.querySelector('[data-testid=fence-note]')?.dataset.polygons) >= 1, null, { timeout: 30000 });
+  assert.ok((await page.locator('#map .plan-fence').count()) >= 1, 'the geofence is drawn');
+  await h.planDrawn(page);
+  await h.shot(page, 'terrain-06-rally-fence');
+  await page.setViewportSize({ width: 768, height: 1024 });
+  await page.waitForTimeout(400);
+  await page.locator('[data-testid=exports-panel]').scrollIntoViewIfNeeded();
+  await h.shot(page, 'terrain-06-rally-fence-768');
+  await page.setViewportSize({ width: 1440, height: 900 });
+  // the .plan carries the rally point and the fence the map shows
+  const uav = (await api(`/plans/${planId}`)).result.uavs[0].id;
+  const qgc = await api(`/plans/${planId}/exports/qgc?uav=${encodeURIComponent(uav)}`);
+  assert.equal(qgc.rallyPoints.points.length, 1);
+  assert.ok(Math.abs(qgc.rallyPoints.points[0][0] - point[1]) < 1e-7 && Math.abs(qgc.rallyPoints.points[0][1] - point[0]) < 1e-7);
+  assert.equal(qgc.geoFence.polygons.filter((p) => p.inclusion).length, 1);
+  // leaving the tab takes them off the map; coming back draws them again
+  await h.tab(page, 'define');
+  assert.equal(await page.locator('#map .plan-rally').count(), 0);
+  await h.tab(page, 'plan');
+  await page.waitForFunction(() => document.querySelectorAll('#map .plan-fence').length >= 1 && document.querySelectorAll('#map .plan-rally').length === 1, null, { timeout: 15000 });
 });
