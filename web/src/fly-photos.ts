@@ -40,8 +40,14 @@ export class FlyPhotos {
     row.append(this.refly);
     this.el.append(pick, alt, this.message, row);
     this.input.addEventListener('change', () => void this.read());
-    this.takeoff.addEventListener('change', () => {
-      if (this.tags.length) void this.cover();
+    // projected again a moment after the altitude is typed, not when the field loses focus: a blur from
+    // clicking "Refly from the photos" would redraw the message under the pointer and eat the click
+    let typed: number | undefined;
+    this.takeoff.addEventListener('input', () => {
+      clearTimeout(typed);
+      typed = window.setTimeout(() => {
+        if (this.tags.length) void this.cover();
+      }, 500);
     });
     this.refly.addEventListener('click', () => void this.reflyFromPhotos());
   }
@@ -71,22 +77,24 @@ export class FlyPhotos {
   private async read(): Promise<void> {
     const files = Array.from(this.input.files ?? []);
     if (files.length === 0) return;
-    this.tags = [];
+    this.tags = []; // the photos' tags are kept once all are read (a typed altitude projects none before)
     this.refly.disabled = true;
     this.message.className = 'fly-message';
     const groups = photoBatches(files.map((f) => f.size));
+    const tags: PhotoTags[] = [];
     try {
       for (const [k, group] of groups.entries()) {
         this.message.textContent = `Reading the photos’ tags… ${k + 1}/${groups.length}`;
         const form = new FormData();
         for (const i of group) form.append('photos', files[i].slice(0, HEAD_BYTES), files[i].name);
         const r = await api.postForm<{ items: PhotoTags[] }>('/photos/tags', form);
-        this.tags.push(...r.items);
+        tags.push(...r.items);
       }
     } catch (e) {
       this.fail('Photos', e);
       return;
     }
+    this.tags = tags;
     await this.cover();
   }
 

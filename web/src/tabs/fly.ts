@@ -77,6 +77,7 @@ export const flyTab: Tab = {
     let visible = false;
     let fitted: number | null = null;
     let coverageTimer: number | null = null;
+    let coverageSeq = 0;
     let autoStart: number | null = null; // a simulated flight to start once its missions are uploaded
     let planSeq = 0;
     /** the operator's last command, until the flight shows what became of it */
@@ -375,9 +376,12 @@ export const flyTab: Tab = {
     const refreshCoverage = async (once = false) => {
       const f = flight;
       if (!f) return;
+      // only the newest request's answer is shown: the periodic one still under way when the flight ends
+      // must not overwrite the final coverage asked for at the end
+      const seq = ++coverageSeq;
       try {
         const c = await api.get<FlightCoverage>(`/flights/${f.id}/coverage`);
-        if (flight?.id !== f.id) return;
+        if (flight?.id !== f.id || seq !== coverageSeq) return;
         replay.showCoverage(c);
         if (c.bounds && visible) layers.setCoverage(`${API}/flights/${f.id}/coverage.png?v=${Date.now()}`, c.bounds);
       } catch (e) {
