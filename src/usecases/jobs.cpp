@@ -166,6 +166,10 @@ JobResult plan_job(const Mission& mission, const json& params, const Context& ct
     metrics["total_time_min"] = out.total_time_min;
     metrics["cost_eur"] = out.cost_eur;
   }
+  if (out.facade_poc >= 0) {  // a structure scan: the wall's coverage (the plans list shows it, not PoC)
+    metrics["facade_poc"] = out.facade_poc;
+    metrics["facade_3plus"] = out.facade_3plus;
+  }
   JobResult r;
   r.result = {{"planner", p.planner},    {"seed", p.mission.seed},        {"complete", p.complete},
               {"uavs", std::move(uavs)}, {"metrics", std::move(metrics)}, {"warnings", std::move(warnings)}};

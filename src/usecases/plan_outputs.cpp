@@ -88,6 +88,10 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
       out.trajectory_flight_time_min = traj_cost.flight_time_min;
       out.poc = ev.coverage.total.poc;
       out.pooc = ev.coverage.total.pooc;
+      if (ev.facade) {
+        out.facade_poc = ev.facade->total.covered_share;
+        out.facade_3plus = ev.facade->total.share_3plus;
+      }
       out.flight_time_min = ev.cost.flight_time_min;
       out.total_time_min = ev.cost.total_time_min;
       out.cost_eur = ev.cost.flight_cost_eur;

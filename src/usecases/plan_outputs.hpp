@@ -37,6 +37,9 @@ struct PlanOutputs {
   nlohmann::json evaluation = nlohmann::json::object();
   std::vector<std::string> warnings;  ///< from the exporters (limits, skipped UAVs, separation hazards)
   double poc = -1, pooc = -1;         ///< when evaluated
+  /// A structure scan, when evaluated: the wall's share seen by a photo and by three or more (its ground
+  /// PoC says little: the photos look at the wall); -1 otherwise.
+  double facade_poc = -1, facade_3plus = -1;
   double flight_time_min = -1, total_time_min = -1, cost_eur = -1;
   double trajectory_flight_time_min = -1;  ///< the same from the time-parameterised trajectories
   /// With heatmap_overlay: the WGS84 box heatmap-overlay.png spans, [[south, west], [north, east]] (the

@@ -129,6 +129,32 @@ TEST(Jobs, PlanJobGivesTheCliArtifactsEveryExportAndMetrics) {
   EXPECT_TRUE(ev.contains("coverage") && ev.contains("cost"));
 }
 
+// Issue 30: a structure scan's job reports the wall's coverage (the plans list shows it: its ground PoC
+// says nothing of the facade), and a plan of an area has no such figure.
+TEST(Jobs, AStructureScanJobReportsTheWallsCoverage) {
+  const Mission m = parse_mission(R"({
+    "structure": {"footprint": {"type": "Polygon", "coordinates": [[[10.0, 45.0], [10.00038, 45.0],
+                  [10.00038, 45.00027], [10.0, 45.00027], [10.0, 45.0]]]},
+                  "height_m": 20, "standoff_m": 12},
+    "camera": {"altitude_m": 20, "sensor_width_mm": 13.2, "focal_length_mm": 8.8, "image_width_px": 5472,
+               "image_height_px": 3648, "side_overlap": 0.7, "front_overlap": 0.8},
+    "uavs": [{"id": "a"}], "planner": "boustrophedon"})");
+  const auto r =
+      usecases::run_job(JobType::Plan, m, usecases::validate_job_params(JobType::Plan, m, {{"seed", 1}}), {});
+  const json& metrics = r.result.at("metrics");
+  ASSERT_TRUE(metrics.contains("facade_poc")) << metrics.dump();
+  const double seen = metrics.at("facade_poc").get<double>(),
+               three = metrics.at("facade_3plus").get<double>();
+  EXPECT_GT(seen, 0.9);
+  EXPECT_LE(seen, 1.0);
+  EXPECT_GE(three, 0.0);
+  EXPECT_LE(three, seen);
+  const Mission area = rectangle();
+  const auto flat = usecases::run_job(JobType::Plan, area,
+                                      usecases::validate_job_params(JobType::Plan, area, {{"seed", 1}}), {});
+  EXPECT_FALSE(flat.result.at("metrics").contains("facade_poc"));
+}
+
 TEST(Jobs, StudyAndComparisonJobs) {
   const Mission m = rectangle();
   const auto s = usecases::run_job(JobType::Study, m,

@@ -30,6 +30,12 @@ export const METRICS: MetricRow[] = [
   { name: 'cost_eur', label: 'Cost €', title: 'flight cost', format: euros },
 ];
 
+/** A structure scan's rows (issue 30): the wall's coverage, all UAVs (job.metrics facade_poc, facade_3plus). */
+export const FACADE_METRICS: MetricRow[] = [
+  { name: 'facade_poc', label: 'Wall seen %', title: 'the share of the wall (and roof) seen by at least one photo', format: pct },
+  { name: 'facade_3plus', label: 'Wall 3+ views %', title: 'the share of the wall seen by three photos or more (what photogrammetry wants)', format: pct },
+];
+
 interface ResultUav {
   id: string;
   turns?: number;
@@ -58,7 +64,7 @@ export function metricValues(job: Job, plan: PlanJson | null): { id: string; val
   });
   const m = job.metrics ?? {};
   const total: Record<string, number | undefined> = {};
-  for (const r of METRICS) total[r.name] = typeof m[r.name] === 'number' ? m[r.name] : undefined;
+  for (const r of [...FACADE_METRICS, ...METRICS]) total[r.name] = typeof m[r.name] === 'number' ? m[r.name] : undefined;
   total.batteries = plan?.cost?.batteries_per_uav;
   return [...uavs, { id: 'total', values: total }];
 }
@@ -81,9 +87,12 @@ export function metricsPanel(job: Job, plan: PlanJson | null): HTMLElement {
   });
   table.append(el('thead'), el('tbody'));
   table.tHead!.append(head);
-  for (const r of METRICS) {
+  // a structure scan: the wall's coverage first, and the PoC named for what it is (the ground's)
+  const structure = typeof job.metrics?.facade_poc === 'number';
+  for (const r of structure ? [...FACADE_METRICS, ...METRICS] : METRICS) {
     const tr = el('tr');
-    tr.append(el('th', { scope: 'row', title: r.title }, r.label));
+    const label = structure && r.name === 'poc' ? 'Ground PoC %' : r.label;
+    tr.append(el('th', { scope: 'row', title: r.title }, label));
     for (const c of cols) {
       const v = c.values[r.name];
       const attrs: Record<string, string> = { 'data-uav': c.id, 'data-metric': r.name };

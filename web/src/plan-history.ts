@@ -14,7 +14,8 @@ export interface PlanSummary {
   metrics: Record<string, number>;
 }
 
-/** "#12 · darp · PoC 98.1 % · rev 2 · 14:05" (the state instead of PoC when not done; the date when not today). */
+/** "#12 · darp · PoC 98.1 % · rev 2 · 14:05" (the state instead of PoC when not done; the date when not today;
+ *  "wall 97.3 %" for a structure scan). */
 export function planLabel(p: PlanSummary, now = new Date()): string {
   const when = p.finished ?? p.created;
   let time = '';
@@ -23,7 +24,13 @@ export function planLabel(p: PlanSummary, now = new Date()): string {
     const hm = d.toLocaleTimeString(undefined, { hour: '2-digit', minute: '2-digit' });
     time = d.toDateString() === now.toDateString() ? hm : `${d.toLocaleDateString(undefined, { month: 'short', day: 'numeric' })} ${hm}`;
   }
-  const poc = typeof p.metrics?.poc === 'number' ? `PoC ${(p.metrics.poc * 100).toFixed(1)} %` : '';
+  // a structure scan's figure is the wall's coverage: its ground PoC says nothing of the facade
+  const poc =
+    typeof p.metrics?.facade_poc === 'number'
+      ? `wall ${(p.metrics.facade_poc * 100).toFixed(1)} %`
+      : typeof p.metrics?.poc === 'number'
+        ? `PoC ${(p.metrics.poc * 100).toFixed(1)} %`
+        : '';
   const parts = [`#${p.id}`, p.planner ?? '', p.state === 'done' ? poc : p.state, `rev ${p.revision}`, time];
   return parts.filter((x) => x).join(' · ');
 }

@@ -94,6 +94,11 @@ test('1. a structure: draw its footprint, height and standoff, plan, and the fac
   assert.equal(plan.uavs.length, 2);
   const facade = plan.evaluation?.facade ?? plan.facade;
   assert.ok(facade, `plan.json has the facade coverage (${Object.keys(plan.evaluation ?? {}).join(', ')})`);
+  // the metrics and the plans list speak of the wall it saw, the ground PoC named as such
+  const wall = Number(await page.locator('[data-testid=metric-facade_poc]').getAttribute('data-value'));
+  assert.ok(wall > 0.5 && wall <= 1, `wall seen ${wall}`);
+  assert.equal(await page.locator('[data-testid=metric-poc]').locator('xpath=..').locator('th').innerText(), 'Ground PoC %');
+  assert.match(await page.locator('[data-testid=plan-history] option:checked').innerText(), / · wall \d+\.\d % · /);
   await h.planDrawn(page);
   await h.shot(page, 'options-02-structure-plan');
   await page.setViewportSize({ width: 768, height: 1024 });

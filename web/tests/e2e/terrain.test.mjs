@@ -35,6 +35,15 @@ after(async () => {
   if (tmp) rmSync(tmp, { recursive: true, force: true });
 });
 
+/** A screenshot at 768x1024 with `selector` scrolled into view, then back to 1440x900. */
+async function shotAt768(name, selector) {
+  await page.setViewportSize({ width: 768, height: 1024 });
+  await page.waitForTimeout(400);
+  await page.locator(selector).scrollIntoViewIfNeeded();
+  await h.shot(page, name);
+  await page.setViewportSize({ width: 1440, height: 900 });
+}
+
 /** A GeoTIFF (EPSG:4326) over `bbox` with a 60 m hill in its middle on a 200 m plain: an ESRI ASCII grid
  * turned into a GeoTIFF by gdal_translate. */
 function hillTiff([w, s, e, n]) {
@@ -101,11 +110,7 @@ test('upload a DEM, follow the terrain, plan, and see the ground profile', async
   await h.planDrawn(page);
   await page.locator('[data-testid=profile-section]').scrollIntoViewIfNeeded();
   await h.shot(page, 'terrain-02-profile');
-  await page.setViewportSize({ width: 768, height: 1024 });
-  await page.waitForTimeout(400);
-  await page.locator('[data-testid=profile-section]').scrollIntoViewIfNeeded();
-  await h.shot(page, 'terrain-02-profile-768');
-  await page.setViewportSize({ width: 1440, height: 900 });
+  await shotAt768('terrain-02-profile-768', '[data-testid=profile-section]');
 });
 
 test('export for ArduPilot in the terrain frame, and split to the item capacity', async () => {
@@ -173,11 +178,7 @@ test('place rally points on the map, plan, and see them with the geofence', asyn
   assert.ok((await page.locator('#map .plan-fence').count()) >= 1, 'the geofence is drawn');
   await h.planDrawn(page);
   await h.shot(page, 'terrain-06-rally-fence');
-  await page.setViewportSize({ width: 768, height: 1024 });
-  await page.waitForTimeout(400);
-  await page.locator('[data-testid=exports-panel]').scrollIntoViewIfNeeded();
-  await h.shot(page, 'terrain-06-rally-fence-768');
-  await page.setViewportSize({ width: 1440, height: 900 });
+  await shotAt768('terrain-06-rally-fence-768', '[data-testid=exports-panel]');
   // the .plan carries the rally point and the fence the map shows
   const uav = (await api(`/plans/${planId}`)).result.uavs[0].id;
   const qgc = await api(`/plans/${planId}/exports/qgc?uav=${encodeURIComponent(uav)}`);

@@ -30,3 +30,10 @@ test('a plan label names id, planner, PoC (or the state), revision and time', ()
   assert.match(planLabel(plan(9, 'failed'), today), /^#9 · darp · failed · rev 2/);
   assert.match(planLabel(plan(4, 'queued', { planner: null, created: null }), today), /^#4 · queued · rev 2$/);
 });
+
+test('a structure scan is labelled by the wall it saw, not by its ground PoC', () => {
+  const today = new Date('2026-11-26T12:00:00.000Z');
+  const label = planLabel(plan(4, 'done', { planner: 'boustrophedon', metrics: { poc: 0, facade_poc: 0.97312, facade_3plus: 0.8 } }), today);
+  assert.match(label, /^#4 · boustrophedon · wall 97\.3 % · rev 2/);
+  assert.doesNotMatch(label, /PoC/);
+});
