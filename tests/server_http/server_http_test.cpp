@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "io/static_dir.hpp"
@@ -1114,6 +1115,14 @@ TEST_F(ServerHttp, JsonBodiesOnlyAndNoContentCoding) {
 
 TEST_F(ServerHttp, TransferEncodingOtherThanChunkedIsNotSmuggled) {
   start();
+  // the answer without its X-Request-Id line (16 random hex digits may hold "666" themselves: 1 in ~300)
+  auto mentions_666 = [](const std::string& text) {
+    std::string kept;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+      if (!line.starts_with("X-Request-Id:")) kept += line + "\n";
+    return kept.find("666") != std::string::npos;
+  };
   // the "body" is a second request: it must never be answered
   const std::string smuggled = "GET /api/v1/things/666 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
   for (const std::string te :
@@ -1125,7 +1134,7 @@ TEST_F(ServerHttp, TransferEncodingOtherThanChunkedIsNotSmuggled) {
                                        te + "\r\n" + smuggled);
     EXPECT_TRUE(text.rfind("HTTP/1.1 501", 0) == 0 || text.rfind("HTTP/1.1 400", 0) == 0) << te << text;
     EXPECT_EQ(count_of(text, "HTTP/1.1 "), 1U) << te << text;
-    EXPECT_EQ(text.find("666"), std::string::npos) << te << text;
+    EXPECT_FALSE(mentions_666(text)) << te << text;
   }
   const auto both =
       raw_exchange(port_,
@@ -1133,7 +1142,7 @@ TEST_F(ServerHttp, TransferEncodingOtherThanChunkedIsNotSmuggled) {
                    "Content-Length: 5\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n" +
                        smuggled);
   EXPECT_EQ(count_of(both, "HTTP/1.1 "), 1U) << both;
-  EXPECT_EQ(both.find("666"), std::string::npos) << both;
+  EXPECT_FALSE(mentions_666(both)) << both;
   // chunked itself works
   Client c(port_);
   c.write_raw(
