@@ -58,14 +58,10 @@ int main(int argc, char** argv) {
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const evaluation::Evaluation ev = evaluation::evaluate_plan(p);
         const std::vector<double> own = testing::own_region_coverage(p);
-        double regions = 0.0, dev = 0.0;
-        for (const auto& u : p.uavs) regions += bg::area(u.region_local);
-        for (const auto& u : p.uavs)
-          dev = std::max(dev, std::abs(bg::area(u.region_local) / regions - u.share_requested));
-        std::printf("| %s | %s | %zu | %.2f | %.2f | %.1f | %.1f | %.2f |\n", name.c_str(),
-                    shape.name.c_str(), p.uavs.size(), 100.0 * ev.coverage.total.poc,
-                    100.0 * *std::min_element(own.begin(), own.end()), 100.0 * regions / p.free_area_m2,
-                    100.0 * dev, secs);
+        std::printf(
+            "| %s | %s | %zu | %.2f | %.2f | %.1f | %.1f | %.2f |\n", name.c_str(), shape.name.c_str(),
+            p.uavs.size(), 100.0 * ev.coverage.total.poc, 100.0 * *std::min_element(own.begin(), own.end()),
+            100.0 * testing::regions_over_free_area(p), 100.0 * testing::worst_share_deviation(p), secs);
       } catch (const std::exception& e) {
         std::printf("| %s | %s | | X | X | X | X | %s |\n", name.c_str(), shape.name.c_str(), e.what());
       }

@@ -8,6 +8,7 @@
 // that UAV's own footprint over that UAV's own region.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -206,6 +207,24 @@ inline std::vector<double> own_region_coverage(const Plan& plan) {
     out.push_back(evaluation::evaluate_coverage(u.region_local, {flight}, o).total.poc);
   }
   return out;
+}
+
+/// The UAVs' regions together over the free area (DARP's strict regions are its grid cells inside the
+/// area, so for DARP this is below 1 by what its grid leaves out).
+inline double regions_over_free_area(const Plan& plan) {
+  double regions = 0.0;
+  for (const auto& u : plan.uavs) regions += bg::area(u.region_local);
+  return plan.free_area_m2 > 0.0 ? regions / plan.free_area_m2 : 0.0;
+}
+
+/// The largest |a region's area over all regions' - the requested share| over the UAVs.
+inline double worst_share_deviation(const Plan& plan) {
+  double regions = 0.0, dev = 0.0;
+  for (const auto& u : plan.uavs) regions += bg::area(u.region_local);
+  for (const auto& u : plan.uavs)
+    dev = std::max(dev,
+                   std::abs((regions > 0.0 ? bg::area(u.region_local) / regions : 0.0) - u.share_requested));
+  return dev;
 }
 
 }  // namespace uavcover::testing

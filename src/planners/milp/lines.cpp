@@ -228,11 +228,24 @@ std::vector<MultiPolygon> regions(const Lines& lines, const MultiPolygon& free, 
         const double y0 = part.frame.to(lines.segments[s].a).y(), y1 = part.frame.to(lines.segments[s].b).y();
         return std::pair{std::min(y0, y1), std::max(y0, y1)};
       };
+      // The side between the cells of two segments of a line: the cut point where they touch; across a
+      // gap (a hole or a no-fly zone, cut from the cells later) the roundest coordinate in its middle
+      // half, so that the sides of neighbouring lines' cells across one obstacle are equal. Their
+      // midpoints differ by a fraction of a millimetre from line to line where the field is not
+      // aligned with the frame (0.2 mm on the arctic hard shape), and such nearly collinear sides made
+      // Boost.Geometry's union of a UAV's cells come out empty (that field lost 16 % of its area).
+      auto side = [](double end, double next) {
+        if (next - end < 1e-6) return 0.5 * (end + next);
+        const double a = end + 0.25 * (next - end), b = next - 0.25 * (next - end);
+        for (double step = std::pow(10.0, std::ceil(std::log10(next - end))); step > 1e-3; step /= 10.0)
+          if (const double m = std::ceil(a / step) * step; m <= b) return m;
+        return 0.5 * (end + next);
+      };
       for (std::size_t i = 0; i < on.size(); ++i) {
         const int who = owner[on[i]];
         if (who < 0 || who >= uavs) continue;
-        const double lo = i == 0 ? ylo : 0.5 * (span(on[i - 1]).second + span(on[i]).first);
-        const double hi = i + 1 == on.size() ? yhi : 0.5 * (span(on[i]).second + span(on[i + 1]).first);
+        const double lo = i == 0 ? ylo : side(span(on[i - 1]).second, span(on[i]).first);
+        const double hi = i + 1 == on.size() ? yhi : side(span(on[i]).second, span(on[i + 1]).first);
         add(who, Box{{bounds[l], lo}, {bounds[l + 1], hi}}, {on[i]});
       }
     }

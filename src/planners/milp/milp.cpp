@@ -577,7 +577,10 @@ Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& s
       // a 4 km x 150 m strip has 3 lines for 6 UAVs)
       const bool first =
           taken == 0 && take.size() == 1 && (amount - target > target || left - 1 < need_after);
-      if ((taken > 0 || first) && acc + amount > target + 1e-9 && target - acc >= min_piece) {
+      // a cut too where taking `take` whole would leave too few segments for the groups after this one
+      const bool too_few_left = left - static_cast<int>(take.size()) < need_after;
+      if ((taken > 0 || first) && (acc + amount > target + 1e-9 || too_few_left) &&
+          target - acc >= min_piece) {
         // a cut of one of the first frontier segments (a bounded number of tries)
         std::tuple<double, int, bool> best{0.0, -1, false};
         for (std::size_t i = 0; i < pool.size() && i < 16; ++i) {
@@ -593,7 +596,7 @@ Grouping connected_groups(const milp::Lines& lines, const std::vector<double>& s
       if (taken >= sizes[static_cast<std::size_t>(g)] &&
           (acc >= target - 1e-9 || acc + amount - target > target - acc))
         break;
-      if (left - static_cast<int>(take.size()) < need_after) break;
+      if (too_few_left) break;
       for (int s : take) {
         own(s);
         --left;
