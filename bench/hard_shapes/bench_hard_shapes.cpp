@@ -7,6 +7,7 @@
 // Prints a Markdown table; bench/hard_shapes/run.sh writes it to bench/results/hard-shapes.md.
 // usage: bench_hard_shapes [PLANNER...] [MISSION.json...]   (default: every registered planner, the
 // fixtures; mission files replace the fixtures)
+//        bench_hard_shapes --write-missions DIR   (the fixtures as DIR/<shape>.json; the folder must exist)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,6 +31,19 @@ int main(int argc, char** argv) {
   bool own_missions = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--write-missions" &&
+        i + 1 < argc) {  // the fixtures as mission files, to plan or open in the app
+      const std::string dir = argv[++i];
+      for (const auto& shape : shapes) {
+        std::ofstream out(dir + "/" + shape.name + ".json");
+        out << shape.mission.dump(1) << '\n';
+        if (!out) {
+          std::fprintf(stderr, "cannot write %s/%s.json\n", dir.c_str(), shape.name.c_str());
+          return 1;
+        }
+      }
+      return 0;
+    }
     if (a.size() > 5 && a.ends_with(".json")) {  // a mission file instead of the fixtures
       std::ifstream in(a);
       std::stringstream text;
