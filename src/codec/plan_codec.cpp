@@ -16,6 +16,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "evaluation/evaluate.hpp"
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "mission/mission_json.hpp"
@@ -199,16 +200,7 @@ json plan_json(const Plan& plan, const json& extra) {
 
 namespace {
 
-/// A WGS84 position from a GeoJSON coordinate array, checked.
-LonLat position(const json& c, const std::string& field) {
-  if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number())
-    throw InputError(field, "expected [longitude, latitude]");
-  const LonLat ll{c[0].get<double>(), c[1].get<double>()};
-  if (!std::isfinite(ll.lon) || !std::isfinite(ll.lat) || std::fabs(ll.lon) > 180.0 ||
-      std::fabs(ll.lat) > 90.0)
-    throw InputError(field, "not a WGS84 position");
-  return ll;
-}
+using evaluation::read_position;
 
 /// Positions of a plan must lie near the mission: within this distance of the frame's origin.
 constexpr double kMaxPlanExtentM = 500'000.0;
@@ -221,43 +213,6 @@ int whole(const json& j, const std::string& field, int lo, int hi) {
   return static_cast<int>(v);
 }
 
-/// A finite number in [lo, hi].
-double number_in(const json& j, const std::string& field, double lo, double hi, const char* unit) {
-  if (!j.is_number() || !std::isfinite(j.get<double>()) || j.get<double>() < lo || j.get<double>() > hi)
-    throw InputError(field, fmt::format("expected a number in [{}, {}] {}", lo, hi, unit));
-  return j.get<double>();
-}
-
-/// A part's attitude read back as untrusted input (docs/exports.md): known fields only, each in range, one
-/// heading per vertex of the part (`vertices`). `to_local` checks and converts the ROI's position.
-template <typename ToLocal>
-Attitude read_attitude(const json& j, const std::string& f, std::size_t vertices, const ToLocal& to_local) {
-  if (!j.is_object()) throw InputError(f, "expected an object");
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "altitude_m" && it.key() != "heading_deg" && it.key() != "gimbal_pitch_deg" &&
-        it.key() != "roi" && it.key() != "trigger_distance_m")
-      throw InputError(f + "." + it.key(),
-                       "unknown field (expected altitude_m, heading_deg, gimbal_pitch_deg, roi, "
-                       "trigger_distance_m)");
-  Attitude a;
-  if (j.contains("altitude_m"))
-    a.altitude_m = number_in(j["altitude_m"], f + ".altitude_m", 0.0, 10000.0, "m");
-  if (j.contains("heading_deg")) {
-    const json& h = j["heading_deg"];
-    if (!h.is_array() || h.size() != vertices)
-      throw InputError(f + ".heading_deg",
-                       fmt::format("expected one heading per vertex of the part ({} numbers)", vertices));
-    for (std::size_t k = 0; k < h.size(); ++k)
-      a.heading_deg.push_back(number_in(h[k], fmt::format("{}.heading_deg[{}]", f, k), -360.0, 360.0, "deg"));
-  }
-  if (j.contains("gimbal_pitch_deg"))
-    a.gimbal_pitch_deg = number_in(j["gimbal_pitch_deg"], f + ".gimbal_pitch_deg", -90.0, 90.0, "deg");
-  if (j.contains("roi")) a.roi = to_local(position(j["roi"], f + ".roi"), f + ".roi");
-  if (j.contains("trigger_distance_m"))
-    a.trigger_distance_m = number_in(j["trigger_distance_m"], f + ".trigger_distance_m", 0.01, 10000.0, "m");
-  return a;
-}
-
 }  // namespace
 
 Plan load_plan(const json& pj, const json& gj) {
@@ -265,7 +220,7 @@ Plan load_plan(const json& pj, const json& gj) {
   try {
     if (!pj.is_object() || !pj.contains("mission")) throw InputError("plan.json: mission", "missing");
     plan.mission = parse_mission(pj["mission"].dump(), ParseOptions{std::size_t{1} << 40});
-    plan.origin = position(pj.at("origin"), "plan.json: origin");
+    plan.origin = read_position(pj.at("origin"), "plan.json: origin");
     const geodesy::LocalFrame frame(plan.origin);
     if (const Point c = frame.to_local(geodesy::centroid(plan.mission.area));
         !(std::hypot(c.x(), c.y()) <= kMaxPlanExtentM))
@@ -288,7 +243,7 @@ Plan load_plan(const json& pj, const json& gj) {
         throw InputError("plan.json: rally", "expected at most 1000 positions");
       for (std::size_t k = 0; k < r.size(); ++k) {
         const std::string f = "plan.json: rally[" + std::to_string(k) + "]";
-        const LonLat p = position(r[k], f);
+        const LonLat p = read_position(r[k], f);
         (void)local(p, f);
         plan.rally.push_back(p);
       }
@@ -321,7 +276,7 @@ Plan load_plan(const json& pj, const json& gj) {
             throw InputError(fk + "." + name, "expected an empty array or at least 2 positions");
           PathPart t{PartKind::Transit, {}, {}};
           for (const auto& c : line) {
-            t.wgs84.push_back(position(c, fk + "." + name));
+            t.wgs84.push_back(read_position(c, fk + "." + name));
             t.local.push_back(local(t.wgs84.back(), fk + "." + name));
           }
           s.parts.push_back(std::move(t));
@@ -337,7 +292,7 @@ Plan load_plan(const json& pj, const json& gj) {
     for (std::size_t i = 0; i < ju.size(); ++i) {
       const std::string f = "plan.json: uavs[" + std::to_string(i) + "]";
       auto& mu = plan.mission.uavs[i];
-      mu.start_resolved = position(ju[i].at("start"), f + ".start");
+      mu.start_resolved = read_position(ju[i].at("start"), f + ".start");
       (void)local(mu.start_resolved, f + ".start");
       UavPlan up;
       up.id = ju[i].at("id").get<std::string>();
@@ -364,7 +319,7 @@ Plan load_plan(const json& pj, const json& gj) {
           GeoRing ring;
           Polygon::ring_type lring;
           for (const auto& c : jring) {
-            ring.push_back(position(c, f + ".region"));
+            ring.push_back(read_position(c, f + ".region"));
             lring.push_back(local(ring.back(), f + ".region"));
           }
           (gp.empty() ? lp.outer() : (lp.inners().push_back({}), lp.inners().back())) = std::move(lring);
@@ -401,24 +356,10 @@ Plan load_plan(const json& pj, const json& gj) {
       PathPart part;
       part.kind = kind == "coverage" ? PartKind::Coverage : PartKind::Transit;
       for (const auto& c : geometry.at("coordinates")) {
-        part.wgs84.push_back(position(c, f + ".geometry.coordinates"));
+        part.wgs84.push_back(read_position(c, f + ".geometry.coordinates"));
         part.local.push_back(local(part.wgs84.back(), f + ".geometry.coordinates"));
       }
-      if (props.contains("camera_off")) {
-        const auto& off = props.at("camera_off");
-        if (!off.is_array())
-          throw InputError(f + ".properties.camera_off", "expected an array of segment indices");
-        part.camera_off.assign(part.local.size() - 1, 0);
-        for (const auto& k : off) {
-          if (!k.is_number_unsigned() || k.get<std::size_t>() >= part.camera_off.size())
-            throw InputError(f + ".properties.camera_off",
-                             "expected segment indices below " + std::to_string(part.camera_off.size()));
-          part.camera_off[k.get<std::size_t>()] = 1;
-        }
-      }
-      if (props.contains("attitude"))
-        part.attitude =
-            read_attitude(props.at("attitude"), f + ".properties.attitude", part.local.size(), local);
+      evaluation::read_camera_properties(props, f + ".properties", part, local);
       it->parts.push_back(std::move(part));
     }
     if (any_sorties) {

@@ -1,5 +1,7 @@
 #include "evaluation/evaluate.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -129,6 +131,16 @@ std::vector<double> heights_above_ground(const Plan& plan, std::size_t uav, Poin
   return out;
 }
 
+void set_oblique_camera(const Mission& mission, CoverageOptions& coverage) {
+  // oblique parts sweep the tilted footprint of the mission's camera
+  if (coverage.hfov_deg > 0.0 || !mission.camera || !mission.along_track_footprint_m ||
+      !(mission.altitude_m > 0.0))
+    return;
+  coverage.altitude_m = mission.altitude_m;
+  coverage.hfov_deg = photo::fov_deg(footprint_for(mission), mission.altitude_m);
+  coverage.vfov_deg = photo::fov_deg(*mission.along_track_footprint_m, mission.altitude_m);
+}
+
 Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const geodesy::LocalFrame frame(plan.origin);
   const MultiPolygon free = free_area(plan.mission, frame);
@@ -143,13 +155,7 @@ Evaluation evaluate_plan(const Plan& plan, const EvaluateOptions& options) {
   const double w =
       options.coverage.footprint_m > 0.0 ? options.coverage.footprint_m : footprint_for(plan.mission);
   EvaluateOptions opt = options;
-  // oblique parts (docs/patterns.md "Obliques") sweep the tilted footprint of the mission's camera
-  if (opt.coverage.hfov_deg <= 0.0 && plan.mission.camera && plan.mission.along_track_footprint_m &&
-      plan.mission.altitude_m > 0.0) {
-    opt.coverage.altitude_m = plan.mission.altitude_m;
-    opt.coverage.hfov_deg = photo::fov_deg(footprint_for(plan.mission), plan.mission.altitude_m);
-    opt.coverage.vfov_deg = photo::fov_deg(*plan.mission.along_track_footprint_m, plan.mission.altitude_m);
-  }
+  set_oblique_camera(plan.mission, opt.coverage);
   if (!opt.cost.wind) opt.cost.wind = plan.mission.wind;  // the time model in the mission's wind
   // heterogeneous cameras: each UAV's legs sweep its own footprint (a --footprint override sweeps one w)
   set_uav_footprints(plan.mission, plan.uavs.size(), w, opt.coverage);
@@ -317,6 +323,72 @@ json evaluation_json(const Evaluation& e) {
 
 namespace {
 
+/// A finite number in [lo, hi].
+double number_in(const json& j, const std::string& field, double lo, double hi, const char* unit) {
+  if (!j.is_number() || !std::isfinite(j.get<double>()) || j.get<double>() < lo || j.get<double>() > hi)
+    throw InputError(field, fmt::format("expected a number in [{}, {}] {}", lo, hi, unit));
+  return j.get<double>();
+}
+
+Attitude read_attitude(const json& j, const std::string& f, std::size_t vertices, const ToLocal& to_local) {
+  if (!j.is_object()) throw InputError(f, "expected an object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "altitude_m" && it.key() != "heading_deg" && it.key() != "gimbal_pitch_deg" &&
+        it.key() != "roi" && it.key() != "trigger_distance_m")
+      throw InputError(f + "." + it.key(),
+                       "unknown field (expected altitude_m, heading_deg, gimbal_pitch_deg, roi, "
+                       "trigger_distance_m)");
+  Attitude a;
+  if (j.contains("altitude_m"))
+    a.altitude_m = number_in(j["altitude_m"], f + ".altitude_m", 0.0, 10000.0, "m");
+  if (j.contains("heading_deg")) {
+    const json& h = j["heading_deg"];
+    if (!h.is_array() || h.size() != vertices)
+      throw InputError(f + ".heading_deg",
+                       fmt::format("expected one heading per vertex of the part ({} numbers)", vertices));
+    for (std::size_t k = 0; k < h.size(); ++k)
+      a.heading_deg.push_back(number_in(h[k], fmt::format("{}.heading_deg[{}]", f, k), -360.0, 360.0, "deg"));
+  }
+  if (j.contains("gimbal_pitch_deg"))
+    a.gimbal_pitch_deg = number_in(j["gimbal_pitch_deg"], f + ".gimbal_pitch_deg", -90.0, 90.0, "deg");
+  if (j.contains("roi")) a.roi = to_local(read_position(j["roi"], f + ".roi"), f + ".roi");
+  if (j.contains("trigger_distance_m"))
+    a.trigger_distance_m = number_in(j["trigger_distance_m"], f + ".trigger_distance_m", 0.01, 10000.0, "m");
+  return a;
+}
+
+}  // namespace
+
+LonLat read_position(const json& c, const std::string& field) {
+  if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number())
+    throw InputError(field, "expected [longitude, latitude]");
+  const LonLat ll{c[0].get<double>(), c[1].get<double>()};
+  if (!std::isfinite(ll.lon) || !std::isfinite(ll.lat) || std::fabs(ll.lon) > 180.0 ||
+      std::fabs(ll.lat) > 90.0)
+    throw InputError(field, "not a WGS84 position");
+  return ll;
+}
+
+void read_camera_properties(const json& props, const std::string& field, PathPart& part,
+                            const ToLocal& to_local) {
+  if (!props.is_object()) return;
+  if (props.contains("camera_off")) {
+    const auto& off = props.at("camera_off");
+    if (!off.is_array()) throw InputError(field + ".camera_off", "expected an array of segment indices");
+    part.camera_off.assign(part.local.size() - 1, 0);
+    for (const auto& k : off) {
+      if (!k.is_number_unsigned() || k.get<std::size_t>() >= part.camera_off.size())
+        throw InputError(field + ".camera_off",
+                         "expected segment indices below " + std::to_string(part.camera_off.size()));
+      part.camera_off[k.get<std::size_t>()] = 1;
+    }
+  }
+  if (props.contains("attitude"))
+    part.attitude = read_attitude(props.at("attitude"), field + ".attitude", part.local.size(), to_local);
+}
+
+namespace {
+
 std::vector<Point> read_line(const json& coords, const std::string& field, const geodesy::LocalFrame& frame,
                              std::vector<LonLat>& wgs) {
   if (!coords.is_array()) throw InputError(field, "must be an array of [longitude, latitude] positions");
@@ -362,6 +434,7 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
                      "unsupported GeoJSON type '" + type + "' (FeatureCollection, Feature or LineString)");
   }
 
+  const ToLocal to_local = [&frame](const LonLat& ll, const std::string&) { return frame.to_local(ll); };
   GeoPaths out;
   std::map<std::string, std::size_t> index;
   int anonymous = 0;
@@ -421,6 +494,7 @@ GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& f
       part.kind = kind;
       part.local = read_line(*lines[li], gt == "LineString" ? cf : cf + "[" + std::to_string(li) + "]", frame,
                              part.wgs84);
+      read_camera_properties(props, pre + "properties", part, to_local);
       out.flights[it->second].push_back(std::move(part));
     }
   }

@@ -2,6 +2,7 @@
 // paths (GeoJSON LineStrings per UAV) for `uavcover evaluate`.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -96,9 +97,30 @@ struct GeoPaths {
   std::vector<Flight> flights;  ///< local coordinates filled from `frame`, WGS84 kept
 };
 
+/// A WGS84 position from a GeoJSON coordinate array [longitude, latitude, ...], checked as untrusted
+/// input (InputError naming `field`).
+LonLat read_position(const nlohmann::json& c, const std::string& field);
+
+/// Converts a WGS84 position of an input file to local metres, or throws InputError naming `field`.
+using ToLocal = std::function<Point(const LonLat&, const std::string& field)>;
+
+/// How a line's camera works, from its paths.geojson properties (docs/exports.md), read as untrusted
+/// input into `part` (its points set): `attitude` (altitude_m, heading_deg one per vertex,
+/// gimbal_pitch_deg, roi, trigger_distance_m; known fields only, each in range) and `camera_off` (the
+/// indices of the segments flown with the camera off). Throws InputError naming the field under `field`
+/// (the feature's "….properties").
+void read_camera_properties(const nlohmann::json& props, const std::string& field, PathPart& part,
+                            const ToLocal& to_local);
+
+/// The oblique parts' camera (docs/patterns.md "Obliques"): the fields of view of the mission's camera
+/// at its altitude, unless `coverage` has its own. Nothing without a camera.
+void set_oblique_camera(const Mission& mission, CoverageOptions& coverage);
+
 /// Reads a FeatureCollection (or a single Feature / geometry) of LineStrings or MultiLineStrings.
 /// properties.uav names the UAV (lines with the same name form one flight); without it every
-/// line is its own UAV. properties.kind "transit" marks transit legs. Polygon and Point features
+/// line is its own UAV. properties.kind "transit" marks transit legs; properties.attitude and
+/// camera_off as read_camera_properties (plan's own paths.geojson keep their obliques and camera
+/// gaps; a MultiLineString's attitude holds for each of its lines). Polygon and Point features
 /// are ignored. Throws InputError naming the field (e.g. "features[2].geometry.coordinates").
 GeoPaths parse_paths_geojson(std::string_view text, const geodesy::LocalFrame& frame);
 

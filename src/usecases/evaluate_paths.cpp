@@ -38,7 +38,8 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
 
   evaluation::EvaluateOptions opt = options;
   opt.coverage.context = &ctx;
-  if (!opt.cost.wind) opt.cost.wind = mission.wind;  // other tools' paths timed in the mission's wind
+  if (!opt.cost.wind) opt.cost.wind = mission.wind;       // other tools' paths timed in the mission's wind
+  evaluation::set_oblique_camera(mission, opt.coverage);  // lines with a tilted gimbal sweep its trapezoid
   const double w =
       opt.coverage.footprint_m > 0.0 ? opt.coverage.footprint_m : evaluation::footprint_for(mission);
   evaluation::set_uav_footprints(shown.mission, out.uavs.size(), w, opt.coverage);
@@ -56,8 +57,8 @@ PathsEvaluation evaluate_paths(const Mission& mission, std::string_view geojson,
     }
     shown.uavs.push_back(std::move(up));
   }
-  // a structure scan (docs/patterns.md): the wall's coverage by the paths' photos (their parts carry no
-  // attitude: the mission's altitude, the camera along the track)
+  // a structure scan (docs/patterns.md): the wall's coverage by the paths' photos (each line's attitude
+  // as its properties give it; without one, the mission's altitude and the camera along the track)
   out.evaluation.facade = evaluation::evaluate_facade(shown);
   return out;
 }
