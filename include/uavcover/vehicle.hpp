@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "uavcover/mission.hpp"
@@ -56,6 +57,13 @@ constexpr const VehicleProfile* vehicle_profile(std::string_view name) {
   for (const auto& p : kVehicleProfiles)
     if (p.name == name) return &p;
   return nullptr;
+}
+
+/// The profiles' names for a message that lists them: "px4", "ardupilot", "dji", "litchi".
+inline std::string vehicle_profile_names() {
+  std::string out;
+  for (const auto& p : kVehicleProfiles) out += (out.empty() ? "\"" : ", \"") + std::string(p.name) + "\"";
+  return out;
 }
 
 /// The item capacity of `profile` with a mission's max_mission_items: where the board decides

@@ -26,7 +26,7 @@ std::string export_autopilot(const Plan& plan, const ExportOptions& opt) {
   std::string shown = opt.autopilot.substr(0, 64);
   for (char& c : shown)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  throw InputError("autopilot", "must be 'px4', 'ardupilot', 'dji' or 'litchi', got '" + shown + "'");
+  throw InputError("autopilot", "expected one of " + vehicle_profile_names() + ", got '" + shown + "'");
 }
 
 int qgc_firmware_type(const Plan& plan, const ExportOptions& opt) {

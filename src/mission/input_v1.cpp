@@ -20,12 +20,9 @@ constexpr std::size_t kMaxRallyPoints = 100;
 /// A vehicle profile's name (issue 31, include/uavcover/vehicle.hpp).
 std::string autopilot_name(const json& j, const std::string& field) {
   const std::string name = str(j, field);
-  if (vehicle_profile(name) == nullptr) {
-    std::string known;
-    for (const auto& p : kVehicleProfiles)
-      known += (known.empty() ? "\"" : ", \"") + std::string(p.name) + "\"";
-    throw InputError(field, "expected one of " + known + ", got \"" + name + "\"");
-  }
+  if (vehicle_profile(name) == nullptr)
+    throw InputError(field,
+                     "expected one of " + vehicle_profile_names() + ", got \"" + name.substr(0, 64) + "\"");
   return name;
 }
 

@@ -172,12 +172,10 @@ bool flag_param(const Request& req, const std::string& name) {
 usecases::ExportVariant export_variant(const Request& req) {
   usecases::ExportVariant v;
   if (const auto it = req.query.find("autopilot"); it != req.query.end()) {
-    if (vehicle_profile(it->second) == nullptr) {
-      std::string names;
-      for (const auto& p : kVehicleProfiles) names += (names.empty() ? "" : ", ") + std::string(p.name);
+    if (vehicle_profile(it->second) == nullptr)
       throw HttpError(400, "autopilot",
-                      "unknown autopilot \"" + it->second.substr(0, 40) + "\"; expected one of " + names);
-    }
+                      "unknown autopilot \"" + it->second.substr(0, 40) + "\"; expected one of " +
+                          vehicle_profile_names());
     v.autopilot = it->second;
   }
   v.terrain_frame = flag_param(req, "terrain_frame");
