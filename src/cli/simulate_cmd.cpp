@@ -149,8 +149,7 @@ void run_simulate(const SimulateArgs& a) {
     c.home = home;
     if (!home && !starts.empty()) c.home = starts[static_cast<std::size_t>(i) % starts.size()];
     // a plan with a DEM: the ground under the vehicle (AMSL heights, and the terrain frame of an upload)
-    c.ground = ground;
-    if (ground && c.home) c.home_amsl_m = ground->at(*c.home);
+    c.set_ground(ground);
     c.v_max = a.speed;
     c.a_max = a.accel;
     c.acceptance_radius_m = a.radius;

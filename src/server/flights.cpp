@@ -97,10 +97,7 @@ SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_
     c.tcp = out.tcp;
     c.home = u.start_resolved;
     // a plan with a DEM: AMSL heights over the ground under home, terrain-frame heights over the DEM
-    if (plan.mission.terrain && plan.mission.terrain->grid) {
-      c.ground = plan.mission.terrain->grid;
-      c.home_amsl_m = c.ground->at(u.start_resolved);
-    }
+    if (plan.mission.terrain) c.set_ground(plan.mission.terrain->grid);
     c.v_max = u.speed_mps;
     c.a_max = u.max_accel_mps2;
     c.endurance_min = battery ? battery_min : u.endurance_min;

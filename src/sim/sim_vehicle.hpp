@@ -18,6 +18,7 @@
 #include <random>
 #include <stop_token>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "autopilot/fence.hpp"
@@ -55,6 +56,12 @@ struct VehicleConfig {
   /// terrain data, and MISSION_START of a mission with such items is refused ("PreArm: Waiting for
   /// terrain data"), as ArduPilot without terrain data refuses it.
   std::shared_ptr<const HeightGrid> ground;
+  /// A plan's DEM (or none) as the ground: `ground`, and `home_amsl_m` the ground's height at `home`
+  /// when both are known (AMSL heights over the ground under home).
+  void set_ground(std::shared_ptr<const HeightGrid> dem) {
+    ground = std::move(dem);
+    if (ground && home) home_amsl_m = ground->at(*home);
+  }
   double v_max = 5.0;                ///< m/s horizontal, until the mission's DO_CHANGE_SPEED
   double a_max = 2.0;                ///< m/s^2
   double v_up = 3.0, v_down = 1.5;   ///< vertical speed limits, m/s
