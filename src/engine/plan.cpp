@@ -461,6 +461,8 @@ Plan plan_one(const Mission& mission, const PlanOptions& options, const Context&
   return out;
 }
 
+Plan plan_in_wind(const Mission& mission, const PlanOptions& options, const Context& ctx);
+
 /// `"planner": "auto"` (docs/planners.md): every planner that supports the mission plans it, under a
 /// share of what is left of the time limit; each plan is evaluated by the real evaluator and the best by
 /// the objective wins among those whose PoC is at least the best PoC less 0.5 points.
@@ -517,7 +519,8 @@ Plan plan_auto(const Mission& mission, const PlanOptions& options, const Context
     m.planner = c.name;
     m.planner_params = nlohmann::json::object();  // each planner's defaults
     try {
-      Plan p = plan_one(m, options, sub);
+      // in wind, a planner with a free sweep direction searches it within its share of the time
+      Plan p = plan_in_wind(m, options, sub);
       evaluation::EvaluateOptions eo;
       eo.coverage.context = &sub;
       const evaluation::Evaluation ev = evaluation::evaluate_plan(p, eo);

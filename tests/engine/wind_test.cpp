@@ -104,6 +104,39 @@ TEST(WindPlanning, BoustrophedonSweepsAcrossAStrongWindWhenThatIsFaster) {
   EXPECT_GT(east_west_fraction(plan(parse_mission(j.dump()))), 0.9);
 }
 
+// "planner": "auto" in wind: the planners with a free sweep direction search it inside auto too, so the
+// winner is at least as fast as boustrophedon's own search (auto had planned each candidate once, in
+// the calm-air direction, and boustrophedon's candidate flew the legs along the wind).
+TEST(WindPlanning, AutoSearchesTheSweepDirectionOfItsCandidates) {
+  json j = field();
+  j["wind"] = {{"speed_mps", 8}, {"from_deg", 270}};
+  const Plan boustro = plan(parse_mission(j.dump()));
+  j["planner"] = "auto";
+  const Plan chosen = plan(parse_mission(j.dump()));
+  const Wind w{8, 270};
+  const double t_auto = flight_time_in(chosen, w), t_boustro = flight_time_in(boustro, w);
+  std::printf("auto in wind: %s, %.2f min; boustrophedon's own search: %.2f min\n", chosen.planner.c_str(),
+              t_auto, t_boustro);
+  EXPECT_LE(t_auto, t_boustro + 1e-6);
+  const auto& rows = chosen.selection["candidates"];
+  bool boustro_row = false;
+  for (const auto& r : rows)
+    if (r["planner"] == "boustrophedon" && r.contains("figures")) {
+      boustro_row = true;
+      EXPECT_NEAR(r["figures"]["time_min"].get<double>(),
+                  boustro.diagnostics["wind_sweep"]["flight_time_min"].get<double>(), 1e-6)
+          << "auto's boustrophedon candidate is the direction search's plan";
+    }
+  EXPECT_TRUE(boustro_row);
+  if (chosen.planner == "boustrophedon" || chosen.planner == "milp") {
+    EXPECT_TRUE(chosen.diagnostics.contains("wind_sweep"));
+  }
+  // deterministic: the same mission and seed give the same plan
+  const Plan again = plan(parse_mission(j.dump()));
+  EXPECT_EQ(again.planner, chosen.planner);
+  EXPECT_DOUBLE_EQ(flight_time_in(again, w), t_auto);
+}
+
 // A wind of 0 m/s plans exactly as calm air.
 TEST(WindPlanning, AZeroWindPlansAsCalmAir) {
   json j = field();
