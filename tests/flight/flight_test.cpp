@@ -12,6 +12,7 @@
 #include <mutex>
 #include <thread>
 
+#include "evaluation/evaluate.hpp"
 #include "flight/coverage.hpp"
 #include "flight/runtime.hpp"
 #include "sim/sim_vehicle.hpp"
@@ -265,7 +266,8 @@ TEST(Flight, OverTcpEveryWaypointReached) {
             "tcp:127.0.0.1:" + std::to_string(s.fleet.vehicles()[0]->port()));
   flight::Flight f(1, p, c, rec);
   ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 3000));
-  for (const auto& u : f.snapshot()["uavs"]) {
+  const json done = f.snapshot();  // a local: a range over a temporary's member would dangle
+  for (const auto& u : done["uavs"]) {
     const std::string wp = u["waypoints"];
     EXPECT_FALSE(wp.empty());
     EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
@@ -350,7 +352,8 @@ TEST(Flight, LossyLinksTwentyPercentEndDoneWithRetriedUploads) {
   Recorder rec;
   flight::Flight f(2, p, s.config(3), rec);
   ASSERT_NO_FATAL_FAILURE(fly_to_done(s, f, 4000));
-  for (const auto& u : f.snapshot()["uavs"]) {
+  const json done = f.snapshot();
+  for (const auto& u : done["uavs"]) {
     const std::string wp = u["waypoints"];
     EXPECT_EQ(wp, std::string(wp.size(), 'R')) << u["uav"];
   }
@@ -411,6 +414,56 @@ TEST(Flight, ThreeBatterySortiesFlownOneAfterAnother) {
   for (const std::string uav : {"A", "B"}) {
     EXPECT_EQ(flown[uav], (std::vector<int>{0, 1, 2})) << uav;
     EXPECT_EQ(swaps[uav], 2) << uav;  // before the second and the third sortie
+  }
+}
+
+// Issue 32: the live ETA is the plan's time model in the mission's wind. Before the vehicles take off,
+// each UAV's eta_s is its predicted flight time (eq. 15 in the wind, as plan.json's), about twice the
+// calm-air figure at 6 m/s on 8 m/s; the simulated vehicles fly in that wind and land near it, far from
+// the calm figure. Measured: ETA 1393 / 1400 s, flown 1584 / 1608 s (+13.7 / +14.9 %: the climbs,
+// descents and the braking before each turn at the downwind ground speed are not in eq. 15, docs/wind.md),
+// calm 670 / 672 s.
+TEST(Flight, TheEtaIsThePlansFlightTimeInTheMissionsWind) {
+  Mission m = field(800, 300, 2, 60);
+  m.wind = Wind{6.0, 270.0};
+  const Plan p = plan(m);
+  const auto predicted = evaluation::evaluate_plan(p).cost.uavs;
+  Plan calm = p;
+  calm.mission.wind.reset();
+  const auto calm_predicted = evaluation::evaluate_plan(calm).cost.uavs;
+  Sim s(p, 100, 0, {}, false, [](sim::VehicleConfig& c) {
+    c.wind_mps = 6.0;
+    c.wind_from_deg = 270.0;
+    c.v_max = 8.0;
+  });
+  Recorder rec;
+  flight::Flight f(9, p, s.config(), rec);
+  f.start();
+  ASSERT_NO_FATAL_FAILURE(upload_and_start(s, f));
+  const double t0 = s.fleet.sim_time();
+  const json first = f.snapshot();
+  std::map<std::string, double> eta0, landed;
+  for (const auto& u : first["uavs"]) eta0[u["uav"]] = u["eta_s"].get<double>();
+  ASSERT_TRUE(wait_for(s, 6000, [&] {
+    const json snap = f.snapshot();  // kept: a range over a temporary's member would dangle
+    for (const auto& u : snap["uavs"])
+      if (u["phase"] == "done" && !landed.contains(u["uav"])) landed[u["uav"]] = s.fleet.sim_time() - t0;
+    return f.finished();
+  })) << f.snapshot().dump(1);
+  f.stop();
+  for (std::size_t i = 0; i < p.uavs.size(); ++i) {
+    const std::string id = p.uavs[i].id;
+    SCOPED_TRACE(id);
+    ASSERT_TRUE(landed.contains(id));
+    const double model_s = 60.0 * predicted[i].flight_duration_min,
+                 calm_s = 60.0 * calm_predicted[i].flight_duration_min;
+    std::printf(
+        "%s: ETA at start %.1f s, the plan's flight time in the wind %.1f s (calm %.1f s), flown %.1f s\n",
+        id.c_str(), eta0[id], model_s, calm_s, landed[id]);
+    EXPECT_NEAR(eta0[id], model_s, 0.02 * model_s) << "the ETA is the plan's time model";
+    EXPECT_GT(eta0[id], 1.15 * calm_s) << "the wind is in the ETA";
+    EXPECT_NEAR(landed[id], eta0[id], 0.20 * eta0[id]) << "the vehicles land near the ETA";
+    EXPECT_GT(landed[id], 1.5 * calm_s) << "far from what the calm model would have said";
   }
 }
 
@@ -604,7 +657,8 @@ TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
   g.start();
   ASSERT_TRUE(wait_for(s, 3000, [&] { return g.finished(); })) << g.snapshot().dump(1);
   g.stop();
-  for (const auto& u : g.snapshot()["uavs"]) {
+  const json restored = g.snapshot();
+  for (const auto& u : restored["uavs"]) {
     const std::string wp = u["waypoints"];
     EXPECT_EQ(wp, std::string(wp.size(), 'R'));
   }
