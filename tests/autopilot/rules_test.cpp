@@ -479,7 +479,7 @@ TEST(ConsumerRules, AutopilotSetsTheFirmwareType) {
     ADD_FAILURE() << "exported for autopilot 'APM'";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "autopilot");
-    EXPECT_NE(std::string(e.what()).find("'ardupilot'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"ardupilot\""), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)ex::qgc_plan(p, 0, bad), InputError);
 }
