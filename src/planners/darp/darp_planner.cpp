@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -58,6 +59,74 @@ int nearest_untaken(const grid::Grid& g, int from, const std::vector<char>& take
       }
   }
   return -1;
+}
+
+/// How many cells UAV i can reach from its start cell over links without entering another UAV's
+/// start cell (its own region can never be larger).
+int reachable(const grid::Grid& g, const std::vector<int>& scell, int i) {
+  if (scell[i] < 0) return 0;
+  std::vector<char> seen(static_cast<std::size_t>(g.rows) * g.cols, 0);
+  for (int k : scell)
+    if (k >= 0) seen[k] = 1;
+  std::vector<int> queue{scell[i]};
+  std::array<int, 4> nb{};
+  for (std::size_t h = 0; h < queue.size(); ++h) {
+    const int m = g.neighbours(queue[h], nb);
+    for (int j = 0; j < m; ++j)
+      if (!seen[nb[j]]) {
+        seen[nb[j]] = 1;
+        queue.push_back(nb[j]);
+      }
+  }
+  return static_cast<int>(queue.size());
+}
+
+/// A start outside the area goes to the free cell nearest it, and that cell can wall another UAV in:
+/// on a five-pointed star (issue 26) a UAV's cell in one point has its only link into the cell another
+/// UAV's start took, so it can never hold more than that one cell (1 / 10 / 7 cells for 6 / 6 / 6). A UAV
+/// is walled in when it reaches (reachable) fewer cells than its target less the division's tolerance;
+/// then a start outside the area
+/// that borders it moves to the nearest free cell to its take-off point (of the 64 nearest) that walls
+/// nobody in. Starts inside the area stay where they are.
+void unwall_starts(const grid::Grid& g, const std::vector<Point>& starts, const std::vector<double>& target,
+                   const std::vector<char>& outside, std::vector<int>& scell) {
+  const int U = static_cast<int>(scell.size());
+  auto walled = [&](int i) {
+    return scell[i] >= 0 && reachable(g, scell, i) < target[i] - tolerance(target[i]) - 1e-9;
+  };
+  auto any_walled = [&] {
+    for (int i = 0; i < U; ++i)
+      if (walled(i)) return true;
+    return false;
+  };
+  std::array<int, 4> nb{};
+  for (int i = 0; i < U; ++i) {
+    if (!walled(i)) continue;
+    for (int j = 0; j < U && walled(i); ++j) {
+      if (j == i || !outside[j] || scell[j] < 0) continue;
+      // j borders i: one of j's cell's links leads into a cell i reaches or is i's start cell
+      bool borders = false;
+      const int m = g.neighbours(scell[j], nb);
+      for (int t = 0; t < m && !borders; ++t) {
+        std::vector<int> without = scell;
+        without[j] = -1;
+        borders = nb[t] == scell[i] || reachable(g, without, i) > reachable(g, scell, i);
+      }
+      if (!borders) continue;
+      std::vector<std::pair<double, int>> cands;
+      for (int k = 0; k < g.rows * g.cols; ++k)
+        if (g.free[k] && std::find(scell.begin(), scell.end(), k) == scell.end())
+          cands.emplace_back(dist2(g.cell_centre(k / g.cols, k % g.cols), starts[j]), k);
+      std::sort(cands.begin(), cands.end());
+      if (cands.size() > 64) cands.resize(64);
+      const int before = scell[j];
+      for (const auto& [d, k] : cands) {
+        scell[j] = k;
+        if (!any_walled()) break;
+        scell[j] = before;
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -195,10 +264,11 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
   if (auto w = coarse_grid_warning(target, input.ds, bg::area(input.free))) out.warnings.push_back(*w);
 
   std::vector<int> scell(U);
-  std::vector<char> taken(N, 0);
+  std::vector<char> taken(N, 0), outside(U, 0);
   for (int i = 0; i < U; ++i) {
     bool inside = false;
     int k = start_cell(g, input.starts[i], inside);
+    outside[i] = !bg::within(input.starts[i], input.free) ? 1 : 0;
     // a take-off point beside the field is normal; one inside the free area that misses every free
     // cell (a narrow strip, a corner) is worth telling the operator
     if (!inside && bg::within(input.starts[i], input.free))
@@ -210,6 +280,10 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     scell[i] = k;
     if (k >= 0) taken[k] = 1;
   }
+  unwall_starts(g, input.starts, target, outside, scell);
+  std::fill(taken.begin(), taken.end(), 0);
+  for (int k : scell)
+    if (k >= 0) taken[k] = 1;
 
   // ---- 4. distribute the components over the UAVs ----
   // participants[c]: UAVs dividing component c (with their start cells inside it)
