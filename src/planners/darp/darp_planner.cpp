@@ -85,9 +85,9 @@ int reachable(const grid::Grid& g, const std::vector<int>& scell, int i) {
 /// on a five-pointed star (issue 26) a UAV's cell in one point has its only link into the cell another
 /// UAV's start took, so it can never hold more than that one cell (1 / 10 / 7 cells for 6 / 6 / 6). A UAV
 /// is walled in when it reaches (reachable) fewer cells than its target less the division's tolerance;
-/// then a start outside the area
-/// that borders it moves to the nearest free cell to its take-off point (of the 64 nearest) that walls
-/// nobody in. Starts inside the area stay where they are.
+/// then a start outside the area that borders it (without which it reaches more) moves to the nearest
+/// free cell to its take-off point (of the 64 nearest) that walls nobody in. Starts inside the area stay
+/// where they are.
 void unwall_starts(const grid::Grid& g, const std::vector<Point>& starts, const std::vector<double>& target,
                    const std::vector<char>& outside, std::vector<int>& scell) {
   const int U = static_cast<int>(scell.size());
@@ -99,20 +99,14 @@ void unwall_starts(const grid::Grid& g, const std::vector<Point>& starts, const 
       if (walled(i)) return true;
     return false;
   };
-  std::array<int, 4> nb{};
   for (int i = 0; i < U; ++i) {
     if (!walled(i)) continue;
     for (int j = 0; j < U && walled(i); ++j) {
       if (j == i || !outside[j] || scell[j] < 0) continue;
-      // j borders i: one of j's cell's links leads into a cell i reaches or is i's start cell
-      bool borders = false;
-      const int m = g.neighbours(scell[j], nb);
-      for (int t = 0; t < m && !borders; ++t) {
-        std::vector<int> without = scell;
-        without[j] = -1;
-        borders = nb[t] == scell[i] || reachable(g, without, i) > reachable(g, scell, i);
-      }
-      if (!borders) continue;
+      // j borders i: without j's start cell in the way, i reaches more
+      std::vector<int> without = scell;
+      without[j] = -1;
+      if (reachable(g, without, i) <= reachable(g, scell, i)) continue;
       std::vector<std::pair<double, int>> cands;
       for (int k = 0; k < g.rows * g.cols; ++k)
         if (g.free[k] && std::find(scell.begin(), scell.end(), k) == scell.end())
@@ -271,7 +265,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     outside[i] = !bg::within(input.starts[i], input.free) ? 1 : 0;
     // a take-off point beside the field is normal; one inside the free area that misses every free
     // cell (a narrow strip, a corner) is worth telling the operator
-    if (!inside && bg::within(input.starts[i], input.free))
+    if (!inside && !outside[i])
       out.warnings.push_back(
           fmt::format("UAV {}: the start lies in the area but on no free grid cell; its region starts at "
                       "the nearest free cell",
