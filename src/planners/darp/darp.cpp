@@ -40,6 +40,7 @@ class DarpPlanner final : public Planner {
     opt.optimise_placement = params.at("optimise_placement").get<bool>();
     opt.extend_legs = params.at("extend_legs").get<bool>();
     opt.shift_legs = params.at("shift_legs").get<bool>();
+    opt.min_turn_orientation = params.at("min_turn_orientation").get<bool>();
     opt.paper_objective = params.at("objective").get<std::string>() == "paper";
     opt.j_weight_a = params.at("j_weight_a").get<double>();
     opt.j_weight_b = params.at("j_weight_b").get<double>();
@@ -127,6 +128,14 @@ PlannerInfo darp_planner_info() {
        {},
        "move the legs along the area's edge outward, up to 0.45 spacing, until their swath reaches the "
        "boundary (strict: staying inside; never into a no-fly zone)"},
+      {"min_turn_orientation",
+       T::Boolean,
+       true,
+       {},
+       {},
+       {},
+       "try the spanning tree's 8 orientations per region and keep the loop with the fewest turns (the "
+       "paper's turn reduction, Fig. 8-9); false: one orientation"},
       {"objective",
        T::String,
        "uavcover",

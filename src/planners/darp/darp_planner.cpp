@@ -440,7 +440,8 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
       }
       flown[pick] = 1;
       if (ctx.stop_requested()) throw Cancelled();
-      stc::Loop loop = stc::plan_loop(g, regions[i][pick], here);
+      stc::Loop loop =
+          stc::plan_loop(g, regions[i][pick], here, options.min_turn_orientation ? stc::kOrientations : 1);
       if (options.extend_legs) extender.extend(loop.points);
       here = loop.points.front();
       ur.loops.push_back(std::move(loop.points));

@@ -32,6 +32,9 @@ struct Options {
   bool optimise_placement = true;
   bool extend_legs = true;  ///< lengthen U-turns at the region's edge toward the boundary (extend.hpp)
   bool shift_legs = true;   ///< move legs along the region's outer edge outward (LegExtender::shift)
+  /// Try every spanning-tree orientation and keep the loop with the fewest turns (the paper's Fig. 8-9);
+  /// false: one orientation (planner_params.min_turn_orientation).
+  bool min_turn_orientation = true;
   /// The placement objective (planner_params.objective): false ("uavcover") maximises J plus the
   /// coverage estimate minus the length term (grid::Weights); true ("paper") maximises the paper's J
   /// alone (eq. 7, with the authors' disconnected-grid penalty): coverage_weight = length_weight = 0,

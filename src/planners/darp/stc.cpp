@@ -78,7 +78,7 @@ std::vector<int> circumnavigate(const Local& loc, const std::vector<std::uint8_t
 
 }  // namespace
 
-Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry) {
+Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry, int orientations) {
   Loop out;
   if (cells.empty()) return out;
   Local loc;
@@ -109,7 +109,8 @@ Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry) 
   std::vector<int> best;
   std::vector<TreeEdge> order = loc.edges;
   std::vector<std::uint8_t> tree(in.size());
-  for (int o = 0; o < kOrientations; ++o) {
+  orientations = std::clamp(orientations, 1, kOrientations);
+  for (int o = 0; o < orientations; ++o) {
     // o&1: preferred direction (0 horizontal rows joined by vertical links, 1 the transpose);
     // o&2: link position ascending/descending; o&4: secondary order reversed.
     const bool pref_h = !(o & 1);

@@ -18,11 +18,14 @@ struct Loop {
   int orientation = 0;  ///< index of the tree orientation kept
 };
 
-/// Plans the coverage loop of one region: `cells` are mega-cell indices of `g`, connected over
-/// the grid's links. Deterministic.
-Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry);
-
-/// Number of tree orientations tried by plan_loop.
+/// Number of tree orientations plan_loop tries by default.
 inline constexpr int kOrientations = 8;
+
+/// Plans the coverage loop of one region: `cells` are mega-cell indices of `g`, connected over
+/// the grid's links. The first `orientations` (1..kOrientations) tree orientations are tried and the
+/// loop with the fewest turns kept (the paper's turn reduction, Fig. 8-9); 1 is the tree without it
+/// (rows joined by vertical links, ascending). Deterministic.
+Loop plan_loop(const grid::Grid& g, const std::vector<int>& cells, Point entry,
+               int orientations = kOrientations);
 
 }  // namespace uavcover::stc

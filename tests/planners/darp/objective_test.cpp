@@ -102,6 +102,28 @@ TEST(DarpObjective, ParamsAreParsedWithTheirDefaultsAndBadValuesNameTheField) {
   expect_field({{"j_weight_b", 1.5}}, "planner_params.j_weight_b", "must be <= 1, got 1.5");
   expect_field({{"j_weight_c", "0.25"}}, "planner_params.j_weight_c", "must be a number");
   expect_field({{"j_weights", {{"a", 1}}}}, "planner_params.j_weights", "unknown parameter");
+  EXPECT_EQ(d.planner_params.at("min_turn_orientation"), true);
+  expect_field({{"min_turn_orientation", "no"}}, "planner_params.min_turn_orientation",
+               "must be true or false");
+}
+
+TEST(DarpObjective, WithoutTheTurnMinimisingOrientationTheLoopsTurnMore) {
+  // the paper's Fig. 9 on its own regions: the same grid and division, one tree orientation per region
+  int with = 0, without = 0;
+  for (int r : {2, 3, 8}) {
+    json j = json::parse(roi_text(r));
+    j["planner_params"] = {{"extend_legs", false}, {"shift_legs", false}};
+    const Plan a = plan(parse_mission(j.dump()));
+    j["planner_params"]["min_turn_orientation"] = false;
+    const Plan b = plan(parse_mission(j.dump()));
+    // the grid placement does not depend on the loops: the same grid, the same region
+    EXPECT_EQ(a.diagnostics.at("grid").dump(), b.diagnostics.at("grid").dump());
+    const int ta = a.uavs[0].turns, tb = b.uavs[0].turns;
+    SCOPED_TRACE(r);
+    EXPECT_GE(tb, ta);
+    with += ta, without += tb;
+  }
+  EXPECT_GT(without, with);
 }
 
 TEST(DarpObjective, PaperJ1AloneChoosesTheMostNodesAmongTheEvaluatedPlacements) {

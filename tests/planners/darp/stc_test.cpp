@@ -152,5 +152,38 @@ TEST(Stc, FollowsTheLinksOnly) {
   }
 }
 
+TEST(Stc, OneTreeOrientationCostsTurnsTheSearchSaves) {
+  // the paper's Fig. 9: without choosing the tree's orientation a tall strip is swept in short rows
+  const Grid strip = make_grid(std::vector<std::string>(12, "##"));
+  const Loop one = plan_loop(strip, all_free(strip), {0, 0}, 1);
+  const Loop best = plan_loop(strip, all_free(strip), {0, 0});
+  check_hamiltonian(strip, all_free(strip), one);
+  EXPECT_EQ(one.orientation, 0);
+  EXPECT_GE(one.turns, 2 * best.turns) << one.turns << " vs " << best.turns;
+
+  // on random blobs one orientation is a Hamiltonian loop too, never with fewer turns, and often more
+  std::mt19937_64 rng(11);
+  int more = 0;
+  for (int t = 0; t < 30; ++t) {
+    const int W = 5 + t % 8, H = 4 + t % 6;
+    std::vector<std::string> m(H, std::string(W, '.'));
+    std::uniform_int_distribution<int> ur(0, H - 1), uc(0, W - 1);
+    m[H / 2][W / 2] = '#';
+    for (int k = 0; k < 2 * W * H; ++k) {
+      const int r = ur(rng), c = uc(rng);
+      if ((r > 0 && m[r - 1][c] == '#') || (r + 1 < H && m[r + 1][c] == '#') ||
+          (c > 0 && m[r][c - 1] == '#') || (c + 1 < W && m[r][c + 1] == '#'))
+        m[r][c] = '#';
+    }
+    const Grid g = make_grid(m);
+    SCOPED_TRACE(t);
+    const Loop a = plan_loop(g, all_free(g), {0, 0}, 1), b = plan_loop(g, all_free(g), {0, 0});
+    check_hamiltonian(g, all_free(g), a);
+    EXPECT_GE(a.turns, b.turns);
+    more += a.turns > b.turns;
+  }
+  EXPECT_GE(more, 10);
+}
+
 }  // namespace
 }  // namespace uavcover::stc
