@@ -32,6 +32,9 @@ BASE = {
 VARIANTS = dict(BASE)
 for k, (label, what, col) in BASE.items():
     VARIANTS[k + "-raw"] = (label, what + ", `extend_legs` and `shift_legs` off", col)
+for k in list(VARIANTS):
+    label, what, col = VARIANTS[k]
+    VARIANTS[k + "-1tree"] = (label + ", one tree orientation", what + ", `min_turn_orientation: false`", col)
 # metric: (paper's row, our evaluation key, scale, digits)
 METRICS = {"poc": ("PoC", "poc", 100.0, 2), "pooc": ("PoOC", "pooc", 100.0, 2),
            "turns": ("# WP", "turns", 1.0, 1), "km": ("Path Length", "length_m", 0.001, 2)}
@@ -193,4 +196,84 @@ for m, title in (("poc", "PoC %"), ("turns", "turns"), ("km", "length km")):
         for v in per:
             cells.append(f"{fmt(value(v, m, r, 'us'), m)} / {fmt(value(v, m, r, 'paper'), m)}")
         out.append("| " + " | ".join(cells) + " |")
+
+
+def area_k(roi):
+    """The paper's area of the region in 1000 m^2 (its N-Turns and N-Length divide by it)."""
+    return paper.get(("-", "Area"), {}).get(roi)
+
+
+def testbed(roi, title, names, paper_cols, intro):
+    """Tables 4-5: one region, every metric of the paper's table, its figures beside ours."""
+    if not any(v in variants for v in names):
+        return
+    out.append("")
+    out.append(title)
+    out.append("")
+    out.append(intro)
+    out.append("")
+    a = area_k(roi)
+    rows = [("PoC %", "poc", 1), ("PoOC %", "pooc", 1), ("Turns", "turns", 1), ("N-Turns (per 1000 m²)", "turns", a),
+            ("Length km", "km", 1), ("N-Length (m per 1000 m²)", "km", a)]
+    heads = [f"{pc}, paper" for pc, _ in paper_cols] + [
+        ("ours" if v.startswith("ours") else f"{VARIANTS[v][0]}, ours") + (", bare loops" if v.endswith("-raw") else
+                                                                          ", our loops") for v in names if v in variants]
+    out.append("| metric | " + " | ".join(heads) + " |")
+    out.append("|---|" + "---:|" * len(heads))
+    for label, m, div in rows:
+        cells = [label]
+        norm = div != 1
+        for _, method in paper_cols:
+            prow = METRICS[m][0]
+            v = paper.get((method, prow), {}).get(roi)
+            cells.append("–" if v is None else (f"{v / div:.2f}" if norm else fmt(v, m)))
+        for v in names:
+            if v not in variants:
+                continue
+            x = value(v, m, roi, "us")
+            cells.append("X" if x is None else (f"**{x / div:.2f}**" if norm else f"**{fmt(x, m)}**"))
+        out.append("| " + " | ".join(cells) + " |")
+
+
+testbed(6, "## Apostolidis 2022, Table 4 (testbed #1: region 6)",
+        ["none-raw", "j1-raw", "j12-raw", "j123-raw", "ours-raw"],
+        [("J1", "J1 Optimization"), ("J1+J2", "J1 + J2 Optimization"), ("J1+J2+J3", "J1 + J2 + J3 Optimization")],
+        "The optimisation terms' importance on the paper's smallest region (37 266 m², 1 UAV, ds 40 m, strict), our "
+        "bare loops (`extend_legs` and `shift_legs` off) under each objective, from the Table 3 runs. The paper's "
+        "No Optimization column is empty (its grid at the bounding box held no path); ours at shift 0 has one. "
+        "N-Turns and N-Length divide by the paper's area of the region (`paper_results.csv`).")
+ethz = [("J1+J2+J3", "J1 + J2 + J3 Optimization"), ("ETHZ length reduction", "ETHZ Length Reduction"),
+        ("ETHZ turns reduction", "ETHZ WP Reduction")]
+testbed(15, "## Apostolidis 2022, Table 5 (testbed #2: region 15)", ["j123-raw", "j123", "ours"], ethz,
+        "The comparison with the state of the art (Bähnemann et al.'s boustrophedon planner, \"[20]\") on region 15 "
+        "(2 no-fly zones): the paper's three columns beside our DARP under the paper's J (bare loops, then our loops) "
+        "and under our objective with our loops (the default plan). Our boustrophedon planner on the 20 regions is in "
+        "[compare.md](compare.md).")
+
+# Fig. 9: the turn-minimising orientation
+pairs = [(a, a + "-1tree") for a in ("j123-raw", "ours") if a in variants and a + "-1tree" in variants]
+if pairs:
+    out.append("")
+    out.append("## Apostolidis 2022, Fig. 9 (turns with and without the turn-minimising orientation)")
+    out.append("")
+    out.append("The paper's Fig. 9 shows one region flown with 84 turns without choosing the spanning tree's "
+               "orientation and 42 with it (the region is not named). Ours on the 20 regions: "
+               "`min_turn_orientation: false` keeps one orientation (rows joined by vertical links, ascending); the "
+               "default tries eight and keeps the loop with the fewest turns (the paper tries four). The grid and "
+               "the division are the same, only the loops differ. Turns are the loop's turning waypoints, summed "
+               "over the 18 regions the paper averages (and the largest reduction on one region):")
+    out.append("")
+    out.append("| planner_params | turns, one orientation | turns, the best of 8 | saved | largest on one region | "
+               "length km, one / best |")
+    out.append("|---|---:|---:|---:|---|---:|")
+    for a, b in pairs:
+        ta = [value(b, "turns", r, "us") for r in counted]
+        tb = [value(a, "turns", r, "us") for r in counted]
+        if None in ta or None in tb:
+            continue
+        best_r = max(counted, key=lambda r: value(b, "turns", r, "us") - value(a, "turns", r, "us"))
+        la, lb = mean([value(b, "km", r, "us") for r in counted]), mean([value(a, "km", r, "us") for r in counted])
+        out.append(f"| {VARIANTS[a][1]} | {sum(ta):.0f} | {sum(tb):.0f} | {100 * (1 - sum(tb) / sum(ta)):.1f} % | "
+                   f"region {best_r}: {value(b, 'turns', best_r, 'us'):.0f} → {value(a, 'turns', best_r, 'us'):.0f} | "
+                   f"{la * 0.001:.2f} / {lb * 0.001:.2f} |")
 print("\n".join(out))
