@@ -141,7 +141,7 @@ fi
 elapsed=$(( $(date +%s) - start ))
 
 commit="$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-git -C "$repo" diff --quiet HEAD -- src include bench 2>/dev/null || commit="$commit+changes"
+git -C "$repo" diff --quiet HEAD -- src include bench ':!bench/results' 2>/dev/null || commit="$commit+changes"
 mkdir -p "$(dirname "$out")"
 {
   python3 "$here/table.py" "$data/paper_results.csv" "$work/table3" "$variants" "$rois" "$commit" \
