@@ -221,8 +221,9 @@ const bool registered = CommandRegistry::add(55, [](CLI::App& app) {
       ->capture_default_str()
       ->check(number_in(0.1, 1000));
   cmd->add_option("--fail", args->fail,
-                  "ID@FRACTION[:link|:land]: vehicle ID fails when it has flown FRACTION of its mission "
-                  "(link: stops sending and receiving, the default; land: forced landing). Repeatable");
+                  "ID@FRACTION[:link|:land|:stuck]: vehicle ID fails when it has flown FRACTION of its "
+                  "mission (link: stops sending and receiving, the default; land: forced landing; stuck: "
+                  "holds where it is in its mission). Repeatable");
   cmd->add_option("--battery-min", args->battery_min, "Minutes a full battery lasts armed")
       ->capture_default_str()
       ->check(number_in(0.5, 600));

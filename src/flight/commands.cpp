@@ -36,8 +36,16 @@ void Flight::command(const Command& c) {
       throw CommandRefused(c.reassignment ? fmt::format("no reassignment {}", *c.reassignment)
                                           : "no reassignment is offered");
     if (r->state != "offered") throw CommandRefused(fmt::format("reassignment {} is {}", r->id, r->state));
-    f.record("", "command", {{"command", k}, {"reassignment", r->id}});
-    if (k == "reassign") {
+    json d{{"command", k}, {"reassignment", r->id}};
+    if (c.reassign_from) d["reassign_from"] = *c.reassign_from;
+    f.record("", "command", std::move(d));
+    if (k == "reassign" && c.reassign_from && *c.reassign_from != r->from) {
+      // the other choice: the supervisor re-plans it from the helpers' positions now, then applies it
+      r->state = "replanning";
+      r->replan_from = *c.reassign_from;
+      f.record(r->failed_uav, "reassignment",
+               {{"id", r->id}, {"state", "replanning"}, {"from", r->replan_from}});
+    } else if (k == "reassign") {
       f.apply_reassignment(*r);
     } else {
       r->state = "declined";
@@ -84,24 +92,13 @@ void Flight::command(const Command& c) {
       ok = u.phase == (k == "pause" ? "flying" : "paused");
       if (ok) f.queue_command(u, k, mav::kCmdDoPauseContinue, k == "pause" ? 0.0F : 1.0F);
     } else if (k == "rtl" || k == "land") {
-      ok = airborne_phase(u.phase) && u.link_state != "lost";
+      // a UAV failed on a waypoint (waypoint_failed) may still be flying: it can be brought back
+      ok = (airborne_phase(u.phase) || (u.phase == "failed" && u.armed)) && u.link_state != "lost";
       if (ok) f.queue_command(u, k, k == "rtl" ? mav::kCmdNavReturnToLaunch : mav::kCmdNavLand);
     } else if (k == "resume") {
       ok = u.phase == "landed" && u.interrupted && idle_link(u) && u.link_state == "ok";
       if (ok) {
-        if (u.missions.size() > 1000) throw CommandRefused("too many missions for UAV " + u.binding.uav);
-        std::vector<MissionSpec> rest = f.own_missions(u.index, f.last_reached(u));
-        // kept: the missions flown and the one interrupted; then the resumed rest (it replaces the own
-        // missions not flown), then the reassigned work still queued
-        std::vector<MissionSpec> next(u.missions.begin(),
-                                      u.missions.begin() + static_cast<long>(u.current) + 1);
-        for (auto& m : rest) next.push_back(std::move(m));
-        for (std::size_t j = u.current + 1; j < u.missions.size(); ++j)
-          if (u.missions[j].kind == "reassigned" && u.missions[j].state == "pending")
-            next.push_back(u.missions[j]);
-        u.missions = std::move(next);
-        ++u.current;
-        u.interrupted = false;
+        f.requeue(u, {});  // the missions flown and the one interrupted, then the resumed rest
         u.offered = false;
         f.queue_upload_and_start(u);
         f.started = true;

@@ -62,6 +62,15 @@ std::string text(const json& obj, const char* key, const std::string& path) {
   return s;
 }
 
+/// "home" or "air" (FlightConfig::reassign_from).
+std::string reassign_from(const json& obj, const std::string& path) {
+  const json* v = member(obj, "reassign_from");
+  if (!v || !v->is_string() || (*v != "home" && *v != "air"))
+    throw InputError(path + "reassign_from",
+                     "must be \"home\" (take-off points) or \"air\" (live positions)");
+  return v->get<std::string>();
+}
+
 void known_keys(const json& obj, const std::set<std::string>& keys, const std::string& path) {
   for (const auto& [k, v] : obj.items())
     if (!keys.contains(k))
@@ -94,7 +103,8 @@ FlightConfig parse_config(const json& body, const Plan& plan) {
   known_keys(body,
              {"vehicles", "simulate", "link_timeout_s", "reassign_after_s", "auto_reassign",
               "auto_next_sortie", "separation_m", "deviation_m", "low_battery_pct", "log_period_s",
-              "acceptance_radius_m", "command_retries", "fence_rally"},
+              "acceptance_radius_m", "command_retries", "fence_rally", "waypoint_retries",
+              "waypoint_timeout_factor", "waypoint_timeout_floor_s", "reassign_from"},
              "");
   FlightConfig c;
   const json* vehicles = member(body, "vehicles");
@@ -148,6 +158,11 @@ FlightConfig parse_config(const json& body, const Plan& plan) {
   c.acceptance_radius_m = number(body, "acceptance_radius_m", c.acceptance_radius_m, 0.1, 100, "");
   c.command_retries = static_cast<int>(integer(body, "command_retries", c.command_retries, 0, 20, ""));
   c.fence_rally = boolean(body, "fence_rally", c.fence_rally, "");
+  c.waypoint_retries = static_cast<int>(integer(body, "waypoint_retries", c.waypoint_retries, 0, 10, ""));
+  c.waypoint_timeout_factor = number(body, "waypoint_timeout_factor", c.waypoint_timeout_factor, 1, 100, "");
+  c.waypoint_timeout_floor_s =
+      number(body, "waypoint_timeout_floor_s", c.waypoint_timeout_floor_s, 1, 3600, "");
+  if (member(body, "reassign_from")) c.reassign_from = reassign_from(body, "");
   return c;
 }
 
@@ -171,7 +186,11 @@ json config_json(const FlightConfig& c) {
           {"log_period_s", c.log_period_s},
           {"acceptance_radius_m", c.acceptance_radius_m},
           {"command_retries", c.command_retries},
-          {"fence_rally", c.fence_rally}};
+          {"fence_rally", c.fence_rally},
+          {"waypoint_retries", c.waypoint_retries},
+          {"waypoint_timeout_factor", c.waypoint_timeout_factor},
+          {"waypoint_timeout_floor_s", c.waypoint_timeout_floor_s},
+          {"reassign_from", c.reassign_from}};
 }
 
 Command parse_command(const json& body) {
@@ -179,7 +198,7 @@ Command parse_command(const json& body) {
                                                "rtl",         "land",     "abort",  "resume",
                                                "next_sortie", "reassign", "decline"};
   if (!body.is_object()) throw InputError("", "the command must be a JSON object");
-  known_keys(body, {"command", "uav", "reassignment"}, "");
+  known_keys(body, {"command", "uav", "reassignment", "reassign_from"}, "");
   Command c;
   const json* cmd = member(body, "command");
   if (!cmd || !cmd->is_string() || !kCommands.contains(cmd->get<std::string>()))
@@ -190,6 +209,10 @@ Command parse_command(const json& body) {
   if (member(body, "uav")) c.uav = text(body, "uav", "");
   if (member(body, "reassignment"))
     c.reassignment = static_cast<int>(integer(body, "reassignment", 0, 1, 1'000'000, ""));
+  if (member(body, "reassign_from")) {
+    if (c.command != "reassign") throw InputError("reassign_from", "goes only with the command reassign");
+    c.reassign_from = reassign_from(body, "");
+  }
   return c;
 }
 

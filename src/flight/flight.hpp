@@ -60,6 +60,17 @@ struct FlightConfig {
   /// After each mission upload, the geofence and the rally points (issue 31) with their own mission
   /// types, where the vehicle's profile takes them (docs/fence-rally.md).
   bool fence_rally = true;
+  /// Waypoint retries (Hong et al. 2021 §2.3; docs/flights.md, "Waypoint retries"): the current coverage
+  /// waypoint not reached within max(waypoint_timeout_floor_s, waypoint_timeout_factor x the leg's flight
+  /// time at the UAV's speed) is commanded again (MAV_CMD_DO_SET_MISSION_CURRENT); after this many retries
+  /// without reaching it the UAV has failed (alert waypoint_failed, reassignment offered). 0: off.
+  int waypoint_retries = 2;
+  double waypoint_timeout_factor = 3.0;  ///< margin on the leg's flight time (wall clock)
+  double waypoint_timeout_floor_s = 30.0;
+  /// Where the helpers' reassigned work starts (docs/flights.md, "Reassignment"): "home" (their take-off
+  /// points; flown after their current sortie lands) or "air" (a helper flying its own mission starts
+  /// from its live position and is diverted to the work at once, its own rest resumed after it).
+  std::string reassign_from = "home";
 };
 
 /// Parses and validates the "vehicles"/settings part of POST /plans/{id}/flights against the plan
@@ -92,13 +103,17 @@ class Observer {
 
 /// An operator command (POST /flights/{id}/commands): "upload", "start", "pause", "continue", "rtl",
 /// "land", "abort", "resume", "next_sortie", "reassign" (apply an offered reassignment; with
-/// `reassignment` its id), "decline" (refuse it). `uav` empty: every UAV of the flight.
+/// `reassignment` its id, with `reassign_from` where the helpers start), "decline" (refuse it). `uav` empty:
+/// every UAV of the flight.
 struct Command {
   std::string command;
   std::string uav;
   std::optional<int> reassignment;
+  /// "reassign" only: "home" or "air" (FlightConfig::reassign_from); another choice than the offer's
+  /// re-plans it from the helpers' positions now, then applies it.
+  std::optional<std::string> reassign_from{};
 };
-/// Parses the command body; InputError naming "command", "uav" or "reassignment".
+/// Parses the command body; InputError naming "command", "uav", "reassignment" or "reassign_from".
 Command parse_command(const nlohmann::json& body);
 
 /// The command is not possible in the flight's current state (HTTP 409 with this message).

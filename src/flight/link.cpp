@@ -132,6 +132,19 @@ void Flight::Impl::on_reached(UavRt& u, int item) {
   if (!u.current_item || *u.current_item < item) u.current_item = item;
 }
 
+char Flight::Impl::waypoint_status(const UavRt& u, const MissionSpec& m, int waypoint) const {
+  const std::string& s = m.kind == "reassigned" ? m.waypoints : u.waypoints;
+  const int at = m.kind == "reassigned" ? waypoint - m.first_waypoint : waypoint;
+  return at >= 0 && at < static_cast<int>(s.size()) ? s[static_cast<std::size_t>(at)] : '\0';
+}
+
+bool Flight::Impl::coverage_done(const UavRt& u, const MissionSpec& m) const {
+  return std::all_of(m.items.begin(), m.items.end(), [&](const waypoints::MissionItem& it) {
+    const char c = it.waypoint < 0 ? 'R' : waypoint_status(u, m, it.waypoint);
+    return c == 'R' || c == 'S' || c == '\0';
+  });
+}
+
 int Flight::Impl::last_reached(const UavRt& u) const {
   const auto p = u.waypoints.find_last_of('R');
   return p == std::string::npos ? -1 : static_cast<int>(p);
@@ -184,15 +197,7 @@ void Flight::Impl::check_landed(UavRt& u) {
     return;
   }
   MissionSpec& m = u.missions[u.current];
-  bool done = true;
-  for (const auto& it : m.items) {
-    if (it.waypoint < 0) continue;
-    const std::string& s = m.kind == "reassigned" ? m.waypoints : u.waypoints;
-    const int at = m.kind == "reassigned" ? it.waypoint - m.first_waypoint : it.waypoint;
-    if (at >= 0 && at < static_cast<int>(s.size()) && s[static_cast<std::size_t>(at)] != 'R' &&
-        s[static_cast<std::size_t>(at)] != 'S')
-      done = false;
-  }
+  const bool done = coverage_done(u, m);
   m.state = done ? "done" : "interrupted";
   record(u.binding.uav, "sortie",
          {{"mission", u.current}, {"kind", m.kind}, {"index", m.index}, {"state", m.state}});

@@ -126,12 +126,47 @@ MissionSpec Flight::Impl::reassigned_mission(const ReassignmentRt& r, const Reas
   return m;
 }
 
+void Flight::Impl::requeue(UavRt& u, std::vector<MissionSpec> first) {
+  if (u.missions.size() > 1000) throw CommandRefused("too many missions for UAV " + u.binding.uav);
+  std::vector<MissionSpec> rest = own_missions(u.index, last_reached(u));
+  // kept: the missions flown and the current one; then `first`, the rest of its own coverage (it replaces
+  // the own missions not flown), then the reassigned work still queued
+  std::vector<MissionSpec> next(u.missions.begin(), u.missions.begin() + static_cast<long>(u.current) + 1);
+  for (auto& m : first) next.push_back(std::move(m));
+  for (auto& m : rest) next.push_back(std::move(m));
+  for (std::size_t j = u.current + 1; j < u.missions.size(); ++j)
+    if (u.missions[j].kind == "reassigned" && u.missions[j].state == "pending") next.push_back(u.missions[j]);
+  u.missions = std::move(next);
+  ++u.current;
+  u.interrupted = false;
+}
+
 void Flight::Impl::apply_reassignment(ReassignmentRt& r) {
   if (!r.result) throw CommandRefused("reassignment " + std::to_string(r.id) + " has no result");
   for (const auto& w : r.result->work) {
     auto it = std::find_if(uavs.begin(), uavs.end(), [&](const UavRt& h) { return h.index == w.index; });
     if (it == uavs.end()) continue;
-    for (std::size_t k = 0; k < w.missions.size(); ++k) it->missions.push_back(reassigned_mission(r, w, k));
+    std::vector<MissionSpec> work;
+    for (std::size_t k = 0; k < w.missions.size(); ++k) work.push_back(reassigned_mission(r, w, k));
+    const auto h =
+        std::find_if(r.helpers.begin(), r.helpers.end(), [&](const Helper& x) { return x.index == w.index; });
+    if (h != r.helpers.end() && h->depot && divertable(*it)) {
+      // from the air: its own sortie is interrupted where it is, the work uploaded and started now, and
+      // its own rest resumed after it from its last reached waypoint
+      MissionSpec& own = it->missions[it->current];
+      own.state = coverage_done(*it, own) ? "done" : "interrupted";
+      record(it->binding.uav, "sortie",
+             {{"mission", it->current},
+              {"kind", own.kind},
+              {"index", own.index},
+              {"state", own.state},
+              {"reassignment", r.id}});
+      requeue(*it, std::move(work));
+      it->actions.clear();
+      queue_upload_and_start(*it);
+      continue;
+    }
+    for (auto& m : work) it->missions.push_back(std::move(m));
     if (it->phase == "done") set_phase(*it, "landed");
   }
   auto failed = std::find_if(uavs.begin(), uavs.end(), [&](const UavRt& h) { return h.index == r.failed; });

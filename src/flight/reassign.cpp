@@ -42,6 +42,8 @@ void validate(const Plan& plan, std::size_t failed, const std::vector<Helper>& h
     if (!seen.insert(h.index).second) throw InputError(field + ".index", "each UAV may help once");
     if (!std::isfinite(h.battery_fraction) || h.battery_fraction <= 0.0 || h.battery_fraction > 1.0)
       throw InputError(field + ".battery_fraction", "must be in (0, 1]");
+    if (h.depot && !(std::abs(h.depot->lon) <= 180.0 && std::abs(h.depot->lat) <= 90.0))
+      throw InputError(field + ".depot", "must be a position (lon in [-180, 180], lat in [-90, 90])");
   }
 }
 
@@ -221,7 +223,9 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
   for (const auto& h : helpers) total += h.battery_fraction;
   for (const auto& h : helpers) {
     Uav u = plan.mission.uavs[h.index];
-    u.start = u.start_resolved;
+    // from the air: out from where it is, on the battery it has left
+    u.start = h.depot.value_or(u.start_resolved);
+    if (h.depot) u.endurance_min *= h.battery_fraction;
     u.share = h.battery_fraction / total;
     sub.uavs.push_back(std::move(u));
   }
@@ -266,6 +270,9 @@ Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
       Plan one = sorties::sortie_plan(sp, j, s);
       one.uavs = {one.uavs[j]};
       one.mission.uavs = {one.mission.uavs[j]};
+      // from the air, only the first mission starts at the depot: the later ones take off from home
+      if (&s != &sorties.front())
+        one.mission.uavs[0].start_resolved = plan.mission.uavs[index].start_resolved;
       auto items = waypoints::mission_items(one, 0, own);
       for (auto& it : items)
         if (it.waypoint >= 0) it.waypoint += s.first_waypoint;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ namespace uavcover::flight {
 struct Helper {
   std::size_t index = 0;          ///< into plan.uavs
   double battery_fraction = 1.0;  ///< of a full battery left now (0..1); later sorties start full
+  /// Where its new work starts (the reassignment "from the air": its live position). Unset: its take-off
+  /// point (the work is flown after its current sortie lands).
+  std::optional<LonLat> depot{};
 };
 
 /// What one helper flies in addition to its own plan.
@@ -58,11 +62,15 @@ MultiPolygon remainder_area(const Plan& plan, std::size_t failed, int last_reach
 /// region minus the footprint swept along its coverage up to that waypoint, re-planned with
 /// plan.mission's planner and seed over `helpers` (shares by remaining battery, each with its own
 /// camera), cut into sorties.
-/// New missions start with a full battery (they are uploaded after the helper's current sortie lands);
-/// battery_fraction sets the shares. InputError naming "failed", "last_reached", "helpers",
-/// "helpers[i].index" (out of range, the failed UAV, twice), "helpers[i].battery_fraction" (outside
-/// (0, 1]) or "altitude.*". Empty work when nothing is left to cover. ctx: progress ("reassign",
-/// "reassign/<plan stage>") and stops (Cancelled).
+/// A helper without a depot starts from its take-off point with a full battery (its missions are
+/// uploaded after its current sortie lands); battery_fraction sets the shares. A helper with a depot
+/// (from the air) has its work planned from there: its first mission takes off (climbs or descends to
+/// its transition altitude) at the depot, its sorties are cut for the battery it has left
+/// (endurance x battery_fraction, conservative for the later ones, which start full from home).
+/// InputError naming "failed", "last_reached", "helpers", "helpers[i].index" (out of range, the failed
+/// UAV, twice), "helpers[i].battery_fraction" (outside (0, 1]), "helpers[i].depot" (not a finite
+/// position on the globe) or "altitude.*". Empty work when nothing is left to cover. ctx: progress
+/// ("reassign", "reassign/<plan stage>") and stops (Cancelled).
 Reassignment reassign(const Plan& plan, std::size_t failed, int last_reached,
                       const std::vector<Helper>& helpers, const waypoints::AltitudeOptions& altitude = {},
                       const Context& ctx = {});

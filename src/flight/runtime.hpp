@@ -98,6 +98,12 @@ struct UavRt {
   bool offered = false;             ///< a reassignment was offered for this failure
   std::optional<int> current_item;  ///< mission item index (seq minus home) the vehicle flies
   Clock::time_point retry_after{};  ///< automatic next sortie / start: not before
+  // waypoint retries (docs/flights.md, "Waypoint retries"): the coverage item under its deadline
+  std::optional<std::pair<std::size_t, int>> timed;  ///< (mission, item) being timed
+  std::optional<Clock::time_point> deadline;         ///< not reached by then: retried (unset: paused)
+  int timed_waypoint = -1;                           ///< its coverage waypoint (MissionItem::waypoint)
+  int retries = 0;                                   ///< re-commands of the timed item so far
+  int retries_total = 0;                             ///< over the flight
   // tracks
   std::deque<std::array<double, 3>> trail;
   std::vector<std::array<double, 3>> track;
@@ -120,6 +126,8 @@ struct ReassignmentRt {
   int last_reached = -1;
   std::vector<Helper> helpers;
   std::shared_ptr<const Reassignment> result;
+  std::string from = "home";  ///< where the helpers' work starts (FlightConfig::reassign_from)
+  std::string replan_from;    ///< state "replanning": the choice the operator asked for
 };
 
 }  // namespace uavcover::flight::detail
@@ -166,6 +174,26 @@ struct Flight::Impl {
   [[nodiscard]] bool has_work_left(const detail::UavRt& u) const;
   [[nodiscard]] bool settled(const detail::UavRt& u) const;
   [[nodiscard]] int last_reached(const detail::UavRt& u) const;
+  /// The status (P, C, R, S) of coverage waypoint `waypoint` of mission `m` (own missions: global
+  /// index; reassigned: the work's), or 0 when out of range.
+  [[nodiscard]] char waypoint_status(const detail::UavRt& u, const detail::MissionSpec& m,
+                                     int waypoint) const;
+  /// Whether every coverage waypoint of mission `m` is reached or skipped.
+  [[nodiscard]] bool coverage_done(const detail::UavRt& u, const detail::MissionSpec& m) const;
+  /// Waypoint retries: times the current coverage item, re-commands it, fails the UAV (supervisor).
+  void check_waypoint(detail::UavRt& u, detail::Clock::time_point now);
+  /// The deadline of mission item `item` from where the UAV is now (seconds).
+  [[nodiscard]] double waypoint_timeout_s(const detail::UavRt& u, const detail::MissionSpec& m,
+                                          int item) const;
+  /// Marks the UAV failed (its mission interrupted, its queue cleared): a reassignment is offered.
+  void fail_uav(detail::UavRt& u);
+  /// The helpers of a reassignment for failed UAV `failed`, starting from `from` ("home", "air").
+  [[nodiscard]] std::vector<Helper> helpers_for(const detail::UavRt& failed, const std::string& from) const;
+  /// Whether helper `h` flies one of its own missions now (it can be diverted from the air).
+  [[nodiscard]] bool divertable(const detail::UavRt& h) const;
+  /// Replaces the UAV's missions after the current one by `first`, then the rest of its own coverage
+  /// from its last reached waypoint, then the reassigned work still pending; the current is the next.
+  void requeue(detail::UavRt& u, std::vector<detail::MissionSpec> first);
   void queue_upload_and_start(detail::UavRt& u);
   void queue_command(detail::UavRt& u, const std::string& name, std::uint16_t command, float p1 = 0,
                      float p2 = 0);
@@ -179,6 +207,8 @@ struct Flight::Impl {
   /// Whether UAV `uav`'s binding sends the home position as item 0.
   [[nodiscard]] bool home_item_of(std::size_t uav) const;
   void apply_reassignment(detail::ReassignmentRt& r);
+  /// apply_reassignment() for the supervisor: a refusal goes to the log instead of the thread.
+  void apply_safely(detail::ReassignmentRt& r);
   [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,
                                                        const ReassignedWork& w, std::size_t k) const;
   [[nodiscard]] nlohmann::json snapshot_locked() const;

@@ -54,9 +54,14 @@ void Flight::Impl::restore(const json& s) {
           return u.id == jh.at("uav").get<std::string>();
         });
         if (h == plan.uavs.end()) throw InputError("restored.reassignments.helpers", "unknown UAV");
-        r.helpers.push_back(Helper{static_cast<std::size_t>(h - plan.uavs.begin()),
-                                   std::clamp(jh.at("battery").get<double>(), 0.01, 1.0)});
+        Helper x{static_cast<std::size_t>(h - plan.uavs.begin()),
+                 std::clamp(jh.at("battery").get<double>(), 0.01, 1.0)};
+        if (const auto d = jh.find("depot"); d != jh.end() && d->is_array())
+          x.depot = LonLat{d->at(0).get<double>(), d->at(1).get<double>()};
+        r.helpers.push_back(x);
       }
+      r.from = jr.value("from", "home") == "air" ? "air" : "home";
+      if (r.state == "replanning") r.state = "offered";  // the re-plan was lost with the server
       if (r.state !=
           "declined")  // deterministic: the same plan, UAV, waypoint and helpers give the same work
         r.result = std::make_shared<const Reassignment>(reassign(plan, r.failed, r.last_reached, r.helpers));
@@ -77,6 +82,8 @@ void Flight::Impl::restore(const json& s) {
       u.interrupted = ju.value("interrupted", false);
       if (u.interrupted) u.interrupted_since = Clock::now();
       u.offered = ju.value("offered", false);
+      if (const auto rt = ju.find("retries"); rt != ju.end() && rt->is_object())
+        u.retries_total = std::max(0, rt->value("total", 0));
       u.battery_pct = ju.contains("battery_pct") && ju["battery_pct"].is_number()
                           ? std::optional<double>(ju["battery_pct"].get<double>())
                           : std::nullopt;
@@ -175,6 +182,8 @@ json Flight::Impl::snapshot_locked() const {
         for (const auto& it : m.items)
           if (it.waypoint >= 0) path.push_back({it.lon, it.lat});
         jm["path"] = std::move(path);
+        // where it begins: the take-off item (its helper's home, or its live position from the air)
+        if (!m.items.empty()) jm["start"] = {m.items.front().lon, m.items.front().lat};
       } else {
         jm["from_waypoint"] = m.from_waypoint;
       }
@@ -209,6 +218,10 @@ json Flight::Impl::snapshot_locked() const {
         {"current_mission", u.current},
         {"interrupted", u.interrupted},
         {"offered", u.offered},
+        {"retries",
+         {{"waypoint", u.timed && u.retries > 0 ? json(u.timed_waypoint) : json()},
+          {"count", u.retries},
+          {"total", u.retries_total}}},
         {"waypoints", u.waypoints},
         {"missions", std::move(missions)},
         {"trail", std::move(trail)}};
@@ -234,10 +247,13 @@ json Flight::Impl::snapshot_locked() const {
     json to = json::array();
     json helpers = json::array();
     for (const auto& h : r.helpers)
-      helpers.push_back({{"uav", plan.uavs[h.index].id}, {"battery", h.battery_fraction}});
+      helpers.push_back({{"uav", plan.uavs[h.index].id},
+                         {"battery", h.battery_fraction},
+                         {"depot", h.depot ? json{h.depot->lon, h.depot->lat} : json()}});
     json x{{"id", r.id},
            {"failed_uav", r.failed_uav},
            {"state", r.state},
+           {"from", r.from},
            {"at", time_or_empty(r.at_ms)},
            {"last_reached", r.last_reached},
            {"helpers", std::move(helpers)}};

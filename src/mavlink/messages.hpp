@@ -174,6 +174,7 @@ enum MavCommand : std::uint16_t {
   kCmdNavReturnToLaunch = 20,
   kCmdNavLand = 21,
   kCmdDoPauseContinue = 193,
+  kCmdDoSetMissionCurrent = 224,  ///< param1: the item to fly to now (seq); ACK FAILED when out of range
   kCmdMissionStart = 300,
   kCmdComponentArmDisarm = 400,
 };

@@ -84,7 +84,7 @@ SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_
   std::optional<std::pair<std::uint8_t, sim::Failure>> failure;
   if (const json* f = member(s, "fail")) {
     if (!f->is_string() || f->get<std::string>().size() > 100)
-      throw InputError("simulate.fail", "must be a string ID@FRACTION[:link|:land]");
+      throw InputError("simulate.fail", "must be a string ID@FRACTION[:link|:land|:stuck]");
     failure = sim::parse_failure(f->get<std::string>(), "simulate.fail");
   }
   if (plan.uavs.size() > 255) throw InputError("simulate", "at most 255 simulated vehicles");

@@ -171,6 +171,20 @@ std::uint8_t SimVehicle::land_here() {
   return mav::kResultAccepted;
 }
 
+std::uint8_t SimVehicle::set_current(int seq) {
+  const int n = static_cast<int>(mission_.size());
+  if (seq < 0 || seq >= n || is_home_item(static_cast<std::size_t>(seq))) return mav::kResultFailed;
+  st_.set_current.push_back(static_cast<std::uint16_t>(seq));
+  if (st_.mode == Mode::Mission) {
+    last_item_ = std::max(last_item_, static_cast<std::size_t>(seq));
+    begin_item(static_cast<std::size_t>(seq));  // sends MISSION_CURRENT
+  } else {
+    st_.current_seq = static_cast<std::uint16_t>(seq);
+    send_current();
+  }
+  return mav::kResultAccepted;
+}
+
 std::vector<SimVehicle::Target> SimVehicle::item_targets(const mav::MissionItemInt& item,
                                                          const Vec3& from) const {
   const bool has_position = is_global(item.frame) && (item.x != 0 || item.y != 0);
@@ -263,7 +277,10 @@ void SimVehicle::fly(double dt) {
   bool landing = false;
   bool terrain_leg = false;  // flying to a terrain-frame item
   const bool chained = st_.mode == Mode::Mission || st_.mode == Mode::Rtl || st_.mode == Mode::Land;
-  if (chained && target_ < targets_.size()) {
+  const bool stuck = st_.failed && cfg_.failure && cfg_.failure->kind == FailureKind::Stuck;
+  if (stuck && st_.mode == Mode::Mission) {
+    goal = stuck_at_;  // no progress towards the mission's items
+  } else if (chained && target_ < targets_.size()) {
     goal = targets_[target_].p;
     landing = targets_[target_].land;
     // above the terrain: the height follows the ground under the vehicle
@@ -337,7 +354,7 @@ void SimVehicle::fly(double dt) {
   }
   if (terrain_leg && st_.airborne)
     st_.agl_min_m = std::min(st_.agl_min_m, st_.p.z - ground_above_home(st_.p.x, st_.p.y));
-  if (chained && target_ < targets_.size() && !landing &&
+  if (chained && !(stuck && st_.mode == Mode::Mission) && target_ < targets_.size() && !landing &&
       norm(sub(targets_[target_].p, st_.p)) <= cfg_.acceptance_radius_m) {
     ++target_;
     if (st_.mode == Mode::Mission && target_ >= targets_.size()) item_done();
@@ -372,6 +389,11 @@ void SimVehicle::check_failure() {
   st_.failed_at_s = st_.t;
   if (cfg_.failure->kind == FailureKind::Link) {
     st_.link_lost = true;  // it flies on, silent and deaf
+    return;
+  }
+  if (cfg_.failure->kind == FailureKind::Stuck) {
+    stuck_at_ = st_.p;  // holds here in its mission from now on (fly())
+    status(mav::kSeverityWarning, "failure: no progress");
     return;
   }
   status(mav::kSeverityCritical, "failure: forced landing");

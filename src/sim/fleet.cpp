@@ -80,7 +80,7 @@ void Fleet::run(const std::stop_token& stop, std::optional<double> max_sim_s) {
 }
 
 std::pair<std::uint8_t, Failure> parse_failure(const std::string& text, const std::string& field) {
-  const std::string usage = "expected ID@FRACTION[:link|:land] (e.g. 2@0.4:land), got '" + text + "'";
+  const std::string usage = "expected ID@FRACTION[:link|:land|:stuck] (e.g. 2@0.4:land), got '" + text + "'";
   const auto at = text.find('@');
   if (at == std::string::npos || at == 0) throw InputError(field, usage);
   unsigned id = 0;
@@ -96,8 +96,10 @@ std::pair<std::uint8_t, Failure> parse_failure(const std::string& text, const st
       f.kind = FailureKind::Link;
     else if (kind == "land")
       f.kind = FailureKind::Land;
+    else if (kind == "stuck")
+      f.kind = FailureKind::Stuck;
     else
-      throw InputError(field, "failure kind must be 'link' or 'land', got '" + kind + "'");
+      throw InputError(field, "failure kind must be 'link', 'land' or 'stuck', got '" + kind + "'");
     rest = rest.substr(0, colon);
   }
   double frac = 0;

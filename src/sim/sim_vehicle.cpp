@@ -120,6 +120,9 @@ void SimVehicle::on_command(const mav::CommandLong& c, const mav::Received& r) {
     case mav::kCmdNavLand:
       result = land_here();
       break;
+    case mav::kCmdDoSetMissionCurrent:
+      result = set_current(static_cast<int>(std::lround(c.param1)));
+      break;
     default:
       break;
   }

@@ -2,9 +2,10 @@
 // event loop, for rehearsal, demos and tests (`uavcover simulate`, docs/simulate.md).
 //
 // Each vehicle answers HEARTBEAT, receives missions through the mission protocol (mavlink::Vehicle,
-// shared with the upload tests), obeys COMMAND_LONG arm/disarm, mission start, pause/continue, RTL and
-// land (COMMAND_ACK), flies its mission items with a P controller on position under speed and
-// acceleration limits (Hong et al. 2021, eq. 1-2), drains a linear battery, and reports telemetry.
+// shared with the upload tests), obeys COMMAND_LONG arm/disarm, mission start, pause/continue, set the
+// current item (MAV_CMD_DO_SET_MISSION_CURRENT), RTL and land (COMMAND_ACK), flies its mission items with a P
+// controller on position under speed and acceleration limits (Hong et al. 2021, eq. 1-2), drains a linear
+// battery, and reports telemetry.
 //
 // Two clocks: flight, battery and telemetry run in simulated time (fixed steps, `speedup` times faster
 // than wall time); the mission protocol's timeouts stay in wall time (they are about the network).
@@ -32,7 +33,10 @@
 namespace uavcover::sim {
 
 enum class Autopilot { Px4, Generic };
-enum class FailureKind { Link, Land };
+/// Link: silent and deaf, flies on. Land: a forced landing where it is. Stuck: it stops making progress
+/// towards its mission items (holds where it is, as in a wind beyond its power or a bad position
+/// estimate) but keeps its link, answers commands and still flies RTL and land.
+enum class FailureKind { Link, Land, Stuck };
 
 /// Failure injection: when the vehicle has flown `fraction` of its mission's planned path length.
 struct Failure {
@@ -107,9 +111,10 @@ struct VehicleState {
   Mode mode = Mode::Standby;
   double battery = 1.0;  ///< remaining fraction 0..1
   std::optional<std::uint16_t> current_seq;
-  std::vector<std::uint16_t> reached;  ///< every MISSION_ITEM_REACHED sent, in order
-  double flown_m = 0;                  ///< odometer during missions
-  double planned_m = 0;                ///< planned path length of the mission from where it started
+  std::vector<std::uint16_t> reached;      ///< every MISSION_ITEM_REACHED sent, in order
+  std::vector<std::uint16_t> set_current;  ///< every MAV_CMD_DO_SET_MISSION_CURRENT accepted (its seq)
+  double flown_m = 0;                      ///< odometer during missions
+  double planned_m = 0;                    ///< planned path length of the mission from where it started
   bool mission_complete = false;
   bool fence_breach = false;  ///< left its fence (issue 31): switched to RTL
   /// With VehicleConfig::ground: the lowest height above the ground on the way to terrain-frame items (m).
@@ -160,6 +165,9 @@ class SimVehicle {
   std::uint8_t pause(bool pause);
   std::uint8_t return_to_launch();
   std::uint8_t land_here();
+  /// MAV_CMD_DO_SET_MISSION_CURRENT: in a mission, fly to item `seq` now (from where the vehicle is);
+  /// otherwise only reported current (MISSION_CURRENT). FAILED when out of range (or no mission).
+  std::uint8_t set_current(int seq);
   /// Replaces the stored mission as an upload would (for tests without a link).
   void set_mission(const std::vector<mavlink::MissionItemInt>& items);
 
@@ -207,6 +215,7 @@ class SimVehicle {
   double v_max_;
   Vec3 wind_;
   Vec3 hold_;
+  Vec3 stuck_at_;  ///< FailureKind::Stuck: where it stopped making progress
   bool paused_ = false;
   std::uint16_t heading_cdeg_ = 0;
   VehicleState st_;
@@ -241,7 +250,7 @@ class Fleet {
   std::atomic<double> sim_time_{0.0};
 };
 
-/// Parses "ID@FRACTION[:link|:land]" (ID = system id 1..255, FRACTION in (0, 1)); throws InputError
+/// Parses "ID@FRACTION[:link|:land|:stuck]" (ID = system id 1..255, FRACTION in (0, 1)); throws InputError
 /// naming `field`.
 std::pair<std::uint8_t, Failure> parse_failure(const std::string& text, const std::string& field = "--fail");
 

@@ -3,6 +3,7 @@
 // on simulated time (a wall-time cap only keeps a broken run from hanging); no assertion on wall time.
 #include "flight/flight.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "evaluation/evaluate.hpp"
 #include "flight/coverage.hpp"
 #include "flight/runtime.hpp"
+#include "geodesy/local_frame.hpp"
 #include "sim/sim_vehicle.hpp"
 #include "sorties/sorties.hpp"
 #include "support/errors.hpp"
@@ -637,6 +639,243 @@ TEST(Flight, PauseContinueThenForcedLandingAndResumeFromTheLastReachedWaypoint) 
   for (const auto& [key, h] : waypoint_histories(rec.all(), nullptr)) EXPECT_TRUE(h == "CR" || h == "R") << h;
 }
 
+// Issue 33, Hong et al. 2021 §2.3 (the task manager): a coverage waypoint that is not reached is
+// commanded again (MAV_CMD_DO_SET_MISSION_CURRENT of the same item) waypoint_retries times, then its UAV
+// has failed, with an alert naming the waypoint, and its remaining coverage is offered to the others.
+// Vehicle B stops making progress halfway through its mission (the simulator's `stuck` fault: it holds
+// where it is, its link alive); A is healthy and is never retried. The deadlines run on the wall clock
+// while the fleet runs 50 times faster: a factor of 0.2 (below parse_config's 1) is 10 times each leg's
+// flight time in simulated time.
+TEST(Flight, AWaypointNotReachedIsRetriedThenItsUavFails) {
+  const Plan p = plan(field(150, 100, 2));
+  Sim s(p, 50, 0, std::pair<int, sim::Failure>{1, sim::Failure{0.5, sim::FailureKind::Stuck}});
+  Recorder rec;
+  flight::FlightConfig c = s.config();
+  c.waypoint_retries = 2;
+  c.waypoint_timeout_factor = 0.2;
+  c.waypoint_timeout_floor_s = 2.0;
+  flight::Flight f(12, p, c, rec);
+  f.start();
+  ASSERT_NO_FATAL_FAILURE(upload_and_start(s, f));
+  ASSERT_TRUE(wait_for(s, 20000, [&] {
+    const json j = f.snapshot();
+    return j["uavs"][1]["phase"] == "failed" && !j["reassignments"].empty() &&
+           j["uavs"][0]["phase"] == "done";
+  })) << f.snapshot().dump(1);
+  const json snap = f.snapshot();
+  f.stop();
+  s.thread.request_stop();
+  s.thread.join();
+  const auto recs = rec.all();
+  std::vector<json> retries;
+  std::optional<std::size_t> failed_at;
+  std::size_t last_retry = 0;
+  int acks = 0;
+  for (std::size_t k = 0; k < recs.size(); ++k) {
+    const auto& r = recs[k];
+    if (r.kind == "retry") {
+      EXPECT_EQ(r.uav, "B") << r.data;
+      retries.push_back(r.data);
+      last_retry = k;
+    }
+    if (r.kind == "state" && r.uav == "B" && r.data.value("phase", "") == "failed") failed_at = k;
+    if (r.kind == "ack" && r.data["command"] == "retry_waypoint") {
+      EXPECT_EQ(r.uav, "B");
+      EXPECT_TRUE(r.data["ok"].get<bool>()) << r.data;
+      ++acks;
+    }
+  }
+  // exactly two retries, of the same coverage waypoint, each acknowledged; then the failure, nothing after
+  ASSERT_EQ(retries.size(), 2U);
+  const int w = retries[0]["waypoint"];
+  const int seq = retries[0]["seq"];
+  for (std::size_t k = 0; k < retries.size(); ++k) {
+    EXPECT_EQ(retries[k]["waypoint"], w);
+    EXPECT_EQ(retries[k]["seq"], seq);
+    EXPECT_EQ(retries[k]["retry"], static_cast<int>(k) + 1);
+    EXPECT_EQ(retries[k]["of"], 2);
+    EXPECT_EQ(retries[k]["mission"], "sortie");
+  }
+  EXPECT_EQ(acks, 2);
+  ASSERT_TRUE(failed_at.has_value());
+  EXPECT_GT(*failed_at, last_retry);
+  // the vehicle was told twice to fly to that item, the healthy one never
+  EXPECT_EQ(s.fleet.vehicles()[1]->state().set_current,
+            (std::vector<std::uint16_t>{static_cast<std::uint16_t>(seq), static_cast<std::uint16_t>(seq)}));
+  EXPECT_TRUE(s.fleet.vehicles()[0]->state().set_current.empty());
+  const json b = snap["uavs"][1];
+  const auto items = sorties::resume_items(p, 1, -1).at(b["current_mission"].get<std::size_t>());
+  ASSERT_LT(static_cast<std::size_t>(seq), items.size());
+  EXPECT_EQ(items[static_cast<std::size_t>(seq)].waypoint, w) << "the item re-commanded is the waypoint";
+  // what the operator sees: B failed on waypoint w (reached before it, current at it), its retries, the
+  // alert naming the waypoint, and the offer of its rest from there
+  const std::string wp = b["waypoints"];
+  ASSERT_LT(static_cast<std::size_t>(w), wp.size());
+  EXPECT_EQ(wp[static_cast<std::size_t>(w)], 'C') << wp;
+  EXPECT_EQ(wp.substr(0, static_cast<std::size_t>(w)), std::string(static_cast<std::size_t>(w), 'R')) << wp;
+  EXPECT_EQ(b["retries"]["waypoint"], w);
+  EXPECT_EQ(b["retries"]["count"], 2);
+  EXPECT_EQ(b["retries"]["total"], 2);
+  int failed_alerts = 0;
+  for (const auto& a : snap["alerts"])
+    if (a["kind"] == "waypoint_failed") {
+      ++failed_alerts;
+      EXPECT_EQ(a["uav"], "B");
+      EXPECT_TRUE(a["active"].get<bool>());
+      EXPECT_EQ(a["message"], fmt::format("waypoint {} not reached after 2 retries", w));
+    }
+  EXPECT_EQ(failed_alerts, 1);
+  EXPECT_EQ(snap["reassignments"][0]["failed_uav"], "B");
+  EXPECT_EQ(snap["reassignments"][0]["last_reached"], w - 1);
+  // A flew everything and was never retried
+  const json a = snap["uavs"][0];
+  EXPECT_EQ(a["phase"], "done");
+  const std::string aw = a["waypoints"];
+  EXPECT_EQ(aw, std::string(aw.size(), 'R'));
+  EXPECT_EQ(a["retries"]["total"], 0);
+}
+
+// A 300 m x 200 m field flown by three simulated UAVs at x20; C is forced down a quarter into its mission
+// and its rest offered 0.2 s after it landed.
+struct ForcedDown {
+  Plan p = plan(field(300, 200, 3));
+  Sim s{p, 20, 0, std::pair<int, sim::Failure>{2, sim::Failure{0.25, sim::FailureKind::Land}}};
+  Recorder rec;
+  flight::FlightConfig c = with_offer_after(s.config(), 0.2);
+  static flight::FlightConfig with_offer_after(flight::FlightConfig c, double s) {
+    c.reassign_after_s = s;
+    return c;
+  }
+};
+
+// Issue 33: reassignment from the air (reassign_from "air"). C is forced down a quarter into its mission;
+// A and B, still flying their own sorties, get its remaining coverage planned from where they are (their
+// live positions as depots, not their take-off points) and are diverted to it at once, without landing;
+// they fly it, then the rest of their own coverage, and together they cover what C left: the flown
+// coverage of every track is at least the planned one less one point.
+TEST(Flight, ReassignmentFromTheAirStartsTheHelpersWhereTheyAre) {
+  ForcedDown fd;
+  const Plan& p = fd.p;
+  Sim& s = fd.s;
+  Recorder& rec = fd.rec;
+  flight::FlightConfig& c = fd.c;
+  c.auto_reassign = true;
+  c.reassign_from = "air";
+  flight::Flight f(13, p, c, rec);
+  f.start();
+  ASSERT_NO_FATAL_FAILURE(upload_and_start(s, f));
+  json at_offer;  // the first snapshot with the reassignment: the UAVs' positions within a poll of it
+  ASSERT_TRUE(wait_for(s, 3000, [&] {
+    json j = f.snapshot();
+    if (j["reassignments"].empty()) return false;
+    at_offer = std::move(j);
+    return true;
+  })) << f.snapshot().dump(1);
+  const json offer = at_offer["reassignments"][0];
+  EXPECT_EQ(offer["failed_uav"], "C");
+  EXPECT_EQ(offer["from"], "air");
+  const geodesy::LocalFrame frame(p.origin);
+  auto metres = [&](const LonLat& a, const LonLat& b) {
+    return bg::distance(frame.to_local(a), frame.to_local(b));
+  };
+  std::map<std::string, LonLat> depot;
+  for (const auto& h : offer["helpers"]) {
+    const std::string id = h["uav"];
+    ASSERT_TRUE(h["depot"].is_array()) << h;
+    depot[id] = LonLat{h["depot"][0].get<double>(), h["depot"][1].get<double>()};
+    const std::size_t i = static_cast<std::size_t>(id[0] - 'A');
+    const json& pos = at_offer["uavs"][i]["position"];
+    const double home_m = metres(depot[id], p.mission.uavs[i].start_resolved);
+    const double live_m = metres(depot[id], LonLat{pos["lon"].get<double>(), pos["lat"].get<double>()});
+    std::printf("%s: depot %.1f m from its take-off point, %.1f m from where it was at the offer\n",
+                id.c_str(), home_m, live_m);
+    EXPECT_GT(home_m, 60.0) << id << ": over the field, not at home";
+    EXPECT_LT(live_m, 40.0) << id << ": where it was (within the offer's latency at x20)";
+  }
+  ASSERT_EQ(depot.size(), 2U);
+  ASSERT_TRUE(wait_for(s, 8000, [&] { return f.finished(); })) << f.snapshot().dump(1);
+  f.stop();
+  EXPECT_EQ(f.state(), "done");
+  const json snap = f.snapshot();
+  ASSERT_EQ(snap["reassignments"][0]["state"], "applied");
+  int diverted = 0;
+  for (const auto& u : snap["uavs"]) {
+    const std::string id = u["uav"];
+    const std::string own = u["waypoints"];
+    if (id == "C") {
+      EXPECT_EQ(own.find_first_of("PC"), std::string::npos) << own;
+      EXPECT_NE(own.find('S'), std::string::npos) << own;
+      continue;
+    }
+    EXPECT_EQ(own, std::string(own.size(), 'R')) << id;
+    const json& ms = u["missions"];
+    bool reassigned = false;
+    for (std::size_t k = 0; k < ms.size(); ++k)
+      if (ms[k]["kind"] == "reassigned") {
+        const std::string w = ms[k]["waypoints"];
+        EXPECT_EQ(w, std::string(w.size(), 'R')) << id;
+        EXPECT_EQ(ms[k]["state"], "done") << id;
+        if (ms[k]["index"] == 0) {
+          // the work's first mission starts at the depot, right after the own sortie it interrupted
+          reassigned = true;
+          ASSERT_GE(k, 1U);
+          EXPECT_EQ(ms[k - 1]["state"], "interrupted") << id;
+          EXPECT_NE(ms[k - 1]["kind"], "reassigned") << id;
+          EXPECT_LT(
+              metres(LonLat{ms[k]["start"][0].get<double>(), ms[k]["start"][1].get<double>()}, depot[id]),
+              0.01)
+              << id;
+        }
+      }
+    if (!reassigned) continue;
+    ++diverted;
+    // no landing between the offer and the reassigned work: uploaded and started in the air
+    bool applied = false, flying_work = false;
+    for (const auto& r : rec.all()) {
+      if (r.kind == "reassignment" && r.data.value("state", "") == "applied") applied = true;
+      if (!applied || r.uav != id || flying_work) continue;
+      if (r.kind == "sortie" && r.data["kind"] == "reassigned" && r.data["state"] == "flying")
+        flying_work = true;
+      if (r.kind == "state") {
+        EXPECT_NE(r.data.value("phase", ""), "landed") << id << ": landed before its reassigned work";
+      }
+    }
+    EXPECT_TRUE(flying_work) << id;
+  }
+  EXPECT_EQ(diverted, static_cast<int>(snap["reassignments"][0]["to"].size()));
+  EXPECT_GT(diverted, 0);
+  const auto cov = flight::flown_coverage(p, f.tracks());
+  std::cout << "reassigned from the air: flown PoC " << cov.flown_poc << ", planned " << cov.planned_poc
+            << "\n";
+  EXPECT_GE(cov.flown_poc, cov.planned_poc - 0.01);
+}
+
+// Issue 33: the operator's choice on the command. An offer planned from home ("home", the default) applied
+// with reassign_from "air" is re-planned from the helpers' positions now, then applied.
+TEST(Flight, ACommandReassignsFromTheAirAnOfferPlannedFromHome) {
+  ForcedDown fd;
+  Sim& s = fd.s;
+  flight::Flight f(14, fd.p, fd.c, fd.rec);
+  f.start();
+  ASSERT_NO_FATAL_FAILURE(upload_and_start(s, f));
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return !f.snapshot()["reassignments"].empty(); }))
+      << f.snapshot().dump(1);
+  json offer = f.snapshot()["reassignments"][0];
+  EXPECT_EQ(offer["from"], "home");
+  for (const auto& h : offer["helpers"]) EXPECT_TRUE(h["depot"].is_null()) << h;
+  f.command(flight::Command{"reassign", "", offer["id"].get<int>(), "air"});
+  ASSERT_TRUE(wait_for(s, 500, [&] { return f.snapshot()["reassignments"][0]["state"] == "applied"; }))
+      << f.snapshot().dump(1);
+  offer = f.snapshot()["reassignments"][0];
+  f.stop();
+  EXPECT_EQ(offer["from"], "air");
+  for (const auto& h : offer["helpers"]) EXPECT_TRUE(h["depot"].is_array()) << h;
+  std::vector<std::string> states;
+  for (const auto& r : fd.rec.all())
+    if (r.kind == "reassignment") states.push_back(r.data["state"]);
+  EXPECT_EQ(states, (std::vector<std::string>{"offered", "replanning", "offered", "applied"}));
+}
+
 TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
   const Plan p = plan(field(150, 100, 2));
   Sim s(p, 50);
@@ -719,6 +958,52 @@ TEST(FlightConfig, TcpAndSerialEndpoints) {
   EXPECT_EQ(with([](json& k) { k["vehicles"][1]["endpoint"] = "serial:/dev/ttyUSB0:57601"; }),
             "vehicles[1].endpoint");
   EXPECT_EQ(with([](json& k) { k["vehicles"][0]["endpoint"] = "tcp:127.0.0.1:0"; }), "vehicles[0].endpoint");
+}
+
+// Issue 33: the waypoint retries and where reassigned work starts, with their defaults and refusals.
+TEST(FlightConfig, WaypointRetriesAndReassignFrom) {
+  const Plan p = plan(field(100, 60, 2));
+  const json good{{"vehicles", {{{"uav", "A"}, {"endpoint", "udp:127.0.0.1:14550"}}}}};
+  const auto d = flight::parse_config(good, p);
+  EXPECT_EQ(d.waypoint_retries, 2);
+  EXPECT_DOUBLE_EQ(d.waypoint_timeout_factor, 3.0);
+  EXPECT_DOUBLE_EQ(d.waypoint_timeout_floor_s, 30.0);
+  EXPECT_EQ(d.reassign_from, "home");
+  json j = good;
+  j["waypoint_retries"] = 0;
+  j["waypoint_timeout_factor"] = 1.5;
+  j["waypoint_timeout_floor_s"] = 12;
+  j["reassign_from"] = "air";
+  const auto c = flight::parse_config(j, p);
+  EXPECT_EQ(c.waypoint_retries, 0);
+  EXPECT_DOUBLE_EQ(c.waypoint_timeout_factor, 1.5);
+  EXPECT_DOUBLE_EQ(c.waypoint_timeout_floor_s, 12);
+  EXPECT_EQ(c.reassign_from, "air");
+  EXPECT_EQ(flight::config_json(flight::parse_config(flight::config_json(c), p)), flight::config_json(c));
+  auto with = [&](const char* key, const json& v) {
+    json k = good;
+    k[key] = v;
+    return field_of([&] { flight::parse_config(k, p); });
+  };
+  EXPECT_EQ(with("waypoint_retries", -1), "waypoint_retries");
+  EXPECT_EQ(with("waypoint_retries", 11), "waypoint_retries");
+  EXPECT_EQ(with("waypoint_retries", 1.5), "waypoint_retries");
+  EXPECT_EQ(with("waypoint_timeout_factor", 0.5), "waypoint_timeout_factor");
+  EXPECT_EQ(with("waypoint_timeout_factor", "x"), "waypoint_timeout_factor");
+  EXPECT_EQ(with("waypoint_timeout_floor_s", 0), "waypoint_timeout_floor_s");
+  EXPECT_EQ(with("reassign_from", "sky"), "reassign_from");
+  EXPECT_EQ(with("reassign_from", 1), "reassign_from");
+  // on the command
+  EXPECT_EQ(flight::parse_command({{"command", "reassign"}, {"reassign_from", "air"}}).reassign_from, "air");
+  EXPECT_FALSE(flight::parse_command({{"command", "reassign"}}).reassign_from.has_value());
+  EXPECT_EQ(field_of([] {
+              flight::parse_command({{"command", "rtl"}, {"reassign_from", "air"}});
+            }),
+            "reassign_from");
+  EXPECT_EQ(field_of([] {
+              flight::parse_command({{"command", "reassign"}, {"reassign_from", "up"}});
+            }),
+            "reassign_from");
 }
 
 TEST(FlightConfig, ParseErrorsNameTheField) {

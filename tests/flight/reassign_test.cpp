@@ -13,6 +13,7 @@
 #include <stop_token>
 
 #include "evaluation/evaluate.hpp"
+#include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "sorties/sorties.hpp"
 #include "support/examples.hpp"
@@ -362,6 +363,58 @@ TEST(Reassign, IsDeterministic) {
       }
     }
   }
+}
+
+// Issue 33: the depot choice. Without a depot a helper's work starts at its take-off point (the default,
+// "home"); with one (reassignment from the air: its live position) the work is planned from there: its
+// first mission takes off at the depot, the later ones at home again, and its sorties are cut for the
+// battery it has left.
+TEST(Reassign, FromTheAirTheWorkStartsAtTheHelpersDepot) {
+  const Plan& p = olive_grove();
+  const int lr = waypoint_count(p, 1) / 2;
+  const geodesy::LocalFrame frame(p.origin);
+  // each helper over its own region, halfway through its own coverage
+  auto over_own = [&](std::size_t i) {
+    const auto wps = sorties::coverage_waypoints(p.uavs[i]);
+    const auto& ref = wps[wps.size() / 2];
+    return p.uavs[i].parts[ref.part].wgs84[ref.vertex];
+  };
+  const LonLat a_depot = over_own(0), c_depot = over_own(2);
+  const auto home = flight::reassign(p, 1, lr, {{0, 0.5}, {2, 0.5}});
+  const auto air = flight::reassign(p, 1, lr, {{0, 0.5, a_depot}, {2, 0.5, c_depot}});
+  ASSERT_EQ(home.work.size(), 2U);
+  ASSERT_EQ(air.work.size(), 2U);
+  EXPECT_EQ(air.area, home.area);  // the same remainder, planned from elsewhere
+  auto metres = [&](LonLat a, LonLat b) { return bg::distance(frame.to_local(a), frame.to_local(b)); };
+  std::size_t home_sorties = 0, air_sorties = 0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& h = home.work[k];
+    const auto& a = air.work[k];
+    ASSERT_EQ(h.index, a.index);
+    const LonLat start = p.mission.uavs[a.index].start_resolved;
+    const LonLat depot = a.index == 0 ? a_depot : c_depot;
+    ASSERT_GT(metres(start, depot), 50.0);
+    ASSERT_FALSE(h.missions.empty());
+    ASSERT_FALSE(a.missions.empty());
+    for (std::size_t m = 0; m < h.missions.size(); ++m) {
+      EXPECT_EQ(h.missions[m].front().role, "takeoff");
+      EXPECT_LT(metres(LonLat{h.missions[m].front().lon, h.missions[m].front().lat}, start), 0.01) << m;
+    }
+    for (std::size_t m = 0; m < a.missions.size(); ++m) {
+      EXPECT_EQ(a.missions[m].front().role, "takeoff");
+      const LonLat at{a.missions[m].front().lon, a.missions[m].front().lat};
+      EXPECT_LT(metres(at, m == 0 ? depot : start), 0.01) << a.uav << " mission " << m;
+    }
+    home_sorties += h.missions.size();
+    air_sorties += a.missions.size();
+  }
+  // half a battery left: the work from the air is cut into at least as many missions
+  EXPECT_GE(air_sorties, home_sorties);
+  // a depot that is not a position is refused, naming it
+  EXPECT_EQ(testing::input_error_field([&] {
+              flight::reassign(p, 1, lr, {{0, 1.0, LonLat{200.0, 0.0}}});
+            }),
+            "helpers[0].depot");
 }
 
 TEST(Reassign, NothingLeftAfterTheLastWaypoint) {

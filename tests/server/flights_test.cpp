@@ -132,6 +132,12 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
                "vehicles[0].endpoint");
   expect_error(post_flight(plan, {{"simulate", json::object()}, {"link_timeout_s", -1}}), 422,
                "link_timeout_s");
+  // issue 33: the task manager's fields
+  expect_error(post_flight(plan, {{"simulate", json::object()}, {"waypoint_retries", 11}}), 422,
+               "waypoint_retries");
+  expect_error(post_flight(plan, {{"simulate", json::object()}, {"reassign_from", "sky"}}), 422,
+               "reassign_from");
+  expect_error(post_flight(plan, {{"simulate", {{"fail", "1@0.5:jam"}}}}), 422, "simulate.fail");
   EXPECT_TRUE(call("GET", plan_url(plan) + "/flights").json().at("items").empty()) << "nothing was stored";
 
   // a plan that is not done cannot fly
@@ -151,9 +157,14 @@ TEST_P(FlightApiTest, RequestsAreValidatedWithTheFieldNamed) {
 
 TEST_P(FlightApiTest, CommandsAreCheckedAgainstTheFlightsState) {
   const store::Id plan = done_plan();
-  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 20}}}});
+  const Answer created = post_flight(plan, {{"simulate", {{"speedup", 20}, {"fail", "1@0.5:stuck"}}},
+                                            {"waypoint_retries", 3},
+                                            {"reassign_from", "air"}});
   ASSERT_EQ(created.status, 201) << created.body;
   const json flight = created.json();
+  EXPECT_EQ(flight.at("config").at("waypoint_retries"), 3);
+  EXPECT_EQ(flight.at("config").at("reassign_from"), "air");
+  EXPECT_EQ(flight.at("uavs")[0].at("retries").at("total"), 0);
   const auto id = flight.at("id").get<store::Id>();
   EXPECT_EQ(created.header("Location"), "/api/v1/flights/" + std::to_string(id));
   EXPECT_EQ(flight.at("plan_id"), plan);
@@ -172,6 +183,15 @@ TEST_P(FlightApiTest, CommandsAreCheckedAgainstTheFlightsState) {
   EXPECT_EQ(a.error_field(), "command");
   a = call("POST", url + "/commands", R"({"command": "upload", "uav": "Q"})");
   EXPECT_EQ(a.status, 422) << a.body;
+  // the reassignment's choice goes with reassign only, and must be home or air; nothing is offered yet
+  a = call("POST", url + "/commands", R"({"command": "start", "reassign_from": "air"})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "reassign_from");
+  a = call("POST", url + "/commands", R"({"command": "reassign", "reassign_from": "up"})");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "reassign_from");
+  a = call("POST", url + "/commands", R"({"command": "reassign", "reassign_from": "air"})");
+  EXPECT_EQ(a.status, 409) << a.body;
 
   const json listed = call("GET", plan_url(plan) + "/flights").json();
   ASSERT_EQ(listed.at("items").size(), 1u);

@@ -463,12 +463,56 @@ TEST(SimVehicleModel, BatterySwappedWhenArmingAtHome) {
   EXPECT_DOUBLE_EQ(away->state().battery, left);
 }
 
+// Issue 33: the `stuck` fault holds the vehicle where it is in its mission (no item reached after it),
+// with MAV_CMD_DO_SET_MISSION_CURRENT accepted (kept in set_current) without getting it moving; RTL still
+// brings it home. Without the fault, set_current skips ahead to the item given.
+TEST(SimVehicleModel, StuckHoldsAndSetCurrentRetargets) {
+  auto c = config(9);
+  c.home = kHome;
+  c.failure = sim::Failure{0.3, sim::FailureKind::Stuck};
+  sim::SimVehicle v(c);
+  v.set_mission(square_mission());
+  ASSERT_EQ(v.arm(true), kResultAccepted);
+  ASSERT_EQ(v.start_mission(), kResultAccepted);
+  for (int i = 0; i < 40000 && !v.state().failed; ++i) v.step(0.05);
+  ASSERT_TRUE(v.state().failed);
+  const std::size_t reached = v.state().reached.size();
+  const auto seq = v.state().current_seq;
+  ASSERT_TRUE(seq.has_value());
+  EXPECT_EQ(v.set_current(*seq), kResultAccepted);
+  const sim::Vec3 at = v.state().p;
+  for (int i = 0; i < 4000; ++i) v.step(0.05);  // 200 s
+  EXPECT_EQ(v.state().reached.size(), reached);
+  EXPECT_EQ(v.state().current_seq, seq);
+  EXPECT_LT(std::hypot(v.state().p.x - at.x, v.state().p.y - at.y), 1.0);
+  EXPECT_EQ(v.state().set_current, (std::vector<std::uint16_t>{*seq}));
+  EXPECT_EQ(v.set_current(9999), kResultFailed);
+  EXPECT_EQ(v.return_to_launch(), kResultAccepted);
+  for (int i = 0; i < 40000 && v.state().armed; ++i) v.step(0.05);
+  EXPECT_FALSE(v.state().armed);
+  EXPECT_LT(std::hypot(v.state().p.x, v.state().p.y), 1.0);
+
+  auto healthy = config(9);
+  healthy.home = kHome;
+  sim::SimVehicle w(healthy);
+  w.set_mission(square_mission());
+  ASSERT_EQ(w.arm(true), kResultAccepted);
+  ASSERT_EQ(w.start_mission(), kResultAccepted);
+  const auto last = static_cast<int>(square_mission().size()) - 2;  // the item before the RTL
+  EXPECT_EQ(w.set_current(last), kResultAccepted);
+  EXPECT_EQ(w.state().current_seq, static_cast<std::uint16_t>(last));
+  for (int i = 0; i < 40000 && !w.state().mission_complete; ++i) w.step(0.05);
+  ASSERT_FALSE(w.state().reached.empty());
+  EXPECT_EQ(w.state().reached.front(), last);  // the items before it were skipped
+}
+
 TEST(SimVehicleModel, ParseFailure) {
   const auto [id, f] = sim::parse_failure("3@0.4:land");
   EXPECT_EQ(id, 3);
   EXPECT_EQ(f.kind, sim::FailureKind::Land);
   EXPECT_DOUBLE_EQ(f.fraction, 0.4);
   EXPECT_EQ(sim::parse_failure("1@0.25").second.kind, sim::FailureKind::Link);
+  EXPECT_EQ(sim::parse_failure("2@0.5:stuck").second.kind, sim::FailureKind::Stuck);
   for (const char* bad : {"", "@0.4", "0@0.4", "256@0.4", "1@1", "1@0", "1@x", "1@0.4:crash", "1@0.4:"})
     EXPECT_THROW(sim::parse_failure(bad), InputError) << bad;
 }

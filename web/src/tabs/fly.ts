@@ -102,7 +102,11 @@ export const flyTab: Tab = {
     const failUav = el('select', { 'data-testid': 'fly-fail-uav', 'aria-label': 'Failing UAV' });
     const failAt = numberInput('fly-fail-at', '40', { min: '0', max: '100', step: '1', 'aria-label': 'Failure at % of its mission' });
     const failKind = el('select', { 'data-testid': 'fly-fail-kind', 'aria-label': 'Failure kind' });
-    failKind.append(el('option', { value: 'link' }, 'link loss'), el('option', { value: 'land' }, 'forced landing'));
+    failKind.append(
+      el('option', { value: 'link' }, 'link loss'),
+      el('option', { value: 'land' }, 'forced landing'),
+      el('option', { value: 'stuck' }, 'stuck (no progress)'),
+    );
     const simulate = el('button', { type: 'button', class: 'plan-primary', 'data-testid': 'fly-simulate' }, 'Simulate fleet');
     const simRow = el('div', { class: 'plan-row' });
     simRow.append(labelled('speed-up ×', speedup), simulate);
@@ -119,6 +123,10 @@ export const flyTab: Tab = {
     const lowBattery = numberInput('fly-low-battery', '25', { min: '0', max: '100', step: '1' });
     const linkTimeout = numberInput('fly-link-timeout', '3', { min: '0.5', step: '0.5' });
     const reassignAfter = numberInput('fly-reassign-after', '10', { min: '1', step: '1' });
+    const waypointRetries = numberInput('fly-waypoint-retries', '2', { min: '0', max: '10', step: '1' });
+    // where reassigned work starts (docs/flights.md, Reassignment): take-off points, or live positions
+    const reassignFrom = el('select', { 'data-testid': 'fly-reassign-from' });
+    reassignFrom.append(el('option', { value: 'home' }, 'home (after landing)'), el('option', { value: 'air' }, 'where they are (in the air)'));
     const autoRow = el('label', { class: 'plan-check' });
     autoRow.append(autoReassign, document.createTextNode(' apply reassignments without asking'));
     const settingsGrid = el('div', { class: 'fly-settings-grid' });
@@ -128,7 +136,9 @@ export const flyTab: Tab = {
       ['low battery alert below (%)', lowBattery],
       ['link lost after (s)', linkTimeout],
       ['offer reassignment after (s)', reassignAfter],
-    ] as [string, HTMLInputElement][]) {
+      ['waypoint retries (0: off)', waypointRetries],
+      ['helpers start from', reassignFrom],
+    ] as [string, HTMLElement][]) {
       input.setAttribute('aria-label', label);
       settingsGrid.append(el('span', { class: 'muted' }, label), input);
     }
@@ -486,6 +496,8 @@ export const flyTab: Tab = {
       low_battery_pct: Number(lowBattery.value),
       link_timeout_s: Number(linkTimeout.value),
       reassign_after_s: Number(reassignAfter.value),
+      waypoint_retries: Number(waypointRetries.value),
+      reassign_from: reassignFrom.value,
     });
     const createFlight = async (req: Record<string, unknown>, button: HTMLButtonElement, startAfter: boolean) => {
       if (!plan) return;
