@@ -6,6 +6,7 @@
 
 #include "cli/command.hpp"
 #include "cli/mission_file.hpp"
+#include "cli/trajectory_options.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
@@ -47,7 +48,7 @@ void run_export(ExportArgs& a) {
     if (e.field() == "formats") throw InputError("--format", problem);
     if (e.field() == "altitude.transition_ceiling_m") throw InputError("--transition-ceiling", problem);
     if (e.field() == "autopilot" && !a.opt.autopilot.empty()) throw InputError("--autopilot", problem);
-    throw;
+    rethrow_as_flag(e);
   }
   const auto files = io::write_artifacts(out, artifacts);
   for (const auto& w : warnings) std::cerr << "uavcover: warning: " << w << "\n";
@@ -56,10 +57,20 @@ void run_export(ExportArgs& a) {
       waypoints::resolve_altitudes(a.opt.altitude, waypoints::altitude_slots(plan), plan.mission.altitude_m);
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     if (exporting::idle(plan.uavs[i])) continue;
+    const auto traj = trajectory::uav_trajectory(plan, i, a.opt.trajectory, altitudes);
+    std::string limits;
+    if (traj.method() == trajectory::Method::Polynomial) {  // whether its bounds hold, and its extremes
+      const auto& r = traj.report();
+      limits = fmt::format(
+          ", limits {} (v {:.2f}..{:.2f} m/s, |v| {:.2f}, a {:.2f}..{:.2f} m/s^2, |a| {:.2f}; "
+          "{} of {} segments stretched)",
+          r.hold ? "hold" : "BROKEN", r.v_lo, r.v_hi, r.speed_max, r.a_lo, r.a_hi, r.accel_max, r.stretched,
+          traj.polynomials().size());
+    }
     std::cout << fmt::format(
-        "{:<12} transition altitude {:>6.1f} m, trajectory flight time {:>8.1f} s\n", plan.uavs[i].id,
+        "{:<12} transition altitude {:>6.1f} m, {} trajectory flight time {:>8.1f} s{}\n", plan.uavs[i].id,
         waypoints::transition_altitude(altitudes, waypoints::altitude_slot(plan, i), plan.mission.altitude_m),
-        trajectory::flight_time_s(plan, i, a.opt.trajectory, altitudes));
+        trajectory::method_name(traj.method()), traj.duration(), limits);
   }
   std::cout << fmt::format("wrote {} file(s) under {}\n", files.size(), out.string());
 }
@@ -149,6 +160,7 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
   cmd->add_option("--fillet-radius", args->opt.trajectory.fillet_radius_m, "Trajectory corner radius (m)")
       ->capture_default_str()
       ->check(number_in(0, 1'000));
+  add_trajectory_method_options(cmd, args->opt.trajectory);
   cmd->footer(
       std::string("Outputs (one file per UAV, named by its id):\n") +
       "  OUT/export/<id>.geojson     RFC 7946 FeatureCollection (area, no-fly zones, the UAV's path)\n"
@@ -161,7 +173,9 @@ const bool registered = CommandRegistry::add(40, [](CLI::App& app) {
       "  OUT/export/<id>.csv         mission items as CSV\n"
       "  OUT/trajectory/<id>.csv     the segment form: t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max,\n"
       "                              one row per breakpoint (accelerate, cruise, decelerate, arc, end);\n"
-      "                              with --trajectory-step S: t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az every S s\n"
+      "                              with --trajectory-step S (or --trajectory-method polynomial, at S or\n"
+      "                              0.1 s): t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az every S s\n"
+      "  OUT/export/<id>.trajectory.png  position, velocity, acceleration against time (trajectory_plot)\n"
       "With --per-sortie, <id>.s1.<ext>, <id>.s2.<ext>, ... (one whole mission per battery sortie) replace\n"
       "<id>.<ext> for " +
       per_sortie_format_list() +

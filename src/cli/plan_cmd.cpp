@@ -9,6 +9,7 @@
 #include "cli/interrupt.hpp"
 #include "cli/mission_file.hpp"
 #include "cli/progress.hpp"
+#include "cli/trajectory_options.hpp"
 #include "cli/validators.hpp"
 #include "export/export.hpp"
 #include "io/plan_io.hpp"
@@ -30,6 +31,7 @@ struct PlanArgs {
   bool no_images = false;
   bool per_sortie = false;
   double trajectory_step_s = 0;
+  trajectory::Options trajectory;
 };
 
 void run_plan(const PlanArgs& a) {
@@ -53,8 +55,14 @@ void run_plan(const PlanArgs& a) {
   oo.exports = a.exports;
   oo.per_sortie = a.per_sortie;
   oo.trajectory_step_s = a.trajectory_step_s;
-  // what the exports would refuse after planning (transition altitudes over the ceiling) is refused now
-  usecases::check_outputs(mission, oo);
+  oo.trajectory = a.trajectory;
+  // what the exports would refuse after planning (transition altitudes over the ceiling, trajectory
+  // bounds no UAV can keep) is refused now
+  try {
+    usecases::check_outputs(mission, oo);
+  } catch (const InputError& e) {
+    rethrow_as_flag(e);
+  }
   Plan result;
   usecases::PlanOutputs outputs;
   std::vector<std::filesystem::path> files;
@@ -123,6 +131,7 @@ const bool registered = CommandRegistry::add(10, [](CLI::App& app) {
                   "lon,vx,vy,vz,ax,ay,az); without it the file is the segment form, one row per breakpoint "
                   "(docs/trajectory.md)")
       ->check(number_in(0.001, 60));
+  add_trajectory_method_options(cmd, args->trajectory);
   cmd->add_flag("--no-evaluate", args->no_evaluate, "Skip the coverage simulation and cost model");
   cmd->add_flag("--no-images", args->no_images, "Skip plan.png, plan.svg, heatmap.png, histogram.png");
   cmd->footer(

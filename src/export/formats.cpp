@@ -6,6 +6,7 @@
 
 #include "export/support.hpp"
 #include "export/zip.hpp"
+#include "render/render.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::exporting {
@@ -68,9 +69,18 @@ void write_csv(const Plan& p, std::size_t i, const ExportOptions& opt, const std
 void write_trajectory(const Plan& p, std::size_t i, const ExportOptions& opt, const std::string& /*base*/,
                       Artifacts& out) {
   const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+  // the segment form is the fillet-lines method's: a polynomial trajectory is sampled, at its own step
+  // (trajectory::Options::dt) when none is given
+  const bool segments = opt.trajectory_step_s <= 0 && traj.method() == trajectory::Method::FilletLines;
+  const double step = opt.trajectory_step_s > 0 ? opt.trajectory_step_s : opt.trajectory.dt;
   put(out, "trajectory/" + p.uavs[i].id + ".csv", "text/csv",
-      opt.trajectory_step_s > 0 ? trajectory::trajectory_csv(p, traj.sample(opt.trajectory_step_s))
-                                : trajectory::segments_csv(p, traj));
+      segments ? trajectory::segments_csv(p, traj) : trajectory::trajectory_csv(p, traj.sample(step)));
+}
+
+void write_trajectory_plot(const Plan& p, std::size_t i, const ExportOptions& opt, const std::string& base,
+                           Artifacts& out) {
+  const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+  out.push_back(render::trajectory_png(traj, base + ".trajectory.png", p.uavs[i].id + ": trajectory"));
 }
 
 }  // namespace
@@ -93,8 +103,11 @@ const std::vector<Format>& formats() {
        "seq,role,command,frame,lat,lon,alt_m,param1..param4", &write_csv},
       {"trajectory", "Trajectory CSV", ".csv", "text/csv", "analysis, simulators", false,
        "time-parameterised flight within the UAV's speed and acceleration limits: the segment form (one row "
-       "per breakpoint), or sampled with a step (docs/trajectory.md)",
+       "per breakpoint), or sampled with a step; the polynomial method always sampled (docs/trajectory.md)",
        &write_trajectory},
+      {"trajectory_plot", "Trajectory plot (PNG)", ".trajectory.png", "image/png", "people, reports", false,
+       "position, velocity and acceleration against time, the limits dashed (docs/trajectory.md)",
+       &write_trajectory_plot},
   };
   return table;
 }

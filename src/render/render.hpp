@@ -1,12 +1,13 @@
-// Report pictures with Cairo: the plan (PNG and SVG), the coverage heatmap, the scan histogram
-// and the multi-UAV study chart, as bytes (src/io writes them). A picture size outside 64..20000
-// pixels is an InputError ("size").
+// Report pictures with Cairo: the plan (PNG and SVG), the coverage heatmap, the scan histogram,
+// the multi-UAV study chart and the trajectory plot, as bytes (src/io writes them). A picture size
+// outside 64..20000 pixels is an InputError ("size").
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "evaluation/coverage.hpp"
+#include "trajectory/trajectory.hpp"
 #include "uavcover/artifact.hpp"
 #include "uavcover/plan.hpp"
 #include "waypoints/waypoints.hpp"
@@ -60,6 +61,13 @@ Artifact study_png(const std::vector<StudyPoint>& points, std::string name = "st
 /// flown, the camera's height above the ground and the tolerance band around it.
 Artifact terrain_profile_png(const waypoints::LegProfile& profile, std::string name = "terrain-profile.png",
                              int width = 1400, int height = 700);
+
+/// Position, velocity and acceleration (x, y, z; |v| and |a| too) of one trajectory against time, three
+/// stacked panels, the limits dashed (v_max, v_min, a_max, a_min: the polynomial method's bounds, else
+/// +-v_max and +-a_max), each curve drawn per pixel column as the range it spans there. A side outside
+/// 320..20000 pixels is an InputError ("size").
+Artifact trajectory_png(const trajectory::Trajectory& trajectory, std::string name, const std::string& title,
+                        int width = 1400, int height = 1000);
 
 /// The colour of UAV i (r, g, b in [0, 1]).
 struct Rgb {

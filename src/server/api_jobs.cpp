@@ -4,6 +4,8 @@
 #include <array>
 #include <cctype>
 #include <charconv>
+#include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -166,6 +168,24 @@ bool flag_param(const Request& req, const std::string& name) {
   throw HttpError(400, name, "expected true or false, got \"" + it->second.substr(0, 40) + "\"");
 }
 
+/// A number query option in [lo, hi] (`hi_open`: below hi), written plainly; absent: none; anything else
+/// is a 400 naming it.
+std::optional<double> number_param(const Request& req, const std::string& name, double lo, double hi,
+                                   bool hi_open = false) {
+  const auto it = req.query.find(name);
+  if (it == req.query.end()) return std::nullopt;
+  const std::string& text = it->second;
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const auto [p, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || p != end || !std::isfinite(v) || v < lo || v > hi ||
+      (hi_open && v == hi))
+    throw HttpError(400, name,
+                    fmt::format("expected a number in [{}, {}{}, got \"{}\"", lo, hi, hi_open ? ")" : "]",
+                                text.substr(0, 40)));
+  return v;
+}
+
 /// The client's export options of GET /plans/{id}/exports/{format} (issue 31): ?autopilot=px4|ardupilot|
 /// dji|litchi, ?terrain_frame=true (ArduPilot's terrain frame), ?split_capacity=true (the UAV's missions
 /// cut to the profile's item capacity, served as one zip).
@@ -180,6 +200,23 @@ usecases::ExportVariant export_variant(const Request& req) {
   }
   v.terrain_frame = flag_param(req, "terrain_frame");
   v.split_capacity = flag_param(req, "split_capacity");
+  // the trajectory method (issue 33): the CLI's --trajectory-method, --order, --v-mean, --v-min, --a-min
+  if (const auto it = req.query.find("method"); it != req.query.end()) {
+    try {
+      v.trajectory.method = trajectory::parse_method(it->second);
+    } catch (const InputError& e) {
+      throw HttpError(400, "method", std::string(e.what()).substr(8));
+    }
+  }
+  if (const auto order = number_param(req, "order", 3, 7)) {
+    if (*order != 3 && *order != 5 && *order != 7)
+      throw HttpError(400, "order",
+                      "expected 3, 5 or 7, got \"" + req.query.at("order").substr(0, 40) + "\"");
+    v.trajectory.order = static_cast<int>(*order);
+  }
+  if (const auto x = number_param(req, "v_mean", 0, 1000)) v.trajectory.v_mean = *x;
+  if (const auto x = number_param(req, "v_min", -1000, 0, true)) v.trajectory.v_min = *x;
+  if (const auto x = number_param(req, "a_min", -1000, 0, true)) v.trajectory.a_min = *x;
   return v;
 }
 
@@ -208,7 +245,10 @@ Response export_response(ApiContext& ctx, const Request& req) {
   if (!entry->refused.empty()) {
     // a refusal of the client's own option names it: 422 (else the plan has no such export)
     const std::string& f = entry->refused_field;
-    if ((f == "autopilot" && !variant.autopilot.empty()) || (f == "terrain_frame" && variant.terrain_frame))
+    const bool trajectory_option = (f == "order" || f == "v_mean" || f == "v_min" || f == "a_min") &&
+                                   variant.trajectory.method != trajectory::Method::FilletLines;
+    if ((f == "autopilot" && !variant.autopilot.empty()) || (f == "terrain_frame" && variant.terrain_frame) ||
+        trajectory_option)
       throw HttpError(422, f, entry->refused);
     throw HttpError(404, "format", "the plan has no " + format + " export: " + entry->refused);
   }

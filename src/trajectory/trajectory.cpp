@@ -9,24 +9,21 @@
 
 #include "geodesy/local_frame.hpp"
 #include "terrain/terrain.hpp"
+#include "trajectory/polynomial.hpp"
+#include "trajectory/vec3.hpp"
 #include "uavcover/error.hpp"
 
 namespace uavcover::trajectory {
 
 namespace {
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 unit(const Vec3& a) {
-  const double n = norm(a);
-  return n > 0 ? scale(a, 1.0 / n) : Vec3{0, 0, 0};
-}
+using detail::add;
+using detail::cross;
+using detail::dot;
+using detail::norm;
+using detail::scale;
+using detail::sub;
+using detail::unit;
 
 constexpr double kStraightAngle = 1e-6;  // radians: below this a vertex is passed straight through
 
@@ -37,6 +34,8 @@ Trajectory::Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits,
   if (waypoints.empty()) throw std::invalid_argument("trajectory: no waypoints");
   if (!(limits.v_max > 0) || !(limits.a_max > 0))
     throw std::invalid_argument("trajectory: v_max and a_max must be positive");
+  const bool polynomial = options_.method == Method::Polynomial;
+  if (polynomial) report_ = detail::polynomial_bounds(limits_, options_);  // refused even for one waypoint
   // 1. drop consecutive duplicates, densify long legs
   std::vector<Vec3> pts;
   for (const auto& w : waypoints)
@@ -53,7 +52,17 @@ Trajectory::Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits,
   }
   const std::size_t n = waypoints_.size();
   radii_.assign(n, 0.0);
-  if (n == 1) return;
+  if (n == 1) {
+    report_.hold = true;
+    return;
+  }
+  if (polynomial) {
+    auto built = detail::polynomial(waypoints_, limits_, options_);
+    poly_ = std::move(built.segments);
+    report_ = built.report;
+    duration_ = poly_.back().t0 + poly_.back().duration;
+    return;
+  }
 
   // 2. corners: tangent length, radius, speed cap per vertex
   std::vector<double> leg(n - 1);
@@ -144,6 +153,7 @@ Trajectory::Trajectory(const std::vector<Vec3>& waypoints, const Limits& limits,
 }
 
 Sample Trajectory::at(double t) const {
+  if (!poly_.empty()) return detail::polynomial_at(poly_, options_.order, t);
   Sample s;
   if (pieces_.empty()) {
     s.t = 0;
@@ -210,6 +220,8 @@ const char* segment_kind_name(SegmentKind kind) {
 }
 
 std::vector<Segment> Trajectory::segments() const {
+  if (options_.method != Method::FilletLines)
+    throw std::logic_error("trajectory: the segment form is the fillet-lines method's; sample a polynomial");
   std::vector<Segment> out;
   // a phase that continues the law of the segment before it (the same kind and acceleration, and that
   // law's state at its start) is not a new breakpoint: densified legs and long cruises stay one row
@@ -306,6 +318,35 @@ std::vector<Sample> Trajectory::sample(double dt) const {
   // the end is exactly at rest (the last piece decelerates to 0)
   out.back().v = {0, 0, 0};
   return out;
+}
+
+const char* method_name(Method method) {
+  return method == Method::Polynomial ? "polynomial" : "fillet-lines";
+}
+
+Method parse_method(const std::string& name, const std::string& field) {
+  for (const Method m : {Method::FilletLines, Method::Polynomial})
+    if (name == method_name(m)) return m;
+  throw InputError(field, fmt::format("unknown trajectory method \"{}\"; expected fillet-lines or polynomial",
+                                      name.substr(0, 40)));
+}
+
+void check_options(const Options& options, const Limits& limits) {
+  if (options.method == Method::Polynomial) (void)detail::polynomial_bounds(limits, options);
+}
+
+Measured measure(const Trajectory& trajectory, double dt) {
+  Measured m;
+  m.duration_s = trajectory.duration();
+  const auto s = trajectory.sample(dt);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    m.speed_max = std::max(m.speed_max, norm(s[k].v));
+    m.accel_max = std::max(m.accel_max, norm(s[k].a));
+    if (k == 0) continue;
+    m.length_m += norm(sub(s[k].p, s[k - 1].p));
+    m.jerk_max = std::max(m.jerk_max, norm(sub(s[k].a, s[k - 1].a)) / (s[k].t - s[k - 1].t));
+  }
+  return m;
 }
 
 std::vector<Vec3> flight_waypoints(const Plan& plan, std::size_t index,

@@ -1,14 +1,21 @@
-// Time-parameterised flight trajectories (Mondinelli 2025 §4): densify long legs, round corners with
-// fillets (or stop at them), limit speed to v_max and to sqrt(a_max * r) on arcs, forward/backward
-// speed pass, then sample (t, position, velocity, acceleration) at a fixed step.
+// Time-parameterised flight trajectories (Mondinelli 2025 §4), by one of two methods (Method):
 //
-// The path is a chain of straight lines and circular arcs in local ENU metres (x east, y north, z up).
-// Tangential acceleration happens only on lines and centripetal acceleration only on arcs (constant
-// speed there), so ||a|| <= a_max holds exactly; ||v|| <= v_max everywhere; start and end are at rest.
+// Fillet-lines (the default): densify long legs, round corners with fillets (or stop at them), limit
+// speed to v_max and to sqrt(a_max * r) on arcs, forward/backward speed pass. The path is a chain of
+// straight lines and circular arcs in local ENU metres (x east, y north, z up). Tangential acceleration
+// happens only on lines and centripetal acceleration only on arcs (constant speed there), so
+// ||a|| <= a_max holds exactly; ||v|| <= v_max everywhere; start and end are at rest.
+//
+// Polynomial (the thesis's §4.1): through the densified waypoints, one polynomial of order P per axis
+// and segment, continuous up to derivative P-1 at the waypoints, at rest at both ends, each segment's
+// duration its length over a mean speed, stretched where a limit is broken (polynomial.cpp).
+//
+// Either is sampled (t, position, velocity, acceleration) at a fixed step.
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,17 +28,59 @@ using Vec3 = std::array<double, 3>;
 
 enum class CornerMode { Stop, Fillet };
 
+/// How the waypoints become a trajectory (docs/trajectory.md).
+enum class Method { FilletLines, Polynomial };
+
+/// "fillet-lines", "polynomial".
+const char* method_name(Method method);
+/// The method of that name; InputError naming `field` otherwise.
+Method parse_method(const std::string& name, const std::string& field = "method");
+
+/// The polynomial orders (degrees) Method::Polynomial accepts: odd, so that the ends have as many
+/// conditions as the waypoints' continuity leaves (3 cubic, 5 quintic, 7 septic).
+inline constexpr int kMinOrder = 3, kMaxOrder = 7;
+
 struct Options {
   double dt = 0.1;          ///< sampling step, seconds
   double densify_m = 10.0;  ///< legs longer than this get intermediate waypoints (0 = off)
   CornerMode corners = CornerMode::Fillet;
   double fillet_radius_m = 2.0;  ///< corner radius; shrunk where legs are too short
   double min_fillet_m = 0.05;    ///< below this radius the UAV stops at the corner instead
+  Method method = Method::FilletLines;
+  // Method::Polynomial only (the thesis's inputs P, v_mean, v_min, a_min; v_max and a_max are the UAV's):
+  int order = 5;      ///< P, the degree of each segment's polynomial: 3, 5 or 7
+  double v_mean = 0;  ///< m/s, each segment's mean speed before stretching; 0 = v_max
+  /// m/s and m/s^2: the lower bounds of every velocity and acceleration component (the thesis's v_min,
+  /// a_min); NaN = -v_max, -a_max. Negative: the flight returns home, so it flies every axis both ways.
+  double v_min = std::numeric_limits<double>::quiet_NaN();
+  double a_min = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Limits {
   double v_max = 5.0;  ///< m/s
   double a_max = 2.0;  ///< m/s^2
+};
+
+/// Throws InputError naming "order", "v_mean", "v_min" or "a_min" when Method::Polynomial's options
+/// cannot be kept under `limits` (nothing for the fillet-lines method).
+void check_options(const Options& options, const Limits& limits);
+
+/// Method::Polynomial: one segment between consecutive (densified) waypoints, per axis k
+/// p_k(t0 + s T) = sum_j c[k][j] s^j for s in [0, 1], T = duration.
+struct PolySegment {
+  double t0 = 0, duration = 0, length = 0;  ///< length: of the chord between its waypoints
+  std::array<std::array<double, kMaxOrder + 1>, 3> c{};
+};
+
+/// Method::Polynomial: the bounds the trajectory keeps and its extremes (found per segment by sampling
+/// and golden-section refinement), so whether the limits hold.
+struct LimitReport {
+  double v_min = 0, v_max = 0, a_min = 0, a_max = 0;  ///< bounds of each component (and |v|, |a| <= max)
+  double v_lo = 0, v_hi = 0, a_lo = 0, a_hi = 0;      ///< smallest and largest component over x, y, z
+  double speed_max = 0, accel_max = 0, jerk_max = 0;  ///< largest |v|, |a|, |da/dt|
+  int iterations = 0;                                 ///< solves of the spline until the limits held
+  std::size_t stretched = 0;                          ///< segments whose duration grew beyond length / v_mean
+  bool hold = false;                                  ///< every bound holds (to 1e-9 relative)
 };
 
 struct Sample {
@@ -92,7 +141,13 @@ class Trajectory {
   [[nodiscard]] const std::vector<double>& corner_radii() const { return radii_; }
   [[nodiscard]] const std::vector<Piece>& pieces() const { return pieces_; }
   [[nodiscard]] const Limits& limits() const { return limits_; }
-  /// The segment form: one breakpoint wherever the motion law changes (the start of every
+  [[nodiscard]] Method method() const { return options_.method; }
+  /// Method::Polynomial: the segments (empty otherwise).
+  [[nodiscard]] const std::vector<PolySegment>& polynomials() const { return poly_; }
+  /// Method::Polynomial: the limits and whether they hold (default otherwise).
+  [[nodiscard]] const LimitReport& report() const { return report_; }
+  /// The segment form (Method::FilletLines only: a polynomial has no breakpoint form here; std::logic_error
+  /// otherwise): one breakpoint wherever the motion law changes (the start of every
   /// acceleration, cruise and deceleration phase and of every fillet arc) and one at the end. Phases
   /// that continue one law across a straight-through (densified) waypoint are one segment, so the
   /// count follows the turns, not the length or a sampling step. segment_at() gives at() again, to
@@ -105,8 +160,18 @@ class Trajectory {
   std::vector<Vec3> waypoints_;
   std::vector<double> radii_;
   std::vector<Piece> pieces_;
+  std::vector<PolySegment> poly_;
+  LimitReport report_;
   double duration_ = 0;
 };
+
+/// Extremes of a trajectory measured on its samples every `dt` (any method; the comparison of the
+/// methods in docs/trajectory.md): jerk by finite differences of the acceleration, so a jump of the
+/// acceleration (the fillet-lines' phase changes) shows as jump / dt.
+struct Measured {
+  double duration_s = 0, length_m = 0, speed_max = 0, accel_max = 0, jerk_max = 0;
+};
+Measured measure(const Trajectory& trajectory, double dt = 0.01);
 
 /// 3D flight waypoints of UAV `index` in local metres: home on the ground, then every positioned
 /// mission item (take-off, transition, transit, coverage) in order, then home and the ground again.

@@ -1,7 +1,10 @@
 #include "usecases/plan_outputs.hpp"
 #include "codec/plan_codec.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 
@@ -39,6 +42,8 @@ void check_outputs(const Mission& mission, const OutputOptions& options) {
   (void)waypoints::resolve_altitudes(waypoints::AltitudeOptions{},
                                      mission.transition_altitudes == "layers" ? 1 : mission.uavs.size(),
                                      mission.altitude_m);
+  for (const auto& u : mission.uavs)
+    trajectory::check_options(options.trajectory, trajectory::Limits{u.speed_mps, u.max_accel_mps2});
 }
 
 PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const Context& ctx) {
@@ -176,6 +181,7 @@ PlanOutputs plan_outputs(const Plan& plan, const OutputOptions& options, const C
     eo.kmz = options.kmz;
     eo.per_sortie = options.per_sortie;
     eo.trajectory_step_s = options.trajectory_step_s;
+    eo.trajectory = options.trajectory;
     std::vector<std::string> missing;
     // the checks (separation, no-fly zones, upload rules) once for every format; not begun when the
     // time is already up (every format is then left out below) or a stop was requested
@@ -293,6 +299,13 @@ std::string ExportVariant::key() const {
   if (!autopilot.empty()) k += "@autopilot=" + autopilot;
   if (terrain_frame) k += "@terrain_frame";
   if (split_capacity) k += "@split_capacity";
+  const trajectory::Options& t = trajectory;
+  if (t.method != trajectory::Options{}.method) {
+    k += fmt::format("@method={}@order={}", trajectory::method_name(t.method), t.order);
+    if (t.v_mean > 0) k += fmt::format("@v_mean={}", t.v_mean);
+    if (!std::isnan(t.v_min)) k += fmt::format("@v_min={}", t.v_min);
+    if (!std::isnan(t.a_min)) k += fmt::format("@a_min={}", t.a_min);
+  }
   return k;
 }
 
@@ -360,6 +373,7 @@ BuiltExport build_export(const std::string& plan_json_text, const std::string& p
   eo.autopilot = variant.autopilot;
   eo.altitude.terrain_frame = variant.terrain_frame;
   eo.split_capacity = variant.split_capacity;
+  eo.trajectory = variant.trajectory;
   try {
     out.files = exporting::export_artifacts(plan, {format}, eo);
   } catch (const InputError& e) {

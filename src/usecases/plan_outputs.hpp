@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "evaluation/evaluate.hpp"
+#include "trajectory/trajectory.hpp"
 #include "uavcover/artifact.hpp"
 #include "uavcover/context.hpp"
 #include "uavcover/plan.hpp"
@@ -26,6 +27,8 @@ struct OutputOptions {
   bool per_sortie = false;           ///< exports per battery sortie (exporting::ExportOptions::per_sortie)
   /// trajectory export: 0 = the segment form, > 0 = sampled at this step (ExportOptions::trajectory_step_s)
   double trajectory_step_s = 0;
+  /// trajectory and trajectory_plot exports: the method and its options (ExportOptions::trajectory)
+  trajectory::Options trajectory;
   /// Export each format on its own and turn a format's refusal (InputError: altitude limits, a UAV id
   /// that is no file name, ...) into a warning instead of failing the whole output (the server's jobs).
   bool refused_exports_are_warnings = false;
@@ -52,7 +55,8 @@ struct PlanOutputs {
 
 /// Refuses, before any planning, what plan_outputs() would refuse after it (InputError naming the
 /// field, the same message): unknown export formats, and with exports transition altitudes that cannot
-/// fit under the export's ceiling (waypoints::resolve_altitudes). Call it before plan().
+/// fit under the export's ceiling (waypoints::resolve_altitudes) and trajectory options some UAV cannot
+/// keep (trajectory::check_options). Call it before plan().
 void check_outputs(const Mission& mission, const OutputOptions& options);
 
 /// Everything the plan folder holds. Stops and the time limit land in every stage (docs/stops.md): a
@@ -99,13 +103,18 @@ nlohmann::json export_routes_json();
 std::string export_source_format(const std::string& format);
 
 /// The export options an API client may ask for (GET /plans/{id}/exports/{format}?autopilot=&terrain_frame=
-/// &split_capacity=, issue 31): the CLI's `export --autopilot`, `--terrain-frame` and `--split-capacity`.
+/// &split_capacity=, issue 31; &method=&order=&v_mean=&v_min=&a_min=, issue 33): the CLI's `export
+/// --autopilot`, `--terrain-frame`, `--split-capacity` and the trajectory method's options.
 /// Each variant is its own cache entry (key()).
 struct ExportVariant {
   std::string autopilot;        ///< "" = the mission's (ExportOptions::autopilot)
   bool terrain_frame = false;   ///< ArduPilot's MAV_FRAME_GLOBAL_TERRAIN_ALT (AltitudeOptions::terrain_frame)
   bool split_capacity = false;  ///< whole missions that fit the profile's capacity, zipped per UAV
-  /// "" for the default, else "@autopilot=px4@terrain_frame@split_capacity" (the parts that are set).
+  /// ?method=&order=&v_mean=&v_min=&a_min=: the trajectory and trajectory_plot exports' method
+  /// (ExportOptions::trajectory: the CLI's --trajectory-method, --order, --v-mean, --v-min, --a-min)
+  trajectory::Options trajectory;
+  /// "" for the default, else "@autopilot=px4@terrain_frame@split_capacity@method=polynomial@order=5..."
+  /// (the parts that are set).
   [[nodiscard]] std::string key() const;
 };
 

@@ -1,5 +1,6 @@
 // The trajectory export of `uavcover plan`: the segment form by default, the sampled CSV with
-// --trajectory-step, byte for byte the CSV of before the segment form at 0.1 s.
+// --trajectory-step, byte for byte the CSV of before the segment form at 0.1 s; the polynomial method
+// sampled, and its options refused naming the flag.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -55,5 +56,48 @@ TEST(TrajectoryCli, DefaultIsTheSegmentFormAndBadStepsAreRefused) {
     EXPECT_NE(r.output.find("--trajectory-step"), std::string::npos) << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "x"));
   }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(TrajectoryCli, PolynomialMethodIsSampledAndItsBoundsAreRefusedNamingTheFlag) {
+  const auto dir = temp_dir("traj-poly");
+  const std::string plan = (dir / "p").string();
+  auto r = run_cli("-q plan " + example("olive-grove.json").string() + " --out " + plan +
+                   " --no-images --no-evaluate");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // the polynomial trajectory has no segment form: sampled every 0.1 s, and its plot beside it
+  r = run_cli("export " + plan +
+              " -f trajectory,trajectory_plot --trajectory-method polynomial --order 7 "
+              "--v-mean 3 --v-min -4 --a-min -1.5");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("polynomial trajectory flight time"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("limits hold"), std::string::npos) << r.output;
+  const std::string csv = slurp(dir / "p" / "trajectory" / "alpha.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az");
+  EXPECT_EQ(csv.substr(csv.find('\n') + 1, 9), "0.000000,");
+  EXPECT_EQ(csv.substr(csv.find('\n', csv.find('\n') + 1) + 1, 9), "0.100000,");
+  EXPECT_TRUE(std::filesystem::exists(dir / "p" / "export" / "alpha.trajectory.png"));
+  // with a step, at that step
+  r = run_cli("-q export " + plan + " -f trajectory --trajectory-method polynomial --trajectory-step 0.5");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string half = slurp(dir / "p" / "trajectory" / "alpha.csv");
+  EXPECT_EQ(half.substr(half.find('\n', half.find('\n') + 1) + 1, 9), "0.500000,");
+  // the flags' own checks, and a mean speed above the UAVs' (5 and 6 m/s) from the library, by flag
+  for (const auto& [flags, named] :
+       std::vector<std::pair<std::string, std::string>>{{"--order 4", "--order"},
+                                                        {"--v-min 0", "--v-min"},
+                                                        {"--a-min 1", "--a-min"},
+                                                        {"--trajectory-method spline", "--trajectory-method"},
+                                                        {"--v-mean 5.5", "--v-mean"}}) {
+    r = run_cli("-q export " + plan + " -f trajectory --trajectory-method polynomial " + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
+    EXPECT_NE(r.output.find(named), std::string::npos) << flags << ": " << r.output;
+  }
+  // and `plan` refuses it before planning
+  r = run_cli("-q plan " + example("olive-grove.json").string() + " --out " + (dir / "x").string() +
+              " --export trajectory --trajectory-method polynomial --v-mean 5.5");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--v-mean"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x"));
   std::filesystem::remove_all(dir);
 }

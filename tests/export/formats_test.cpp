@@ -411,13 +411,14 @@ TEST(Formats, ExportPlanWritesEveryFormatAndRejectsUnknownOnes) {
   std::vector<std::string> all = known_formats();
   const auto files = fixture::export_to(plan, all, dir);
   for (const auto& id : {"alpha", "bravo"}) {
-    for (const auto& ext : {".geojson", ".plan", ".waypoints", ".kml", ".wpml.kmz", ".litchi.csv", ".csv"})
+    for (const auto& ext :
+         {".geojson", ".plan", ".waypoints", ".kml", ".wpml.kmz", ".litchi.csv", ".csv", ".trajectory.png"})
       EXPECT_TRUE(fs::exists(dir / "export" / (std::string(id) + ext))) << id << ext;
     const auto traj = lines(slurp(dir / "trajectory" / (std::string(id) + ".csv")));
     ASSERT_GT(traj.size(), 10u);
     EXPECT_EQ(traj[0], "t,kind,x,y,z,lat,lon,vx,vy,vz,ax,ay,az,v_max,a_max");  // the segment form
   }
-  EXPECT_EQ(files.size(), 16u);
+  EXPECT_EQ(files.size(), 18u);
   try {
     fixture::export_to(plan, {"qgc,bogus"}, dir);
     FAIL() << "expected InputError";

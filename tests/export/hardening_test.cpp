@@ -65,7 +65,8 @@ TEST(Artifacts, NamesMediaTypesAndInMemoryArchives) {
                                                     {".kmz", "application/vnd.google-earth.kmz"},
                                                     {".wpml.kmz", "application/vnd.google-earth.kmz"},
                                                     {".litchi.csv", "text/csv"},
-                                                    {".csv", "text/csv"}};
+                                                    {".csv", "text/csv"},
+                                                    {".trajectory.png", "image/png"}};
   for (const std::string id : {"alpha", "bravo"}) {
     for (const auto& [ext, type] : expected) {
       const Artifact* f = check::find(a, "export/" + id + ext);
@@ -79,7 +80,7 @@ TEST(Artifacts, NamesMediaTypesAndInMemoryArchives) {
               check::find(a, "export/" + id + ".kml")->bytes);
     EXPECT_EQ(check::unzip_bytes(check::find(a, "export/" + id + ".wpml.kmz")->bytes).size(), 2u);
   }
-  EXPECT_EQ(a.size(), 2u * 9u);
+  EXPECT_EQ(a.size(), 2u * 10u);
   // the same plan gives the same bytes (fixed ZIP entry times)
   const Artifacts again = export_artifacts(plan, known_formats(), opt);
   ASSERT_EQ(again.size(), a.size());

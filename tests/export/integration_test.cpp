@@ -79,7 +79,7 @@ TEST(ExportIntegration, RealPlanThroughThePlanFolder) {
   // every format is written; the GeoJSON validates; trajectories respect each UAV's limits
   const auto files =
       io::write_artifacts(dir, exporting::export_artifacts(loaded, exporting::known_formats()));
-  EXPECT_EQ(files.size(), 16u);
+  EXPECT_EQ(files.size(), 18u);
   for (std::size_t u = 0; u < 2; ++u) {
     std::ifstream in(dir / "export" / (loaded.uavs[u].id + ".geojson"));
     EXPECT_TRUE(exporting::validate_geojson(nlohmann::json::parse(in)).empty());

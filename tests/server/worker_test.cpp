@@ -102,6 +102,35 @@ TEST_P(WorkerTest, PlanJobEqualsTheCliPlanAndServesItsArtifacts) {
   EXPECT_EQ(api_plan, cli_plan) << nlohmann::json::diff(cli_plan, api_plan).dump(1).substr(0, 4000);
 }
 
+TEST_P(WorkerTest, TrajectoryExportsTakeTheMethodFromTheQuery) {
+  // issue 33: ?method=polynomial&order=&v_mean=&v_min=&a_min= on the trajectory and trajectory_plot routes
+  const json job =
+      call("POST", "/api/v1/missions/" + std::to_string(create_mission(olive_grove())) + "/plans").json();
+  const std::string url = "/api/v1/plans/" + std::to_string(job.at("id").get<store::Id>());
+  start_workers();
+  ASSERT_EQ(wait_job(url, terminal).at("state"), "done");
+  Answer a = call("GET", url + "/exports/trajectory?uav=alpha");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_TRUE(a.body.starts_with("t,kind,")) << a.body.substr(0, 80);  // the segment form
+  a = call("GET", url + "/exports/trajectory?uav=alpha&method=polynomial&order=7&v_mean=3&v_min=-4&a_min=-1");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_TRUE(a.body.starts_with("t,x,y,z,lat,lon,vx,vy,vz,ax,ay,az\n0.000000,")) << a.body.substr(0, 80);
+  a = call("GET", url + "/exports/trajectory_plot?uav=alpha&method=polynomial");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.content_type, "image/png");
+  EXPECT_EQ(a.body.substr(0, 4), "\x89PNG");
+  // malformed: 400 naming the parameter; a mean speed above alpha's 5 m/s: 422 naming it
+  for (const char* q : {"method=spline", "order=4", "order=x", "v_mean=-1", "v_min=0", "a_min=1"}) {
+    a = call("GET", url + "/exports/trajectory?uav=alpha&method=polynomial&" + q);
+    EXPECT_EQ(a.status, 400) << q << ": " << a.body;
+    EXPECT_EQ(a.error_field(), std::string(q).substr(0, std::string(q).find('='))) << q;
+  }
+  a = call("GET", url + "/exports/trajectory?uav=alpha&method=polynomial&v_mean=5.5");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_EQ(a.error_field(), "v_mean");
+  pool_->stop();
+}
+
 TEST_P(WorkerTest, CancellingARunningPlanStopsIt) {
   // the olive grove scanned every 1.5 m: DARP needs far longer than the test waits
   json doc = json::parse(olive_grove());

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "export/fixture.hpp"
+#include "trajectory/polylines.hpp"
 #include "uavcover/error.hpp"
 
 using namespace uavcover;
@@ -256,16 +257,9 @@ TEST(Trajectory, CsvHasTheExactHeaderAndOneRowPerSample) {
 TEST(Trajectory, RandomPolylinesKeepEveryProperty) {
   // seeded random 3D polylines: short and long legs, acute turns, reversals, both corner modes
   std::mt19937_64 rng(20261122);
-  std::uniform_real_distribution<double> coord(-30, 30), len(0.05, 1.0), speed(1, 12), accel(0.5, 5),
-      radius(0, 6);
+  std::uniform_real_distribution<double> speed(1, 12), accel(0.5, 5), radius(0, 6);
   for (int trial = 0; trial < 40; ++trial) {
-    std::vector<Vec3> w{{0, 0, 0}};
-    const int n = 2 + trial % 9;
-    for (int i = 0; i < n; ++i) {
-      const double f = trial % 3 == 0 ? len(rng) : 1.0;  // some polylines have very short legs
-      w.push_back({w.back()[0] + f * coord(rng), w.back()[1] + f * coord(rng),
-                   std::max(0.0, w.back()[2] + f * coord(rng) / 3)});
-    }
+    const auto w = polylines::random_polyline(rng, trial);
     Options opt;
     opt.corners = trial % 4 == 3 ? CornerMode::Stop : CornerMode::Fillet;
     opt.fillet_radius_m = radius(rng);
