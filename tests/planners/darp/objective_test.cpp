@@ -6,12 +6,14 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
 
 #include "codec/plan_codec.hpp"
 #include "engine/local_mission.hpp"
+#include "evaluation/evaluate.hpp"
 #include "planners/darp/darp_planner.hpp"
 #include "uavcover/error.hpp"
 #include "uavcover/uavcover.hpp"
@@ -105,6 +107,47 @@ TEST(DarpObjective, ParamsAreParsedWithTheirDefaultsAndBadValuesNameTheField) {
   EXPECT_EQ(d.planner_params.at("min_turn_orientation"), true);
   expect_field({{"min_turn_orientation", "no"}}, "planner_params.min_turn_orientation",
                "must be true or false");
+}
+
+TEST(DarpObjective, ThePapersJWithItsWeightsOrdersTheAblationAsThePaperOnItsRegions) {
+  // Apostolidis et al. 2022, Table 3, on the 18 regions it averages: the paper's own J (objective
+  // "paper", a 0.68, b 0.32, c 0.25) on the bare STC loops, each plan scored by the one evaluator (the
+  // paper's square footprint w = 1.5 ds swept, here on a 2 m lattice). The paper orders the mean PoC No
+  // Optimization (87.73) < J1+J2 (96.02) < J1 (96.18) < J1+J2+J3 (96.37); its last two differ by 0.19
+  // points, which a grid search on other machines does not reproduce exactly (bench/results/papers.md:
+  // ours 96.36 and 96.08), so that step is checked as "within half a point".
+  const std::vector<std::pair<std::string, json>> variants = {
+      {"none", {{"optimise_placement", false}}},
+      {"j1", {{"objective", "paper"}, {"j_weight_a", 1}, {"j_weight_b", 0}, {"j_weight_c", 0}}},
+      {"j12", {{"objective", "paper"}, {"j_weight_a", 0.68}, {"j_weight_b", 0.32}, {"j_weight_c", 0}}},
+      {"j123", {{"objective", "paper"}, {"j_weight_a", 0.68}, {"j_weight_b", 0.32}, {"j_weight_c", 0.25}}}};
+  std::map<std::string, double> mean;
+  std::map<std::string, std::vector<double>> poc;
+  for (int r = 1; r <= 20; ++r) {
+    if (r == 6 || r == 18) continue;  // the paper's means leave them out
+    for (const auto& [name, params] : variants) {
+      json j = json::parse(roi_text(r));
+      j["planner_params"] = params;
+      j["planner_params"]["extend_legs"] = false;
+      j["planner_params"]["shift_legs"] = false;
+      const Plan p = plan(parse_mission(j.dump()));
+      evaluation::EvaluateOptions eo;
+      eo.coverage.lattice_m = 2.0;
+      const double c = evaluation::evaluate_plan(p, eo).coverage.total.poc;
+      poc[name].push_back(c);
+      mean[name] += c / 18.0;
+    }
+  }
+  SCOPED_TRACE(::testing::Message() << "none " << mean["none"] << ", j1 " << mean["j1"] << ", j12 "
+                                    << mean["j12"] << ", j123 " << mean["j123"]);
+  EXPECT_LT(mean["none"] + 0.05, mean["j12"]);  // the optimised grid gains points, as the paper's 8.3
+  EXPECT_LT(mean["j12"], mean["j1"]);
+  EXPECT_LT(mean["j12"], mean["j123"]);
+  EXPECT_NEAR(mean["j123"], mean["j1"], 0.005);
+  // and per region: every term ablation covers at least as much as the grid at shift 0, rotation 0
+  for (const char* v : {"j1", "j12", "j123"})
+    for (std::size_t k = 0; k < poc["none"].size(); ++k)
+      EXPECT_GE(poc[v][k], poc["none"][k]) << v << " " << k;
 }
 
 TEST(DarpObjective, WithoutTheTurnMinimisingOrientationTheLoopsTurnMore) {
