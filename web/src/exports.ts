@@ -34,7 +34,7 @@ export function dispositionName(header: string | null, fallback: string): string
   return name.replace(/[/\\]/g, '_') || fallback;
 }
 
-async function fetchFile(url: string, fallback: string): Promise<{ name: string; blob: Blob }> {
+export async function fetchFile(url: string, fallback: string): Promise<{ name: string; blob: Blob }> {
   let res: Response;
   try {
     res = await fetch(url);

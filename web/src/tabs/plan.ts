@@ -10,6 +10,7 @@ import { el, errorText, JobView } from '../job-ui.ts';
 import { facadePanel, type FacadeJson } from '../facade-view.ts';
 import { metricsPanel } from '../metrics.ts';
 import { profilePanel } from '../profile.ts';
+import { trajectoryPanel } from '../trajectory-view.ts';
 import { latestDone, planLabel, type PlanSummary } from '../plan-history.ts';
 import { fieldLayer, planFences } from '../plan-field.ts';
 import { drawPlan, type DrawnPlan } from '../plan-layers.ts';
@@ -87,8 +88,10 @@ export const planTab: Tab = {
     const exportsBox = section('Exports', true, 'exports-section');
     // the ground under each UAV's flight, for plans that follow a DEM (issue 31)
     const profileBox = section('Ground profile', true, 'profile-section');
+    // each UAV's trajectory against time, by either method (issue 33), made when the section is opened
+    const trajectoryBox = section('Trajectory', false, 'trajectory-section');
     const results = el('div', { class: 'plan-results', hidden: '' });
-    results.append(legend, heatRow, fenceRow, metricsBox.box, profileBox.box, exportsBox.box);
+    results.append(legend, heatRow, fenceRow, metricsBox.box, profileBox.box, trajectoryBox.box, exportsBox.box);
     const study = section('Study: how many UAVs?', false, 'study-section');
     study.body.append(studyPanel(missionId));
     const compare = section('Compare planners', false, 'compare-section');
@@ -206,6 +209,14 @@ export const planTab: Tab = {
       profileBox.box.hidden = !terrain;
       profileBox.body.replaceChildren();
       if (terrain) profileBox.body.append(profilePanel(job.id, summary.uavs.filter((c) => c.paths > 0).map((c) => c.id)));
+      trajectoryBox.body.replaceChildren();
+      const flying = summary.uavs.filter((c) => c.paths > 0).map((c) => c.id);
+      const openTrajectory = () => {
+        if (trajectoryBox.box.open && trajectoryBox.body.childElementCount === 0)
+          trajectoryBox.body.append(trajectoryPanel(job.id, flying));
+      };
+      trajectoryBox.box.ontoggle = openTrajectory;
+      openTrajectory();
       results.hidden = false;
     };
 

@@ -113,6 +113,40 @@ test('upload a DEM, follow the terrain, plan, and see the ground profile', async
   await shotAt768('terrain-02-profile-768', '[data-testid=profile-section]');
 });
 
+test('the trajectory of each UAV against time, by either method (issue 33)', async () => {
+  // closed until opened: nothing is asked of the server before
+  const section = page.locator('[data-testid=trajectory-section]');
+  assert.equal(await section.evaluate((d) => d.open), false);
+  await section.locator('summary').click();
+  const plot = page.locator('[data-testid=trajectory-plot]');
+  const loaded = (method) =>
+    page.waitForFunction(
+      (m) => {
+        const img = document.querySelector('[data-testid=trajectory-plot]');
+        return img && !img.hidden && img.dataset.method === m && img.complete && img.naturalWidth > 0;
+      },
+      method,
+      { timeout: 60000 },
+    );
+  await loaded('fillet-lines');
+  const uavs = await page.locator('[data-testid=trajectory-uav] option').evaluateAll((os) => os.map((o) => o.value));
+  assert.ok(uavs.length >= 1, 'a UAV to choose');
+  assert.equal(await plot.getAttribute('data-uav'), uavs[0]);
+  const size = await plot.evaluate((i) => [i.naturalWidth, i.naturalHeight]);
+  assert.ok(size[0] >= 400 && size[1] >= 300, `a plot of ${size}`);
+  assert.match(await page.locator('[data-testid=trajectory-note]').textContent(), /position, velocity and acceleration/);
+  await page.selectOption('[data-testid=trajectory-method]', 'polynomial');
+  await loaded('polynomial');
+  if (uavs.length > 1) {
+    await page.selectOption('[data-testid=trajectory-uav]', uavs[1]);
+    await page.waitForFunction((u) => document.querySelector('[data-testid=trajectory-plot]')?.dataset.uav === u, uavs[1], { timeout: 60000 });
+    await loaded('polynomial');
+  }
+  await section.scrollIntoViewIfNeeded();
+  await h.shot(page, 'terrain-02b-trajectory');
+  await shotAt768('terrain-02b-trajectory-768', '[data-testid=trajectory-section]');
+});
+
 test('export for ArduPilot in the terrain frame, and split to the item capacity', async () => {
   const planId = Number(await page.locator('[data-testid=metrics-panel]').getAttribute('data-plan-id'));
   assert.ok(planId > 0, 'the plan tab names its plan');
