@@ -312,15 +312,18 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     extra[best] += static_cast<double>(comp_cells[c].size());
   }
 
-  // demand[c]: (UAV, wanted cells, start cell) of the UAVs dividing component c
+  // demand[c]: (UAV, wanted cells, start cell) of the UAVs dividing component c; `movable`: the start
+  // cell is only where the UAV enters (its take-off point is outside the area, or it joins the component)
   struct Part {
     int uav;
     double want;
     int start;
+    bool movable;
   };
   std::vector<std::vector<Part>> demand(C);
   for (int c = 0; c < C; ++c)
-    for (int i : participants[c]) demand[c].push_back({i, std::max(1.0, target[i] - extra[i]), scell[i]});
+    for (int i : participants[c])
+      demand[c].push_back({i, std::max(1.0, target[i] - extra[i]), scell[i], outside[i] != 0});
   // UAVs that their own component cannot feed (too small, or crowded) join the component with
   // the largest surplus, entering at its cell nearest to their start
   auto expected = [&](std::vector<double>& load) {
@@ -362,7 +365,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     if (entry < 0) break;
     taken[entry] = 1;
     // the joining UAV asks for its deficit (at most the surplus); the others keep their demand
-    demand[best_c].push_back({worst, std::min(wd, best_surplus), entry});
+    demand[best_c].push_back({worst, std::min(wd, best_surplus), entry, true});
   }
 
   // ---- 3. DARP per shared component ----
@@ -390,6 +393,7 @@ Output run(const Input& input, const Options& options, const Context& ctx) {
     for (const auto& p : demand[c]) want += std::max(1.0, p.want);
     for (const auto& p : demand[c]) {
       din.starts.push_back(p.start);
+      din.movable.push_back(p.movable ? 1 : 0);
       din.targets.push_back(std::max(1.0, p.want) / want * static_cast<double>(cells.size()));
     }
     const double frac0 = static_cast<double>(done_cells) / L, frac1 = (done_cells + cells.size()) / L;

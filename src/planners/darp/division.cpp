@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numbers>
 #include <queue>
@@ -15,6 +16,10 @@ constexpr double kConnVariation = 0.01;  // C_i range [1 - v, 1 + v] (Kapoutsis 
 constexpr double kAim = 1.0;             // the waves stop at this normalised deviation
 constexpr int kStagnation = 20;          // ... or after this many evaluations without a better division
 constexpr int kRebalanceRounds = 40;     // flow rounds of the border balance after the waves
+/// The single-cell transfer search (transfer_search) runs on grids up to this many cells, for at most
+/// this many cell visits.
+constexpr int kTransferMaxCells = 5000;
+constexpr double kTransferWork = 2e7;
 /// Grids up to this many cell evaluations per iteration (cells x participants) run the classic DARP
 /// iterations first; larger ones, and classic divisions off their shares, are balanced by waves.
 constexpr double kClassicMaxWork = 1e5;
@@ -617,6 +622,101 @@ void rebalance(const Graph& G, std::vector<int>& owner, const std::vector<int>& 
   }
 }
 
+/// Transfers for the small grids that the waves and the flow leave off their shares (issue 26: a
+/// five-pointed star at 18 cells stayed 3 / 8 / 7 for 6 / 6 / 6). A move hands a cell x of region a to an
+/// adjacent region b, together with the pieces of a that x alone holds to the rest (the components of a
+/// without x other than the one that stays: the one with a's start, or the largest when the start is
+/// movable), so a stays connected and non-empty and a dead-end branch can change hands at once (on the
+/// star, a UAV's start cell and its one neighbour hang on a single link). A fixed start cell never moves
+/// (`movable[a]`: the start only marks where a UAV from outside the area enters, and may go with its
+/// cell). Simulated annealing on the sum of squared deviations from the targets, seeded, so the search
+/// leaves local optima (5 / 6 / 7 on the star; single cells reach only 83 divisions from its 3 / 8 / 7,
+/// none of them 6 / 6 / 6): a random cell and a random foreign neighbour; a move that adds d to the sum is
+/// taken with probability exp(-d / T), T falling linearly to 0 over the budget. Ends when every count is
+/// within one cell of its target, or after `work` cell visits; keeps the closest division seen
+/// (normalised deviation, then the sum).
+void transfer_search(const Graph& G, std::vector<int>& owner, const std::vector<int>& st,
+                     const std::vector<char>& movable, const std::vector<double>& targets, double work,
+                     std::uint64_t seed, const std::function<bool()>& stop_early) {
+  constexpr double kT0 = 4.0;  // squared cells: a move away from balance adds 2 to 2 + 2 x the gap
+  const int n = G.n, P = static_cast<int>(st.size());
+  std::vector<char> fixed(n, 0);
+  std::vector<int> fixed_start(P, -1);
+  for (int a = 0; a < P; ++a)
+    if (static_cast<std::size_t>(a) >= movable.size() || !movable[a])
+      fixed[st[a]] = 1, fixed_start[a] = st[a];
+  std::vector<int> counts(P, 0), seen(n, -1), piece(n, -1), moved;
+  for (int x = 0; x < n; ++x) ++counts[owner[x]];
+  auto squares = [&] {
+    double q = 0;
+    for (int a = 0; a < P; ++a) q += (counts[a] - targets[a]) * (counts[a] - targets[a]);
+    return q;
+  };
+  // every count within one cell of its target: nothing closer exists
+  auto exact = [&] {
+    for (int a = 0; a < P; ++a)
+      if (std::fabs(counts[a] - targets[a]) >= 1.0) return false;
+    return true;
+  };
+  std::vector<int> best = owner;
+  double best_dev = normalised_deviation(counts, targets), best_sq = squares();
+  int stamp = 0;
+  // the cells that go with x out of region a: x and every component of a without x but the one that stays
+  std::vector<std::vector<int>> pieces;
+  auto going = [&](int a, int x) {
+    ++stamp;
+    seen[x] = stamp;
+    pieces.clear();
+    for (int s : G.nb[x]) {
+      if (s < 0 || owner[s] != a || seen[s] == stamp) continue;
+      pieces.emplace_back(1, s);
+      seen[s] = stamp;
+      auto& q = pieces.back();
+      for (std::size_t h = 0; h < q.size(); ++h)
+        for (int v : G.nb[q[h]])
+          if (v >= 0 && seen[v] != stamp && owner[v] == a) seen[v] = stamp, q.push_back(v);
+      for (int c : q) piece[c] = static_cast<int>(pieces.size()) - 1;
+      work -= static_cast<double>(q.size());
+    }
+    moved.assign(1, x);
+    if (pieces.empty()) return false;  // x is all of a
+    std::size_t stay = 0;
+    if (fixed_start[a] >= 0) {
+      stay = static_cast<std::size_t>(piece[fixed_start[a]]);
+    } else {
+      for (std::size_t k = 1; k < pieces.size(); ++k)
+        if (pieces[k].size() > pieces[stay].size()) stay = k;
+    }
+    for (std::size_t k = 0; k < pieces.size(); ++k)
+      if (k != stay) moved.insert(moved.end(), pieces[k].begin(), pieces[k].end());
+    return true;
+  };
+  std::mt19937_64 rng(seed ^ 0x7f4a7c15f39cc060ULL);
+  std::uniform_int_distribution<int> cell(0, n - 1), side(0, 3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double budget = work;
+  for (long step = 0; work > 0 && !exact(); ++step) {
+    if ((step & 1023) == 0 && stop_early && stop_early()) break;
+    work -= 1;
+    const int x = cell(rng), v = G.nb[x][side(rng)];
+    if (v < 0 || fixed[x] || owner[v] == owner[x]) continue;
+    const int a = owner[x], b = owner[v];
+    if (!going(a, x)) continue;
+    // change of the sum of (count - target)^2 when k cells go from a to b
+    const double k = static_cast<double>(moved.size()), da = counts[a] - targets[a],
+                 db = counts[b] - targets[b];
+    const double delta = (db + k) * (db + k) - db * db + (da - k) * (da - k) - da * da;
+    const double T = kT0 * std::max(0.0, work) / budget;
+    if (delta > 0 && !(T > 0 && unit(rng) < std::exp(-delta / T))) continue;
+    for (int c : moved) owner[c] = b;
+    counts[a] -= static_cast<int>(moved.size());
+    counts[b] += static_cast<int>(moved.size());
+    const double dev = normalised_deviation(counts, targets), sq = squares();
+    if (dev < best_dev || (dev == best_dev && sq < best_sq)) best_dev = dev, best_sq = sq, best = owner;
+  }
+  owner = std::move(best);
+}
+
 /// Counts, deviation and convergence of out.owner.
 void finish(DivisionResult& out, const std::vector<double>& targets) {
   std::fill(out.counts.begin(), out.counts.end(), 0);
@@ -824,17 +924,21 @@ DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
   }
   if (classic_first) {
     keep_closer(out, std::move(waves), in.targets);
-    return out;
+  } else {
+    out = std::move(waves);
+    if (!out.converged && !(in.stop_early && in.stop_early())) {
+      // the waves' weights can stall on unequal shares (bench/results/darp-scale.md): the classic
+      // iterations (capped at ~2e8 cell evaluations) get their turn, and the closer division is kept
+      DivisionResult c;
+      c.owner.assign(n, 0);
+      c.counts.assign(P, 0);
+      classic(G, in, st, c, progress);
+      keep_closer(out, std::move(c), in.targets);
+    }
   }
-  out = std::move(waves);
-  if (!out.converged && !(in.stop_early && in.stop_early())) {
-    // the waves' weights can stall on unequal shares (bench/results/darp-scale.md): the classic
-    // iterations (capped at ~2e8 cell evaluations) get their turn, and the closer division is kept
-    DivisionResult c;
-    c.owner.assign(n, 0);
-    c.counts.assign(P, 0);
-    classic(G, in, st, c, progress);
-    keep_closer(out, std::move(c), in.targets);
+  if (!out.converged && n <= kTransferMaxCells && !(in.stop_early && in.stop_early())) {
+    transfer_search(G, out.owner, st, in.movable, in.targets, kTransferWork, in.seed, in.stop_early);
+    finish(out, in.targets);
   }
   return out;
 }

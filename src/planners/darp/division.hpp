@@ -20,8 +20,12 @@ struct DivisionInput {
   std::vector<int> cells;       ///< grid cell indices of one connected component
   std::vector<int> starts;      ///< per participant: distinct cells of the component
   std::vector<double> targets;  ///< per participant: wanted cell count (sums to cells.size())
-  int max_iterations = 4000;    ///< per attempt
-  int attempts = 3;             ///< tolerance relaxes from attempt to attempt
+  /// per participant (empty: none): 1 when its start cell only marks where a UAV from outside the
+  /// component enters (a take-off point outside the area, a UAV joining another component), so the final
+  /// single-cell transfers may hand that cell to another region
+  std::vector<char> movable;
+  int max_iterations = 4000;  ///< per attempt
+  int attempts = 3;           ///< tolerance relaxes from attempt to attempt
   std::uint64_t seed = 0;
   /// Polled every iteration: true ends the search with the best connected division so far.
   std::function<bool()> stop_early;
@@ -37,7 +41,8 @@ struct DivisionResult {
 };
 
 /// `progress(fraction)` is called every iteration (it may throw to abort).
-/// Every returned region is 4-connected over the grid's links and contains its start cell.
+/// Every returned region is 4-connected over the grid's links and contains its start cell (a region with a
+/// movable start: at least one cell).
 DivisionResult divide(const grid::Grid& g, const DivisionInput& in,
                       const std::function<void(double)>& progress = {});
 
