@@ -52,6 +52,10 @@ struct UavDefaults {
   static constexpr double endurance_min = 25.0;
   static constexpr double turn_c1 = 3.0;  // eq. 15 turn-delay constant c1 (s)
   static constexpr double turn_c2 = 1.0;  // eq. 15 turn-delay constant c2 (m/s)
+  // vertical speeds of the whole-flight time (issue 32, docs/wind.md): PX4's MPC_Z_V_AUTO_UP (3 m/s)
+  // and ArduPilot's WPNAV_SPEED_DN (150 cm/s) defaults
+  static constexpr double climb_mps = 3.0;
+  static constexpr double descent_mps = 1.5;
 };
 
 struct Uav {
@@ -64,6 +68,8 @@ struct Uav {
   double endurance_min = UavDefaults::endurance_min;
   double turn_c1 = UavDefaults::turn_c1;
   double turn_c2 = UavDefaults::turn_c2;
+  double climb_mps = UavDefaults::climb_mps;      ///< vertical speed up in missions (take-off, climbs)
+  double descent_mps = UavDefaults::descent_mps;  ///< vertical speed down (descents, landing)
   /// Heterogeneous cameras: this UAV's own camera (same block as the mission's, same altitude);
   /// empty: the mission's camera. `camera_geometry` is derived from it by parse_mission.
   std::optional<Camera> camera;

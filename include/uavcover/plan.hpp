@@ -79,8 +79,12 @@ struct UavPlan {
   double transition_altitude_m = 0.0;  ///< its own altitude for transit (Hong et al. 2021 §2.3)
   /// Battery sorties (docs/sorties.md), filled by plan() for every planner; empty for an idle UAV.
   std::vector<Sortie> sorties;
-  /// Expected finish time (minutes from take-off, all sorties, under the mission's wind; issue 32).
+  /// Expected finish time (minutes from take-off to the last touchdown, all sorties, under the mission's
+  /// wind; issue 32): eq. 15, the battery changes and vertical_time_s.
   double expected_finish_min = 0.0;
+  /// Seconds its missions climb or descend beyond their horizontal flight (take-off, descents to the
+  /// coverage height, climbs back, landing) at the UAV's climb_mps / descent_mps (docs/wind.md).
+  double vertical_time_s = 0.0;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the planner's, opaque
 };
 

@@ -153,6 +153,7 @@ json plan_json(const Plan& plan, const json& extra) {
                     {"turns", u.turns},
                     {"transition_altitude_m", u.transition_altitude_m},
                     {"expected_finish_min", u.expected_finish_min},
+                    {"vertical_time_s", u.vertical_time_s},
                     {"batteries", u.sorties.size()},
                     {"sorties", sorties_json(u)},
                     {"diagnostics", u.diagnostics}});
@@ -305,6 +306,7 @@ Plan load_plan(const json& pj, const json& gj) {
       up.turns = ju[i].at("turns").get<int>();
       up.transition_altitude_m = ju[i].at("transition_altitude_m").get<double>();
       up.expected_finish_min = ju[i].value("expected_finish_min", 0.0);  // plans before issue 32: none
+      up.vertical_time_s = ju[i].value("vertical_time_s", 0.0);
       up.diagnostics = ju[i].at("diagnostics");
       const auto& region = ju[i].at("region");
       if (!region.is_object() || region.value("type", "") != "MultiPolygon" ||

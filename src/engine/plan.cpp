@@ -21,6 +21,7 @@
 #include "sorties/sorties.hpp"
 #include "terrain/terrain.hpp"
 #include "uavcover/uavcover.hpp"
+#include "waypoints/vertical.hpp"
 #include "waypoints/waypoints.hpp"
 
 namespace uavcover {
@@ -189,7 +190,8 @@ void assign_layers(Plan& out, std::vector<std::string>* warnings) {
 }
 
 /// UavPlan::expected_finish_min (issue 32, docs/wind.md): the evaluator's time model for each UAV, eq. 15
-/// under the mission's wind (its sorties' batteries) plus eq. 19's battery changes.
+/// under the mission's wind (its sorties' batteries), plus eq. 19's battery changes, plus the vertical time
+/// of its missions (UavPlan::vertical_time_s).
 void set_expected_finish(Plan& out) {
   evaluation::EvaluateOptions eo;
   eo.compute_coverage = false;
@@ -200,9 +202,20 @@ void set_expected_finish(Plan& out) {
     out.warnings.push_back(std::string("expected finish times: ") + e.what());
     return;
   }
-  for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i)
-    out.uavs[i].expected_finish_min =
-        ev.cost.uavs[i].flight_duration_min + ev.cost.uavs[i].change_battery_delay_min;
+  for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i) {
+    // the whole flight (docs/wind.md#the-whole-flight): the climbs and descents of its missions' items,
+    // at the export's transition altitudes (no ceiling when the UAVs cannot be separated under it)
+    waypoints::AltitudeOptions alt;
+    try {
+      out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
+    } catch (const InputError&) {
+      alt.transition_ceiling_m = 0;
+      out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
+    }
+    out.uavs[i].expected_finish_min = ev.cost.uavs[i].flight_duration_min +
+                                      ev.cost.uavs[i].change_battery_delay_min +
+                                      out.uavs[i].vertical_time_s / 60.0;
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "flight/runtime.hpp"
 #include "sorties/sorties.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/vertical.hpp"
 
 namespace uavcover::flight {
 
@@ -23,6 +24,8 @@ MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<waypoints::M
   m.where.resize(n);
   m.rest_m.assign(n + 1, 0.0);
   m.rest_turns.assign(n + 1, 0);
+  m.rest_vertical_s.assign(n + 1, 0.0);
+  const std::vector<double> vertical = waypoints::vertical_extra_s(plan, uav, m.items);
   const LonLat home = plan.mission.uavs[uav].start_resolved;
   for (std::size_t j = 0; j < n; ++j) {
     const auto& it = m.items[j];
@@ -40,6 +43,7 @@ MissionSpec Flight::Impl::make_mission(std::size_t uav, std::vector<waypoints::M
                                      *m.where[j], *next, plan.mission.uavs[uav].speed_mps, plan.mission.wind)
                                : 0.0);
     m.rest_turns[j] = m.rest_turns[j + 1] + (m.items[j].waypoint >= 0 ? 1 : 0);
+    m.rest_vertical_s[j] = m.rest_vertical_s[j + 1] + vertical[j];
     if (m.where[j]) next = m.where[j];
   }
   return m;

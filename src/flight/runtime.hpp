@@ -53,6 +53,9 @@ struct MissionSpec {
   // the mission's wind) and coverage waypoints from that item to the end
   std::vector<double> rest_m;
   std::vector<int> rest_turns;
+  /// seconds climbing or descending beyond the horizontal flight from that item to the end (the whole
+  /// flight, docs/wind.md): the leg arriving at an item counts with it
+  std::vector<double> rest_vertical_s;
   std::vector<std::optional<Point>> where;  ///< each item's position (local metres), if it has one
 };
 

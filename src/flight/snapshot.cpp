@@ -149,7 +149,7 @@ json Flight::Impl::snapshot_locked() const {
   for (const auto& u : uavs) {
     const Uav& spec = plan.mission.uavs[u.index];
     // ETA: what is left of the current mission from the vehicle's item, and the missions after it
-    double left_m = 0;
+    double left_m = 0, vertical_s = 0;
     int turns = 0;
     for (std::size_t k = u.current; k < u.missions.size(); ++k) {
       const MissionSpec& m = u.missions[k];
@@ -163,9 +163,12 @@ json Flight::Impl::snapshot_locked() const {
       }
       left_m += m.rest_m[from];
       turns += m.rest_turns[from];
+      vertical_s += m.rest_vertical_s[from];
     }
+    // eq. 15 of what is left, and its climbs and descents (the whole flight, docs/wind.md)
     const double eta_s =
-        left_m > 0 || turns > 0 ? 60.0 * evaluation::flight_duration_min(left_m, turns, spec) : 0.0;
+        (left_m > 0 || turns > 0 ? 60.0 * evaluation::flight_duration_min(left_m, turns, spec) : 0.0) +
+        vertical_s;
     const auto reached = std::count(u.waypoints.begin(), u.waypoints.end(), 'R');
     json missions = json::array();
     for (const auto& m : u.missions) {

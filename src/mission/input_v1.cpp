@@ -104,7 +104,7 @@ void parse_uavs(const json& j, Raw& raw) {
     if (!ju.is_object()) throw InputError(f, std::string("expected an object, got ") + type_name(ju));
     reject_unknown(ju,
                    {"id", "start", "share", "speed_mps", "max_accel_mps2", "endurance_min", "turn_c1",
-                    "turn_c2", "camera", "autopilot"},
+                    "turn_c2", "climb_mps", "descent_mps", "camera", "autopilot"},
                    f + ".");
     Uav u;
     u.id = ju.contains("id") ? str(ju["id"], f + ".id") : "uav" + std::to_string(i + 1);
@@ -133,6 +133,9 @@ void parse_uavs(const json& j, Raw& raw) {
       u.endurance_min = in_range(ju["endurance_min"], f + ".endurance_min", 0.1, 10000.0);
     if (ju.contains("turn_c1")) u.turn_c1 = in_range(ju["turn_c1"], f + ".turn_c1", 0.0, 1000.0);
     if (ju.contains("turn_c2")) u.turn_c2 = in_range(ju["turn_c2"], f + ".turn_c2", 1e-6, 1000.0);
+    if (ju.contains("climb_mps")) u.climb_mps = in_range(ju["climb_mps"], f + ".climb_mps", 0.1, 30.0);
+    if (ju.contains("descent_mps"))
+      u.descent_mps = in_range(ju["descent_mps"], f + ".descent_mps", 0.1, 30.0);
     if (ju.contains("camera")) {
       u.camera = parse_camera(ju["camera"], f + ".camera");
       u.camera_geometry = camera_geometry(*u.camera, f + ".camera");

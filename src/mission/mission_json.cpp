@@ -103,6 +103,8 @@ json to_json(const Mission& m) {
                {"endurance_min", u.endurance_min},
                {"turn_c1", u.turn_c1},
                {"turn_c2", u.turn_c2}};
+    if (u.climb_mps != UavDefaults::climb_mps) ju["climb_mps"] = u.climb_mps;
+    if (u.descent_mps != UavDefaults::descent_mps) ju["descent_mps"] = u.descent_mps;
     if (u.start) ju["start"] = {u.start->lon, u.start->lat};
     if (u.camera) ju["camera"] = camera_json(*u.camera);
     if (u.share_auto) ju["share"] = "auto";

@@ -100,6 +100,8 @@ SimulateRequest parse_simulate(const json& s, const Plan& plan, std::size_t max_
     if (plan.mission.terrain) c.set_ground(plan.mission.terrain->grid);
     c.v_max = u.speed_mps;
     c.a_max = u.max_accel_mps2;
+    c.v_up = u.climb_mps;  // the mission's vertical speeds (the whole-flight time, docs/wind.md)
+    c.v_down = u.descent_mps;
     c.endurance_min = battery ? battery_min : u.endurance_min;
     c.wind_mps = wind;
     c.wind_from_deg = wind_from;

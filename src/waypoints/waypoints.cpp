@@ -183,12 +183,11 @@ void slow_steep_legs(std::vector<MissionItem>& items, const Plan& plan, std::siz
 }
 
 /// mission_items(), with CONDITION_YAW items for ArduPilot when `condition_yaw`.
-std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const AltitudeOptions& options,
-                                    bool condition_yaw) {
+std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const std::vector<PathPart>& parts,
+                                    const AltitudeOptions& options, bool condition_yaw) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
   const AltitudeOptions opt = resolve_altitudes(options, altitude_slots(plan), plan.mission.altitude_m);
-  const UavPlan& up = plan.uavs[index];
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;
   const LonLat home = uav.start_resolved;
@@ -278,8 +277,8 @@ std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const A
   bool high = true;  // at the transition altitude
   int waypoint = 0;  // coverage waypoints so far
   LonLat here = home;
-  for (std::size_t pi = 0; pi < up.parts.size(); ++pi) {
-    const PathPart& part = up.parts[pi];
+  for (std::size_t pi = 0; pi < parts.size(); ++pi) {
+    const PathPart& part = parts[pi];
     if (part.wgs84.empty()) continue;
     const std::size_t first_new = items.size();
     if (part.kind == PartKind::Transit) {
@@ -487,12 +486,21 @@ std::string describe(const SteepLeg& s, const Plan& plan) {
 }
 
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
-  return make_items(plan, index, opt, false);
+  if (index >= plan.uavs.size())
+    throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
+  return make_items(plan, index, plan.uavs[index].parts, opt, false);
+}
+
+std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index,
+                                       const std::vector<PathPart>& parts, const AltitudeOptions& opt) {
+  return make_items(plan, index, parts, opt, false);
 }
 
 std::vector<MissionItem> ardupilot_mission_items(const Plan& plan, std::size_t index,
                                                  const AltitudeOptions& opt) {
-  return make_items(plan, index, opt, true);
+  if (index >= plan.uavs.size())
+    throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
+  return make_items(plan, index, plan.uavs[index].parts, opt, true);
 }
 
 std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {

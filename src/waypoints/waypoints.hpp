@@ -130,6 +130,10 @@ std::string describe(const SteepLeg& leg, const Plan& plan);
 /// mission altitude above the ground under it, and "terrain" waypoints inside the coverage legs keep
 /// the height above ground within terrain.tolerance_m between them (docs/photogrammetry.md).
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});
+/// The same for UAV `index` flying `parts` instead of its own (one sortie's, Sortie::parts), without a copy
+/// of the plan.
+std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index,
+                                       const std::vector<PathPart>& parts, const AltitudeOptions& opt = {});
 
 /// Ground and flight heights along one coverage leg (the picture of docs/terrain-profile.png).
 struct LegProfile {

@@ -420,10 +420,11 @@ TEST(Flight, ThreeBatterySortiesFlownOneAfterAnother) {
 }
 
 // Issue 32: the live ETA is the plan's time model in the mission's wind. Before the vehicles take off,
-// each UAV's eta_s is its predicted flight time (eq. 15 in the wind, as plan.json's), about twice the
-// calm-air figure at 6 m/s on 8 m/s; the simulated vehicles fly in that wind and land near it, far from
-// the calm figure. Measured: ETA 1393 / 1400 s, flown 1584 / 1608 s (+13.7 / +14.9 %: the climbs,
-// descents and the braking before each turn at the downwind ground speed are not in eq. 15, docs/wind.md),
+// each UAV's eta_s is its predicted flight time (eq. 15 in the wind, as plan.json's, and the climbs and
+// descents of its mission items, vertical_time_s), about twice the calm-air figure at 6 m/s on 8 m/s; the
+// simulated vehicles fly in that wind and land near it, far from the calm figure. Measured: ETA 1493 /
+// 1520 s, flown 1583 / 1608 s (+6.0 / +5.8 %: the braking before each turn at the downwind ground speed is
+// not in eq. 15, docs/wind.md; without the vertical time the ETA was 1393 / 1400 s, +13.7 / +14.9 %),
 // calm 670 / 672 s.
 TEST(Flight, TheEtaIsThePlansFlightTimeInTheMissionsWind) {
   Mission m = field(800, 300, 2, 60);
@@ -457,14 +458,16 @@ TEST(Flight, TheEtaIsThePlansFlightTimeInTheMissionsWind) {
     const std::string id = p.uavs[i].id;
     SCOPED_TRACE(id);
     ASSERT_TRUE(landed.contains(id));
-    const double model_s = 60.0 * predicted[i].flight_duration_min,
+    // eq. 15 in the wind and the climbs and descents of its missions (the ETA leaves battery changes out)
+    const double model_s = 60.0 * predicted[i].flight_duration_min + p.uavs[i].vertical_time_s,
                  calm_s = 60.0 * calm_predicted[i].flight_duration_min;
     std::printf(
         "%s: ETA at start %.1f s, the plan's flight time in the wind %.1f s (calm %.1f s), flown %.1f s\n",
         id.c_str(), eta0[id], model_s, calm_s, landed[id]);
     EXPECT_NEAR(eta0[id], model_s, 0.02 * model_s) << "the ETA is the plan's time model";
     EXPECT_GT(eta0[id], 1.15 * calm_s) << "the wind is in the ETA";
-    EXPECT_NEAR(landed[id], eta0[id], 0.20 * eta0[id]) << "the vehicles land near the ETA";
+    EXPECT_GT(p.uavs[i].vertical_time_s, 0.0);
+    EXPECT_NEAR(landed[id], eta0[id], 0.10 * eta0[id]) << "the vehicles land near the ETA";
     EXPECT_GT(landed[id], 1.5 * calm_s) << "far from what the calm model would have said";
   }
 }
