@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "cli/command.hpp"
 #include "cli/mission_file.hpp"
@@ -39,6 +40,8 @@ void run_export(ExportArgs& a) {
       a.out.empty() ? std::filesystem::path(a.plan_dir) : std::filesystem::path(a.out);
   std::vector<std::string> warnings;
   a.opt.warnings = &warnings;
+  std::map<std::string, trajectory::Trajectory> trajectories;  // made by the trajectory formats, if asked
+  a.opt.trajectories = &trajectories;
   Artifacts artifacts;
   try {
     artifacts = exporting::export_artifacts(plan, a.formats, a.opt);
@@ -57,7 +60,11 @@ void run_export(ExportArgs& a) {
       waypoints::resolve_altitudes(a.opt.altitude, waypoints::altitude_slots(plan), plan.mission.altitude_m);
   for (std::size_t i = 0; i < plan.uavs.size(); ++i) {
     if (exporting::idle(plan.uavs[i])) continue;
-    const auto traj = trajectory::uav_trajectory(plan, i, a.opt.trajectory, altitudes);
+    // the summary's trajectory: the one the export made, else made for it
+    const auto made = trajectories.find(plan.uavs[i].id);
+    const auto traj = made != trajectories.end()
+                          ? made->second
+                          : trajectory::uav_trajectory(plan, i, a.opt.trajectory, altitudes);
     std::string limits;
     if (traj.method() == trajectory::Method::Polynomial) {  // whether its bounds hold, and its extremes
       const auto& r = traj.report();

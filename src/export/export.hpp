@@ -65,6 +65,10 @@ struct ExportOptions {
   /// made them (CheckedExport sets it for each writer call: the items are made once per UAV per export,
   /// not once per format); null: the writer makes them.
   const std::vector<waypoints::MissionItem>* items = nullptr;
+  /// When set, the trajectory formats keep each UAV's trajectory here (by UAV id) and make it once per
+  /// export: the trajectory CSV and its plot share it, and a caller that reports the trajectories (the
+  /// CLI's summary) reads them instead of making them again.
+  std::map<std::string, trajectory::Trajectory>* trajectories = nullptr;
 };
 
 /// The formats export_artifacts() knows, in a fixed order: the names of the table export/formats.hpp.

@@ -66,9 +66,21 @@ void write_csv(const Plan& p, std::size_t i, const ExportOptions& opt, const std
   put(out, base + ".csv", "text/csv", waypoints_csv(p, i, opt));
 }
 
+/// UAV `i`'s trajectory under the export's options: made once per export when the caller keeps them
+/// (ExportOptions::trajectories), so the trajectory and its plot share it.
+trajectory::Trajectory trajectory_of(const Plan& p, std::size_t i, const ExportOptions& opt) {
+  if (opt.trajectories == nullptr) return trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+  auto it = opt.trajectories->find(p.uavs[i].id);
+  if (it == opt.trajectories->end())
+    it = opt.trajectories
+             ->emplace(p.uavs[i].id, trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude))
+             .first;
+  return it->second;
+}
+
 void write_trajectory(const Plan& p, std::size_t i, const ExportOptions& opt, const std::string& /*base*/,
                       Artifacts& out) {
-  const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+  const auto traj = trajectory_of(p, i, opt);
   // the segment form is the fillet-lines method's: a polynomial trajectory is sampled, at its own step
   // (trajectory::Options::dt) when none is given
   const bool segments = opt.trajectory_step_s <= 0 && traj.method() == trajectory::Method::FilletLines;
@@ -79,7 +91,7 @@ void write_trajectory(const Plan& p, std::size_t i, const ExportOptions& opt, co
 
 void write_trajectory_plot(const Plan& p, std::size_t i, const ExportOptions& opt, const std::string& base,
                            Artifacts& out) {
-  const auto traj = trajectory::uav_trajectory(p, i, opt.trajectory, opt.altitude);
+  const auto traj = trajectory_of(p, i, opt);
   out.push_back(render::trajectory_png(traj, base + ".trajectory.png", p.uavs[i].id + ": trajectory"));
 }
 
@@ -104,10 +116,10 @@ const std::vector<Format>& formats() {
       {"trajectory", "Trajectory CSV", ".csv", "text/csv", "analysis, simulators", false,
        "time-parameterised flight within the UAV's speed and acceleration limits: the segment form (one row "
        "per breakpoint), or sampled with a step; the polynomial method always sampled (docs/trajectory.md)",
-       &write_trajectory},
+       &write_trajectory, true},
       {"trajectory_plot", "Trajectory plot (PNG)", ".trajectory.png", "image/png", "people, reports", false,
        "position, velocity and acceleration against time, the limits dashed (docs/trajectory.md)",
-       &write_trajectory_plot},
+       &write_trajectory_plot, true},
   };
   return table;
 }

@@ -26,6 +26,9 @@ struct Format {
   /// checks of check_plan() have passed.
   void (*write)(const Plan& plan, std::size_t index, const ExportOptions& opt, const std::string& base,
                 Artifacts& out);
+  /// it reads ExportOptions::trajectory (the trajectory method and its bounds); the others ignore it, so
+  /// a cache of exports leaves those options out of their keys
+  bool trajectory_options = false;
 };
 
 /// Every format, in a fixed order (the order of known_formats() and of an export's files).

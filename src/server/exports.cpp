@@ -99,7 +99,9 @@ std::shared_ptr<const ExportEntry> ExportService::build(const store::Job& job, c
 }
 
 std::shared_ptr<const ExportEntry> ExportService::get(const store::Job& job, const std::string& format,
-                                                      const usecases::ExportVariant& variant) {
+                                                      const usecases::ExportVariant& asked) {
+  // what the format reads of the client's options: ?method= on a .plan is the plain .plan's entry
+  const usecases::ExportVariant variant = asked.for_format(format);
   const std::string prefix = store::plan_cache_prefix(job.artifacts);
   if (prefix.empty()) return nullptr;
   // the trajectory of a job with trajectory_step_s is sampled: its own entry

@@ -309,6 +309,15 @@ std::string ExportVariant::key() const {
   return k;
 }
 
+ExportVariant ExportVariant::for_format(std::string_view format) const {
+  ExportVariant v = *this;
+  if (const exporting::Format* f = exporting::find_format(format)) {
+    if (!f->trajectory_options) v.trajectory = {};
+    if (!f->per_sortie) v.split_capacity = false;
+  }
+  return v;
+}
+
 std::string split_zip_name(const std::string& id, std::string_view extension) {
   return "export/" + id + std::string(extension) + ".zip";
 }

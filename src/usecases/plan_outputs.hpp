@@ -116,6 +116,10 @@ struct ExportVariant {
   /// "" for the default, else "@autopilot=px4@terrain_frame@split_capacity@method=polynomial@order=5..."
   /// (the parts that are set).
   [[nodiscard]] std::string key() const;
+  /// The variant as format `format` reads it: the trajectory options left out unless the format uses them
+  /// (exporting::Format::trajectory_options), split_capacity unless it splits per sortie. Two variants
+  /// that make the same files of a format have the same for_format(format).key() (one cache entry).
+  [[nodiscard]] ExportVariant for_format(std::string_view format) const;
 };
 
 /// The artifact a split export (ExportVariant::split_capacity) serves for UAV `id` of a format whose

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <pugixml.hpp>
 #include <sstream>
@@ -489,6 +490,21 @@ TEST(Formats, TrajectoryIsTheSegmentFormOrSampledAtTheChosenStep) {
     const auto* s = check::find(sampled, "trajectory/" + id + ".csv");
     ASSERT_NE(s, nullptr);
     EXPECT_EQ(s->bytes, trajectory::trajectory_csv(plan, traj.sample(0.1)));
+  }
+  // a caller that keeps the trajectories gets each UAV's once, the one the files were made from
+  std::map<std::string, trajectory::Trajectory> kept;
+  ExportOptions keep;
+  keep.trajectories = &kept;
+  const auto both = export_artifacts(plan, {"trajectory,trajectory_plot"}, keep);
+  ASSERT_EQ(kept.size(), 2u);
+  const auto plain = export_artifacts(plan, {"trajectory,trajectory_plot"});
+  ASSERT_EQ(both.size(), plain.size());
+  for (std::size_t k = 0; k < both.size(); ++k) EXPECT_EQ(both[k].bytes, plain[k].bytes) << both[k].name;
+  for (std::size_t u = 0; u < 2; ++u) {
+    const auto& id = plan.uavs[u].id;
+    ASSERT_TRUE(kept.contains(id));
+    EXPECT_EQ(trajectory::segments_csv(plan, kept.at(id)),
+              check::find(both, "trajectory/" + id + ".csv")->bytes);
   }
   for (const double bad : {-1.0, 0.0005, std::nan("")}) {
     ExportOptions opt;

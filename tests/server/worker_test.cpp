@@ -299,6 +299,11 @@ TEST_P(WorkerTest, ExportsAreMadeOnRequestOnceForConcurrentCallsAndEqualTheCliEx
   EXPECT_TRUE(store_->cache_entry(key)) << "cached";
   EXPECT_EQ(call("GET", url + "/exports/qgc?uav=bravo").status, 200);
   EXPECT_EQ(exports_->builds(), 1) << "the other UAVs' files came with the same build";
+  // the trajectory options do not change a .plan: the plain .plan's entry, no new build
+  a = call("GET", url + "/exports/qgc?uav=alpha&method=polynomial");
+  ASSERT_EQ(a.status, 200) << a.body;
+  EXPECT_EQ(a.body, answers[0].body);
+  EXPECT_EQ(exports_->builds(), 1) << "the trajectory method is not in a .plan's cache key";
 
   // every format of every UAV: the bytes of the CLI's eager export of the same mission and seed
   const auto out = dir_ / "cli";

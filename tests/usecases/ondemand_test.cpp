@@ -125,3 +125,18 @@ TEST(ExportsOnDemand, AnUnreadableStoredPlanIsAnOperationError) {
   EXPECT_EQ(usecases::export_source_format("kmz"), "kml");
   EXPECT_EQ(usecases::export_source_format("qgc"), "qgc");
 }
+
+// A cache of exports keys an entry by what its format reads: the trajectory method on a .plan, or a
+// capacity split on the trajectory, makes the same files as without it.
+TEST(ExportsOnDemand, AVariantKeepsOnlyWhatItsFormatReads) {
+  usecases::ExportVariant v;
+  v.autopilot = "ardupilot";
+  v.split_capacity = true;
+  v.trajectory.method = trajectory::Method::Polynomial;
+  v.trajectory.order = 5;
+  EXPECT_EQ(v.for_format("qgc").key(), "@autopilot=ardupilot@split_capacity");
+  EXPECT_EQ(v.for_format("trajectory").key(), "@autopilot=ardupilot@method=polynomial@order=5");
+  EXPECT_EQ(v.for_format("trajectory_plot").key(), v.for_format("trajectory").key());
+  EXPECT_EQ(v.for_format("geojson").key(), "@autopilot=ardupilot");
+  EXPECT_EQ(v.for_format("kml").key(), v.for_format("qgc").key());
+}
