@@ -43,6 +43,8 @@ export interface FlightUav {
   waypoints?: string;
   missions?: FlightMission[];
   trail?: number[][];
+  /** the task manager's waypoint retries (docs/flights.md#waypoint-retries) */
+  retries?: { waypoint?: number | null; count?: number; total?: number };
 }
 
 export interface FlightAlert {
@@ -357,6 +359,19 @@ export function progressText(u: Pick<FlightUav, 'waypoints' | 'missions' | 'prog
   const all = w.own + w.extra;
   const p = (w.ownReached + w.extraReached) / all;
   return { text: `${(100 * p).toFixed(1)} % (${w.ownReached}/${w.own} own, ${w.extraReached}/${w.extra} reassigned)`, fraction: p };
+}
+
+/**
+ * A UAV card's waypoint retries: "none" before any; "waypoint 7: 1 of 2 (3 in all)" while a waypoint is
+ * being retried (`limit`: the flight's waypoint_retries, when known), state "retrying"; "3 in all" after.
+ */
+export function retriesText(r: FlightUav['retries'], limit?: number): { text: string; state: string } {
+  const total = r?.total ?? 0;
+  const count = r?.count ?? 0;
+  if (r?.waypoint !== null && r?.waypoint !== undefined && count > 0)
+    return { text: `waypoint ${r.waypoint}: ${count}${limit ? ` of ${limit}` : ''} (${Math.max(total, count)} in all)`, state: 'retrying' };
+  if (total === 0) return { text: 'none', state: 'ok' };
+  return { text: `${total} in all`, state: 'ok' };
 }
 
 /**

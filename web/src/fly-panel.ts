@@ -1,8 +1,8 @@
 // The Fly tab's live panel: one card per UAV (phase, progress, battery, ETA, link, altitude band,
-// sortie k/n, its own commands), the alerts, and the reassignment offers with Apply / Decline. Cards
-// are built once per flight and their fields rewritten only when their text changes.
+// sortie k/n, waypoint retries, its own commands), the alerts, and the reassignment offers with Apply /
+// Decline. Cards are built once per flight and their fields rewritten only when their text changes.
 import { el } from './job-ui.ts';
-import { countStatus, flightOutcome, formatEta, progressText, type Flight, type FlightAlert, type FlightReassignment, type FlightUav } from './fly-model.ts';
+import { countStatus, flightOutcome, formatEta, progressText, retriesText, type Flight, type FlightAlert, type FlightReassignment, type FlightUav } from './fly-model.ts';
 
 /** Per-UAV commands (docs/flights.md), shown on each card. */
 const UAV_COMMANDS: [string, string][] = [
@@ -14,7 +14,7 @@ const UAV_COMMANDS: [string, string][] = [
   ['next_sortie', 'Next sortie'],
 ];
 
-const FIELDS = ['phase', 'progress', 'battery', 'eta', 'link', 'band', 'sortie'] as const;
+const FIELDS = ['phase', 'progress', 'battery', 'eta', 'link', 'band', 'sortie', 'retries'] as const;
 type Field = (typeof FIELDS)[number];
 
 interface Card {
@@ -66,7 +66,8 @@ export class FlyPanel {
   update(f: Flight): void {
     const ended = f.state === 'done' || f.state === 'aborted';
     this.lost = new Set(flightOutcome(f).lost);
-    for (const u of f.uavs) this.updateCard(this.card(u.uav), u, ended);
+    const limit = f.config?.waypoint_retries;
+    for (const u of f.uavs) this.updateCard(this.card(u.uav), u, ended, typeof limit === 'number' ? limit : undefined);
     this.updateAlerts(f.alerts ?? []);
     this.updateOffers(f.reassignments ?? [], ended);
   }
@@ -92,6 +93,7 @@ export class FlyPanel {
       ['link', 'link'],
       ['band', 'altitude'],
       ['sortie', 'sortie'],
+      ['retries', 'retries'],
     ];
     for (const [f, label] of labels) {
       const v = el('span', { class: 'fly-value', 'data-field': f });
@@ -111,7 +113,7 @@ export class FlyPanel {
     return c;
   }
 
-  private updateCard(c: Card, u: FlightUav, ended: boolean): void {
+  private updateCard(c: Card, u: FlightUav, ended: boolean, retryLimit?: number): void {
     set(c, 'phase', u.phase, u.phase);
     const { text, fraction: p } = progressText(u);
     if (c.bar.value !== p) c.bar.value = p;
@@ -125,6 +127,8 @@ export class FlyPanel {
     const alt = u.position?.alt_m;
     set(c, 'band', `${u.band ?? '—'}${alt !== undefined && alt !== null ? ` · ${alt.toFixed(0)} m` : ''}`, u.band ?? 'unknown');
     set(c, 'sortie', u.sorties ? `${(u.sortie ?? 0) + 1}/${u.sorties}` : '—');
+    const r = retriesText(u.retries, retryLimit);
+    set(c, 'retries', r.text, r.state);
     for (const b of c.box.querySelectorAll<HTMLButtonElement>('.fly-card-cmds button')) b.disabled = ended;
   }
 

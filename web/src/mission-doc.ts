@@ -268,6 +268,8 @@ const UAV_FIELDS: Record<string, string> = {
   catalog_id: 'catalog UAV',
   endurance_min: 'endurance',
   max_accel_mps2: 'acceleration',
+  climb_mps: 'climb speed',
+  descent_mps: 'descent speed',
   camera: 'camera',
 };
 

@@ -222,6 +222,12 @@ test('a UAV that fails: link-lost alert, a reassignment offer applied from the F
     assert.ok(Math.abs(pct - (100 * (r1 + r2)) / (n1 + n2)) < 0.06, 'the percentage counts both');
   }
   await h.shot(page, 'fly-7-reassigned');
+  // every card says its waypoint retries (the snapshot's retries; none here: the failure is a lost link)
+  for (const u of applied.uavs) {
+    const text = await page.locator(`[data-testid=fly-uav-card][data-uav="${u.uav}"] [data-field=retries]`).innerText();
+    const total = u.retries?.total ?? 0;
+    assert.equal(text, total === 0 ? 'none' : `${total} in all`, `${u.uav}: ${JSON.stringify(u.retries)}`);
+  }
 
   // the failed UAV's marker shows the lost link; the flight can be stopped from the tab
   assert.ok(await page.locator(`[data-testid=fly-uav-marker][data-uav="${failed}"]`).evaluate((e) => e.classList.contains('fly-uav-lost')));

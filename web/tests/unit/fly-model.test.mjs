@@ -141,3 +141,12 @@ test('photo uploads: heads of at most 256 KiB, batches under 8 MiB and 200 parts
   // one file larger than a batch still goes (its head)
   assert.deepEqual(photoBatches([1e9], HEAD_BYTES, 100), [[0]]);
 });
+
+test('a card says the waypoint retries: none, the one being retried of the limit, then the total', async () => {
+  const { retriesText } = await import('../../src/fly-model.ts');
+  assert.deepEqual(retriesText(undefined), { text: 'none', state: 'ok' });
+  assert.deepEqual(retriesText({ waypoint: null, count: 0, total: 0 }, 2), { text: 'none', state: 'ok' });
+  assert.deepEqual(retriesText({ waypoint: 7, count: 1, total: 1 }, 2), { text: 'waypoint 7: 1 of 2 (1 in all)', state: 'retrying' });
+  assert.deepEqual(retriesText({ waypoint: 7, count: 2, total: 3 }), { text: 'waypoint 7: 2 (3 in all)', state: 'retrying' });
+  assert.deepEqual(retriesText({ waypoint: null, count: 0, total: 3 }, 2), { text: '3 in all', state: 'ok' });
+});
