@@ -145,6 +145,20 @@ test('the trajectory of each UAV against time, by either method (issue 33)', asy
   await section.scrollIntoViewIfNeeded();
   await h.shot(page, 'terrain-02b-trajectory');
   await shotAt768('terrain-02b-trajectory-768', '[data-testid=trajectory-section]');
+  // Enlarge: the same plot over the page, as large as the window lets it (the panel's is ~320 px wide)
+  await page.click('[data-testid=trajectory-enlarge]');
+  const big = page.locator('[data-testid=trajectory-plot-big]');
+  await page.waitForFunction(() => {
+    const i = document.querySelector('[data-testid=trajectory-plot-big]');
+    return i && i.complete && i.naturalWidth > 0;
+  });
+  const [small, large, natural] = [await plot.evaluate((i) => i.clientWidth), await big.evaluate((i) => i.clientWidth), await big.evaluate((i) => i.naturalWidth)];
+  assert.ok(large > 1.5 * small, `enlarged ${large} px against ${small} px in the panel`);
+  assert.ok(large <= natural + 1, 'never drawn larger than it was made');
+  assert.equal(await big.getAttribute('src'), await plot.getAttribute('src'), 'the same plot, not a second request');
+  await h.shot(page, 'terrain-02c-trajectory-enlarged');
+  await page.keyboard.press('Escape');
+  assert.equal(await page.locator('[data-testid=trajectory-enlarged]').count(), 0, 'Escape closes it');
 });
 
 test('export for ArduPilot in the terrain frame, and split to the item capacity', async () => {
