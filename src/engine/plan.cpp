@@ -202,16 +202,16 @@ void set_expected_finish(Plan& out) {
     out.warnings.push_back(std::string("expected finish times: ") + e.what());
     return;
   }
+  // the whole flight (docs/wind.md#the-whole-flight): the climbs and descents of the missions' items, at
+  // the export's transition altitudes (no ceiling when the UAVs cannot be separated under it)
+  waypoints::AltitudeOptions alt;
+  try {
+    (void)waypoints::resolve_altitudes(alt, waypoints::altitude_slots(out), out.mission.altitude_m);
+  } catch (const InputError&) {
+    alt.transition_ceiling_m = 0;
+  }
   for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i) {
-    // the whole flight (docs/wind.md#the-whole-flight): the climbs and descents of its missions' items,
-    // at the export's transition altitudes (no ceiling when the UAVs cannot be separated under it)
-    waypoints::AltitudeOptions alt;
-    try {
-      out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
-    } catch (const InputError&) {
-      alt.transition_ceiling_m = 0;
-      out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
-    }
+    out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
     out.uavs[i].expected_finish_min = ev.cost.uavs[i].flight_duration_min +
                                       ev.cost.uavs[i].change_battery_delay_min +
                                       out.uavs[i].vertical_time_s / 60.0;

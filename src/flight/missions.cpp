@@ -90,7 +90,7 @@ std::vector<MissionSpec> Flight::Impl::own_missions(std::size_t uav, int from_wa
           [&](const Plan& sp, std::size_t u) { return waypoints::mission_items(sp, u).size() + home; }, &ss);
       std::vector<std::vector<waypoints::MissionItem>> cut;
       for (const auto& s : pieces) {
-        auto its = waypoints::mission_items(sorties::sortie_plan(plan, uav, s), uav);
+        auto its = waypoints::mission_items(plan, uav, s.parts);  // the sortie's, without a copy of the plan
         for (auto& it : its)
           if (it.waypoint >= 0) it.waypoint += s.first_waypoint;
         cut.push_back(std::move(its));

@@ -182,11 +182,14 @@ void slow_steep_legs(std::vector<MissionItem>& items, const Plan& plan, std::siz
   items = std::move(out);
 }
 
-/// mission_items(), with CONDITION_YAW items for ArduPilot when `condition_yaw`.
-std::vector<MissionItem> make_items(const Plan& plan, std::size_t index, const std::vector<PathPart>& parts,
-                                    const AltitudeOptions& options, bool condition_yaw) {
+/// mission_items(), with CONDITION_YAW items for ArduPilot when `condition_yaw`; `own_parts`: the parts
+/// flown, null for the UAV's own.
+std::vector<MissionItem> make_items(const Plan& plan, std::size_t index,
+                                    const std::vector<PathPart>* own_parts, const AltitudeOptions& options,
+                                    bool condition_yaw) {
   if (index >= plan.uavs.size() || index >= plan.mission.uavs.size())
     throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
+  const std::vector<PathPart>& parts = own_parts != nullptr ? *own_parts : plan.uavs[index].parts;
   const AltitudeOptions opt = resolve_altitudes(options, altitude_slots(plan), plan.mission.altitude_m);
   const Uav& uav = plan.mission.uavs[index];
   const double mission_alt = plan.mission.altitude_m;
@@ -486,21 +489,17 @@ std::string describe(const SteepLeg& s, const Plan& plan) {
 }
 
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
-  if (index >= plan.uavs.size())
-    throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
-  return make_items(plan, index, plan.uavs[index].parts, opt, false);
+  return make_items(plan, index, nullptr, opt, false);
 }
 
 std::vector<MissionItem> mission_items(const Plan& plan, std::size_t index,
                                        const std::vector<PathPart>& parts, const AltitudeOptions& opt) {
-  return make_items(plan, index, parts, opt, false);
+  return make_items(plan, index, &parts, opt, false);
 }
 
 std::vector<MissionItem> ardupilot_mission_items(const Plan& plan, std::size_t index,
                                                  const AltitudeOptions& opt) {
-  if (index >= plan.uavs.size())
-    throw std::out_of_range("mission_items: no UAV with index " + std::to_string(index));
-  return make_items(plan, index, plan.uavs[index].parts, opt, true);
+  return make_items(plan, index, nullptr, opt, true);
 }
 
 std::optional<LegProfile> leg_profile(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {
