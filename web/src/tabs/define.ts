@@ -37,6 +37,7 @@ import {
 import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
 import { uavColour } from '../palette.ts';
+import { limitsFold } from '../uav-limits.ts';
 import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '../zones.ts';
 import '../missions.css';
 import '../define.css';
@@ -127,6 +128,8 @@ class DefinePanel {
   private baseJson = '';
   private undoStack: MissionDoc[] = [];
   private shareHistory: number[] = [];
+  /** the UAV rows whose flight-limits fold is open (rows are drawn again after every change) */
+  private openLimits = new Set<number>();
   private visible = false;
 
   private uavCatalog: CatalogUav[] = [];
@@ -743,6 +746,13 @@ class DefinePanel {
       camRow.append(el('span', { class: 'define-unit' }, 'camera'), sel);
       row.append(camRow);
     }
+    row.append(
+      limitsFold(u, i, (patch) => this.setUav(i, patch), {
+        catalogEndurance: cat?.endurance_min,
+        open: this.openLimits.has(i),
+        onToggle: (open) => (open ? this.openLimits.add(i) : this.openLimits.delete(i)),
+      }),
+    );
     return row;
   }
 
@@ -1009,6 +1019,9 @@ class DefinePanel {
     }
     const target = anchors.get(match)!;
     target.classList.add('define-invalid');
+    // a field inside a closed fold (a UAV's flight limits): open it, so that the error is seen
+    const fold = target.closest('details');
+    if (fold) fold.open = true;
     // a problem of the shares as a whole marks every share
     if (field === 'uavs' && /share/i.test(message))
       this.uavRows.querySelectorAll('.define-share').forEach((x) => x.classList.add('define-invalid'));

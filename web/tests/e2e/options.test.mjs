@@ -145,6 +145,38 @@ test('2. an area with obliques, a wind, shares from capabilities and the auto pl
   await h.shot(page, 'options-04-area-plan');
 });
 
+test('3. a UAV\'s flight limits: endurance, climb and descent, refused beside the field, flown by the plan', async () => {
+  await h.tab(page, 'define');
+  const row = page.locator('[data-testid=uav-row]').first();
+  const fold = row.locator('[data-testid=uav-limits]');
+  assert.match(await fold.locator('summary').innerText(), /min · climb 3 m\/s · descent 1\.5 m\/s/);
+  await fold.locator('summary').click();
+  // out of range: the server's refusal is shown beside the input, naming the UAV's field
+  await row.locator('[data-testid=uav-climb-mps]').fill('50');
+  await row.locator('[data-testid=uav-climb-mps]').press('Tab');
+  const err = page.locator('[data-testid=field-error][data-field="uavs[0].climb_mps"]');
+  await err.waitFor({ timeout: 15000 });
+  assert.match(await err.innerText(), /climb speed/);
+  // the row was drawn again: the fold is still open
+  assert.equal(await page.locator('[data-testid=uav-row]').first().locator('[data-testid=uav-limits]').evaluate((d) => d.open), true);
+  for (const [id, v] of [['uav-climb-mps', '5'], ['uav-descent-mps', '2'], ['uav-endurance-min', '30']]) {
+    const input = page.locator('[data-testid=uav-row]').first().locator(`[data-testid=${id}]`);
+    await input.fill(v);
+    await input.press('Tab');
+  }
+  await page.waitForFunction(() => !document.querySelector('[data-testid=field-error][data-field="uavs[0].climb_mps"]'), null, { timeout: 15000 });
+  assert.match(await page.locator('[data-testid=uav-row]').first().locator('[data-testid=uav-limits] summary').innerText(), /30 min\* · climb 5 m\/s\* · descent 2 m\/s\*/);
+  await h.shot(page, 'options-05-uav-limits');
+  const { mission } = await saved(`e2e options ${stamp}`);
+  assert.equal(mission.uavs[0].climb_mps, 5);
+  assert.equal(mission.uavs[0].descent_mps, 2);
+  assert.equal(mission.uavs[0].endurance_min, 30);
+  assert.equal(mission.uavs[1].climb_mps, undefined, 'the other UAV keeps the defaults');
+  const { plan } = await planned();
+  assert.equal(plan.mission.uavs[0].climb_mps, 5);
+  for (const u of plan.uavs) assert.ok(u.vertical_time_s > 0, `${u.id} vertical_time_s ${u.vertical_time_s}`);
+});
+
 test('no console errors or warnings', () => {
   assert.deepEqual(consoleProblems, []);
 });
