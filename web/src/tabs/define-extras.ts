@@ -23,19 +23,13 @@ import {
   type StructureScan,
   type TerrainSource,
 } from '../mission-doc.ts';
+import { field, num } from './define-errors.ts';
 
 export interface ExtrasHost {
   doc(): MissionDoc;
   commit(d: MissionDoc): void;
-  field(parent: HTMLElement, label: string, anchors: string, input: HTMLElement, unit?: string): HTMLElement;
   /** the next map click adds a rally point (issue 31) */
   placeRally?(): void;
-}
-
-function num(s: string): number | undefined {
-  if (s.trim() === '') return undefined;
-  const x = Number(s);
-  return Number.isFinite(x) ? x : undefined;
 }
 
 function numberInput(testid: string, min: string, max: string, title: string, placeholder = ''): HTMLInputElement {
@@ -52,10 +46,10 @@ export class StructureControls {
   private top = el('input', { type: 'checkbox', 'data-testid': 'structure-top', title: 'add a nadir pass over the roof' });
 
   constructor(private host: ExtrasHost) {
-    host.field(this.row, 'Height', 'structure.height_m', this.height, 'm');
-    host.field(this.row, 'Standoff', 'structure.standoff_m', this.standoff, 'm');
-    host.field(this.row, 'Safe height', 'structure.safe_height_m', this.safe, 'm');
-    host.field(this.row, 'Roof pass', 'structure.top', this.top);
+    field(this.row, 'Height', 'structure.height_m', this.height, 'm');
+    field(this.row, 'Standoff', 'structure.standoff_m', this.standoff, 'm');
+    field(this.row, 'Safe height', 'structure.safe_height_m', this.safe, 'm');
+    field(this.row, 'Roof pass', 'structure.top', this.top);
     this.row.appendChild(this.info);
     for (const i of [this.height, this.standoff, this.safe, this.top]) i.addEventListener('change', () => this.changed());
   }
@@ -99,10 +93,10 @@ export class ObliqueControls {
 
   constructor(private host: ExtrasHost) {
     for (const d of ['1', '2', '4']) this.directions.appendChild(el('option', { value: d }, d));
-    host.field(this.row, 'Obliques', 'pattern.oblique', this.on);
-    host.field(this.detail, 'Oblique pitch', 'pattern.oblique.gimbal_pitch_deg', this.pitch, '°');
-    host.field(this.detail, 'Directions', 'pattern.oblique.directions', this.directions);
-    host.field(this.detail, 'Nadir grid', 'pattern.oblique.nadir', this.nadir);
+    field(this.row, 'Obliques', 'pattern.oblique', this.on);
+    field(this.detail, 'Oblique pitch', 'pattern.oblique.gimbal_pitch_deg', this.pitch, '°');
+    field(this.detail, 'Directions', 'pattern.oblique.directions', this.directions);
+    field(this.detail, 'Nadir grid', 'pattern.oblique.nadir', this.nadir);
     this.row.appendChild(this.detail);
     for (const i of [this.on, this.pitch, this.directions, this.nadir]) i.addEventListener('change', () => this.changed());
   }
@@ -140,8 +134,8 @@ export class WindControls {
   private from = numberInput('wind-from', '0', '359', 'where the wind blows from, degrees clockwise from north', '0');
 
   constructor(private host: ExtrasHost) {
-    host.field(this.row, 'Wind', 'wind wind.speed_mps', this.speed, 'm/s');
-    host.field(this.row, 'Wind from', 'wind.from_deg', this.from, '°');
+    field(this.row, 'Wind', 'wind wind.speed_mps', this.speed, 'm/s');
+    field(this.row, 'Wind from', 'wind.from_deg', this.from, '°');
     for (const i of [this.speed, this.from]) i.addEventListener('change', () => this.changed());
   }
 
@@ -165,7 +159,7 @@ export class ObjectiveControl {
 
   constructor(private host: ExtrasHost, parent: HTMLElement) {
     for (const o of OBJECTIVES) this.select.appendChild(el('option', { value: o }, o === 'poc' ? 'PoC' : o));
-    this.row = host.field(parent, 'Objective', 'objective', this.select);
+    this.row = field(parent, 'Objective', 'objective', this.select);
     this.select.addEventListener('change', () => {
       const d = { ...this.host.doc() };
       if (this.select.value === 'time') delete d.objective;
@@ -186,7 +180,7 @@ export class SharesAutoControl {
   readonly input = el('input', { type: 'checkbox', 'data-testid': 'shares-auto', title: 'shares from each UAV’s area rate (speed × swath, endurance), so that all finish together' });
 
   constructor(private host: ExtrasHost, parent: HTMLElement) {
-    host.field(parent, 'Shares from capabilities', 'uavs', this.input);
+    field(parent, 'Shares from capabilities', 'uavs', this.input);
     this.input.addEventListener('change', () => this.host.commit(withSharesAuto(this.host.doc(), this.input.checked)));
   }
 
@@ -223,11 +217,11 @@ export class TerrainControls {
   private serverTiles = false;
 
   constructor(private host: TerrainHost) {
-    host.field(this.row, 'Ground', 'terrain terrain.dem_id terrain.source terrain.dem', this.source);
-    host.field(this.row, 'Upload DEM', 'terrain.dem_id', this.upload);
-    host.field(this.detail, 'Follow terrain', 'terrain.mode', this.follow);
-    host.field(this.detail, 'Tolerance', 'terrain.tolerance_m', this.tolerance, 'm');
-    host.field(this.detail, 'Max climb', 'terrain.max_climb_mps terrain.max_descent_mps', this.climb, 'm/s');
+    field(this.row, 'Ground', 'terrain terrain.dem_id terrain.source terrain.dem', this.source);
+    field(this.row, 'Upload DEM', 'terrain.dem_id', this.upload);
+    field(this.detail, 'Follow terrain', 'terrain.mode', this.follow);
+    field(this.detail, 'Tolerance', 'terrain.tolerance_m', this.tolerance, 'm');
+    field(this.detail, 'Max climb', 'terrain.max_climb_mps terrain.max_descent_mps', this.climb, 'm/s');
     this.row.appendChild(this.detail);
     for (const i of [this.source, this.follow, this.tolerance, this.climb]) i.addEventListener('change', () => this.changed());
     this.upload.addEventListener('change', () => void this.uploaded());
@@ -310,13 +304,13 @@ export class FieldControls {
     this.autopilot.appendChild(el('option', { value: '' }, 'any (PX4 files)'));
     for (const [v, t] of [['px4', 'PX4 (500 items)'], ['ardupilot', 'ArduPilot (~700 items)'], ['dji', 'DJI WPML'], ['litchi', 'Litchi (99 waypoints)']])
       this.autopilot.appendChild(el('option', { value: v }, t));
-    host.field(this.row, 'Autopilot', 'autopilot', this.autopilot);
-    host.field(this.row, 'Mission items', 'max_mission_items', this.items);
-    host.field(this.row, 'Resume overlap', 'resume_backoff_m', this.backoff, 'm');
+    field(this.row, 'Autopilot', 'autopilot', this.autopilot);
+    field(this.row, 'Mission items', 'max_mission_items', this.items);
+    field(this.row, 'Resume overlap', 'resume_backoff_m', this.backoff, 'm');
     const given = el('span', { class: 'define-rally-given' });
     given.append(this.addRally, this.clearRally, this.rallyCount);
-    host.field(this.row, 'Rally points', 'rally', given);
-    host.field(this.row, 'Propose rally', 'propose_rally', this.rally);
+    field(this.row, 'Rally points', 'rally', given);
+    field(this.row, 'Propose rally', 'propose_rally', this.rally);
     this.addRally.addEventListener('click', () => host.placeRally?.());
     this.clearRally.addEventListener('click', () => {
       const d = { ...this.host.doc() };

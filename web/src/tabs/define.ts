@@ -13,9 +13,6 @@ import {
   areaPolygons,
   corridorOf,
   geojsonPolygons,
-  fieldLabel,
-  humanMessage,
-  matchField,
   newDraft,
   nextUavId,
   nfzPolygons,
@@ -54,6 +51,7 @@ import {
   type DemEntry,
   type ExtrasHost,
 } from './define-extras.ts';
+import { DefineErrors, field, num, round, section } from './define-errors.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
 const AUTO_PLANNER = {
@@ -96,17 +94,6 @@ interface Validated {
 }
 type Uav = Record<string, unknown>;
 type Kind = 'area' | 'nfz';
-
-function num(s: string): number | undefined {
-  if (s.trim() === '') return undefined;
-  const x = Number(s);
-  return Number.isFinite(x) ? x : undefined;
-}
-
-function round(x: number, digits: number): number {
-  const f = 10 ** digits;
-  return Math.round(x * f) / f;
-}
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
 
@@ -153,7 +140,7 @@ class DefinePanel {
   private nameInput!: HTMLInputElement;
   private status!: HTMLElement;
   private saveBtn!: HTMLButtonElement;
-  private general!: HTMLElement;
+  private errors: DefineErrors;
   private areaInfo!: HTMLElement;
   private drawAreaBtn!: HTMLButtonElement;
   private drawNfzBtn!: HTMLButtonElement;
@@ -180,7 +167,6 @@ class DefinePanel {
       this.commit(d);
       this.refreshForm();
     },
-    field: (parent, label, anchors, input, unit) => this.field(parent, label, anchors, input, unit),
     placeRally: () => this.startPlacing(RALLY),
   };
   private uavRows!: HTMLElement;
@@ -205,6 +191,7 @@ class DefinePanel {
     private app: App,
   ) {
     this.baseJson = JSON.stringify(this.doc);
+    this.errors = new DefineErrors(panel, { doc: () => this.doc, overlap: () => this.overlapInput.value });
     this.build();
     this.installMap();
     document.addEventListener('keydown', (e) => this.onKey(e));
@@ -218,22 +205,6 @@ class DefinePanel {
 
   // ---------------------------------------------------------------- layout
 
-  private section(title: string): HTMLElement {
-    const s = el('section', { class: 'define-section' });
-    s.appendChild(el('h3', {}, title));
-    this.panel.appendChild(s);
-    return s;
-  }
-
-  private field(parent: HTMLElement, label: string, anchors: string, input: HTMLElement, unit?: string): HTMLElement {
-    const row = el('label', { class: 'define-field', 'data-anchor': anchors });
-    row.appendChild(el('span', { class: 'define-label' }, label));
-    row.appendChild(input);
-    if (unit) row.appendChild(el('span', { class: 'define-unit' }, unit));
-    parent.appendChild(row);
-    return row;
-  }
-
   private build(): void {
     const p = this.panel;
     p.classList.add('define-panel');
@@ -246,12 +217,11 @@ class DefinePanel {
     const nameRow = el('div', { class: 'define-name', 'data-anchor': 'name' });
     nameRow.append(this.nameInput, this.saveBtn);
     this.status = el('div', { class: 'define-status muted', 'data-testid': 'mission-status', role: 'status', 'aria-live': 'polite' });
-    this.general = el('div', { class: 'define-general', 'data-testid': 'general-error', role: 'alert', hidden: '' });
-    head.append(nameRow, this.status, this.general);
+    head.append(nameRow, this.status, this.errors.general);
     p.appendChild(head);
 
     // area
-    const area = this.section('Area and no-fly zones');
+    const area = section(this.panel, 'Area and no-fly zones');
     area.dataset.anchor = 'area no_fly_zones';
     const tools = el('div', { class: 'define-tools' });
     this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw area');
@@ -278,7 +248,7 @@ class DefinePanel {
     this.buildPattern();
 
     // UAVs
-    const uavs = this.section('UAVs');
+    const uavs = section(this.panel, 'UAVs');
     uavs.dataset.anchor = 'uavs';
     const add = el('div', { class: 'define-tools' });
     this.uavSelect = el('select', { 'data-testid': 'uav-add-catalog', 'aria-label': 'Add a UAV from the catalog' });
@@ -295,20 +265,20 @@ class DefinePanel {
     this.sharesAutoControl = new SharesAutoControl(this.host, uavs);
 
     // camera
-    const cam = this.section('Camera and spacing');
+    const cam = section(this.panel, 'Camera and spacing');
     this.cameraSelect = el('select', { 'data-testid': 'camera-select' });
     this.cameraSelect.addEventListener('change', () => this.cameraChanged(true));
-    this.field(cam, 'Camera', 'camera', this.cameraSelect);
+    field(cam, 'Camera', 'camera', this.cameraSelect);
     this.altitudeInput = el('input', { type: 'number', min: '1', step: '1', 'data-testid': 'altitude-input' });
-    this.field(cam, 'Altitude', 'altitude_m camera.altitude_m', this.altitudeInput, 'm');
+    field(cam, 'Altitude', 'altitude_m camera.altitude_m', this.altitudeInput, 'm');
     this.overlapInput = el('input', { type: 'number', min: '0', max: '99', step: '1', 'data-testid': 'overlap-input' });
-    this.field(cam, 'Side overlap', 'camera.overlap camera.side_overlap', this.overlapInput, '%');
+    field(cam, 'Side overlap', 'camera.overlap camera.side_overlap', this.overlapInput, '%');
     this.hfovInput = el('input', { type: 'number', min: '1', max: '179', step: 'any', 'data-testid': 'hfov-input' });
-    this.field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
+    field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
     this.spacingInput = el('input', { type: 'number', min: '0.1', step: 'any', 'data-testid': 'spacing-input' });
-    this.field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
+    field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
     this.gimbalInput = el('input', { type: 'number', min: '-90', max: '0', step: '1', placeholder: '-90', 'data-testid': 'gimbal-input', title: 'camera pitch: -90° looks straight down (the default), 0° at the horizon' });
-    this.field(cam, 'Gimbal pitch', 'camera.gimbal_pitch_deg', this.gimbalInput, '°');
+    field(cam, 'Gimbal pitch', 'camera.gimbal_pitch_deg', this.gimbalInput, '°');
     for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput, this.gimbalInput]) i.addEventListener('change', () => this.cameraChanged(false));
     const out = el('dl', { class: 'define-values' });
     const value = (label: string, testid: string, title: string) => {
@@ -323,7 +293,7 @@ class DefinePanel {
     cam.appendChild(out);
 
     // planning
-    const plan = this.section('Planning');
+    const plan = section(this.panel, 'Planning');
     this.modeSelect = el('select', { 'data-testid': 'mode-select' });
     for (const [v, t] of [
       ['strict', 'Strict: paths stay inside the area'],
@@ -331,7 +301,7 @@ class DefinePanel {
     ])
       this.modeSelect.appendChild(el('option', { value: v }, t));
     this.modeSelect.addEventListener('change', () => this.commit({ ...this.doc, mode: this.modeSelect.value }));
-    this.field(plan, 'Mode', 'mode', this.modeSelect);
+    field(plan, 'Mode', 'mode', this.modeSelect);
     this.plannerSelect = el('select', { 'data-testid': 'planner-select' });
     this.plannerSelect.addEventListener('change', () => {
       const fields = fieldsFromSchema(this.planner(this.plannerSelect.value)?.schema);
@@ -342,7 +312,7 @@ class DefinePanel {
       this.renderParams();
       this.objectiveControl.render(d);
     });
-    this.field(plan, 'Planner', 'planner', this.plannerSelect);
+    field(plan, 'Planner', 'planner', this.plannerSelect);
     this.plannerSummary = el('p', { class: 'define-small muted' });
     plan.appendChild(this.plannerSummary);
     this.objectiveControl = new ObjectiveControl(this.host, plan);
@@ -360,7 +330,7 @@ class DefinePanel {
         return api.postForm<DemEntry>('/dems', form);
       },
       say: (message: string, error = false) => {
-        if (error) this.showGeneral(message, 'terrain.dem_id');
+        if (error) this.errors.showGeneral(message, 'terrain.dem_id');
         else this.status.textContent = message;
       },
     });
@@ -375,12 +345,12 @@ class DefinePanel {
       else d.seed = s;
       this.commit(d);
     });
-    this.field(plan, 'Seed', 'seed', this.seedInput);
+    field(plan, 'Seed', 'seed', this.seedInput);
   }
 
   /** the Pattern section: area or corridor (drawn as a polyline, with its width), and the options */
   private buildPattern(): void {
-    const sec = this.section('Pattern');
+    const sec = section(this.panel, 'Pattern');
     sec.dataset.anchor = 'corridor pattern';
     this.patternSelect = el('select', { 'data-testid': 'pattern-kind', 'aria-label': 'Pattern' });
     for (const [v, t] of [
@@ -397,7 +367,7 @@ class DefinePanel {
       this.renderPattern();
       this.renderMap();
     });
-    this.field(sec, 'Pattern', 'corridor structure', this.patternSelect);
+    field(sec, 'Pattern', 'corridor structure', this.patternSelect);
     this.corridorRow = el('div', { class: 'define-corridor' });
     const tools = el('div', { class: 'define-tools' });
     this.corridorBtn = el('button', { type: 'button', 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line');
@@ -411,7 +381,7 @@ class DefinePanel {
       if (c && w !== undefined) this.commit(withCorridor(this.doc, c.line, w));
       this.renderMap();
     });
-    this.field(this.corridorRow, 'Width', 'corridor.width_m', this.widthInput, 'm');
+    field(this.corridorRow, 'Width', 'corridor.width_m', this.widthInput, 'm');
     this.corridorInfo = el('p', { class: 'define-small muted', 'data-testid': 'corridor-info' });
     this.corridorRow.appendChild(this.corridorInfo);
     sec.appendChild(this.corridorRow);
@@ -429,13 +399,13 @@ class DefinePanel {
     const check = (key: keyof PatternOptions, label: string, title: string) => {
       const i = el('input', { type: 'checkbox', 'data-testid': `pattern-${key}`, title });
       i.addEventListener('change', () => this.commit(withPattern(this.doc, { [key]: i.checked })));
-      this.field(opts, label, `pattern.${key}`, i);
+      field(opts, label, `pattern.${key}`, i);
       this.patternInputs[key] = i;
     };
     check('crosshatch', 'Crosshatch', 'sweep every part twice, the second time at 90° (double grid)');
     const ta = el('input', { type: 'number', min: '0', max: '500', step: 'any', placeholder: '0', 'data-testid': 'pattern-turnaround_m', title: 'legs extend beyond the area by this much, camera off' });
     ta.addEventListener('change', () => this.commit(withPattern(this.doc, { turnaround_m: num(ta.value) ?? 0 })));
-    this.field(opts, 'Turnaround', 'pattern.turnaround_m', ta, 'm');
+    field(opts, 'Turnaround', 'pattern.turnaround_m', ta, 'm');
     this.patternInputs.turnaround_m = ta;
     const entry = el('select', { 'data-testid': 'pattern-entry' });
     for (const [v, t] of [
@@ -447,7 +417,7 @@ class DefinePanel {
     ])
       entry.appendChild(el('option', { value: v }, t));
     entry.addEventListener('change', () => this.commit(withPattern(this.doc, { entry: entry.value as PatternOptions['entry'] })));
-    this.field(opts, 'Entry', 'pattern.entry', entry);
+    field(opts, 'Entry', 'pattern.entry', entry);
     this.patternInputs.entry = entry;
     check('alternate_transects', 'Alternate transects', 'every other lane, then back for the rest (fixed-wing turns)');
     check('capture_in_turnaround', 'Camera in turns', 'keep the camera on in turns and turnarounds');
@@ -495,7 +465,7 @@ class DefinePanel {
       get<CatalogCamera>('/cameras'),
       get<Planner>('/planners'),
     ]);
-    if (fails.length) this.showGeneral(`Could not load the catalogs: ${fails.join('; ')}`);
+    if (fails.length) this.errors.showGeneral(`Could not load the catalogs: ${fails.join('; ')}`);
     this.uavSelect.replaceChildren(el('option', { value: '' }, 'Add from the catalog…'));
     for (const u of this.uavCatalog)
       this.uavSelect.appendChild(el('option', { value: String(u.id) }, `${u.name} (${u.speed_mps} m/s, ${u.endurance_min} min)`));
@@ -523,8 +493,8 @@ class DefinePanel {
     this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
     this.baseJson = JSON.stringify(d);
     this.cancelModes();
-    this.clearErrors();
-    this.clearGeneral();
+    this.errors.clear();
+    this.errors.clearGeneral();
     if (d !== doc || this.app.state.dirty !== false) this.push(d);
     this.refreshForm();
     this.renderMap();
@@ -626,7 +596,7 @@ class DefinePanel {
       const d: MissionDoc = { ...this.doc, planner_params: params };
       if (Object.keys(params).length === 0) delete d.planner_params;
       this.commit(d);
-      if (error) window.setTimeout(() => this.showError(`planner_params.${name}`, error), 0);
+      if (error) window.setTimeout(() => this.errors.show(`planner_params.${name}`, error), 0);
     });
   }
 
@@ -963,7 +933,7 @@ class DefinePanel {
     });
   }
 
-  // ---------------------------------------------------------------- validation and errors
+  // ---------------------------------------------------------------- validation
 
   private scheduleValidate(delay = 300): void {
     clearTimeout(this.validateTimer);
@@ -974,7 +944,7 @@ class DefinePanel {
     const seq = ++this.validateSeq;
     const doc = this.doc;
     if (areaPolygons(doc).length === 0 && !corridorOf(doc) && !structureOf(doc)) {
-      this.clearErrors();
+      this.errors.clear();
       for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
       this.spacingValue.title = 'draw the area first';
       return;
@@ -982,73 +952,21 @@ class DefinePanel {
     try {
       const r = await api.post<Validated>('/missions/validate', doc);
       if (seq !== this.validateSeq) return;
-      this.clearErrors();
-      this.clearGeneral();
+      this.errors.clear();
+      this.errors.clearGeneral();
       this.spacingValue.textContent = `${r.spacing_m.toFixed(r.spacing_m < 10 ? 2 : 1)} m`;
       this.spacingValue.title = `at ${r.altitude_m} m altitude (${r.altitude_source})`;
       this.gsdValue.textContent = r.gsd_m === null ? '— (sensor cameras only)' : `${(r.gsd_m * 100).toFixed(2)} cm/px`;
       this.footprintValue.textContent = r.footprint_m === null ? '—' : `${r.footprint_m.toFixed(1)} m`;
     } catch (e) {
       if (seq !== this.validateSeq) return;
-      this.clearErrors();
+      this.errors.clear();
       for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
       if (e instanceof ApiError && e.status === 422) {
-        this.clearGeneral();
-        this.showError(e.field, e.message);
-      } else this.showGeneral(errorText(e));
+        this.errors.clearGeneral();
+        this.errors.show(e.field, e.message);
+      } else this.errors.showGeneral(errorText(e));
     }
-  }
-
-  private anchors(): Map<string, HTMLElement> {
-    const m = new Map<string, HTMLElement>();
-    for (const a of this.panel.querySelectorAll<HTMLElement>('[data-anchor]'))
-      for (const name of (a.dataset.anchor ?? '').split(/\s+/)) if (name && !m.has(name)) m.set(name, a);
-    return m;
-  }
-
-  /** show a server error next to the input that edits the field it names, or in the general box */
-  showError(field: string, message: string): void {
-    const anchors = this.anchors();
-    const match = matchField(field, anchors.keys());
-    // in words: the field as the form names it ("uav2 share", "Altitude"), its path in the tooltip
-    const label = fieldLabel(field, this.doc);
-    const text = `${label ? `${label}: ` : ''}${humanMessage(field, message, this.doc)}`;
-    if (!match) {
-      this.showGeneral(text, field);
-      return;
-    }
-    const target = anchors.get(match)!;
-    target.classList.add('define-invalid');
-    // a field inside a closed fold (a UAV's flight limits): open it, so that the error is seen
-    const fold = target.closest('details');
-    if (fold) fold.open = true;
-    // a problem of the shares as a whole marks every share
-    if (field === 'uavs' && /share/i.test(message))
-      this.uavRows.querySelectorAll('.define-share').forEach((x) => x.classList.add('define-invalid'));
-    // overlaps are fractions in the file, percentages here: say so
-    const hint = /overlap$/.test(field) ? ` (entered here in %: ${this.overlapInput.value} %)` : '';
-    const box = el('div', { class: 'define-field-error', 'data-testid': 'field-error', 'data-field': field, role: 'alert', title: field }, text + hint);
-    if (target.tagName === 'SECTION') target.querySelector('h3')!.after(box);
-    else if (target.classList.contains('define-inline') || target.classList.contains('define-share')) target.closest('.define-uav')!.appendChild(box);
-    else target.after(box);
-    if (target.closest('.tab-panel') && !(target.closest('.tab-panel') as HTMLElement).hidden) box.scrollIntoView({ block: 'nearest' });
-  }
-
-  private clearErrors(): void {
-    this.panel.querySelectorAll('[data-testid="field-error"]').forEach((e) => e.remove());
-    this.panel.querySelectorAll('.define-invalid').forEach((e) => e.classList.remove('define-invalid'));
-  }
-
-  private showGeneral(message: string, field = ''): void {
-    this.general.hidden = false;
-    this.general.dataset.field = field;
-    this.general.textContent = message;
-    this.general.title = field;
-  }
-
-  private clearGeneral(): void {
-    this.general.hidden = true;
-    this.general.textContent = '';
   }
 
   // ---------------------------------------------------------------- save
@@ -1056,7 +974,7 @@ class DefinePanel {
   private async save(): Promise<void> {
     const s = this.app.state;
     this.saveBtn.disabled = true;
-    this.clearGeneral();
+    this.errors.clearGeneral();
     const doc = this.doc;
     try {
       const r =
@@ -1066,16 +984,16 @@ class DefinePanel {
       this.savedJson = JSON.stringify(doc);
       this.pushed = doc;
       this.app.update({ missionId: r.id, revision: r.revision, mission: doc, dirty: false });
-      this.clearErrors();
+      this.errors.clear();
       this.status.textContent = `Saved: mission #${r.id}, revision ${r.revision}.`;
       this.saveBtn.textContent = 'Saved';
     } catch (e) {
-      this.clearErrors();
+      this.errors.clear();
       if (e instanceof ApiError && e.status === 422) {
-        this.showError(e.field, e.message);
+        this.errors.show(e.field, e.message);
         this.status.textContent = 'Not saved: fix the field marked in red.';
       } else {
-        this.showGeneral(`Not saved: ${errorText(e)}`, e instanceof ApiError ? e.field : '');
+        this.errors.showGeneral(`Not saved: ${errorText(e)}`, e instanceof ApiError ? e.field : '');
         this.showStatus();
       }
     } finally {
