@@ -51,6 +51,7 @@ import {
   type DemEntry,
   type ExtrasHost,
 } from './define-extras.ts';
+import { CameraSection, ownCamera, uavCameraId, type CatalogCamera } from './define-camera.ts';
 import { DefineErrors, field, num, round, section } from './define-errors.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
@@ -72,25 +73,10 @@ interface CatalogUav {
   endurance_min: number;
   camera_id?: number;
 }
-interface CatalogCamera {
-  id: number;
-  name: string;
-  sensor_width_mm: number;
-  focal_length_mm: number;
-  image_width_px: number;
-  hfov_deg: number;
-}
 interface Planner {
   name: string;
   summary: string;
   schema: PlannerSchema;
-}
-interface Validated {
-  spacing_m: number;
-  gsd_m: number | null;
-  footprint_m: number | null;
-  altitude_m: number;
-  altitude_source: string;
 }
 type Uav = Record<string, unknown>;
 type Kind = 'area' | 'nfz';
@@ -133,14 +119,13 @@ class DefinePanel {
   private selLayer: L.Polygon | null = null;
   private selVertex: { layer: L.Polygon; path: number[]; el?: HTMLElement } | null = null;
   private syncTimer = 0;
-  private validateTimer = 0;
-  private validateSeq = 0;
 
   // controls
   private nameInput!: HTMLInputElement;
   private status!: HTMLElement;
   private saveBtn!: HTMLButtonElement;
   private errors: DefineErrors;
+  private camera!: CameraSection;
   private areaInfo!: HTMLElement;
   private drawAreaBtn!: HTMLButtonElement;
   private drawNfzBtn!: HTMLButtonElement;
@@ -171,15 +156,6 @@ class DefinePanel {
   };
   private uavRows!: HTMLElement;
   private uavSelect!: HTMLSelectElement;
-  private cameraSelect!: HTMLSelectElement;
-  private altitudeInput!: HTMLInputElement;
-  private overlapInput!: HTMLInputElement;
-  private hfovInput!: HTMLInputElement;
-  private spacingInput!: HTMLInputElement;
-  private gimbalInput!: HTMLInputElement;
-  private spacingValue!: HTMLElement;
-  private gsdValue!: HTMLElement;
-  private footprintValue!: HTMLElement;
   private modeSelect!: HTMLSelectElement;
   private plannerSelect!: HTMLSelectElement;
   private plannerSummary!: HTMLElement;
@@ -191,7 +167,7 @@ class DefinePanel {
     private app: App,
   ) {
     this.baseJson = JSON.stringify(this.doc);
-    this.errors = new DefineErrors(panel, { doc: () => this.doc, overlap: () => this.overlapInput.value });
+    this.errors = new DefineErrors(panel, { doc: () => this.doc, overlap: () => this.camera.overlap() });
     this.build();
     this.installMap();
     document.addEventListener('keydown', (e) => this.onKey(e));
@@ -264,33 +240,13 @@ class DefinePanel {
     uavs.append(add, this.uavRows);
     this.sharesAutoControl = new SharesAutoControl(this.host, uavs);
 
-    // camera
-    const cam = section(this.panel, 'Camera and spacing');
-    this.cameraSelect = el('select', { 'data-testid': 'camera-select' });
-    this.cameraSelect.addEventListener('change', () => this.cameraChanged(true));
-    field(cam, 'Camera', 'camera', this.cameraSelect);
-    this.altitudeInput = el('input', { type: 'number', min: '1', step: '1', 'data-testid': 'altitude-input' });
-    field(cam, 'Altitude', 'altitude_m camera.altitude_m', this.altitudeInput, 'm');
-    this.overlapInput = el('input', { type: 'number', min: '0', max: '99', step: '1', 'data-testid': 'overlap-input' });
-    field(cam, 'Side overlap', 'camera.overlap camera.side_overlap', this.overlapInput, '%');
-    this.hfovInput = el('input', { type: 'number', min: '1', max: '179', step: 'any', 'data-testid': 'hfov-input' });
-    field(cam, 'HFOV', 'camera.hfov_deg', this.hfovInput, '°');
-    this.spacingInput = el('input', { type: 'number', min: '0.1', step: 'any', 'data-testid': 'spacing-input' });
-    field(cam, 'Spacing', 'spacing_m', this.spacingInput, 'm');
-    this.gimbalInput = el('input', { type: 'number', min: '-90', max: '0', step: '1', placeholder: '-90', 'data-testid': 'gimbal-input', title: 'camera pitch: -90° looks straight down (the default), 0° at the horizon' });
-    field(cam, 'Gimbal pitch', 'camera.gimbal_pitch_deg', this.gimbalInput, '°');
-    for (const i of [this.altitudeInput, this.overlapInput, this.hfovInput, this.spacingInput, this.gimbalInput]) i.addEventListener('change', () => this.cameraChanged(false));
-    const out = el('dl', { class: 'define-values' });
-    const value = (label: string, testid: string, title: string) => {
-      out.append(el('dt', { title }, label));
-      const dd = el('dd', { 'data-testid': testid }, '—');
-      out.appendChild(dd);
-      return dd;
-    };
-    this.spacingValue = value('Spacing ds', 'spacing-value', 'distance between neighbouring sweep lines');
-    this.gsdValue = value('GSD', 'gsd-value', 'ground sampling distance (sensor cameras)');
-    this.footprintValue = value('Footprint', 'footprint-value', 'width of the image on the ground');
-    cam.appendChild(out);
+    this.camera = new CameraSection(p, {
+      doc: () => this.doc,
+      commit: (d) => this.commit(d),
+      cameras: () => this.cameras,
+      renderUavs: () => this.renderUavs(),
+      errors: this.errors,
+    });
 
     // planning
     const plan = section(this.panel, 'Planning');
@@ -498,7 +454,7 @@ class DefinePanel {
     if (d !== doc || this.app.state.dirty !== false) this.push(d);
     this.refreshForm();
     this.renderMap();
-    this.scheduleValidate(0);
+    this.camera.scheduleValidate(0);
   }
 
   private push(d: MissionDoc): void {
@@ -517,7 +473,7 @@ class DefinePanel {
     }
     this.doc = d;
     this.push(d);
-    this.scheduleValidate();
+    this.camera.scheduleValidate();
   }
 
   private undo(): void {
@@ -530,7 +486,7 @@ class DefinePanel {
     this.push(prev);
     this.refreshForm();
     this.renderMap();
-    this.scheduleValidate();
+    this.camera.scheduleValidate();
   }
 
   private showStatus(): void {
@@ -561,7 +517,7 @@ class DefinePanel {
     this.renderArea();
     this.renderPattern();
     this.renderUavs();
-    this.refreshCamera();
+    this.camera.render();
     this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
     const planner = typeof d.planner === 'string' ? d.planner : 'darp';
     if (this.planners.length && !this.planner(planner)) this.plannerSelect.appendChild(el('option', { value: planner }, planner));
@@ -702,7 +658,7 @@ class DefinePanel {
       const sel = el('select', { 'data-testid': 'uav-camera', 'aria-label': `Camera of ${id}` });
       sel.append(el('option', { value: '' }, 'the mission’s camera'));
       for (const c of this.cameras) sel.append(el('option', { value: String(c.id) }, c.name));
-      const mine = this.uavCameraId(u);
+      const mine = uavCameraId(this.cameras, u);
       sel.value = mine === null ? '' : String(mine);
       if (u.camera && mine === null) {
         sel.append(el('option', { value: 'file' }, 'its own (from the file)'));
@@ -710,7 +666,7 @@ class DefinePanel {
       }
       sel.addEventListener('change', () => {
         if (sel.value === 'file') return;
-        const own = sel.value ? this.ownCamera(this.doc, Number(sel.value)) : null;
+        const own = sel.value ? ownCamera(this.cameras, this.doc, Number(sel.value)) : null;
         this.setUav(i, { camera: own ?? undefined });
       });
       camRow.append(el('span', { class: 'define-unit' }, 'camera'), sel);
@@ -800,173 +756,6 @@ class DefinePanel {
       if (number && number.value !== s && document.activeElement !== number) number.value = s;
       else if (number && document.activeElement === number && Number(number.value) !== shares[k]) number.value = s;
     });
-  }
-
-  // camera: the document's camera block (or spacing) <-> the inputs
-  private cameraMode(): string {
-    const c = this.doc.camera as Record<string, unknown> | undefined;
-    if (!c || typeof c !== 'object') return 'none';
-    if (typeof c.catalog_id === 'number') return `cat:${c.catalog_id}`;
-    if (typeof c.hfov_deg === 'number' && c.sensor_width_mm === undefined) return 'paper';
-    const match = this.cameras.find(
-      (k) => k.sensor_width_mm === c.sensor_width_mm && k.focal_length_mm === c.focal_length_mm && k.image_width_px === c.image_width_px,
-    );
-    return match ? `cat:${match.id}` : 'custom';
-  }
-
-  private refreshCamera(): void {
-    const mode = this.cameraMode();
-    const sel = this.cameraSelect;
-    sel.replaceChildren(
-      el('option', { value: 'none' }, 'No camera: give the spacing'),
-      el('option', { value: 'paper' }, 'Field of view + overlap (paper)'),
-    );
-    if (mode === 'custom') sel.appendChild(el('option', { value: 'custom' }, 'Sensor from the mission file'));
-    if (this.cameras.length) {
-      const g = el('optgroup', { label: 'Camera catalog' });
-      for (const c of this.cameras) g.appendChild(el('option', { value: `cat:${c.id}` }, c.name));
-      sel.appendChild(g);
-    }
-    if (mode.startsWith('cat:') && !sel.querySelector(`option[value="${mode}"]`))
-      sel.appendChild(el('option', { value: mode }, `catalog camera #${mode.slice(4)}`));
-    sel.value = mode;
-    const c = (this.doc.camera as Record<string, unknown> | undefined) ?? {};
-    const pct = (x: unknown) => (typeof x === 'number' ? String(round(x * 100, 2)) : '');
-    const alt = mode === 'none' ? this.doc.altitude_m : c.altitude_m;
-    this.altitudeInput.value = typeof alt === 'number' ? String(alt) : '';
-    this.altitudeInput.placeholder = mode === 'none' ? '40' : '';
-    this.overlapInput.value = mode === 'paper' ? pct(c.overlap) : pct(c.side_overlap);
-    // the paper's po counts both sides of an image: up to 199 % (its search-and-rescue mission flew 160 %)
-    this.overlapInput.max = mode === 'paper' ? '199' : '99';
-    this.hfovInput.value = typeof c.hfov_deg === 'number' ? String(c.hfov_deg) : '';
-    this.spacingInput.value = typeof this.doc.spacing_m === 'number' ? String(this.doc.spacing_m) : '';
-    const show = (input: HTMLElement, on: boolean) => ((input.parentElement as HTMLElement).hidden = !on);
-    show(this.overlapInput, mode !== 'none');
-    show(this.hfovInput, mode === 'paper');
-    show(this.spacingInput, mode === 'none');
-    this.gimbalInput.value = typeof c.gimbal_pitch_deg === 'number' ? String(c.gimbal_pitch_deg) : '';
-    show(this.gimbalInput, mode !== 'none');
-  }
-
-  private cameraChanged(modeChanged: boolean): void {
-    const mode = this.cameraSelect.value;
-    const old = (this.doc.camera as Record<string, unknown> | undefined) ?? {};
-    const d: MissionDoc = { ...this.doc };
-    const alt = num(this.altitudeInput.value) ?? (typeof d.altitude_m === 'number' ? d.altitude_m : undefined) ?? 40;
-    let ov = num(this.overlapInput.value);
-    const frac = ov === undefined ? undefined : ov / 100;
-    const put = (o: Record<string, unknown>) => {
-      for (const k of Object.keys(o)) if (o[k] === undefined) delete o[k];
-      return o;
-    };
-    if (mode === 'none') {
-      delete d.camera;
-      d.altitude_m = num(this.altitudeInput.value) ?? 40;
-      const s = num(this.spacingInput.value);
-      d.spacing_m = modeChanged ? (s ?? 20) : s;
-      if (d.spacing_m === undefined) delete d.spacing_m;
-    } else {
-      delete d.spacing_m;
-      delete d.altitude_m;
-      if (mode === 'paper') {
-        d.camera = put({
-          altitude_m: alt,
-          hfov_deg: num(this.hfovInput.value) ?? (modeChanged ? 73.4 : undefined),
-          overlap: modeChanged && frac === undefined ? 0.5 : frac,
-        });
-      } else if (mode === 'custom') {
-        const c: Record<string, unknown> = { ...old, altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) };
-        delete c.overlap;
-        delete c.hfov_deg;
-        d.camera = put(c);
-      } else {
-        d.camera = put({ catalog_id: Number(mode.slice(4)), altitude_m: alt, side_overlap: frac ?? (modeChanged ? 0.7 : undefined) });
-      }
-    }
-    if (d.camera && typeof d.camera === 'object') {
-      const cam = d.camera as Record<string, unknown>;
-      const g = num(this.gimbalInput.value);
-      if (g === undefined) delete cam.gimbal_pitch_deg;
-      else cam.gimbal_pitch_deg = g;
-    }
-    d.uavs = this.uavCameras(d, this.uavs());
-    this.commit(d);
-    if (modeChanged) this.refreshCamera();
-    if (modeChanged) this.renderUavs();
-  }
-
-  /** A UAV's own camera (a catalog camera other than the mission's) as the library wants it: the
-   * mission camera's altitude and overlaps with that camera's sensor (or HFOV in the paper's convention). */
-  private ownCamera(d: MissionDoc, camId: number): Record<string, unknown> | null {
-    const mc = d.camera as Record<string, unknown> | undefined;
-    const k = this.cameras.find((c) => c.id === camId);
-    if (!mc || typeof mc !== 'object' || !k) return null;
-    const out: Record<string, unknown> = { altitude_m: mc.altitude_m };
-    const paper = typeof mc.overlap === 'number' || (typeof mc.hfov_deg === 'number' && mc.sensor_width_mm === undefined && mc.catalog_id === undefined);
-    if (paper) Object.assign(out, { overlap: mc.overlap, hfov_deg: k.hfov_deg });
-    else Object.assign(out, { side_overlap: mc.side_overlap, sensor_width_mm: k.sensor_width_mm, focal_length_mm: k.focal_length_mm, image_width_px: k.image_width_px });
-    for (const key of ['front_overlap', 'gimbal_pitch_deg']) if (mc[key] !== undefined) out[key] = mc[key];
-    for (const key of Object.keys(out)) if (out[key] === undefined) delete out[key];
-    return out;
-  }
-
-  /** The catalog camera a UAV's own camera block is, if any. */
-  private uavCameraId(u: Uav): number | null {
-    const c = u.camera as Record<string, unknown> | undefined;
-    if (!c || typeof c !== 'object') return null;
-    const k = this.cameras.find((x) =>
-      typeof c.sensor_width_mm === 'number' ? x.sensor_width_mm === c.sensor_width_mm && x.focal_length_mm === c.focal_length_mm && x.image_width_px === c.image_width_px : x.hfov_deg === c.hfov_deg,
-    );
-    return k ? k.id : null;
-  }
-
-  /** UAVs whose own camera follows the mission's camera (altitude, overlaps); none without one. */
-  private uavCameras(d: MissionDoc, list: Uav[]): Uav[] {
-    return list.map((u) => {
-      if (!u.camera) return u;
-      const id = this.uavCameraId(u);
-      const n = { ...u };
-      const own = id === null ? null : this.ownCamera(d, id);
-      if (own) n.camera = own;
-      else if (!d.camera) delete n.camera;
-      return n;
-    });
-  }
-
-  // ---------------------------------------------------------------- validation
-
-  private scheduleValidate(delay = 300): void {
-    clearTimeout(this.validateTimer);
-    this.validateTimer = window.setTimeout(() => void this.validate(), delay);
-  }
-
-  private async validate(): Promise<void> {
-    const seq = ++this.validateSeq;
-    const doc = this.doc;
-    if (areaPolygons(doc).length === 0 && !corridorOf(doc) && !structureOf(doc)) {
-      this.errors.clear();
-      for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
-      this.spacingValue.title = 'draw the area first';
-      return;
-    }
-    try {
-      const r = await api.post<Validated>('/missions/validate', doc);
-      if (seq !== this.validateSeq) return;
-      this.errors.clear();
-      this.errors.clearGeneral();
-      this.spacingValue.textContent = `${r.spacing_m.toFixed(r.spacing_m < 10 ? 2 : 1)} m`;
-      this.spacingValue.title = `at ${r.altitude_m} m altitude (${r.altitude_source})`;
-      this.gsdValue.textContent = r.gsd_m === null ? '— (sensor cameras only)' : `${(r.gsd_m * 100).toFixed(2)} cm/px`;
-      this.footprintValue.textContent = r.footprint_m === null ? '—' : `${r.footprint_m.toFixed(1)} m`;
-    } catch (e) {
-      if (seq !== this.validateSeq) return;
-      this.errors.clear();
-      for (const v of [this.spacingValue, this.gsdValue, this.footprintValue]) v.textContent = '—';
-      if (e instanceof ApiError && e.status === 422) {
-        this.errors.clearGeneral();
-        this.errors.show(e.field, e.message);
-      } else this.errors.showGeneral(errorText(e));
-    }
   }
 
   // ---------------------------------------------------------------- save
