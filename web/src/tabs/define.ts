@@ -14,12 +14,10 @@ import {
   corridorOf,
   geojsonPolygons,
   newDraft,
-  nextUavId,
   nfzPolygons,
   PATTERN_DEFAULTS,
   patternOf,
   polygonsOf,
-  sharesAuto,
   structureOf,
   withArea,
   withCorridor,
@@ -31,27 +29,23 @@ import {
   type PolygonCoords,
   type Position,
 } from '../mission-doc.ts';
-import { equalShares, lockedFor, roundTo100, setShare, sharesFromDoc, toFractions } from '../shares.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
-import { uavColour } from '../palette.ts';
-import { limitsFold } from '../uav-limits.ts';
 import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '../zones.ts';
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
 import {
   FieldControls,
-  rallyOf,
   ObjectiveControl,
   ObliqueControls,
-  SharesAutoControl,
   StructureControls,
   TerrainControls,
   WindControls,
   type DemEntry,
   type ExtrasHost,
 } from './define-extras.ts';
-import { CameraSection, ownCamera, uavCameraId, type CatalogCamera } from './define-camera.ts';
+import { CameraSection, type CatalogCamera } from './define-camera.ts';
+import { DefineUavs, type CatalogUav } from './define-uavs.ts';
 import { DefineErrors, field, num, round, section } from './define-errors.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
@@ -62,23 +56,13 @@ const AUTO_PLANNER = {
 };
 
 // a building's footprint on the map
-/** `placing` value while the next map click adds a rally point (else it is the UAV whose start is placed) */
-const RALLY = -1;
 const STRUCTURE_STYLE: L.PathOptions = { color: '#5b4636', weight: 2, fillColor: '#8d6e63', fillOpacity: 0.6 };
 
-interface CatalogUav {
-  id: number;
-  name: string;
-  speed_mps: number;
-  endurance_min: number;
-  camera_id?: number;
-}
 interface Planner {
   name: string;
   summary: string;
   schema: PlannerSchema;
 }
-type Uav = Record<string, unknown>;
 type Kind = 'area' | 'nfz';
 
 const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
@@ -100,12 +84,8 @@ class DefinePanel {
   /** the document as it was loaded (opened, new or imported): what "unsaved changes" compares with */
   private baseJson = '';
   private undoStack: MissionDoc[] = [];
-  private shareHistory: number[] = [];
-  /** the UAV rows whose flight-limits fold is open (rows are drawn again after every change) */
-  private openLimits = new Set<number>();
   private visible = false;
 
-  private uavCatalog: CatalogUav[] = [];
   private cameras: CatalogCamera[] = [];
   private planners: Planner[] = [];
 
@@ -115,7 +95,6 @@ class DefinePanel {
   private startLayer = L.layerGroup();
   private drawKind: Kind | 'cut' | 'corridor' | 'footprint' | null = null;
   private corridorLayer: L.Polyline | null = null;
-  private placing: number | null = null;
   private selLayer: L.Polygon | null = null;
   private selVertex: { layer: L.Polygon; path: number[]; el?: HTMLElement } | null = null;
   private syncTimer = 0;
@@ -126,6 +105,7 @@ class DefinePanel {
   private saveBtn!: HTMLButtonElement;
   private errors: DefineErrors;
   private camera!: CameraSection;
+  private uavs!: DefineUavs;
   private areaInfo!: HTMLElement;
   private drawAreaBtn!: HTMLButtonElement;
   private drawNfzBtn!: HTMLButtonElement;
@@ -145,17 +125,14 @@ class DefinePanel {
   private terrainControls!: TerrainControls;
   private fieldControls!: FieldControls;
   private objectiveControl!: ObjectiveControl;
-  private sharesAutoControl!: SharesAutoControl;
   private readonly host: ExtrasHost = {
     doc: () => this.doc,
     commit: (d) => {
       this.commit(d);
       this.refreshForm();
     },
-    placeRally: () => this.startPlacing(RALLY),
+    placeRally: () => this.uavs.placeRally(),
   };
-  private uavRows!: HTMLElement;
-  private uavSelect!: HTMLSelectElement;
   private modeSelect!: HTMLSelectElement;
   private plannerSelect!: HTMLSelectElement;
   private plannerSummary!: HTMLElement;
@@ -223,28 +200,20 @@ class DefinePanel {
 
     this.buildPattern();
 
-    // UAVs
-    const uavs = section(this.panel, 'UAVs');
-    uavs.dataset.anchor = 'uavs';
-    const add = el('div', { class: 'define-tools' });
-    this.uavSelect = el('select', { 'data-testid': 'uav-add-catalog', 'aria-label': 'Add a UAV from the catalog' });
-    this.uavSelect.addEventListener('change', () => {
-      const id = Number(this.uavSelect.value);
-      this.uavSelect.value = '';
-      if (id) this.addUav({ catalog_id: id });
-    });
-    const manual = el('button', { type: 'button', 'data-testid': 'uav-add-manual' }, 'Add by hand');
-    manual.addEventListener('click', () => this.addUav({ speed_mps: 5 }));
-    add.append(this.uavSelect, manual);
-    this.uavRows = el('div', { class: 'define-uavs' });
-    uavs.append(add, this.uavRows);
-    this.sharesAutoControl = new SharesAutoControl(this.host, uavs);
+    this.uavs = new DefineUavs(p, this.app.map, this.startLayer, {
+      doc: () => this.doc,
+      commit: (d) => this.commit(d),
+      cameras: () => this.cameras,
+      cancelModes: () => this.cancelModes(),
+      say: (text) => (this.status.textContent = text),
+      showStatus: () => this.showStatus(),
+    }, this.host);
 
     this.camera = new CameraSection(p, {
       doc: () => this.doc,
       commit: (d) => this.commit(d),
       cameras: () => this.cameras,
-      renderUavs: () => this.renderUavs(),
+      renderUavs: () => this.uavs.render(),
       errors: this.errors,
     });
 
@@ -416,15 +385,14 @@ class DefinePanel {
         return [];
       }
     };
-    [this.uavCatalog, this.cameras, this.planners] = await Promise.all([
+    let uavCatalog: CatalogUav[];
+    [uavCatalog, this.cameras, this.planners] = await Promise.all([
       get<CatalogUav>('/uavs'),
       get<CatalogCamera>('/cameras'),
       get<Planner>('/planners'),
     ]);
     if (fails.length) this.errors.showGeneral(`Could not load the catalogs: ${fails.join('; ')}`);
-    this.uavSelect.replaceChildren(el('option', { value: '' }, 'Add from the catalog…'));
-    for (const u of this.uavCatalog)
-      this.uavSelect.appendChild(el('option', { value: String(u.id) }, `${u.name} (${u.speed_mps} m/s, ${u.endurance_min} min)`));
+    this.uavs.setCatalog(uavCatalog);
     this.plannerSelect.replaceChildren();
     if (this.planners.length) this.planners.push(AUTO_PLANNER);
     for (const pl of this.planners) this.plannerSelect.appendChild(el('option', { value: pl.name }, pl.name));
@@ -445,7 +413,7 @@ class DefinePanel {
     this.pushed = doc; // the document as received: later updates of other fields do not load it again
     this.doc = d;
     this.undoStack = [];
-    this.shareHistory = [];
+    this.uavs.reset();
     this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
     this.baseJson = JSON.stringify(d);
     this.cancelModes();
@@ -507,16 +475,12 @@ class DefinePanel {
 
   // ---------------------------------------------------------------- form
 
-  private uavs(): Uav[] {
-    return Array.isArray(this.doc.uavs) ? (this.doc.uavs as Uav[]) : [];
-  }
-
   private refreshForm(): void {
     const d = this.doc;
     this.nameInput.value = typeof d.name === 'string' ? d.name : '';
     this.renderArea();
     this.renderPattern();
-    this.renderUavs();
+    this.uavs.render();
     this.camera.render();
     this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
     const planner = typeof d.planner === 'string' ? d.planner : 'darp';
@@ -527,7 +491,7 @@ class DefinePanel {
     this.windControls.render(d);
     this.terrainControls.render(d);
     this.fieldControls.render(d);
-    this.sharesAutoControl.render(d);
+    this.uavs.sharesAuto.render(d);
     this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
     this.seedInput.placeholder = '1';
     this.showStatus();
@@ -553,208 +517,6 @@ class DefinePanel {
       if (Object.keys(params).length === 0) delete d.planner_params;
       this.commit(d);
       if (error) window.setTimeout(() => this.errors.show(`planner_params.${name}`, error), 0);
-    });
-  }
-
-  private renderUavs(): void {
-    this.uavRows.replaceChildren();
-    const list = this.uavs();
-    const shares = sharesFromDoc(list.map((u) => u.share as number | undefined));
-    list.forEach((u, i) => this.uavRows.appendChild(this.uavRow(u, i, shares[i])));
-    if (list.length === 0) this.uavRows.appendChild(el('p', { class: 'muted define-small' }, 'No UAVs: add one from the catalog or by hand.'));
-    this.renderStarts();
-  }
-
-  private uavRow(u: Uav, i: number, share: number): HTMLElement {
-    const id = typeof u.id === 'string' ? u.id : `uav${i + 1}`;
-    const row = el('div', { class: 'define-uav', 'data-testid': 'uav-row', 'data-id': id, 'data-index': String(i), 'data-anchor': `uavs[${i}]` });
-    const top = el('div', { class: 'define-uav-top' });
-    const sw = el('span', { class: 'define-swatch', title: 'colour on the map and in the plan' });
-    sw.style.background = uavColour(i);
-    const idInput = el('input', { type: 'text', value: id, class: 'define-uav-id', 'aria-label': 'UAV id', 'data-testid': 'uav-id', maxlength: '64' });
-    const idWrap = el('span', { 'data-anchor': `uavs[${i}].id`, class: 'define-inline' });
-    idWrap.appendChild(idInput);
-    idInput.addEventListener('change', () => this.setUav(i, { id: idInput.value.trim() }));
-    top.append(sw, idWrap);
-    const cat = typeof u.catalog_id === 'number' ? this.uavCatalog.find((c) => c.id === u.catalog_id) : undefined;
-    if (typeof u.catalog_id === 'number') {
-      top.appendChild(el('span', { class: 'define-uav-cat', 'data-anchor': `uavs[${i}].catalog_id`, title: 'from the UAV catalog' }, cat ? cat.name : `catalog UAV #${u.catalog_id}`));
-      // the mission's speed wins over the catalog's: empty = the catalog's
-      const speed = el('input', {
-        type: 'number',
-        min: '0.1',
-        max: '50',
-        step: 'any',
-        value: typeof u.speed_mps === 'number' ? String(u.speed_mps) : '',
-        placeholder: cat ? String(cat.speed_mps) : '',
-        'aria-label': 'Speed (empty: the catalog’s)',
-        title: 'empty: the catalog’s speed',
-        'data-testid': 'uav-speed-override',
-        class: 'define-uav-speed',
-      });
-      speed.addEventListener('change', () => this.setUav(i, { speed_mps: num(speed.value) }));
-      const sp = el('span', { class: 'define-inline', 'data-anchor': `uavs[${i}].speed_mps` });
-      sp.append(speed, el('span', { class: 'define-unit' }, 'm/s'));
-      top.appendChild(sp);
-    } else {
-      const speed = el('input', {
-        type: 'number',
-        min: '0.1',
-        max: '50',
-        step: 'any',
-        value: typeof u.speed_mps === 'number' ? String(u.speed_mps) : '',
-        placeholder: '5',
-        'aria-label': 'Speed',
-        'data-testid': 'uav-speed',
-        class: 'define-uav-speed',
-      });
-      speed.addEventListener('change', () => this.setUav(i, { speed_mps: num(speed.value) }));
-      const sp = el('span', { class: 'define-inline', 'data-anchor': `uavs[${i}].speed_mps` });
-      sp.append(speed, el('span', { class: 'define-unit' }, 'm/s'));
-      top.appendChild(sp);
-    }
-    const rm = el('button', { type: 'button', class: 'define-remove', 'data-testid': 'uav-remove', title: `Remove ${id}`, 'aria-label': `Remove ${id}` }, '×');
-    rm.addEventListener('click', () => this.removeUav(i));
-    top.appendChild(rm);
-
-    const bottom = el('div', { class: 'define-uav-bottom' });
-    const slider = el('input', { type: 'range', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id}`, 'data-testid': 'uav-share-slider' });
-    const number = el('input', { type: 'number', min: '1', max: '100', step: '1', value: String(share), 'aria-label': `Share of ${id} in %`, 'data-testid': 'uav-share' });
-    const shareWrap = el('span', { class: 'define-share', 'data-anchor': `uavs[${i}].share` });
-    shareWrap.append(slider, number, el('span', { class: 'define-unit' }, '%'));
-    if (this.uavs().length < 2) {
-      slider.disabled = true;
-      number.disabled = true;
-      shareWrap.title = 'a single UAV covers everything';
-    } else if (sharesAuto(this.doc)) {
-      slider.disabled = true;
-      number.disabled = true;
-      shareWrap.title = 'shares from capabilities: the planner sizes them so that all UAVs finish together';
-    }
-    let timer = 0;
-    slider.addEventListener('input', () => this.previewShare(i, Number(slider.value)));
-    slider.addEventListener('change', () => this.setShareOf(i, Number(slider.value)));
-    number.addEventListener('input', () => {
-      clearTimeout(timer);
-      timer = window.setTimeout(() => {
-        if (num(number.value) !== undefined) this.setShareOf(i, Number(number.value));
-      }, 600);
-    });
-    number.addEventListener('change', () => {
-      clearTimeout(timer);
-      if (num(number.value) !== undefined) this.setShareOf(i, Number(number.value));
-      else this.refreshShares();
-    });
-    const place = el('button', { type: 'button', 'data-testid': 'uav-place-start', class: 'define-place' }, Array.isArray(u.start) ? 'Move start' : 'Place start');
-    place.title = 'Click, then click the map where this UAV takes off (or drag its marker)';
-    place.addEventListener('click', () => this.startPlacing(i));
-    const startWrap = el('span', { 'data-anchor': `uavs[${i}].start`, class: 'define-inline' });
-    startWrap.appendChild(place);
-    bottom.append(shareWrap, startWrap);
-    row.append(top, bottom);
-    // its own camera (heterogeneous cameras): only beside a mission camera, at its altitude and overlaps
-    if (this.doc.camera && typeof this.doc.camera === 'object' && this.cameras.length) {
-      const camRow = el('span', { class: 'define-inline define-uav-camera', 'data-anchor': `uavs[${i}].camera` });
-      const sel = el('select', { 'data-testid': 'uav-camera', 'aria-label': `Camera of ${id}` });
-      sel.append(el('option', { value: '' }, 'the mission’s camera'));
-      for (const c of this.cameras) sel.append(el('option', { value: String(c.id) }, c.name));
-      const mine = uavCameraId(this.cameras, u);
-      sel.value = mine === null ? '' : String(mine);
-      if (u.camera && mine === null) {
-        sel.append(el('option', { value: 'file' }, 'its own (from the file)'));
-        sel.value = 'file';
-      }
-      sel.addEventListener('change', () => {
-        if (sel.value === 'file') return;
-        const own = sel.value ? ownCamera(this.cameras, this.doc, Number(sel.value)) : null;
-        this.setUav(i, { camera: own ?? undefined });
-      });
-      camRow.append(el('span', { class: 'define-unit' }, 'camera'), sel);
-      row.append(camRow);
-    }
-    row.append(
-      limitsFold(u, i, (patch) => this.setUav(i, patch), {
-        catalogEndurance: cat?.endurance_min,
-        open: this.openLimits.has(i),
-        onToggle: (open) => (open ? this.openLimits.add(i) : this.openLimits.delete(i)),
-      }),
-    );
-    return row;
-  }
-
-  private setUav(i: number, patch: Uav): void {
-    const list = this.uavs().map((u, k) => {
-      if (k !== i) return u;
-      const n = { ...u, ...patch };
-      for (const [key, v] of Object.entries(patch)) if (v === undefined || v === '') delete n[key];
-      return n;
-    });
-    this.commit({ ...this.doc, uavs: list });
-    this.renderUavs();
-  }
-
-  private withShares(list: Uav[], percent: number[]): Uav[] {
-    const f = toFractions(percent);
-    return list.map((u, k) => ({ ...u, share: f[k] }));
-  }
-
-  private addUav(u: Uav): void {
-    const list = this.uavs();
-    const id = nextUavId(list.map((x) => String(x.id ?? '')));
-    const next = [...list, { id, ...u }];
-    this.shareHistory = [];
-    this.commit({ ...this.doc, uavs: next.length > 1 ? this.withShares(next, equalShares(next.length)) : next });
-    this.renderUavs();
-  }
-
-  private removeUav(i: number): void {
-    const list = this.uavs();
-    const shares = sharesFromDoc(list.map((u) => u.share as number | undefined));
-    const rest = list.filter((_, k) => k !== i);
-    const restShares = roundTo100(shares.filter((_, k) => k !== i));
-    this.shareHistory = [];
-    const uavs = rest.length > 1 ? this.withShares(rest, restShares) : rest.map((u) => ({ ...u, share: 1 }));
-    this.commit({ ...this.doc, uavs });
-    this.renderUavs();
-  }
-
-  private currentShares(): number[] {
-    return sharesFromDoc(this.uavs().map((u) => u.share as number | undefined));
-  }
-
-  private nextShares(i: number, v: number): number[] {
-    const cur = this.currentShares();
-    return setShare(cur, i, v, lockedFor(this.shareHistory, i, cur.length));
-  }
-
-  private previewShare(i: number, v: number): void {
-    this.refreshShares(this.nextShares(i, v));
-  }
-
-  private setShareOf(i: number, v: number): void {
-    const next = this.nextShares(i, v);
-    this.shareHistory = [i, ...this.shareHistory.filter((k) => k !== i)];
-    this.commit({ ...this.doc, uavs: this.withShares(this.uavs(), next) });
-    this.refreshShares(next);
-    // a share the operator asked for but cannot have (0 %, or all of it): say why, on that row
-    this.uavRows.querySelectorAll('[data-testid="share-note"]').forEach((x) => x.remove());
-    if (Math.round(v) !== next[i]) {
-      const row = this.uavRows.querySelectorAll<HTMLElement>('[data-testid="uav-row"]')[i];
-      const id = String(this.uavs()[i]?.id ?? `uav${i + 1}`);
-      const why = Math.round(v) < next[i] ? `a share is at least 1 % — remove ${id} (×) to leave it out` : `each other UAV keeps at least 1 %`;
-      row?.append(el('div', { class: 'define-share-note', 'data-testid': 'share-note', role: 'status' }, `${id}: ${next[i]} %, ${why}.`));
-    }
-  }
-
-  /** show shares in the rows without rebuilding them (keeps the focus) */
-  private refreshShares(shares = this.currentShares()): void {
-    this.uavRows.querySelectorAll<HTMLElement>('[data-testid="uav-row"]').forEach((row, k) => {
-      const s = String(shares[k] ?? 0);
-      const slider = row.querySelector<HTMLInputElement>('[data-testid="uav-share-slider"]');
-      const number = row.querySelector<HTMLInputElement>('[data-testid="uav-share"]');
-      if (slider && slider.value !== s) slider.value = s;
-      if (number && number.value !== s && document.activeElement !== number) number.value = s;
-      else if (number && document.activeElement === number && Number(number.value) !== shares[k]) number.value = s;
     });
   }
 
@@ -848,13 +610,8 @@ class DefinePanel {
       this.scheduleSync();
     });
     map.on('click', (e: L.LeafletMouseEvent) => {
-      if (this.placing !== null && this.visible) {
-        const i = this.placing;
-        this.stopPlacing();
-        const at: [number, number] = [round(e.latlng.lng, 7), round(e.latlng.lat, 7)];
-        if (i === RALLY) this.setRally([...rallyOf(this.doc), at]);
-        else this.setUav(i, { start: at });
-      } else if (!this.drawKind) this.select(null);
+      if (this.uavs.isPlacing() && this.visible) this.uavs.place([round(e.latlng.lng, 7), round(e.latlng.lat, 7)]);
+      else if (!this.drawKind) this.select(null);
     });
   }
 
@@ -876,7 +633,7 @@ class DefinePanel {
       layer.on('pm:edit', () => this.scheduleSync());
       layer.on('pm:vertexclick', (e) => this.selectVertex(layer, e.indexPath as unknown as number[], e.markerEvent));
       layer.on('click', (e: L.LeafletMouseEvent) => {
-        if (this.drawKind || this.placing !== null) return;
+        if (this.drawKind || this.uavs.isPlacing()) return;
         L.DomEvent.stopPropagation(e);
         this.select(layer);
       });
@@ -902,59 +659,9 @@ class DefinePanel {
       fp.bindTooltip(`building, ${st.height_m} m high; orbits ${st.standoff_m} m out`, { sticky: true, className: 'define-tip' });
       fp.addTo(this.group);
     }
-    this.renderStarts();
+    this.uavs.renderStarts();
     this.setEditing(this.visible);
     this.renderArea();
-  }
-
-  private renderStarts(): void {
-    this.startLayer.clearLayers();
-    this.uavs().forEach((u, i) => {
-      const s = u.start;
-      if (!Array.isArray(s) || typeof s[0] !== 'number' || typeof s[1] !== 'number') return;
-      const id = typeof u.id === 'string' ? u.id : `uav${i + 1}`;
-      const icon = L.divIcon({
-        className: 'define-start-icon',
-        html: `<div class="define-start" data-testid="uav-start" data-id="${id.replace(/[^A-Za-z0-9_.-]/g, '')}" style="background:${uavColour(i)}">${i + 1}</div>`,
-        iconSize: [24, 24],
-        iconAnchor: [12, 12],
-      });
-      const m = L.marker([s[1], s[0]], { icon, draggable: true, pmIgnore: true, title: `${id} start`, keyboard: false, autoPan: true });
-      m.on('dragend', () => {
-        const ll = m.getLatLng();
-        this.setUav(i, { start: [round(ll.lng, 7), round(ll.lat, 7)] });
-      });
-      m.addTo(this.startLayer);
-    });
-    // the rally points given (issue 31): drag to move, right-click to remove
-    const rally = rallyOf(this.doc);
-    rally.forEach(([lon, lat], k) => {
-      const icon = L.divIcon({ className: 'define-start-icon', html: `<div class="define-rally" data-testid="rally-point">R${k + 1}</div>`, iconSize: [26, 26], iconAnchor: [13, 13] });
-      const m = L.marker([lat, lon], { icon, draggable: true, pmIgnore: true, title: `rally point ${k + 1}: drag to move, right-click to remove`, keyboard: false, autoPan: true });
-      m.on('dragend', () => {
-        const ll = m.getLatLng();
-        const next = [...rally];
-        next[k] = [round(ll.lng, 7), round(ll.lat, 7)];
-        this.setRally(next);
-      });
-      m.on('contextmenu', (e: L.LeafletMouseEvent) => {
-        L.DomEvent.preventDefault(e.originalEvent);
-        this.setRally(rally.filter((_, j) => j !== k));
-      });
-      m.addTo(this.startLayer);
-    });
-  }
-
-  /** the mission's rally points: given ones replace the planner's proposal */
-  private setRally(points: [number, number][]): void {
-    const d = { ...this.doc };
-    if (points.length === 0) delete d.rally;
-    else {
-      d.rally = points;
-      delete d.propose_rally;
-    }
-    this.host.commit(d);
-    this.renderStarts();
   }
 
   private setEditing(on: boolean): void {
@@ -1085,7 +792,7 @@ class DefinePanel {
     this.drawKind = null;
     if (map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
     if (map.pm.globalCutModeEnabled()) map.pm.disableGlobalCutMode();
-    this.stopPlacing();
+    this.uavs.stopPlacing();
     this.updateButtons();
   }
 
@@ -1098,28 +805,11 @@ class DefinePanel {
     this.app.map.getContainer().classList.toggle('define-drawing', this.drawKind !== null);
   }
 
-  private startPlacing(i: number): void {
-    this.cancelModes();
-    this.placing = i;
-    this.app.map.getContainer().classList.add('define-placing');
-    this.uavRows.querySelectorAll('[data-testid="uav-place-start"]').forEach((b, k) => b.classList.toggle('active', k === i));
-    this.status.textContent =
-      i === RALLY ? 'Click the map where a UAV may land safely (Esc cancels).' : `Click the map where ${String(this.uavs()[i]?.id ?? `UAV ${i + 1}`)} takes off (Esc cancels).`;
-  }
-
-  private stopPlacing(): void {
-    if (this.placing === null) return;
-    this.placing = null;
-    this.app.map.getContainer().classList.remove('define-placing');
-    this.uavRows.querySelectorAll('[data-testid="uav-place-start"]').forEach((b) => b.classList.remove('active'));
-    this.showStatus();
-  }
-
   private onKey(e: KeyboardEvent): void {
     if (!this.visible) return;
     const map = this.app.map;
     if (e.key === 'Escape') {
-      if (this.drawKind || this.placing !== null || map.pm.globalDrawModeEnabled()) {
+      if (this.drawKind || this.uavs.isPlacing() || map.pm.globalDrawModeEnabled()) {
         this.cancelModes();
         e.preventDefault();
       } else this.select(null);
