@@ -4,33 +4,22 @@
 // the server (POST /missions/validate), mode, planner and its parameters, seed; save revision by
 // revision. The state's mission document is always what the operator sees.
 import { el } from '../dom.ts';
-import L from 'leaflet';
-import '@geoman-io/leaflet-geoman-free';
-import '@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css';
+import { DefineMap } from './define-map.ts';
 import { api, ApiError } from '../api.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
 import {
-  areaPolygons,
   corridorOf,
-  geojsonPolygons,
   newDraft,
-  nfzPolygons,
   PATTERN_DEFAULTS,
   patternOf,
-  polygonsOf,
   structureOf,
-  withArea,
   withCorridor,
-  withNfz,
   withPattern,
   withStructure,
   type MissionDoc,
   type PatternOptions,
-  type PolygonCoords,
-  type Position,
 } from '../mission-doc.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
-import { AREA_FILL, AREA_STROKE, NFZ_FILL, NFZ_STROKE, zoneLegendHtml } from '../zones.ts';
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
@@ -46,7 +35,7 @@ import {
 } from './define-extras.ts';
 import { CameraSection, type CatalogCamera } from './define-camera.ts';
 import { DefineUavs, type CatalogUav } from './define-uavs.ts';
-import { DefineErrors, field, num, round, section } from './define-errors.ts';
+import { DefineErrors, field, num, section } from './define-errors.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
 const AUTO_PLANNER = {
@@ -55,27 +44,11 @@ const AUTO_PLANNER = {
   schema: { params: [] },
 };
 
-// a building's footprint on the map
-const STRUCTURE_STYLE: L.PathOptions = { color: '#5b4636', weight: 2, fillColor: '#8d6e63', fillOpacity: 0.6 };
-
 interface Planner {
   name: string;
   summary: string;
   schema: PlannerSchema;
 }
-type Kind = 'area' | 'nfz';
-
-const toLatLngs = (p: PolygonCoords): L.LatLngExpression[][] => p.map((r) => r.map(([x, y]) => [y, x] as L.LatLngTuple));
-
-// the area and no-fly zones as the CLI's pictures draw them (src/render/plan_map.cpp draw_plan)
-const AREA_STYLE: L.PathOptions = { color: AREA_STROKE, weight: 2, fillColor: AREA_FILL, fillOpacity: 0.8 };
-const NFZ_STYLE: L.PathOptions = { color: NFZ_STROKE, weight: 2, dashArray: '6 4', fillColor: NFZ_FILL, fillOpacity: 0.3 };
-
-function isEditable(t: EventTarget | null): boolean {
-  const e = t as HTMLElement | null;
-  return !!e && (e.tagName === 'INPUT' || e.tagName === 'TEXTAREA' || e.tagName === 'SELECT' || e.isContentEditable);
-}
-
 class DefinePanel {
   private doc: MissionDoc = newDraft('New mission', 1);
   /** the document last given to app.update by this tab (to tell our own updates from others) */
@@ -84,20 +57,9 @@ class DefinePanel {
   /** the document as it was loaded (opened, new or imported): what "unsaved changes" compares with */
   private baseJson = '';
   private undoStack: MissionDoc[] = [];
-  private visible = false;
 
   private cameras: CatalogCamera[] = [];
   private planners: Planner[] = [];
-
-  private group = L.featureGroup();
-  private areaLayers: L.Polygon[] = [];
-  private nfzLayers: L.Polygon[] = [];
-  private startLayer = L.layerGroup();
-  private drawKind: Kind | 'cut' | 'corridor' | 'footprint' | null = null;
-  private corridorLayer: L.Polyline | null = null;
-  private selLayer: L.Polygon | null = null;
-  private selVertex: { layer: L.Polygon; path: number[]; el?: HTMLElement } | null = null;
-  private syncTimer = 0;
 
   // controls
   private nameInput!: HTMLInputElement;
@@ -106,19 +68,14 @@ class DefinePanel {
   private errors: DefineErrors;
   private camera!: CameraSection;
   private uavs!: DefineUavs;
-  private areaInfo!: HTMLElement;
-  private drawAreaBtn!: HTMLButtonElement;
-  private drawNfzBtn!: HTMLButtonElement;
-  private cutBtn!: HTMLButtonElement;
+  private map!: DefineMap;
   // the pattern (docs/patterns.md): area or corridor, the corridor's line and width, the options
   private patternSelect!: HTMLSelectElement;
-  private corridorBtn!: HTMLButtonElement;
   private widthInput!: HTMLInputElement;
   private corridorRow!: HTMLElement;
   private corridorInfo!: HTMLElement;
   private patternInputs: Partial<Record<keyof PatternOptions, HTMLInputElement | HTMLSelectElement>> = {};
   private structureRow!: HTMLElement;
-  private footprintBtn!: HTMLButtonElement;
   private structureControls!: StructureControls;
   private obliqueControls!: ObliqueControls;
   private windControls!: WindControls;
@@ -146,8 +103,6 @@ class DefinePanel {
     this.baseJson = JSON.stringify(this.doc);
     this.errors = new DefineErrors(panel, { doc: () => this.doc, overlap: () => this.camera.overlap() });
     this.build();
-    this.installMap();
-    document.addEventListener('keydown', (e) => this.onKey(e));
     app.subscribe((s) => {
       if (s.mission !== this.pushed) this.load(s.mission);
       else this.showStatus();
@@ -173,38 +128,32 @@ class DefinePanel {
     head.append(nameRow, this.status, this.errors.general);
     p.appendChild(head);
 
-    // area
-    const area = section(this.panel, 'Area and no-fly zones');
-    area.dataset.anchor = 'area no_fly_zones';
-    const tools = el('div', { class: 'define-tools' });
-    this.drawAreaBtn = el('button', { type: 'button', 'data-testid': 'draw-area', title: 'Click the corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw area');
-    this.drawNfzBtn = el('button', { type: 'button', 'data-testid': 'draw-nfz', class: 'define-nfz-btn', title: 'A zone the UAVs must not enter' }, 'Draw no-fly zone');
-    this.cutBtn = el('button', { type: 'button', 'data-testid': 'draw-hole', title: 'Cut a hole out of the area' }, 'Cut hole');
-    const undoBtn = el('button', { type: 'button', 'data-testid': 'define-undo', title: 'Undo (Ctrl-Z)' }, 'Undo');
-    const delBtn = el('button', { type: 'button', 'data-testid': 'define-delete', title: 'Delete the selected vertex or shape (Delete)' }, 'Delete selected');
-    this.drawAreaBtn.addEventListener('click', () => this.startDraw('area'));
-    this.drawNfzBtn.addEventListener('click', () => this.startDraw('nfz'));
-    this.cutBtn.addEventListener('click', () => this.startDraw('cut'));
-    undoBtn.addEventListener('click', () => this.undo());
-    delBtn.addEventListener('click', () => this.deleteSelection());
-    tools.append(this.drawAreaBtn, this.drawNfzBtn, this.cutBtn, undoBtn, delBtn);
-    this.areaInfo = el('p', { class: 'define-small muted' });
-    const zoneKey = el('div', { class: 'zone-legend', 'data-testid': 'define-zone-legend' });
-    zoneKey.innerHTML = zoneLegendHtml();
-    area.append(
-      tools,
-      this.areaInfo,
-      zoneKey,
-      el('p', { class: 'define-small muted' }, 'Drag a vertex to move it, the middle of an edge to add one; click a vertex or shape then Delete to remove it. Esc cancels drawing, Ctrl-Z undoes.'),
-    );
+    this.map = new DefineMap(this.app.map, p, {
+      doc: () => this.doc,
+      commit: (d) => this.commit(d),
+      undo: () => this.undo(),
+      flash: (text) => this.flash(text),
+      corridorDrawn: (line) => {
+        this.commit(withCorridor(this.doc, line, num(this.widthInput.value) ?? 100));
+        this.renderPattern();
+      },
+      footprintDrawn: (polys) => {
+        if (polys.length === 1) this.commit(withStructure(this.doc, { ...this.structureControls.values(), footprint: [polys[0][0]] }));
+        this.renderPattern();
+      },
+      isPlacing: () => this.uavs.isPlacing(),
+      place: (at) => this.uavs.place(at),
+      stopPlacing: () => this.uavs.stopPlacing(),
+      renderStarts: () => this.uavs.renderStarts(),
+    });
 
     this.buildPattern();
 
-    this.uavs = new DefineUavs(p, this.app.map, this.startLayer, {
+    this.uavs = new DefineUavs(p, this.app.map, this.map.markers, {
       doc: () => this.doc,
       commit: (d) => this.commit(d),
       cameras: () => this.cameras,
-      cancelModes: () => this.cancelModes(),
+      cancelModes: () => this.map.cancelModes(),
       say: (text) => (this.status.textContent = text),
       showStatus: () => this.showStatus(),
     }, this.host);
@@ -290,21 +239,21 @@ class DefinePanel {
       if (k !== 'corridor' && this.doc.corridor !== undefined) this.commit(withCorridor(this.doc, null, 0));
       if (k !== 'structure' && this.doc.structure !== undefined) this.commit(withStructure(this.doc, null));
       this.renderPattern();
-      this.renderMap();
+      this.map.render();
     });
     field(sec, 'Pattern', 'corridor structure', this.patternSelect);
     this.corridorRow = el('div', { class: 'define-corridor' });
     const tools = el('div', { class: 'define-tools' });
-    this.corridorBtn = el('button', { type: 'button', 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line');
-    this.corridorBtn.addEventListener('click', () => this.startDraw('corridor'));
-    tools.appendChild(this.corridorBtn);
+    tools.appendChild(
+      this.map.drawButton('corridor', { 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line'),
+    );
     this.corridorRow.appendChild(tools);
     this.widthInput = el('input', { type: 'number', min: '1', max: '5000', step: 'any', value: '100', 'data-testid': 'corridor-width' });
     this.widthInput.addEventListener('change', () => {
       const c = corridorOf(this.doc);
       const w = num(this.widthInput.value);
       if (c && w !== undefined) this.commit(withCorridor(this.doc, c.line, w));
-      this.renderMap();
+      this.map.render();
     });
     field(this.corridorRow, 'Width', 'corridor.width_m', this.widthInput, 'm');
     this.corridorInfo = el('p', { class: 'define-small muted', 'data-testid': 'corridor-info' });
@@ -313,9 +262,9 @@ class DefinePanel {
     // the structure: its footprint drawn as a polygon, its height, standoff, safe height and roof pass
     this.structureRow = el('div', { class: 'define-structure-row' });
     const stools = el('div', { class: 'define-tools' });
-    this.footprintBtn = el('button', { type: 'button', 'data-testid': 'draw-footprint', title: 'Click the building’s corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw footprint');
-    this.footprintBtn.addEventListener('click', () => this.startDraw('footprint'));
-    stools.appendChild(this.footprintBtn);
+    stools.appendChild(
+      this.map.drawButton('footprint', { 'data-testid': 'draw-footprint', title: 'Click the building’s corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw footprint'),
+    );
     this.structureControls = new StructureControls(this.host);
     this.structureRow.append(stools, this.structureControls.row);
     sec.appendChild(this.structureRow);
@@ -416,12 +365,12 @@ class DefinePanel {
     this.uavs.reset();
     this.savedJson = this.app.state.missionId !== null ? JSON.stringify(d) : null;
     this.baseJson = JSON.stringify(d);
-    this.cancelModes();
+    this.map.cancelModes();
     this.errors.clear();
     this.errors.clearGeneral();
     if (d !== doc || this.app.state.dirty !== false) this.push(d);
     this.refreshForm();
-    this.renderMap();
+    this.map.render();
     this.camera.scheduleValidate(0);
   }
 
@@ -453,7 +402,7 @@ class DefinePanel {
     this.doc = prev;
     this.push(prev);
     this.refreshForm();
-    this.renderMap();
+    this.map.render();
     this.camera.scheduleValidate();
   }
 
@@ -478,7 +427,7 @@ class DefinePanel {
   private refreshForm(): void {
     const d = this.doc;
     this.nameInput.value = typeof d.name === 'string' ? d.name : '';
-    this.renderArea();
+    this.map.renderInfo();
     this.renderPattern();
     this.uavs.render();
     this.camera.render();
@@ -495,16 +444,6 @@ class DefinePanel {
     this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
     this.seedInput.placeholder = '1';
     this.showStatus();
-  }
-
-  private renderArea(): void {
-    const a = areaPolygons(this.doc);
-    const z = nfzPolygons(this.doc);
-    const holes = a.reduce((n, p) => n + p.length - 1, 0);
-    this.areaInfo.textContent =
-      a.length === 0
-        ? 'No area yet: press “Draw area” and click its corners on the map.'
-        : `${a.length} area polygon${a.length > 1 ? 's' : ''}${holes ? `, ${holes} hole${holes > 1 ? 's' : ''}` : ''}, ${z.length} no-fly zone${z.length === 1 ? '' : 's'}.`;
   }
 
   private renderParams(): void {
@@ -552,302 +491,13 @@ class DefinePanel {
     }
   }
 
-  // ---------------------------------------------------------------- map
-
-  private installMap(): void {
-    const map = this.app.map;
-    map.pm.setGlobalOptions({ snappable: true, snapDistance: 15, allowSelfIntersection: false } as L.PM.GlobalOptions);
-    map.on('pm:create', (e) => {
-      const kind = this.drawKind;
-      if (kind === 'corridor') {
-        this.drawKind = null;
-        this.updateButtons();
-        const layer = e.layer as L.Polyline;
-        const line = (layer.getLatLngs() as L.LatLng[]).map((ll) => [round(ll.lng, 7), round(ll.lat, 7)] as Position);
-        layer.remove();
-        this.commit(withCorridor(this.doc, line, num(this.widthInput.value) ?? 100));
-        this.renderPattern();
-        this.renderMap();
-        return;
-      }
-      if (kind === 'footprint') {
-        this.drawKind = null;
-        this.updateButtons();
-        const layer = e.layer as L.Polygon;
-        const polys = polygonsOf(layer.toGeoJSON());
-        layer.remove();
-        if (polys.length === 1) this.commit(withStructure(this.doc, { ...this.structureControls.values(), footprint: [polys[0][0]] }));
-        this.renderPattern();
-        this.renderMap();
-        return;
-      }
-      if (kind !== 'area' && kind !== 'nfz') return; // not drawn by this tab
-      this.drawKind = null;
-      this.updateButtons();
-      const layer = e.layer as L.Polygon;
-      const polys = polygonsOf(layer.toGeoJSON());
-      layer.remove();
-      if (kind === 'area') this.commit(withArea(this.doc, [...areaPolygons(this.doc), ...polys]));
-      else this.commit(withNfz(this.doc, [...nfzPolygons(this.doc), ...polys]));
-      this.renderArea();
-      this.renderMap();
-    });
-    map.on('pm:drawend', () => {
-      if (this.drawKind !== 'cut') this.drawKind = null;
-      this.updateButtons();
-    });
-    map.on('pm:globalcutmodetoggled', (e: { enabled: boolean }) => {
-      if (!e.enabled && this.drawKind === 'cut') this.drawKind = null;
-      this.updateButtons();
-    });
-    map.on('pm:cut', (e) => {
-      const original = e.originalLayer as L.Polygon;
-      const result = e.layer as L.Polygon;
-      for (const arr of [this.areaLayers, this.nfzLayers]) {
-        const k = arr.indexOf(original);
-        if (k >= 0) arr[k] = result;
-      }
-      this.scheduleSync();
-    });
-    map.on('click', (e: L.LeafletMouseEvent) => {
-      if (this.uavs.isPlacing() && this.visible) this.uavs.place([round(e.latlng.lng, 7), round(e.latlng.lat, 7)]);
-      else if (!this.drawKind) this.select(null);
-    });
-  }
-
-  private layerStyle(kind: Kind, selected: boolean): L.PathOptions {
-    const base = kind === 'area' ? AREA_STYLE : NFZ_STYLE;
-    return selected ? { ...base, weight: 4 } : base;
-  }
-
-  private renderMap(): void {
-    if (this.selVertex?.el) this.selVertex.el.classList.remove('define-vertex-selected');
-    this.selLayer = null;
-    this.selVertex = null;
-    this.group.clearLayers();
-    this.areaLayers = [];
-    this.nfzLayers = [];
-    const add = (p: PolygonCoords, kind: Kind) => {
-      const layer = L.polygon(toLatLngs(p), this.layerStyle(kind, false));
-      layer.addTo(this.group);
-      layer.on('pm:edit', () => this.scheduleSync());
-      layer.on('pm:vertexclick', (e) => this.selectVertex(layer, e.indexPath as unknown as number[], e.markerEvent));
-      layer.on('click', (e: L.LeafletMouseEvent) => {
-        if (this.drawKind || this.uavs.isPlacing()) return;
-        L.DomEvent.stopPropagation(e);
-        this.select(layer);
-      });
-      layer.bindTooltip(kind === 'area' ? 'area' : 'no-fly zone', { sticky: true, className: 'define-tip' });
-      (kind === 'area' ? this.areaLayers : this.nfzLayers).push(layer);
-    };
-    for (const p of areaPolygons(this.doc)) add(p, 'area');
-    for (const p of nfzPolygons(this.doc)) add(p, 'nfz');
-    // the corridor: its centre line (the buffered ground is drawn by the plan)
-    this.corridorLayer = null;
-    const c = corridorOf(this.doc);
-    if (c && c.line.length >= 2) {
-      this.corridorLayer = L.polyline(
-        c.line.map(([x, y]) => [y, x] as L.LatLngTuple),
-        { color: AREA_STROKE, weight: 3, dashArray: '8 6', pmIgnore: true } as L.PolylineOptions,
-      );
-      this.corridorLayer.bindTooltip(`corridor, ${c.width_m} m wide`, { sticky: true, className: 'define-tip' });
-      this.corridorLayer.addTo(this.group);
-    }
-    const st = structureOf(this.doc);
-    if (st) {
-      const fp = L.polygon(toLatLngs(st.footprint), { ...STRUCTURE_STYLE, pmIgnore: true } as L.PolylineOptions);
-      fp.bindTooltip(`building, ${st.height_m} m high; orbits ${st.standoff_m} m out`, { sticky: true, className: 'define-tip' });
-      fp.addTo(this.group);
-    }
-    this.uavs.renderStarts();
-    this.setEditing(this.visible);
-    this.renderArea();
-  }
-
-  private setEditing(on: boolean): void {
-    for (const l of [...this.areaLayers, ...this.nfzLayers]) {
-      if (on) l.pm.enable({ snappable: true, snapDistance: 15, allowSelfIntersection: false, draggable: false } as L.PM.EditModeOptions);
-      else l.pm.disable();
-    }
-  }
-
-  /** read the geometry back from the edited layers into the document */
-  private scheduleSync(): void {
-    clearTimeout(this.syncTimer);
-    this.syncTimer = window.setTimeout(() => this.syncFromLayers(), 0);
-  }
-
-  private syncFromLayers(): void {
-    const read = (ls: L.Polygon[]) =>
-      ls.flatMap((l) => (this.app.map.hasLayer(l) || this.group.hasLayer(l) ? geojsonPolygons(l.toGeoJSON()).map((x) => x.coords) : []));
-    const area = read(this.areaLayers);
-    const nfz = read(this.nfzLayers);
-    // geoman adds cut results to the map itself: drop them, the document is redrawn
-    for (const l of [...this.areaLayers, ...this.nfzLayers]) if (!this.group.hasLayer(l)) l.remove();
-    this.commit(withNfz(withArea(this.doc, area), nfz));
-    this.renderMap();
-  }
-
-  private select(layer: L.Polygon | null): void {
-    if (this.selVertex?.el) this.selVertex.el.classList.remove('define-vertex-selected');
-    this.selVertex = null;
-    if (this.selLayer) this.selLayer.setStyle(this.layerStyle(this.nfzLayers.includes(this.selLayer) ? 'nfz' : 'area', false));
-    this.selLayer = layer;
-    if (layer) layer.setStyle(this.layerStyle(this.nfzLayers.includes(layer) ? 'nfz' : 'area', true));
-  }
-
-  private selectVertex(layer: L.Polygon, path: number[], markerEvent: unknown): void {
-    this.select(layer);
-    const target = (markerEvent as { target?: { getElement?: () => HTMLElement | undefined } } | undefined)?.target;
-    const elx = target?.getElement?.();
-    elx?.classList.add('define-vertex-selected');
-    this.selVertex = { layer, path: Array.isArray(path) ? path : [0, Number(path)], el: elx };
-  }
-
-  private deleteSelection(): void {
-    if (this.selVertex) {
-      const { layer, path } = this.selVertex;
-      const latlngs = layer.getLatLngs() as unknown;
-      // navigate to the ring holding the vertex: path = [ring, i] or [polygon, ring, i]
-      const rings: L.LatLng[][] = path.length === 3 ? (latlngs as L.LatLng[][][])[path[0]] : (latlngs as L.LatLng[][]);
-      const ringIndex = path[path.length - 2];
-      const ring = rings[ringIndex];
-      if (ring) {
-        ring.splice(path[path.length - 1], 1);
-        if (ring.length < 3) {
-          if (ringIndex === 0) {
-            this.removeLayer(layer);
-            return;
-          }
-          rings.splice(ringIndex, 1);
-        }
-        layer.setLatLngs(latlngs as L.LatLng[][]);
-        this.syncFromLayers();
-      }
-      return;
-    }
-    if (this.selLayer) {
-      this.removeLayer(this.selLayer);
-      return;
-    }
-    this.flash('Select a vertex or a shape on the map first.');
-  }
-
-  private removeLayer(layer: L.Polygon): void {
-    this.areaLayers = this.areaLayers.filter((l) => l !== layer);
-    this.nfzLayers = this.nfzLayers.filter((l) => l !== layer);
-    this.group.removeLayer(layer);
-    this.syncFromLayers();
-  }
-
-  private startDraw(kind: Kind | 'cut' | 'corridor' | 'footprint'): void {
-    const map = this.app.map;
-    const wasSame = this.drawKind === kind;
-    this.cancelModes();
-    if (wasSame) return; // the button toggles
-    this.select(null);
-    if (kind === 'corridor') {
-      this.drawKind = 'corridor';
-      map.pm.enableDraw('Line', {
-        snappable: true,
-        snapDistance: 15,
-        pathOptions: { color: AREA_STROKE, weight: 3 },
-        templineStyle: { color: AREA_STROKE },
-        hintlineStyle: { color: AREA_STROKE, dashArray: '5 5' },
-      } as L.PM.DrawModeOptions);
-    } else if (kind === 'footprint') {
-      this.drawKind = 'footprint';
-      map.pm.enableDraw('Polygon', {
-        snappable: true,
-        snapDistance: 15,
-        allowSelfIntersection: false,
-        pathOptions: STRUCTURE_STYLE,
-        templineStyle: { color: STRUCTURE_STYLE.color },
-        hintlineStyle: { color: STRUCTURE_STYLE.color, dashArray: '5 5' },
-      } as L.PM.DrawModeOptions);
-    } else if (kind === 'cut') {
-      if (this.areaLayers.length === 0) {
-        this.flash('Draw the area first.');
-        return;
-      }
-      this.drawKind = 'cut';
-      // a copy: geoman removes the cut layers from the array it is given
-      map.pm.enableGlobalCutMode({ layersToCut: [...this.areaLayers], snappable: true, allowSelfIntersection: false } as L.PM.CutModeOptions);
-    } else {
-      this.drawKind = kind;
-      map.pm.enableDraw('Polygon', {
-        snappable: true,
-        snapDistance: 15,
-        allowSelfIntersection: false,
-        pathOptions: kind === 'area' ? AREA_STYLE : NFZ_STYLE,
-        templineStyle: { color: kind === 'area' ? AREA_STROKE : NFZ_STROKE },
-        hintlineStyle: { color: kind === 'area' ? AREA_STROKE : NFZ_STROKE, dashArray: '5 5' },
-      } as L.PM.DrawModeOptions);
-    }
-    this.updateButtons();
-  }
-
-  private cancelModes(): void {
-    const map = this.app.map;
-    this.drawKind = null;
-    if (map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
-    if (map.pm.globalCutModeEnabled()) map.pm.disableGlobalCutMode();
-    this.uavs.stopPlacing();
-    this.updateButtons();
-  }
-
-  private updateButtons(): void {
-    this.drawAreaBtn.classList.toggle('active', this.drawKind === 'area');
-    this.drawNfzBtn.classList.toggle('active', this.drawKind === 'nfz');
-    this.cutBtn.classList.toggle('active', this.drawKind === 'cut');
-    this.corridorBtn.classList.toggle('active', this.drawKind === 'corridor');
-    this.footprintBtn.classList.toggle('active', this.drawKind === 'footprint');
-    this.app.map.getContainer().classList.toggle('define-drawing', this.drawKind !== null);
-  }
-
-  private onKey(e: KeyboardEvent): void {
-    if (!this.visible) return;
-    const map = this.app.map;
-    if (e.key === 'Escape') {
-      if (this.drawKind || this.uavs.isPlacing() || map.pm.globalDrawModeEnabled()) {
-        this.cancelModes();
-        e.preventDefault();
-      } else this.select(null);
-      return;
-    }
-    if (isEditable(e.target)) return;
-    if ((e.ctrlKey || e.metaKey) && !e.shiftKey && e.key.toLowerCase() === 'z') {
-      e.preventDefault();
-      // while drawing (an area, a zone or a cut), Ctrl-Z takes back the last vertex
-      const shapes = map.pm.Draw as unknown as Record<string, { _enabled?: boolean; _layer?: L.Polyline; _removeLastVertex?: () => void }>;
-      const draw = [shapes.Polygon, shapes.Cut].find((d) => d?._enabled && d._layer && d._layer.getLatLngs().length > 0);
-      if (draw) draw._removeLastVertex?.();
-      else this.undo();
-      return;
-    }
-    if (e.key === 'Delete' || e.key === 'Backspace') {
-      if (this.selVertex || this.selLayer) {
-        e.preventDefault();
-        this.deleteSelection();
-      }
-    }
-  }
-
   show(): void {
-    this.visible = true;
     if (this.app.state.mission === null) this.push(this.doc);
-    this.group.addTo(this.app.map);
-    this.startLayer.addTo(this.app.map);
-    this.setEditing(true);
+    this.map.show();
   }
 
   hide(): void {
-    this.visible = false;
-    this.cancelModes();
-    this.select(null);
-    this.setEditing(false);
-    this.group.remove();
-    this.startLayer.remove();
+    this.map.hide();
   }
 }
 
