@@ -8,16 +8,8 @@ import { DefineMap } from './define-map.ts';
 import { api, ApiError } from '../api.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
 import {
-  corridorOf,
   newDraft,
-  PATTERN_DEFAULTS,
-  patternOf,
-  structureOf,
-  withCorridor,
-  withPattern,
-  withStructure,
   type MissionDoc,
-  type PatternOptions,
 } from '../mission-doc.ts';
 import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
 import '../missions.css';
@@ -26,8 +18,6 @@ import { errorText } from './missions.ts';
 import {
   FieldControls,
   ObjectiveControl,
-  ObliqueControls,
-  StructureControls,
   TerrainControls,
   WindControls,
   type DemEntry,
@@ -35,6 +25,7 @@ import {
 } from './define-extras.ts';
 import { CameraSection, type CatalogCamera } from './define-camera.ts';
 import { DefineUavs, type CatalogUav } from './define-uavs.ts';
+import { PatternSection } from './define-pattern.ts';
 import { DefineErrors, field, num, section } from './define-errors.ts';
 
 /** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
@@ -69,15 +60,7 @@ class DefinePanel {
   private camera!: CameraSection;
   private uavs!: DefineUavs;
   private map!: DefineMap;
-  // the pattern (docs/patterns.md): area or corridor, the corridor's line and width, the options
-  private patternSelect!: HTMLSelectElement;
-  private widthInput!: HTMLInputElement;
-  private corridorRow!: HTMLElement;
-  private corridorInfo!: HTMLElement;
-  private patternInputs: Partial<Record<keyof PatternOptions, HTMLInputElement | HTMLSelectElement>> = {};
-  private structureRow!: HTMLElement;
-  private structureControls!: StructureControls;
-  private obliqueControls!: ObliqueControls;
+  private pattern!: PatternSection;
   private windControls!: WindControls;
   private terrainControls!: TerrainControls;
   private fieldControls!: FieldControls;
@@ -133,21 +116,15 @@ class DefinePanel {
       commit: (d) => this.commit(d),
       undo: () => this.undo(),
       flash: (text) => this.flash(text),
-      corridorDrawn: (line) => {
-        this.commit(withCorridor(this.doc, line, num(this.widthInput.value) ?? 100));
-        this.renderPattern();
-      },
-      footprintDrawn: (polys) => {
-        if (polys.length === 1) this.commit(withStructure(this.doc, { ...this.structureControls.values(), footprint: [polys[0][0]] }));
-        this.renderPattern();
-      },
+      corridorDrawn: (line) => this.pattern.corridorDrawn(line),
+      footprintDrawn: (polys) => this.pattern.footprintDrawn(polys),
       isPlacing: () => this.uavs.isPlacing(),
       place: (at) => this.uavs.place(at),
       stopPlacing: () => this.uavs.stopPlacing(),
       renderStarts: () => this.uavs.renderStarts(),
     });
 
-    this.buildPattern();
+    this.pattern = new PatternSection(p, { doc: () => this.doc, commit: (d) => this.commit(d), map: this.map }, this.host);
 
     this.uavs = new DefineUavs(p, this.app.map, this.map.markers, {
       doc: () => this.doc,
@@ -220,106 +197,6 @@ class DefinePanel {
       this.commit(d);
     });
     field(plan, 'Seed', 'seed', this.seedInput);
-  }
-
-  /** the Pattern section: area or corridor (drawn as a polyline, with its width), and the options */
-  private buildPattern(): void {
-    const sec = section(this.panel, 'Pattern');
-    sec.dataset.anchor = 'corridor pattern';
-    this.patternSelect = el('select', { 'data-testid': 'pattern-kind', 'aria-label': 'Pattern' });
-    for (const [v, t] of [
-      ['area', 'Area: a grid over the drawn polygons'],
-      ['corridor', 'Corridor: lanes along a drawn line'],
-      ['structure', 'Structure: orbits around a building’s walls'],
-    ])
-      this.patternSelect.appendChild(el('option', { value: v }, t));
-    this.patternSelect.addEventListener('change', () => {
-      const k = this.patternSelect.value;
-      // the other kinds' geometry goes (area and corridor and structure exclude each other)
-      if (k !== 'corridor' && this.doc.corridor !== undefined) this.commit(withCorridor(this.doc, null, 0));
-      if (k !== 'structure' && this.doc.structure !== undefined) this.commit(withStructure(this.doc, null));
-      this.renderPattern();
-      this.map.render();
-    });
-    field(sec, 'Pattern', 'corridor structure', this.patternSelect);
-    this.corridorRow = el('div', { class: 'define-corridor' });
-    const tools = el('div', { class: 'define-tools' });
-    tools.appendChild(
-      this.map.drawButton('corridor', { 'data-testid': 'draw-corridor', title: 'Click the centre line’s vertices on the map; click the last one again to finish (Esc cancels)' }, 'Draw corridor line'),
-    );
-    this.corridorRow.appendChild(tools);
-    this.widthInput = el('input', { type: 'number', min: '1', max: '5000', step: 'any', value: '100', 'data-testid': 'corridor-width' });
-    this.widthInput.addEventListener('change', () => {
-      const c = corridorOf(this.doc);
-      const w = num(this.widthInput.value);
-      if (c && w !== undefined) this.commit(withCorridor(this.doc, c.line, w));
-      this.map.render();
-    });
-    field(this.corridorRow, 'Width', 'corridor.width_m', this.widthInput, 'm');
-    this.corridorInfo = el('p', { class: 'define-small muted', 'data-testid': 'corridor-info' });
-    this.corridorRow.appendChild(this.corridorInfo);
-    sec.appendChild(this.corridorRow);
-    // the structure: its footprint drawn as a polygon, its height, standoff, safe height and roof pass
-    this.structureRow = el('div', { class: 'define-structure-row' });
-    const stools = el('div', { class: 'define-tools' });
-    stools.appendChild(
-      this.map.drawButton('footprint', { 'data-testid': 'draw-footprint', title: 'Click the building’s corners on the map; click the first one again to close it (Esc cancels)' }, 'Draw footprint'),
-    );
-    this.structureControls = new StructureControls(this.host);
-    this.structureRow.append(stools, this.structureControls.row);
-    sec.appendChild(this.structureRow);
-    // the options; a changed one writes the pattern block (defaults are left out)
-    const opts = el('div', { class: 'define-pattern-options', 'data-testid': 'pattern-options' });
-    const check = (key: keyof PatternOptions, label: string, title: string) => {
-      const i = el('input', { type: 'checkbox', 'data-testid': `pattern-${key}`, title });
-      i.addEventListener('change', () => this.commit(withPattern(this.doc, { [key]: i.checked })));
-      field(opts, label, `pattern.${key}`, i);
-      this.patternInputs[key] = i;
-    };
-    check('crosshatch', 'Crosshatch', 'sweep every part twice, the second time at 90° (double grid)');
-    const ta = el('input', { type: 'number', min: '0', max: '500', step: 'any', placeholder: '0', 'data-testid': 'pattern-turnaround_m', title: 'legs extend beyond the area by this much, camera off' });
-    ta.addEventListener('change', () => this.commit(withPattern(this.doc, { turnaround_m: num(ta.value) ?? 0 })));
-    field(opts, 'Turnaround', 'pattern.turnaround_m', ta, 'm');
-    this.patternInputs.turnaround_m = ta;
-    const entry = el('select', { 'data-testid': 'pattern-entry' });
-    for (const [v, t] of [
-      ['auto', 'nearest the start'],
-      ['nw', 'north-west'],
-      ['ne', 'north-east'],
-      ['sw', 'south-west'],
-      ['se', 'south-east'],
-    ])
-      entry.appendChild(el('option', { value: v }, t));
-    entry.addEventListener('change', () => this.commit(withPattern(this.doc, { entry: entry.value as PatternOptions['entry'] })));
-    field(opts, 'Entry', 'pattern.entry', entry);
-    this.patternInputs.entry = entry;
-    check('alternate_transects', 'Alternate transects', 'every other lane, then back for the rest (fixed-wing turns)');
-    check('capture_in_turnaround', 'Camera in turns', 'keep the camera on in turns and turnarounds');
-    this.obliqueControls = new ObliqueControls(this.host);
-    opts.appendChild(this.obliqueControls.row);
-    sec.append(opts, el('p', { class: 'define-small muted' }, 'Corridors, obliques and the options need a lane planner (boustrophedon, or milp for corridors): see “uavcover planners”.'));
-  }
-
-  private renderPattern(): void {
-    const c = corridorOf(this.doc);
-    const st = structureOf(this.doc);
-    const kind = c !== null ? 'corridor' : st !== null ? 'structure' : this.patternSelect.value;
-    this.patternSelect.value = kind;
-    const corridor = kind === 'corridor';
-    this.corridorRow.hidden = !corridor;
-    this.structureRow.hidden = kind !== 'structure';
-    this.structureControls.render(this.doc);
-    this.obliqueControls.render(this.doc);
-    if (c) this.widthInput.value = String(c.width_m);
-    this.corridorInfo.textContent = c
-      ? `Centre line of ${c.line.length} vertices, ${c.width_m} m wide.`
-      : 'No corridor yet: press “Draw corridor line” and click its vertices on the map.';
-    const p = patternOf(this.doc) ?? PATTERN_DEFAULTS;
-    for (const [k, i] of Object.entries(this.patternInputs) as [keyof PatternOptions, HTMLInputElement | HTMLSelectElement][]) {
-      const v = p[k];
-      if (i instanceof HTMLInputElement && i.type === 'checkbox') i.checked = v === true;
-      else i.value = k === 'turnaround_m' && v === 0 ? '' : String(v);
-    }
   }
 
   // ---------------------------------------------------------------- catalogs
@@ -428,7 +305,7 @@ class DefinePanel {
     const d = this.doc;
     this.nameInput.value = typeof d.name === 'string' ? d.name : '';
     this.map.renderInfo();
-    this.renderPattern();
+    this.pattern.render();
     this.uavs.render();
     this.camera.render();
     this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
