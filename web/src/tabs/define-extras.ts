@@ -2,7 +2,8 @@
 // numbers, the oblique passes, the wind, the terrain, the auto planner's objective and the shares from
 // capabilities.
 // Each control writes its block of the mission document through the tab's commit; render() shows the
-// document's values. The map side of a structure (drawing its footprint) stays in define.ts.
+// document's values. The map side of a structure (drawing its footprint) is in define-map.ts, its section in
+// define-pattern.ts.
 import { el } from '../dom.ts';
 import {
   OBJECTIVES,

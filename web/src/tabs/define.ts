@@ -1,45 +1,26 @@
-// The Define tab (issue 11): draw and edit the area and no-fly zones (geoman: vertex editing, holes by
-// cutting, snapping; Esc, Ctrl-Z, Delete), UAVs from the catalog or by hand with draggable starts,
-// shares that always sum to 100 %, camera/altitude/overlap with spacing, GSD and footprint computed by
-// the server (POST /missions/validate), mode, planner and its parameters, seed; save revision by
-// revision. The state's mission document is always what the operator sees.
+// The Define tab (issue 11): the mission document edited section by section, saved revision by revision.
+// This file composes the parts and holds the document: every change goes through commit (undo stack,
+// the app's state, the server's check), a document from elsewhere through load; the status line tells
+// unsaved changes. The parts: the map (define-map.ts: area and no-fly zones), Pattern (define-pattern.ts),
+// UAVs (define-uavs.ts: rows, shares, starts, rally points), camera and the server's check
+// (define-camera.ts), Planning (define-planning.ts), the errors beside the fields (define-errors.ts) and
+// the mission options (define-extras.ts). The state's mission document is always what the operator sees.
 import { el } from '../dom.ts';
+// first: geoman and its CSS come before the tab's own CSS
 import { DefineMap } from './define-map.ts';
 import { api, ApiError } from '../api.ts';
 import { panelTab, type App, type Tab } from '../state.ts';
-import {
-  newDraft,
-  type MissionDoc,
-} from '../mission-doc.ts';
-import { fieldsFromSchema, paramsForSchema, renderSchemaForm, type PlannerSchema } from '../schema-form.ts';
+import { newDraft, type MissionDoc } from '../mission-doc.ts';
 import '../missions.css';
 import '../define.css';
 import { errorText } from './missions.ts';
-import {
-  FieldControls,
-  ObjectiveControl,
-  TerrainControls,
-  WindControls,
-  type DemEntry,
-  type ExtrasHost,
-} from './define-extras.ts';
+import type { ExtrasHost } from './define-extras.ts';
 import { CameraSection, type CatalogCamera } from './define-camera.ts';
 import { DefineUavs, type CatalogUav } from './define-uavs.ts';
 import { PatternSection } from './define-pattern.ts';
-import { DefineErrors, field, num, section } from './define-errors.ts';
+import { PlanningSection, type Planner } from './define-planning.ts';
+import { DefineErrors } from './define-errors.ts';
 
-/** the planner "auto" (docs/planners.md): not a registered planner, so not in GET /planners */
-const AUTO_PLANNER = {
-  name: 'auto',
-  summary: 'auto: plans with every planner that supports the mission (time limit shared) and keeps the best by the objective, among those within 0.5 PoC points of the best',
-  schema: { params: [] },
-};
-
-interface Planner {
-  name: string;
-  summary: string;
-  schema: PlannerSchema;
-}
 class DefinePanel {
   private doc: MissionDoc = newDraft('New mission', 1);
   /** the document last given to app.update by this tab (to tell our own updates from others) */
@@ -48,23 +29,19 @@ class DefinePanel {
   /** the document as it was loaded (opened, new or imported): what "unsaved changes" compares with */
   private baseJson = '';
   private undoStack: MissionDoc[] = [];
-
   private cameras: CatalogCamera[] = [];
-  private planners: Planner[] = [];
 
-  // controls
   private nameInput!: HTMLInputElement;
   private status!: HTMLElement;
   private saveBtn!: HTMLButtonElement;
+  // the parts, in the panel's order
   private errors: DefineErrors;
-  private camera!: CameraSection;
-  private uavs!: DefineUavs;
   private map!: DefineMap;
   private pattern!: PatternSection;
-  private windControls!: WindControls;
-  private terrainControls!: TerrainControls;
-  private fieldControls!: FieldControls;
-  private objectiveControl!: ObjectiveControl;
+  private uavs!: DefineUavs;
+  private camera!: CameraSection;
+  private planning!: PlanningSection;
+  /** what define-extras' controls see: their commit draws the whole form again */
   private readonly host: ExtrasHost = {
     doc: () => this.doc,
     commit: (d) => {
@@ -73,11 +50,6 @@ class DefinePanel {
     },
     placeRally: () => this.uavs.placeRally(),
   };
-  private modeSelect!: HTMLSelectElement;
-  private plannerSelect!: HTMLSelectElement;
-  private plannerSummary!: HTMLElement;
-  private paramsBox!: HTMLElement;
-  private seedInput!: HTMLInputElement;
 
   constructor(
     private panel: HTMLElement,
@@ -126,14 +98,20 @@ class DefinePanel {
 
     this.pattern = new PatternSection(p, { doc: () => this.doc, commit: (d) => this.commit(d), map: this.map }, this.host);
 
-    this.uavs = new DefineUavs(p, this.app.map, this.map.markers, {
-      doc: () => this.doc,
-      commit: (d) => this.commit(d),
-      cameras: () => this.cameras,
-      cancelModes: () => this.map.cancelModes(),
-      say: (text) => (this.status.textContent = text),
-      showStatus: () => this.showStatus(),
-    }, this.host);
+    this.uavs = new DefineUavs(
+      p,
+      this.app.map,
+      this.map.markers,
+      {
+        doc: () => this.doc,
+        commit: (d) => this.commit(d),
+        cameras: () => this.cameras,
+        cancelModes: () => this.map.cancelModes(),
+        say: (text) => (this.status.textContent = text),
+        showStatus: () => this.showStatus(),
+      },
+      this.host,
+    );
 
     this.camera = new CameraSection(p, {
       doc: () => this.doc,
@@ -143,60 +121,16 @@ class DefinePanel {
       errors: this.errors,
     });
 
-    // planning
-    const plan = section(this.panel, 'Planning');
-    this.modeSelect = el('select', { 'data-testid': 'mode-select' });
-    for (const [v, t] of [
-      ['strict', 'Strict: paths stay inside the area'],
-      ['coverage', 'Coverage: paths may leave the area slightly to cover its edges'],
-    ])
-      this.modeSelect.appendChild(el('option', { value: v }, t));
-    this.modeSelect.addEventListener('change', () => this.commit({ ...this.doc, mode: this.modeSelect.value }));
-    field(plan, 'Mode', 'mode', this.modeSelect);
-    this.plannerSelect = el('select', { 'data-testid': 'planner-select' });
-    this.plannerSelect.addEventListener('change', () => {
-      const fields = fieldsFromSchema(this.planner(this.plannerSelect.value)?.schema);
-      const old = (this.doc.planner_params as Record<string, unknown> | undefined) ?? {};
-      const d: MissionDoc = { ...this.doc, planner: this.plannerSelect.value, planner_params: paramsForSchema(fields, old) };
-      if (Object.keys(d.planner_params as object).length === 0) delete d.planner_params;
-      this.commit(d);
-      this.renderParams();
-      this.objectiveControl.render(d);
-    });
-    field(plan, 'Planner', 'planner', this.plannerSelect);
-    this.plannerSummary = el('p', { class: 'define-small muted' });
-    plan.appendChild(this.plannerSummary);
-    this.objectiveControl = new ObjectiveControl(this.host, plan);
-    this.paramsBox = el('div', { class: 'define-params', 'data-testid': 'planner-params', 'data-anchor': 'planner_params' });
-    plan.appendChild(this.paramsBox);
-    this.windControls = new WindControls(this.host);
-    plan.appendChild(this.windControls.row);
-    // terrain (issue 31): a DEM uploaded to the server, or its tiles
-    this.terrainControls = new TerrainControls({
-      ...this.host,
-      listDems: () => api.get<{ items: DemEntry[]; server_tiles: boolean }>('/dems'),
-      uploadDem: (file: File) => {
-        const form = new FormData();
-        form.append('file', file, file.name);
-        return api.postForm<DemEntry>('/dems', form);
+    this.planning = new PlanningSection(
+      p,
+      {
+        doc: () => this.doc,
+        commit: (d) => this.commit(d),
+        errors: this.errors,
+        say: (text) => (this.status.textContent = text),
       },
-      say: (message: string, error = false) => {
-        if (error) this.errors.showGeneral(message, 'terrain.dem_id');
-        else this.status.textContent = message;
-      },
-    });
-    plan.appendChild(this.terrainControls.row);
-    this.fieldControls = new FieldControls(this.host);
-    plan.appendChild(this.fieldControls.row);
-    this.seedInput = el('input', { type: 'number', min: '0', step: '1', 'data-testid': 'seed-input' });
-    this.seedInput.addEventListener('change', () => {
-      const s = num(this.seedInput.value);
-      const d = { ...this.doc };
-      if (s === undefined) delete d.seed;
-      else d.seed = s;
-      this.commit(d);
-    });
-    field(plan, 'Seed', 'seed', this.seedInput);
+      this.host,
+    );
   }
 
   // ---------------------------------------------------------------- catalogs
@@ -211,22 +145,16 @@ class DefinePanel {
         return [];
       }
     };
-    let uavCatalog: CatalogUav[];
-    [uavCatalog, this.cameras, this.planners] = await Promise.all([
+    let uavCatalog: CatalogUav[], planners: Planner[];
+    [uavCatalog, this.cameras, planners] = await Promise.all([
       get<CatalogUav>('/uavs'),
       get<CatalogCamera>('/cameras'),
       get<Planner>('/planners'),
     ]);
     if (fails.length) this.errors.showGeneral(`Could not load the catalogs: ${fails.join('; ')}`);
     this.uavs.setCatalog(uavCatalog);
-    this.plannerSelect.replaceChildren();
-    if (this.planners.length) this.planners.push(AUTO_PLANNER);
-    for (const pl of this.planners) this.plannerSelect.appendChild(el('option', { value: pl.name }, pl.name));
+    this.planning.setPlanners(planners);
     this.refreshForm();
-  }
-
-  private planner(name: string): Planner | undefined {
-    return this.planners.find((p) => p.name === name);
   }
 
   // ---------------------------------------------------------------- state
@@ -308,32 +236,9 @@ class DefinePanel {
     this.pattern.render();
     this.uavs.render();
     this.camera.render();
-    this.modeSelect.value = d.mode === 'coverage' ? 'coverage' : 'strict';
-    const planner = typeof d.planner === 'string' ? d.planner : 'darp';
-    if (this.planners.length && !this.planner(planner)) this.plannerSelect.appendChild(el('option', { value: planner }, planner));
-    this.plannerSelect.value = planner;
-    this.renderParams();
-    this.objectiveControl.render(d);
-    this.windControls.render(d);
-    this.terrainControls.render(d);
-    this.fieldControls.render(d);
+    this.planning.render(d);
     this.uavs.sharesAuto.render(d);
-    this.seedInput.value = typeof d.seed === 'number' ? String(d.seed) : '';
-    this.seedInput.placeholder = '1';
     this.showStatus();
-  }
-
-  private renderParams(): void {
-    const pl = this.planner(this.plannerSelect.value);
-    this.plannerSummary.textContent = pl?.summary ?? '';
-    const fields = fieldsFromSchema(pl?.schema);
-    const values = (this.doc.planner_params as Record<string, unknown> | undefined) ?? {};
-    renderSchemaForm(this.paramsBox, fields, values, (params, name, error) => {
-      const d: MissionDoc = { ...this.doc, planner_params: params };
-      if (Object.keys(params).length === 0) delete d.planner_params;
-      this.commit(d);
-      if (error) window.setTimeout(() => this.errors.show(`planner_params.${name}`, error), 0);
-    });
   }
 
   // ---------------------------------------------------------------- save
