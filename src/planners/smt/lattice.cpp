@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
+#include <set>
 
 #include "evaluation/cost.hpp"
 #include "geometry/geometry.hpp"
@@ -204,6 +206,179 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
   return lat;
 }
 
+namespace {
+
+/// Node visits the share balance (balance()) may spend: about a second on the largest lattices.
+constexpr double kBalanceWork = 4e7;
+
+/// Whether region `a` stays connected without node v (over axis edges): first within v's 3 x 3 cells
+/// (the usual case on a lattice), else by a search over the region, which counts against `work`.
+bool removable(const Lattice& lat, const std::vector<int>& owner, int v, int a, double& work) {
+  std::vector<int> mine;
+  for (int w : lat.adj4[static_cast<std::size_t>(v)])
+    if (owner[static_cast<std::size_t>(w)] == a) mine.push_back(w);
+  if (mine.size() <= 1) return true;  // a leaf (a region of v alone is never given away)
+  // the region's nodes among v's eight neighbouring cells
+  const auto [c0, r0] = lat.cell[static_cast<std::size_t>(v)];
+  std::vector<int> ring;
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int c = c0 + dc, r = r0 + dr;
+      if ((dr == 0 && dc == 0) || c < 0 || r < 0 || c >= lat.cols || r >= lat.rows) continue;
+      const int w = lat.node_of_cell[static_cast<std::size_t>(r) * static_cast<std::size_t>(lat.cols) +
+                                     static_cast<std::size_t>(c)];
+      if (w >= 0 && owner[static_cast<std::size_t>(w)] == a) ring.push_back(w);
+    }
+  auto joined = [&](const std::vector<int>& within) {
+    std::vector<int> seen{mine.front()}, queue{mine.front()};
+    auto in = [&](int w) { return std::find(within.begin(), within.end(), w) != within.end(); };
+    for (std::size_t h = 0; h < queue.size(); ++h)
+      for (int w : lat.adj4[static_cast<std::size_t>(queue[h])])
+        if (w != v && owner[static_cast<std::size_t>(w)] == a &&
+            std::find(seen.begin(), seen.end(), w) == seen.end() && in(w))
+          seen.push_back(w), queue.push_back(w);
+    return std::all_of(mine.begin(), mine.end(),
+                       [&](int m) { return std::find(seen.begin(), seen.end(), m) != seen.end(); });
+  };
+  if (joined(ring)) return true;
+  // the whole region: breadth first from one neighbour, without v
+  std::vector<char> seen(lat.pos.size(), 0);
+  std::vector<int> queue{mine.front()};
+  seen[static_cast<std::size_t>(mine.front())] = 1;
+  seen[static_cast<std::size_t>(v)] = 1;
+  for (std::size_t h = 0; h < queue.size(); ++h)
+    for (int w : lat.adj4[static_cast<std::size_t>(queue[h])])
+      if (!seen[static_cast<std::size_t>(w)] && owner[static_cast<std::size_t>(w)] == a)
+        seen[static_cast<std::size_t>(w)] = 1, queue.push_back(w);
+  work -= static_cast<double>(queue.size());
+  return std::all_of(mine.begin(), mine.end(), [&](int m) { return seen[static_cast<std::size_t>(m)] != 0; });
+}
+
+/// Moves up to `want` nodes of region `a` to the adjacent region `b` across their border, each keeping
+/// `a` connected (b grows from its border, so it stays connected) and never a seed; the nodes furthest
+/// from a's seed and nearest b's first. Returns how many moved.
+int hand_over(const Lattice& lat, std::vector<int>& owner, const std::vector<int>& seed, int a, int b,
+              int want, double& work) {
+  const Point sa = lat.pos[static_cast<std::size_t>(seed[static_cast<std::size_t>(a)])];
+  const Point sb = lat.pos[static_cast<std::size_t>(seed[static_cast<std::size_t>(b)])];
+  auto score = [&](int v) {
+    const Point p = lat.pos[static_cast<std::size_t>(v)];
+    return dist2(p, sa) - dist2(p, sb);
+  };
+  using Item = std::pair<double, int>;  // (score, node), highest first
+  std::priority_queue<Item> border;
+  auto touches_b = [&](int v) {
+    for (int w : lat.adj4[static_cast<std::size_t>(v)])
+      if (owner[static_cast<std::size_t>(w)] == b) return true;
+    return false;
+  };
+  for (int v = 0; v < lat.size(); ++v)
+    if (owner[static_cast<std::size_t>(v)] == a && touches_b(v)) border.emplace(score(v), v);
+  work -= static_cast<double>(lat.size());
+  int moved = 0;
+  std::vector<int> skipped;
+  while (moved < want && !border.empty() && work > 0) {
+    const int v = border.top().second;
+    border.pop();
+    work -= 1;
+    if (owner[static_cast<std::size_t>(v)] != a || v == seed[static_cast<std::size_t>(a)]) continue;
+    if (!removable(lat, owner, v, a, work)) {
+      skipped.push_back(v);  // may become removable once its neighbours have moved: tried again below
+      continue;
+    }
+    owner[static_cast<std::size_t>(v)] = b;
+    ++moved;
+    for (int w : lat.adj4[static_cast<std::size_t>(v)])
+      if (owner[static_cast<std::size_t>(w)] == a) border.emplace(score(w), w);
+    if (border.empty() && !skipped.empty()) {
+      for (int w : skipped) border.emplace(score(w), w);
+      skipped.clear();
+    }
+  }
+  return moved;
+}
+
+/// Balances a grown division towards the shares (issue 26: on a C or U shape the greedy growth walled
+/// one UAV in, 15 points off its share). Repeatedly, the UAV furthest below its target receives over a
+/// shortest chain of adjacent regions from the nearest UAV above its target: each region of the chain
+/// hands the next one nodes across their border (hand_over), so the chain's ends change by the amount
+/// and the regions between keep theirs; every region stays 4-connected and keeps its seed. A chain that
+/// moves nothing is not tried again. Ends when no chain improves the sum of squared deviations, or
+/// after kBalanceWork node visits. Deterministic.
+void balance(const Lattice& lat, std::vector<int>& owner, const std::vector<int>& seed,
+             const std::vector<double>& shares) {
+  const std::size_t k = seed.size(), n = lat.pos.size();
+  if (k < 2) return;
+  double total_share = 0.0;
+  for (double s : shares) total_share += std::max(s, 0.0);
+  if (!(total_share > 0.0)) return;
+  std::vector<double> target(k);
+  for (std::size_t u = 0; u < k; ++u)
+    target[u] = std::max(shares[u], 0.0) / total_share * static_cast<double>(n);
+  std::set<std::pair<int, int>> blocked;  // (giver, receiver) of a chain that moved nothing
+  double work = kBalanceWork;
+  while (work > 0) {
+    std::vector<int> count(k, 0);
+    for (int o : owner) ++count[static_cast<std::size_t>(o)];
+    // region adjacency over axis edges
+    std::vector<std::vector<char>> touch(k, std::vector<char>(k, 0));
+    for (std::size_t v = 0; v < n; ++v)
+      for (int w : lat.adj4[v])
+        if (owner[v] != owner[static_cast<std::size_t>(w)])
+          touch[static_cast<std::size_t>(owner[v])]
+               [static_cast<std::size_t>(owner[static_cast<std::size_t>(w)])] = 1;
+    work -= static_cast<double>(n);
+    // receivers furthest below their targets first
+    std::vector<std::size_t> order(k);
+    for (std::size_t u = 0; u < k; ++u) order[u] = u;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+      return count[x] - target[x] < count[y] - target[y];
+    });
+    bool moved_any = false;
+    for (const std::size_t r : order) {
+      const double need = target[r] - static_cast<double>(count[r]);
+      if (need < 0.5) break;
+      // shortest chain back from r to a region above its target that gains by giving (d - r > 1)
+      std::vector<int> prev(k, -1);
+      std::vector<std::size_t> queue{r};
+      prev[r] = static_cast<int>(r);
+      std::optional<std::size_t> giver;
+      for (std::size_t h = 0; h < queue.size() && !giver; ++h) {
+        const std::size_t x = queue[h];
+        for (std::size_t y = 0; y < k; ++y) {
+          if (prev[y] >= 0 || !touch[y][x] || blocked.contains({static_cast<int>(y), static_cast<int>(x)}))
+            continue;
+          prev[y] = static_cast<int>(x);
+          const double surplus = static_cast<double>(count[y]) - target[y];
+          if (surplus > 0.5 && surplus + need > 1.0) {
+            giver = y;
+            break;
+          }
+          queue.push_back(y);
+        }
+      }
+      if (!giver) continue;
+      const double surplus = static_cast<double>(count[*giver]) - target[*giver];
+      int amount = std::max(1, static_cast<int>(std::floor(std::min(surplus, need))));
+      // hand over along the chain, from the giver's end: giver -> ... -> r
+      for (std::size_t y = *giver; y != r && amount > 0;) {
+        const auto x = static_cast<std::size_t>(prev[y]);
+        const int moved = hand_over(lat, owner, seed, static_cast<int>(y), static_cast<int>(x), amount, work);
+        if (moved == 0) blocked.insert({static_cast<int>(y), static_cast<int>(x)});
+        amount = moved;
+        y = x;
+      }
+      if (amount > 0) {
+        moved_any = true;
+        break;  // counts changed: recount
+      }
+    }
+    if (!moved_any) break;
+  }
+}
+
+}  // namespace
+
 std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
                         const std::vector<double>& shares) {
   const std::size_t n = lat.pos.size(), k = starts.size();
@@ -265,6 +440,7 @@ std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
           owner[static_cast<std::size_t>(b)] = to, stack.push_back(b);
     }
   }
+  balance(lat, owner, seed, shares);
   return owner;
 }
 

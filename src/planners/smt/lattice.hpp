@@ -41,6 +41,8 @@ Lattice build_lattice(const planners::Problem& problem, bool eight_connected, in
 /// Divides the nodes among the UAVs: each UAV grows from the free node nearest its start, over axis
 /// edges, always the UAV furthest below its share taking its frontier node nearest its seed; so every
 /// part is 4-connected. Nodes no seed reaches (another component) go to the UAV with the nearest seed.
+/// Then the parts are balanced towards the shares over chains of adjacent parts, each part staying
+/// 4-connected with its seed (issue 26: the growth alone walled a UAV in on C and U shapes).
 /// Returns the owner per node.
 std::vector<int> divide(const Lattice& lat, const std::vector<Point>& starts,
                         const std::vector<double>& shares);
