@@ -204,12 +204,7 @@ void set_expected_finish(Plan& out) {
   }
   // the whole flight (docs/wind.md#the-whole-flight): the climbs and descents of the missions' items, at
   // the export's transition altitudes (no ceiling when the UAVs cannot be separated under it)
-  waypoints::AltitudeOptions alt;
-  try {
-    (void)waypoints::resolve_altitudes(alt, waypoints::altitude_slots(out), out.mission.altitude_m);
-  } catch (const InputError&) {
-    alt.transition_ceiling_m = 0;
-  }
+  const waypoints::AltitudeOptions alt = waypoints::whole_flight_altitudes(out);
   for (std::size_t i = 0; i < out.uavs.size() && i < ev.cost.uavs.size(); ++i) {
     out.uavs[i].vertical_time_s = waypoints::uav_vertical_time_s(out, i, alt);
     out.uavs[i].expected_finish_min = ev.cost.uavs[i].flight_duration_min +

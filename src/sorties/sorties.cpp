@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -12,6 +13,7 @@
 #include "geodesy/local_frame.hpp"
 #include "geometry/geometry.hpp"
 #include "uavcover/error.hpp"
+#include "waypoints/vertical.hpp"
 
 namespace uavcover::sorties {
 
@@ -69,6 +71,8 @@ struct Layout {
   std::size_t lead_end = 0, trail_begin = 0;
   double lead_len = 0.0, trail_len = 0.0;
   double backoff_m = 0.0;  ///< resume_backoff_m (issue 31): a later sortie starts this far back
+  /// the transition altitudes of the whole flight's climbs and descents (issue 32)
+  waypoints::AltitudeOptions altitudes;
 
   double air(Point a, Point b) const {
     return evaluation::air_distance_m(a, b, uav.speed_mps, plan.mission.wind);
@@ -104,6 +108,7 @@ struct Layout {
       cov_parts.push_back(pi);
     }
     backoff_m = resume_backoff_m(p, i);
+    altitudes = waypoints::whole_flight_altitudes(p);
     if (cov_parts.empty()) return;
     lead_end = cov_parts.front();
     trail_begin = cov_parts.back() + 1;
@@ -177,6 +182,13 @@ struct Layout {
   }
   double duration(double length_m, std::size_t a, std::size_t b) const {
     return evaluation::flight_duration_min(length_m, static_cast<int>(b - a + 1), uav);
+  }
+  /// The minutes a sortie's climbs and descents take beyond its horizontal flight (issue 32,
+  /// docs/wind.md#the-whole-flight): those of its own mission's items, take-off and landing included.
+  double vertical_min(const Sortie& s) const {
+    return waypoints::vertical_time_s(plan, index,
+                                      waypoints::mission_items(plan, index, s.parts, altitudes)) /
+           60.0;
   }
   double cost(double out, std::size_t a, std::size_t b) const {
     return duration(out + cum[b] - cum[a] + back_len(b), a, b);
@@ -276,9 +288,17 @@ double budget_min(const Plan& plan, std::size_t index, const Options& options) {
   return u.endurance_min * (1.0 - reserve_of(plan, options));
 }
 
+double vertical_min(const Plan& plan, std::size_t index, const Sortie& s) {
+  return waypoints::vertical_time_s(
+             plan, index,
+             waypoints::mission_items(plan, index, s.parts, waypoints::whole_flight_altitudes(plan))) /
+         60.0;
+}
+
 namespace {
 
-std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr);
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx = nullptr, std::size_t first = 0,
+                        std::optional<std::size_t> last = std::nullopt);
 
 /// The refusal of a flight that does not fit one battery (`what`: the leg or sortie).
 InputError over_budget(const Layout& L, double budget, const std::string& what, double need_min) {
@@ -318,9 +338,15 @@ std::vector<Sortie> given(const Layout& L, const std::vector<std::size_t>& start
       throw over_budget(L, budget,
                         fmt::format("sortie {} given by the planner (waypoints {} to {})", k, a, b),
                         s.duration_min);
-    s.index = static_cast<int>(k);
-    out.push_back(std::move(s));
+    // the planner times its sorties in the plane (eq. 15); with the climbs and descents one may not fit:
+    // it is cut further, from its own first waypoint to its last, like any other
+    if (s.duration_min + L.vertical_min(s) > budget * (1.0 + kEps)) {
+      for (Sortie& piece : cut(L, budget, ctx, a, b)) out.push_back(std::move(piece));
+    } else {
+      out.push_back(std::move(s));
+    }
   }
+  for (std::size_t k = 0; k < out.size(); ++k) out[k].index = static_cast<int>(k);
   return out;
 }
 
@@ -332,41 +358,69 @@ std::vector<Sortie> sorties_of(const Layout& L, const Options& options, double b
   return cut(L, budget, ctx);
 }
 
-std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx) {
+/// Sorties cut greedily over waypoints `first`..`last` (default: the UAV's last), each the longest that
+/// fits `budget` with its climbs and descents (Layout::vertical_min).
+std::vector<Sortie> cut(const Layout& L, double budget, const Context* ctx, std::size_t first,
+                        std::optional<std::size_t> last) {
   std::vector<Sortie> out;
   const std::size_t n = L.n();
   if (n == 0) return out;
+  const std::size_t end = std::min(last.value_or(n - 1), n - 1);
   const double limit = budget * (1.0 + kEps);
-  std::size_t a = 0;
+  // a sortie's vertical minutes hardly depend on where it ends (take-off, landing and the height changes
+  // at either end): the last sortie's are the next one's estimate, checked on the sortie built
+  double vertical_est = 0.0;
+  std::size_t a = first;
   for (;;) {
     if (ctx != nullptr && ctx->stop_requested()) throw Cancelled();
     const double out_len = L.out_len(a);
-    const std::size_t bmin = L.ends_part(a) ? a : a + 1;
+    const std::size_t bmin = L.ends_part(a) ? a : std::min(a + 1, end);
     if (const double need = L.cost(out_len, a, bmin); need > limit)
       throw over_budget(L, budget, fmt::format("the coverage leg from waypoint {} to {}", a, bmin), need);
     // the time of a sortie a..b grows with b (the return from b is at most the leg to b+1 shorter than
     // from b+1): the last b that fits, by bisection. First with the straight return (a lower bound, no
     // routing: many no-fly zones make routes costly), then with routed returns below that bound.
-    auto last_fitting = [&](std::size_t hi_end, auto&& cost) {
-      if (cost(hi_end) <= limit) return hi_end;
-      std::size_t lo = bmin, hi = hi_end;
-      while (hi - lo > 1) {
-        const std::size_t mid = lo + (hi - lo) / 2;
-        (cost(mid) <= limit ? lo : hi) = mid;
-      }
-      return lo;
+    auto last_fitting = [&](double plane_limit) {
+      auto fitting = [&](std::size_t hi_end, auto&& cost) {
+        if (cost(hi_end) <= plane_limit) return hi_end;
+        std::size_t lo = bmin, hi = hi_end;
+        while (hi - lo > 1) {
+          const std::size_t mid = lo + (hi - lo) / 2;
+          (cost(mid) <= plane_limit ? lo : hi) = mid;
+        }
+        return lo;
+      };
+      const std::size_t b_bound = fitting(end, [&](std::size_t b) {
+        const double back =
+            b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : L.air(L.at(b), L.start);
+        return L.duration(out_len + L.cum[b] - L.cum[a] + back, a, b);
+      });
+      return fitting(b_bound, [&](std::size_t b) { return L.cost(out_len, a, b); });
     };
-    const std::size_t b_bound = last_fitting(n - 1, [&](std::size_t b) {
-      const double back =
-          b + 1 == n && L.trail_begin < L.up.parts.size() ? L.trail_len : L.air(L.at(b), L.start);
-      return L.duration(out_len + L.cum[b] - L.cum[a] + back, a, b);
-    });
-    std::size_t b = last_fitting(b_bound, [&](std::size_t b) { return L.cost(out_len, a, b); });
+    std::size_t b = last_fitting(limit - vertical_est);
     Sortie s = L.build(a, b);
-    while (s.duration_min > limit && b > bmin) s = L.build(a, --b);  // routes may differ from their length
+    double vertical = L.vertical_min(s);
+    if (s.duration_min + vertical > limit && b > bmin && vertical > vertical_est) {
+      // the estimate was short: once more with this sortie's own climbs and descents
+      b = std::max(bmin, std::min(b, last_fitting(limit - vertical)));
+      s = L.build(a, b);
+      vertical = L.vertical_min(s);
+    }
+    // routes may differ from their length, and the heights at the sortie's ends from the estimate
+    while (s.duration_min + vertical > limit && b > bmin) {
+      s = L.build(a, --b);
+      vertical = L.vertical_min(s);
+    }
+    if (s.duration_min + vertical > limit)
+      throw over_budget(L, budget,
+                        fmt::format("the coverage leg from waypoint {} to {} with its climbs and descents "
+                                    "({:.2f} min)",
+                                    a, b, vertical),
+                        s.duration_min + vertical);
+    vertical_est = vertical;
     s.index = static_cast<int>(out.size());
     out.push_back(std::move(s));
-    if (b + 1 >= n) break;
+    if (b >= end) break;
     a = L.ends_part(b) ? b + 1 : b;
   }
   return out;

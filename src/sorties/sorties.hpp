@@ -47,6 +47,12 @@ double resume_backoff_m(const Plan& plan, std::size_t index);
 /// The battery budget of UAV `index` in minutes: endurance_min * (1 - reserve).
 double budget_min(const Plan& plan, std::size_t index, const Options& options = {});
 
+/// The minutes the climbs and descents of sortie `s` of UAV `index` take beyond its horizontal flight
+/// (issue 32, docs/wind.md#the-whole-flight): waypoints::vertical_time_s() of the sortie's own mission
+/// (take-off, transit at the UAV's transition altitude, coverage, landing) at
+/// waypoints::whole_flight_altitudes(). A sortie fits one battery when duration_min + this <= budget_min().
+double vertical_min(const Plan& plan, std::size_t index, const Sortie& s);
+
 /// The sorties of UAV `index` (empty when it has no coverage): the planner's boundaries when `options`
 /// has them for this UAV, else cut from its endurance. Throws InputError naming the UAV when one
 /// coverage leg with the transit out and back, or one sortie given by the planner, does not fit one

@@ -7,6 +7,7 @@
 #include "evaluation/cost.hpp"
 #include "geodesy/local_frame.hpp"
 #include "terrain/terrain.hpp"
+#include "uavcover/error.hpp"
 
 namespace uavcover::waypoints {
 
@@ -59,6 +60,16 @@ std::vector<double> vertical_extra_s(const Plan& plan, std::size_t index,
 double vertical_time_s(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items) {
   const auto e = vertical_extra_s(plan, index, items);
   return std::accumulate(e.begin(), e.end(), 0.0);
+}
+
+AltitudeOptions whole_flight_altitudes(const Plan& plan) {
+  AltitudeOptions alt;
+  try {
+    (void)resolve_altitudes(alt, altitude_slots(plan), plan.mission.altitude_m);
+  } catch (const InputError&) {
+    alt.transition_ceiling_m = 0;
+  }
+  return alt;
 }
 
 double uav_vertical_time_s(const Plan& plan, std::size_t index, const AltitudeOptions& opt) {

@@ -23,6 +23,10 @@ std::vector<double> vertical_extra_s(const Plan& plan, std::size_t index,
 /// The sum of vertical_extra_s().
 double vertical_time_s(const Plan& plan, std::size_t index, const std::vector<MissionItem>& items);
 
+/// The transition altitudes the whole-flight time is computed at: the exports' defaults for the plan's
+/// altitude slots (resolve_altitudes()), without the ceiling when its UAVs cannot be separated under it.
+AltitudeOptions whole_flight_altitudes(const Plan& plan);
+
 /// UAV `index`'s vertical time over all its missions: each battery sortie's items (one mission when it has
 /// no sorties), with the transition altitudes of `opt`. 0 for a UAV with nothing to fly.
 double uav_vertical_time_s(const Plan& plan, std::size_t index, const AltitudeOptions& opt = {});

@@ -27,16 +27,21 @@
 #include "uavcover/uavcover.hpp"
 #include "uavcover/vehicle.hpp"
 #include "usecases/study.hpp"
+#include "waypoints/vertical.hpp"
 
 namespace uavcover {
 namespace {
 
 using nlohmann::json;
 
+/// The olive grove example, its UAVs climbing and descending at 30 m/s: the tests of the cut's rules
+/// (boundaries, transits, resume, exports) keep figures that eq. 15 gives, a few seconds of climbs and
+/// descents apart; EverySortieFitsWithItsClimbsAndDescents sets real vertical speeds.
 const Plan& olive_grove() {
   static const Plan p = [] {
-    const Mission m = parse_mission(
+    Mission m = parse_mission(
         testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json"));
+    for (auto& u : m.uavs) u.climb_mps = u.descent_mps = 30.0;
     return plan(m);
   }();
   return p;
@@ -90,8 +95,8 @@ void expect_valid_sorties(const Plan& p, std::size_t i) {
   for (std::size_t k = 0; k < up.sorties.size(); ++k) {
     const Sortie& s = up.sorties[k];
     EXPECT_EQ(s.index, static_cast<int>(k));
-    // fits one battery, with the evaluator's time model
-    EXPECT_LE(s.duration_min, budget * (1 + 1e-9));
+    // fits one battery, with the evaluator's time model and the sortie's climbs and descents
+    EXPECT_LE(s.duration_min + sorties::vertical_min(p, i, s), budget * (1 + 1e-9));
     double len = 0;
     for (const auto& part : s.parts) len += geometry::length(part.local);
     EXPECT_NEAR(s.length_m, len, 1e-6);
@@ -255,8 +260,9 @@ TEST(Sorties, PlannerGivenBoundariesAreHonouredAndChecked) {
   too_long.sortie_starts = {{}, {0, 2}};
   Plan roomy = p;
   for (auto& u : roomy.mission.uavs) u.endurance_min = 100.0;
-  double longest = 0.0;
-  for (const auto& s : sorties::cut_sorties(roomy, bravo, given)) longest = std::max(longest, s.duration_min);
+  double longest = 0.0;  // with its climbs and descents
+  for (const auto& s : sorties::cut_sorties(roomy, bravo, given))
+    longest = std::max(longest, s.duration_min + sorties::vertical_min(roomy, bravo, s));
   const double budget = longest * 1.02;
   ASSERT_GT(sorties::cut_sorties(roomy, bravo, too_long)[0].duration_min, budget)
       << "the test needs parts 0 and 1 together to exceed one battery";
@@ -321,6 +327,77 @@ TEST(Sorties, PlannerGivenBoundariesAreHonouredAndChecked) {
   }
 }
 
+TEST(Sorties, EverySortieFitsWithItsClimbsAndDescents) {
+  // issue 32: a sortie's battery pays for the take-off climb, the descents and climbs between the
+  // transition and the survey altitude, and the landing, not only eq. 15's horizontal flight
+  auto at_speeds = [](double climb, double descent) {
+    Plan p = olive_grove();
+    for (auto& u : p.mission.uavs) {
+      u.climb_mps = climb;
+      u.descent_mps = descent;
+    }
+    return with_endurance(p, 15.0);
+  };
+  const Plan fast = at_speeds(30.0, 30.0);
+  const Plan slow = at_speeds(2.0, 1.0);
+  const double budget = 15.0 * (1.0 - kDefaultBatteryReserve);
+  std::ostringstream said;
+  for (std::size_t i = 0; i < slow.uavs.size(); ++i) {
+    expect_valid_sorties(fast, i);
+    expect_valid_sorties(slow, i);
+    // the vertical minutes are those of the sortie's own mission, as the whole-flight time counts them
+    double slow_vertical = 0.0;
+    for (const Sortie& s : slow.uavs[i].sorties) {
+      const double v = sorties::vertical_min(slow, i, s);
+      EXPECT_NEAR(v * 60.0,
+                  waypoints::uav_vertical_time_s(sorties::sortie_plan(slow, i, s), i,
+                                                 waypoints::whole_flight_altitudes(slow)),
+                  1e-6);
+      EXPECT_GT(v, 1.0) << "a climb at 2 m/s and a descent at 1 m/s of tens of metres";
+      slow_vertical = std::max(slow_vertical, v);
+    }
+    // slow climbs leave less of each battery to the coverage: at least as many sorties, more for the
+    // UAVs that need several
+    EXPECT_GE(slow.uavs[i].sorties.size(), fast.uavs[i].sorties.size());
+    if (fast.uavs[i].sorties.size() > 1) {
+      EXPECT_GT(slow.uavs[i].sorties.size(), fast.uavs[i].sorties.size());
+    }
+    // and the horizontal flight alone would have fitted more: the check is not eq. 15's
+    for (const Sortie& s : slow.uavs[i].sorties) EXPECT_LE(s.duration_min, budget - 1.0);
+    said << slow.uavs[i].id << " " << fast.uavs[i].sorties.size() << " -> " << slow.uavs[i].sorties.size()
+         << " sorties (vertical up to " << slow_vertical << " min); ";
+  }
+  std::cout << "olive grove, endurance 15 min, climb/descent 30/30 -> 2/1 m/s: " << said.str() << "\n";
+}
+
+TEST(Sorties, APlannersSortieThatFitsOnlyInThePlaneIsCutFurther) {
+  // bravo in three coverage parts, the planner's boundaries one part per sortie, and a battery that fits
+  // each part's horizontal flight (eq. 15) but not with its climbs and descents
+  const std::size_t bravo = 1;
+  const std::size_t n = olive_grove().uavs[bravo].turns;
+  Plan p = split_coverage(olive_grove(), bravo, {n / 3, 2 * n / 3});
+  for (auto& u : p.mission.uavs) u.climb_mps = 3.0, u.descent_mps = 1.5;  // the defaults
+  sorties::Options given;
+  given.sortie_starts = {{}, {0, 1, 2}};
+  Plan roomy = p;
+  for (auto& u : roomy.mission.uavs) u.endurance_min = 100.0;
+  double longest = 0.0, vertical = 0.0;
+  for (const auto& s : sorties::cut_sorties(roomy, bravo, given)) {
+    longest = std::max(longest, s.duration_min);
+    vertical = std::max(vertical, sorties::vertical_min(roomy, bravo, s));
+  }
+  ASSERT_GT(vertical, 0.5);
+  for (auto& u : p.mission.uavs) u.endurance_min = longest * 1.01 / (1.0 - p.mission.battery_reserve);
+  sorties::fill_sorties(p, given);
+  const auto& ss = p.uavs[bravo].sorties;
+  EXPECT_GT(ss.size(), 3u);
+  expect_valid_sorties(p, bravo);
+  // the planner's boundaries stay boundaries: its parts' first waypoints begin sorties
+  for (const int w : {static_cast<int>(n / 3), static_cast<int>(2 * n / 3)})
+    EXPECT_TRUE(std::any_of(ss.begin(), ss.end(), [&](const Sortie& s) { return s.first_waypoint == w; }))
+        << w;
+}
+
 TEST(Sorties, MissionBatteryReserveIsValidatedAndKept) {
   const std::string base =
       testing::slurp(std::filesystem::path(UAVCOVER_SOURCE_DIR) / "examples" / "olive-grove.json");
@@ -346,6 +423,8 @@ TEST(Sorties, MissionBatteryReserveIsValidatedAndKept) {
 TEST(Sorties, AMissionNeedingThreeBatteriesPerUavGivesThreeSorties) {
   json j = json::parse(
       testing::slurp(std::filesystem::path(UAVCOVER_BENCH_DATA) / "mondinelli2025" / "rectangle_3uav.json"));
+  // eq. 16's battery count against the sorties: quick climbs and descents, whose time has its own test
+  for (auto& u : j["uavs"]) u["climb_mps"] = u["descent_mps"] = 30;
   const Plan base = plan(parse_mission(j.dump()));
   // the longest continuous flight over three batteries with the reserve, then a little longer until
   // every UAV needs exactly three
@@ -380,7 +459,7 @@ TEST(Sorties, AMissionNeedingThreeBatteriesPerUavGivesThreeSorties) {
 
 TEST(Sorties, StudyBatteryCountsAreTheSortieCounts) {
   Mission m = parse_mission(testing::roi_text("roi01.json"));
-  for (auto& u : m.uavs) u.endurance_min = 10.0;
+  for (auto& u : m.uavs) u.endurance_min = 12.0;  // a leg with its transits and climbs fits one battery
   usecases::StudyOptions so;
   so.counts = {1, 2, 3};
   const auto study = usecases::run_study(m, so);
@@ -632,7 +711,7 @@ TEST(Sorties, TransitsOfEverySortieAvoidManyZones) {
     Uav u;
     u.id = "u" + std::to_string(i);
     u.share = 0.5;
-    u.endurance_min = 9.0;
+    u.endurance_min = 11.0;
     u.start = testing::zone_lattice_point(1.0 + 790 * i, 1.0);
     m.uavs.push_back(u);
   }
@@ -649,7 +728,7 @@ TEST(Sorties, TransitsOfEverySortieAvoidManyZones) {
           EXPECT_TRUE(router.clear(part.local[k - 1], part.local[k]))
               << p.uavs[i].id << " sortie " << s.index;
   }
-  EXPECT_GE(sorties, 4u);  // 0.64 km² at 25 m is ~26 km of coverage: several 9-minute batteries
+  EXPECT_GE(sorties, 4u);  // 0.64 km² at 25 m is ~26 km of coverage: several 11-minute batteries
 }
 
 }  // namespace
