@@ -39,12 +39,17 @@ void Flight::command(const Command& c) {
     json d{{"command", k}, {"reassignment", r->id}};
     if (c.reassign_from) d["reassign_from"] = *c.reassign_from;
     f.record("", "command", std::move(d));
-    if (k == "reassign" && c.reassign_from && *c.reassign_from != r->from) {
-      // the other choice: the supervisor re-plans it from the helpers' positions now, then applies it
+    // an offer from the air applied late would send a helper back to where it was: re-planned too
+    const std::string stale =
+        k == "reassign" && c.reassign_from.value_or(r->from) == r->from ? f.stale_depot(*r) : std::string();
+    if (k == "reassign" && ((c.reassign_from && *c.reassign_from != r->from) || !stale.empty())) {
+      // the other choice, or the same from where the helpers are now: the supervisor re-plans it, then
+      // applies it
       r->state = "replanning";
-      r->replan_from = *c.reassign_from;
-      f.record(r->failed_uav, "reassignment",
-               {{"id", r->id}, {"state", "replanning"}, {"from", r->replan_from}});
+      r->replan_from = c.reassign_from.value_or(r->from);
+      json rec{{"id", r->id}, {"state", "replanning"}, {"from", r->replan_from}};
+      if (!stale.empty()) rec["reason"] = "stale depot: " + stale;
+      f.record(r->failed_uav, "reassignment", std::move(rec));
     } else if (k == "reassign") {
       f.apply_reassignment(*r);
     } else {

@@ -34,7 +34,9 @@ inline constexpr std::size_t kAlertsMax = 256;     ///< alerts kept (the oldest 
 inline constexpr std::size_t kPendingMax = 20000;  ///< log records waiting for the observer
 inline constexpr std::size_t kActionsMax = 64;     ///< queued link actions per UAV
 inline constexpr std::size_t kReassignMax = 64;    ///< reassignments per flight
-inline constexpr int kUploadAttempts = 3;          ///< whole mission uploads before giving up
+/// An offer from the air is re-planned when applied after a helper has flown this far from its depot.
+inline constexpr double kStaleDepotM = 20.0;
+inline constexpr int kUploadAttempts = 3;                         ///< whole mission uploads before giving up
 inline constexpr std::chrono::milliseconds kCommandPeriod{1000};  ///< COMMAND_LONG resend period
 inline constexpr std::uint8_t kGcsSysid = 255, kGcsCompid = 190;  ///< ours (MAV_COMP_ID_MISSIONPLANNER)
 
@@ -210,6 +212,10 @@ struct Flight::Impl {
   /// Whether UAV `uav`'s binding sends the home position as item 0.
   [[nodiscard]] bool home_item_of(std::size_t uav) const;
   void apply_reassignment(detail::ReassignmentRt& r);
+  /// Why an offer from the air would start a helper where it no longer is (issue 33: an offer applied
+  /// late): a helper that has flown more than kStaleDepotM from its depot, or can no longer be diverted.
+  /// Empty when every depot still holds (or the offer has none).
+  [[nodiscard]] std::string stale_depot(const detail::ReassignmentRt& r) const;
   /// apply_reassignment() for the supervisor: a refusal goes to the log instead of the thread.
   void apply_safely(detail::ReassignmentRt& r);
   [[nodiscard]] detail::MissionSpec reassigned_mission(const detail::ReassignmentRt& r,

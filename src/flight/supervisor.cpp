@@ -122,6 +122,21 @@ bool Flight::Impl::divertable(const UavRt& h) const {
          h.missions[h.current].state == "flying" && h.missions[h.current].kind != "reassigned";
 }
 
+std::string Flight::Impl::stale_depot(const ReassignmentRt& r) const {
+  for (const Helper& h : r.helpers) {
+    if (!h.depot) continue;
+    const auto it =
+        std::find_if(uavs.begin(), uavs.end(), [&](const UavRt& u) { return u.index == h.index; });
+    if (it == uavs.end()) continue;
+    if (!divertable(*it)) return fmt::format("{} can no longer be diverted ({})", it->binding.uav, it->phase);
+    const Point here = frame.to_local(LonLat{it->lon, it->lat}), depot = frame.to_local(*h.depot);
+    const double moved = std::hypot(here.x() - depot.x(), here.y() - depot.y());
+    if (moved > kStaleDepotM)
+      return fmt::format("{} is {:.0f} m from where the offer starts its work", it->binding.uav, moved);
+  }
+  return {};
+}
+
 std::vector<Helper> Flight::Impl::helpers_for(const UavRt& failed, const std::string& from) const {
   std::vector<Helper> hs;
   for (const auto& h : uavs)

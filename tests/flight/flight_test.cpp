@@ -879,6 +879,65 @@ TEST(Flight, ACommandReassignsFromTheAirAnOfferPlannedFromHome) {
   EXPECT_EQ(states, (std::vector<std::string>{"offered", "replanning", "offered", "applied"}));
 }
 
+// Issue 33: an offer from the air applied late. The helpers have flown on since it was planned: applied as
+// it is, each would fly back to where it was when the offer was made. So it is re-planned from where they
+// are now, then applied, and the log says why.
+TEST(Flight, AnOfferFromTheAirAppliedLateIsReplannedFromWhereTheHelpersAreNow) {
+  ForcedDown fd;
+  Sim& s = fd.s;
+  fd.c.reassign_from = "air";  // offered from the air, applied by the operator
+  flight::Flight f(15, fd.p, fd.c, fd.rec);
+  f.start();
+  ASSERT_NO_FATAL_FAILURE(upload_and_start(s, f));
+  ASSERT_TRUE(wait_for(s, 3000, [&] { return !f.snapshot()["reassignments"].empty(); }))
+      << f.snapshot().dump(1);
+  const json offer = f.snapshot()["reassignments"][0];
+  ASSERT_EQ(offer["from"], "air");
+  const geodesy::LocalFrame frame(fd.p.origin);
+  auto metres = [&](const json& a, const json& b) {
+    return bg::distance(frame.to_local(LonLat{a[0].get<double>(), a[1].get<double>()}),
+                        frame.to_local(LonLat{b[0].get<double>(), b[1].get<double>()}));
+  };
+  auto position = [](const json& snap, const std::string& id) {
+    for (const auto& u : snap["uavs"])
+      if (u["uav"] == id) return json::array({u["position"]["lon"], u["position"]["lat"]});
+    return json();
+  };
+  // the operator waits: every helper flies well away from its depot
+  ASSERT_TRUE(wait_for(s, 3000, [&] {
+    const json snap = f.snapshot();
+    for (const auto& h : offer["helpers"])
+      if (metres(h["depot"], position(snap, h["uav"])) < 3 * flight::detail::kStaleDepotM) return false;
+    return true;
+  })) << f.snapshot().dump(1);
+  const json before = f.snapshot();
+  f.command(flight::Command{"reassign", "", offer["id"].get<int>(), std::nullopt});
+  ASSERT_TRUE(wait_for(s, 1000, [&] { return f.snapshot()["reassignments"][0]["state"] == "applied"; }))
+      << f.snapshot().dump(1);
+  const json applied = f.snapshot()["reassignments"][0];
+  f.stop();
+  EXPECT_EQ(applied["from"], "air");
+  for (const auto& h : applied["helpers"]) {
+    if (h["depot"].is_null()) continue;  // landed meanwhile: from home
+    const double now_m = metres(h["depot"], position(before, h["uav"]));
+    double first_m = 0.0;
+    for (const auto& g : offer["helpers"])
+      if (g["uav"] == h["uav"]) first_m = metres(g["depot"], position(before, h["uav"]));
+    std::printf("%s at the command: %.1f m from the first offer's depot, %.1f m from the applied one's\n",
+                h["uav"].get<std::string>().c_str(), first_m, now_m);
+    EXPECT_LT(now_m, 3 * flight::detail::kStaleDepotM) << h;
+  }
+  std::vector<std::string> states;
+  std::string reason;
+  for (const auto& r : fd.rec.all())
+    if (r.kind == "reassignment") {
+      states.push_back(r.data["state"]);
+      if (r.data["state"] == "replanning") reason = r.data.value("reason", "");
+    }
+  EXPECT_EQ(states, (std::vector<std::string>{"offered", "replanning", "offered", "applied"}));
+  EXPECT_NE(reason.find("stale depot"), std::string::npos) << reason;
+}
+
 TEST(Flight, RestoredFromASnapshotContinuesTheFlight) {
   const Plan p = plan(field(150, 100, 2));
   Sim s(p, 50);
