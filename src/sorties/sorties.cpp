@@ -28,6 +28,13 @@ double reserve_of(const Plan& plan, const Options& o) {
   return r;
 }
 
+/// sorties::vertical_min() at given transition altitudes (the cutter resolves them once per UAV).
+double vertical_min_at(const Plan& plan, std::size_t index, const Sortie& s,
+                       const waypoints::AltitudeOptions& altitudes) {
+  return waypoints::vertical_time_s(plan, index, waypoints::mission_items(plan, index, s.parts, altitudes)) /
+         60.0;
+}
+
 }  // namespace
 
 double resume_backoff_m(const Plan& plan, std::size_t index) {
@@ -185,11 +192,7 @@ struct Layout {
   }
   /// The minutes a sortie's climbs and descents take beyond its horizontal flight (issue 32,
   /// docs/wind.md#the-whole-flight): those of its own mission's items, take-off and landing included.
-  double vertical_min(const Sortie& s) const {
-    return waypoints::vertical_time_s(plan, index,
-                                      waypoints::mission_items(plan, index, s.parts, altitudes)) /
-           60.0;
-  }
+  double vertical_min(const Sortie& s) const { return vertical_min_at(plan, index, s, altitudes); }
   double cost(double out, std::size_t a, std::size_t b) const {
     return duration(out + cum[b] - cum[a] + back_len(b), a, b);
   }
@@ -289,10 +292,7 @@ double budget_min(const Plan& plan, std::size_t index, const Options& options) {
 }
 
 double vertical_min(const Plan& plan, std::size_t index, const Sortie& s) {
-  return waypoints::vertical_time_s(
-             plan, index,
-             waypoints::mission_items(plan, index, s.parts, waypoints::whole_flight_altitudes(plan))) /
-         60.0;
+  return vertical_min_at(plan, index, s, waypoints::whole_flight_altitudes(plan));
 }
 
 namespace {
